@@ -1,0 +1,30 @@
+#pragma once
+// What one frame cost: time per stage (milliseconds, wall clock) and rays of each kind.
+#include <cstdint>
+
+namespace tandem {
+
+struct RayCounts {
+  std::uint64_t primary = 0;     // exact primary hits recomputed on the CPU (or camera rays in reference mode)
+  std::uint64_t shadow = 0;
+  std::uint64_t reflection = 0;
+  std::uint64_t refraction = 0;
+  std::uint64_t total() const { return primary + shadow + reflection + refraction; }
+};
+
+struct FrameStats {
+  double prepareMs = 0;    // settings, GL buffer and Embree scene sync
+  double rasterMs = 0;     // G-buffer (visibility) pass, including glFinish
+  double readbackMs = 0;   // G-buffer channels to memory for the ray pass
+  double raysMs = 0;       // the CPU ray pass
+  double uploadMs = 0;     // ray results to GL textures
+  double compositeMs = 0;  // shading + composite + tone map, including glFinish
+  double presentMs = 0;    // swap or capture
+  double totalMs = 0;
+  RayCounts rays;
+  int rayWidth = 0;        // resolution the ray pass ran at
+  int rayHeight = 0;
+  int threads = 0;         // worker threads of the ray pass
+};
+
+}  // namespace tandem

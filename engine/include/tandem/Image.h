@@ -1,0 +1,34 @@
+#pragma once
+// CPU images. Image is 8-bit RGBA (display-encoded, what a PNG holds); ImageF is linear float RGB.
+// Row 0 is the top of the image.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "tandem/Result.h"
+
+namespace tandem {
+
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgba;  // width*height*4
+  glm::u8vec4 at(int x, int y) const;
+  void set(int x, int y, glm::u8vec4 c);
+};
+
+struct ImageF {
+  int width = 0;
+  int height = 0;
+  std::vector<glm::vec3> rgb;  // width*height, linear
+  glm::vec3& at(int x, int y) { return rgb[static_cast<std::size_t>(y) * width + x]; }
+  const glm::vec3& at(int x, int y) const { return rgb[static_cast<std::size_t>(y) * width + x]; }
+};
+
+Result<void> writePng(const std::string& path, const Image& image);
+/// Reads a PNG (or any 8-bit image stb_image decodes) from a trusted path, such as a golden image.
+Result<Image> readPng(const std::string& path);
+
+}  // namespace tandem

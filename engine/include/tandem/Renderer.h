@@ -1,0 +1,58 @@
+#pragma once
+// The Renderer: one frame, top to bottom — prepare → raster → readback → rays → composite → present.
+// It owns the GL objects and the Embree scene derived from the Scene it is given.
+//
+//   auto ctx = createGlContext({});
+//   auto renderer = Renderer::create(**ctx);
+//   (*renderer)->setScene(std::move(scene));
+//   FrameStats stats = (*renderer)->render(scene.camera, settings);
+//   Image frame = (*renderer)->readImage();
+//
+// Not thread-safe: call it from the thread whose GL context is current. The ray pass uses its own
+// worker threads internally.
+#include <memory>
+
+#include "tandem/Context.h"
+#include "tandem/FrameStats.h"
+#include "tandem/Image.h"
+#include "tandem/Result.h"
+#include "tandem/Scene.h"
+#include "tandem/Settings.h"
+
+namespace tandem {
+
+struct RendererDesc {
+  int threads = 0;  // ray-pass worker threads; 0 = all hardware threads
+};
+
+class Renderer {
+ public:
+  static Result<std::unique_ptr<Renderer>> create(GlContext& context, const RendererDesc& desc = {});
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Validates and installs a scene. On error the previous scene stays and the error names the reason.
+  Result<void> setScene(Scene scene);
+  const Scene& scene() const;
+  /// Moves a dynamic instance; the next frame updates its transform without rebuilding static geometry.
+  void setInstanceTransform(std::uint32_t instance, const glm::mat4& worldFromObject);
+  void setLight(std::uint32_t light, const Light& value);
+
+  /// Renders one frame into the renderer's offscreen target. Never fails: bad settings are clamped.
+  FrameStats render(const Camera& camera, const FrameSettings& settings);
+  /// Draws the last frame into the default framebuffer (windows), size in pixels.
+  void present(int framebufferWidth, int framebufferHeight);
+  /// The last frame (or its debug view), 8-bit sRGB, top row first.
+  Image readImage();
+  /// The last frame in linear radiance before the tone map.
+  ImageF readLinear();
+
+  struct Impl;
+
+ private:
+  explicit Renderer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tandem

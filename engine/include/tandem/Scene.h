@@ -1,0 +1,145 @@
+#pragma once
+// The scene: plain data, independent of GL and Embree. The GL buffers and the Embree scene are caches
+// derived from it by the Renderer. A flat list of instances (no graph): loaders flatten hierarchies.
+//
+// Spaces are in names: posW = world space, posO = object space; worldFromObject maps object to world.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "tandem/Camera.h"
+
+namespace tandem {
+
+/// Non-ambient lights a scene may hold. Ambient lights do not count (they sum into one Ia).
+/// The limit comes from the per-pixel light-visibility mask and the per-light varyings of Gouraud
+/// shading; loaders reject scenes with more.
+inline constexpr int kMaxLights = 8;
+
+enum class ShadingModel : std::uint8_t { Flat = 0, Gouraud = 1, Phong = 2, Toon = 3 };
+
+enum class AlphaMode : std::uint8_t { Opaque = 0, Mask = 1, Blend = 2 };
+
+/// One step of a cartoon ramp: N·L at or above `threshold` gives `level` (the highest matching step wins).
+struct ToonStep {
+  float threshold = 0.0f;  // N·L in [-1, 1]
+  float level = 0.0f;      // diffuse factor, usually in [0, 1]
+};
+
+/// Whitted / Phong material. Colours are linear RGB.
+/// Local shading: I = ka·Ia + Σj vis_j·[kd·Idj·max(N·Lj,0) + ks·Isj·max(Rj·V,0)^ns] + emission.
+/// Whitted sum:   I = local + kr·S + kt·T (or the Fresnel-weighted form, see FrameSettings::fresnelWeighted).
+struct Material {
+  std::string name;
+  glm::vec3 ka{0.1f};   // ambient reflectance
+  glm::vec3 kd{0.8f};   // diffuse reflectance (multiplied by the texture and vertex colour when present)
+  int kdTexture = -1;   // index into Scene::textures (sRGB-encoded), -1 for none
+  glm::vec3 ks{0.0f};   // specular reflectance of the highlight
+  float ns = 32.0f;     // specular exponent, >= 0
+  float kr = 0.0f;      // mirror reflectance in [0, 1]: weight of the reflected ray S
+  float kt = 0.0f;      // transmittance in [0, 1]: weight of the refracted ray T
+  float ior = 1.5f;     // index of refraction of the inside (the outside is 1)
+  glm::vec3 emission{0.0f};
+  ShadingModel shading = ShadingModel::Phong;
+  std::vector<ToonStep> toonRamp{{-1.0f, 0.15f}, {0.1f, 0.55f}, {0.6f, 1.0f}};
+  // Procedural checkerboard (the Whitted floor): kd and kd2 alternate in squares of 1/checkerFrequency
+  // texture units; 0 turns it off.
+  glm::vec3 kd2{0.0f};
+  float checkerFrequency = 0.0f;
+  // glTF extras (issue 3); ignored by the JSON scene format unless set.
+  int normalTexture = -1;       // tangent-space normal map, linear
+  float normalScale = 1.0f;
+  AlphaMode alphaMode = AlphaMode::Opaque;
+  float alphaCutoff = 0.5f;
+  float opacity = 1.0f;         // base alpha
+  bool unlit = false;           // KHR_materials_unlit: colour = kd, no lights
+  bool doubleSided = false;
+  glm::mat3 uvTransform{1.0f};  // KHR_texture_transform applied to uv before sampling
+};
+
+struct Texture {
+  std::string name;
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgba8;  // width*height*4, top row first
+  bool srgb = true;                 // colour textures are sRGB; normal maps are linear
+};
+
+/// Triangle mesh in object space. Vertex attributes other than positions may be empty; indices are
+/// triangles (3 per face) and always valid (< positions.size()): loaders check before building one.
+struct Mesh {
+  std::string name;
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;   // unit or empty (then faces are flat)
+  std::vector<glm::vec2> uvs;
+  std::vector<glm::vec4> tangents;  // xyz tangent, w handedness; for normal maps
+  std::vector<glm::vec4> colors;    // linear vertex colours
+  std::vector<std::uint32_t> indices;
+  std::size_t triangleCount() const { return indices.size() / 3; }
+};
+
+enum class LightType : std::uint8_t { Ambient = 0, Point = 1, Spot = 2, Directional = 3 };
+
+/// A light. Radiance reaching a point: color·intensity·attenuation(d)·cone.
+///   attenuation(d) = 1 / (c + l·d + q·d²), and 0 beyond `range` when range > 0 (point and spot);
+///   cone = smoothstep(cos(outer), cos(inner), cos angle to dirW) (spot).
+/// Ambient lights contribute color·intensity to Ia only; directional lights have no position.
+struct Light {
+  std::string name;
+  LightType type = LightType::Point;
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;
+  glm::vec3 posW{0.0f};
+  glm::vec3 dirW{0.0f, -1.0f, 0.0f};  // direction the light travels (spot axis, directional rays); unit
+  float range = 0.0f;                  // 0 = unbounded
+  glm::vec3 attenuation{1.0f, 0.0f, 0.0f};  // constant, linear, quadratic
+  float innerConeDeg = 20.0f;
+  float outerConeDeg = 30.0f;
+  bool castShadows = true;
+};
+
+/// A mesh placed in the world with one material. `dynamic` instances may move every frame (their
+/// transform is updated without rebuilding static geometry).
+struct Instance {
+  std::string name;
+  std::uint32_t mesh = 0;
+  std::uint32_t material = 0;
+  glm::mat4 worldFromObject{1.0f};
+  bool dynamic = false;
+};
+
+/// Defaults that a scene file may give for rendering it (the command line overrides them).
+struct SceneRenderDefaults {
+  int width = 1280;
+  int height = 720;
+  std::string preset;  // empty = the renderer's default
+  int maxDepth = -1;   // -1 = the preset's
+};
+
+struct Scene {
+  std::string name;
+  std::vector<Mesh> meshes;
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+  std::vector<Light> lights;  // includes ambient lights
+  std::vector<Instance> instances;
+  Camera camera;
+  glm::vec3 background{0.0f};  // linear radiance of rays that escape
+  SceneRenderDefaults render;
+
+  /// Sum of ambient lights (color·intensity): Ia of the formula.
+  glm::vec3 ambientIntensity() const;
+  /// Non-ambient lights, in scene order; index j here is bit j of the light-visibility mask.
+  std::vector<const Light*> directLights() const;
+  std::size_t triangleCount() const;
+};
+
+/// Checks that indices are in range, the light count is within kMaxLights, references resolve and
+/// numbers are finite. Loaders call it; the Renderer refuses a scene that fails it.
+struct Error;
+template <class T> class Result;
+Result<void> validateScene(const Scene& scene);
+
+}  // namespace tandem

@@ -1,0 +1,64 @@
+#pragma once
+// Per-frame settings: plain data with documented defaults, units and ranges. resolve() applies the
+// dependencies and clamps; the Renderer only ever sees resolved settings.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "tandem/Scene.h"
+
+namespace tandem {
+
+/// How an effect is produced: not at all, by rasterization tricks, or by Embree rays.
+enum class EffectMode : std::uint8_t { Off = 0, Raster = 1, Ray = 2 };
+enum class FresnelMode : std::uint8_t { Exact = 0, Schlick = 1 };
+enum class ToneMap : std::uint8_t { None = 0, Reinhard = 1, Aces = 2 };
+
+/// What the frame shows: the final image, or one G-buffer channel / ray result as a debug view.
+enum class DebugView : std::uint8_t {
+  Final = 0,
+  Depth,        // reversed-Z depth, brighter = nearer
+  InstanceId,   // hashed colour per instance
+  PrimitiveId,  // hashed colour per triangle
+  NormalW,      // world normal, 0.5 + 0.5·n
+  LightMask,    // ray pass: fraction of lights visible
+  Reflection,   // ray pass: weighted reflected radiance
+  Transmission, // ray pass: weighted transmitted radiance
+};
+
+struct FrameSettings {
+  int width = 1280;   // pixels, >= 1
+  int height = 720;   // pixels, >= 1
+  std::optional<ShadingModel> shadingOverride;  // replaces every material's model when set
+  EffectMode shadows = EffectMode::Ray;
+  EffectMode reflections = EffectMode::Ray;
+  EffectMode refraction = EffectMode::Ray;
+  int maxDepth = 5;               // reflection/refraction bounces after the primary hit, [0, 64]
+  float minContribution = 0.01f;  // stop a path when the product of its weights falls under this, [0, 1]
+  int rayScale = 1;               // ray pass at 1/rayScale resolution: 1, 2 or 4 (edge-aware upsampling)
+  FresnelMode fresnel = FresnelMode::Exact;
+  bool fresnelWeighted = true;    // I = local + (kr + kt·F)·S + kt·(1−F)·T, else I = local + kr·S + kt·T
+  ToneMap toneMap = ToneMap::Aces;
+  float exposure = 1.0f;          // multiplies linear radiance before the tone map
+  DebugView debugView = DebugView::Final;
+  int referenceSpp = 1;           // reference mode: N×N jittered samples per pixel (issue 5)
+  bool reference = false;         // primary visibility by Embree rays instead of rasterization
+
+  /// Clamps ranges and applies dependencies (e.g. rayScale rounded to 1, 2 or 4).
+  FrameSettings resolved() const;
+};
+
+/// Named presets: "raster", "hybrid-fast", "hybrid-full", "reference". Size and debug view untouched.
+std::optional<FrameSettings> presetSettings(std::string_view name, FrameSettings base = {});
+std::vector<std::string> presetNames();
+
+std::optional<EffectMode> parseEffectMode(std::string_view s);  // off | raster | ray
+std::optional<ShadingModel> parseShadingModel(std::string_view s);  // flat | gouraud | phong | toon
+std::optional<DebugView> parseDebugView(std::string_view s);
+std::string_view toString(EffectMode m);
+std::string_view toString(ShadingModel m);
+std::string_view toString(DebugView v);
+
+}  // namespace tandem

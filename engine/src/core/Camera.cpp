@@ -1,0 +1,61 @@
+#include "tandem/Camera.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace tandem {
+
+glm::mat4 Camera::viewFromWorld() const { return glm::lookAtRH(posW, targetW, upW); }
+
+glm::mat4 Camera::worldFromView() const { return glm::inverse(viewFromWorld()); }
+
+glm::mat4 Camera::clipFromView(float aspect) const {
+  glm::mat4 m(0.0f);
+  if (orthographic) {
+    // Reversed-Z orthographic: z_ndc = (z_view + far) / (far - near) maps -near → 1, -far → 0.
+    float halfH = orthoHeight * 0.5f;
+    float halfW = halfH * aspect;
+    float f = std::isinf(farZ) ? 1e7f : farZ;
+    m[0][0] = 1.0f / halfW;
+    m[1][1] = 1.0f / halfH;
+    m[2][2] = 1.0f / (f - nearZ);
+    m[3][2] = f / (f - nearZ);
+    m[3][3] = 1.0f;
+    return m;
+  }
+  float t = 1.0f / std::tan(glm::radians(yFovDeg) * 0.5f);
+  m[0][0] = t / aspect;
+  m[1][1] = t;
+  m[2][3] = -1.0f;  // w_clip = -z_view
+  if (std::isinf(farZ)) {
+    // Infinite far plane: z_ndc = near / -z_view.
+    m[3][2] = nearZ;
+  } else {
+    // z_ndc = (near·far / (far − near)) / -z_view + near / (far − near): near → 1, far → 0.
+    m[2][2] = nearZ / (farZ - nearZ);
+    m[3][2] = farZ * nearZ / (farZ - nearZ);
+  }
+  return m;
+}
+
+Ray Camera::rayThroughPixel(glm::vec2 pixel, glm::ivec2 size) const {
+  float aspect = float(size.x) / float(size.y);
+  // NDC of the point, y up.
+  float nx = pixel.x / float(size.x) * 2.0f - 1.0f;
+  float ny = 1.0f - pixel.y / float(size.y) * 2.0f;
+  glm::vec3 forward = glm::normalize(targetW - posW);
+  glm::vec3 right = glm::normalize(glm::cross(forward, upW));
+  glm::vec3 up = glm::cross(right, forward);
+  Ray r;
+  if (orthographic) {
+    float halfH = orthoHeight * 0.5f;
+    r.origin = posW + right * (nx * halfH * aspect) + up * (ny * halfH);
+    r.dir = forward;
+    return r;
+  }
+  float t = std::tan(glm::radians(yFovDeg) * 0.5f);
+  r.origin = posW;
+  r.dir = glm::normalize(forward + right * (nx * t * aspect) + up * (ny * t));
+  return r;
+}
+
+}  // namespace tandem

@@ -1,0 +1,97 @@
+#include "tandem/Scene.h"
+
+#include <cmath>
+#include <string>
+
+#include "tandem/Result.h"
+
+namespace tandem {
+
+glm::vec3 Scene::ambientIntensity() const {
+  glm::vec3 ia(0.0f);
+  for (const Light& l : lights)
+    if (l.type == LightType::Ambient) ia += l.color * l.intensity;
+  return ia;
+}
+
+std::vector<const Light*> Scene::directLights() const {
+  std::vector<const Light*> out;
+  for (const Light& l : lights)
+    if (l.type != LightType::Ambient) out.push_back(&l);
+  return out;
+}
+
+std::size_t Scene::triangleCount() const {
+  std::size_t n = 0;
+  for (const Instance& i : instances)
+    if (i.mesh < meshes.size()) n += meshes[i.mesh].triangleCount();
+  return n;
+}
+
+namespace {
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::mat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  return true;
+}
+}  // namespace
+
+Result<void> validateScene(const Scene& scene) {
+  const std::string where = scene.name.empty() ? std::string("scene") : "scene '" + scene.name + "'";
+  int direct = 0;
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    const Light& l = scene.lights[i];
+    std::string id = where + ": light " + std::to_string(i) + (l.name.empty() ? "" : " '" + l.name + "'");
+    if (!finite(l.color) || !std::isfinite(l.intensity) || !finite(l.posW) || !finite(l.dirW) ||
+        !std::isfinite(l.range) || !finite(l.attenuation))
+      return Error{id + ": a value is NaN or infinite"};
+    if (l.intensity < 0.0f || l.color.x < 0.0f || l.color.y < 0.0f || l.color.z < 0.0f)
+      return Error{id + ": negative colour or intensity"};
+    if (l.type != LightType::Ambient) ++direct;
+    if ((l.type == LightType::Spot || l.type == LightType::Directional) && glm::dot(l.dirW, l.dirW) < 1e-12f)
+      return Error{id + ": zero direction"};
+  }
+  if (direct > kMaxLights)
+    return Error{where + ": " + std::to_string(direct) + " lights, more than the limit of " +
+                 std::to_string(kMaxLights) + " (ambient lights do not count)"};
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    std::string id = where + ": mesh " + std::to_string(m) + (mesh.name.empty() ? "" : " '" + mesh.name + "'");
+    if (mesh.indices.size() % 3 != 0) return Error{id + ": index count is not a multiple of 3"};
+    for (std::uint32_t idx : mesh.indices)
+      if (idx >= mesh.positions.size()) return Error{id + ": index " + std::to_string(idx) + " out of range"};
+    for (const glm::vec3& p : mesh.positions)
+      if (!finite(p)) return Error{id + ": a position is NaN or infinite"};
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+      return Error{id + ": normal count differs from position count"};
+    if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
+      return Error{id + ": uv count differs from position count"};
+  }
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+    const Material& mat = scene.materials[m];
+    std::string id = where + ": material " + std::to_string(m) + (mat.name.empty() ? "" : " '" + mat.name + "'");
+    if (!finite(mat.ka) || !finite(mat.kd) || !finite(mat.ks) || !std::isfinite(mat.ns) || !std::isfinite(mat.kr) ||
+        !std::isfinite(mat.kt) || !std::isfinite(mat.ior) || !finite(mat.emission))
+      return Error{id + ": a value is NaN or infinite"};
+    if (mat.ior <= 0.0f) return Error{id + ": ior must be > 0"};
+    if (mat.ns < 0.0f) return Error{id + ": ns must be >= 0"};
+    if (mat.kdTexture >= int(scene.textures.size()) || mat.normalTexture >= int(scene.textures.size()))
+      return Error{id + ": texture index out of range"};
+  }
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    std::string id = where + ": instance " + std::to_string(i) + (inst.name.empty() ? "" : " '" + inst.name + "'");
+    if (inst.mesh >= scene.meshes.size()) return Error{id + ": mesh index out of range"};
+    if (inst.material >= scene.materials.size()) return Error{id + ": material index out of range"};
+    if (!finite(inst.worldFromObject)) return Error{id + ": transform is NaN or infinite"};
+  }
+  const Camera& c = scene.camera;
+  if (!finite(c.posW) || !finite(c.targetW) || !finite(c.upW) || !(c.nearZ > 0.0f) || !(c.farZ > c.nearZ) ||
+      !(c.yFovDeg > 0.0f && c.yFovDeg < 180.0f) || glm::length(c.targetW - c.posW) <= 0.0f)
+    return Error{where + ": camera is invalid (needs finite position, target != position, 0 < near < far, 0 < fov < 180)"};
+  return {};
+}
+
+}  // namespace tandem

@@ -1,0 +1,102 @@
+#include "tandem/Settings.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tandem {
+
+FrameSettings FrameSettings::resolved() const {
+  FrameSettings s = *this;
+  s.width = std::clamp(s.width, 1, 16384);
+  s.height = std::clamp(s.height, 1, 16384);
+  s.maxDepth = std::clamp(s.maxDepth, 0, 64);
+  s.minContribution = std::isfinite(s.minContribution) ? std::clamp(s.minContribution, 0.0f, 1.0f) : 0.01f;
+  s.rayScale = s.rayScale >= 4 ? 4 : s.rayScale >= 2 ? 2 : 1;
+  s.exposure = std::isfinite(s.exposure) && s.exposure > 0.0f ? s.exposure : 1.0f;
+  s.referenceSpp = std::clamp(s.referenceSpp, 1, 64);
+  return s;
+}
+
+std::optional<FrameSettings> presetSettings(std::string_view name, FrameSettings s) {
+  if (name == "raster") {
+    s.shadows = s.reflections = s.refraction = EffectMode::Raster;
+    s.maxDepth = 1;
+    s.rayScale = 1;
+    s.reference = false;
+  } else if (name == "hybrid-fast") {
+    // Ray-traced hard shadows and one mirror bounce at half resolution; refraction by raster.
+    s.shadows = EffectMode::Ray;
+    s.reflections = EffectMode::Ray;
+    s.refraction = EffectMode::Raster;
+    s.maxDepth = 2;
+    s.minContribution = 0.05f;
+    s.rayScale = 2;
+    s.reference = false;
+  } else if (name == "hybrid-full") {
+    s.shadows = s.reflections = s.refraction = EffectMode::Ray;
+    s.maxDepth = 8;
+    s.minContribution = 0.005f;
+    s.rayScale = 1;
+    s.reference = false;
+  } else if (name == "reference") {
+    s.shadows = s.reflections = s.refraction = EffectMode::Ray;
+    s.maxDepth = 16;
+    s.minContribution = 0.0f;
+    s.rayScale = 1;
+    s.reference = true;
+  } else {
+    return std::nullopt;
+  }
+  return s;
+}
+
+std::vector<std::string> presetNames() { return {"raster", "hybrid-fast", "hybrid-full", "reference"}; }
+
+std::optional<EffectMode> parseEffectMode(std::string_view s) {
+  if (s == "off") return EffectMode::Off;
+  if (s == "raster") return EffectMode::Raster;
+  if (s == "ray") return EffectMode::Ray;
+  return std::nullopt;
+}
+
+std::optional<ShadingModel> parseShadingModel(std::string_view s) {
+  if (s == "flat") return ShadingModel::Flat;
+  if (s == "gouraud") return ShadingModel::Gouraud;
+  if (s == "phong") return ShadingModel::Phong;
+  if (s == "toon" || s == "cartoon") return ShadingModel::Toon;
+  return std::nullopt;
+}
+
+namespace {
+constexpr std::string_view kDebugNames[] = {"final",    "depth",      "instance",   "primitive",
+                                            "normal",   "light-mask", "reflection", "transmission"};
+}
+
+std::optional<DebugView> parseDebugView(std::string_view s) {
+  for (std::size_t i = 0; i < std::size(kDebugNames); ++i)
+    if (s == kDebugNames[i]) return static_cast<DebugView>(i);
+  return std::nullopt;
+}
+
+std::string_view toString(DebugView v) { return kDebugNames[static_cast<int>(v)]; }
+
+std::string_view toString(EffectMode m) {
+  switch (m) {
+    case EffectMode::Off: return "off";
+    case EffectMode::Raster: return "raster";
+    case EffectMode::Ray: return "ray";
+  }
+  return "?";
+}
+
+std::string_view toString(ShadingModel m) {
+  switch (m) {
+    case ShadingModel::Flat: return "flat";
+    case ShadingModel::Gouraud: return "gouraud";
+    case ShadingModel::Phong: return "phong";
+    case ShadingModel::Toon: return "toon";
+  }
+  return "?";
+}
+
+}  // namespace tandem

@@ -1,0 +1,49 @@
+#pragma once
+// The C++ twin of shaders/shading.glsl: the same source text compiled with glm, so the CPU ray pass
+// and the GLSL shade every point with one definition of each formula.
+#include <cmath>
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "tandem/Scene.h"
+#include "tandem/Settings.h"
+
+namespace tandem::shading {
+
+using glm::clamp;
+using glm::dot;
+using glm::floor;
+using glm::max;
+using glm::pow;
+using glm::reflect;
+using glm::smoothstep;
+using glm::sqrt;
+using glm::vec2;
+using glm::vec3;
+using glm::vec4;
+using std::sqrt;
+using std::pow;
+
+#define TD_OUT(T) T&
+#include "../../../shaders/shading.glsl"
+#undef TD_OUT
+
+static_assert(sizeof(GpuLight) == 5 * 16, "GpuLight must match its std430 layout");
+static_assert(sizeof(GpuMaterial) == 6 * 16, "GpuMaterial must match its std430 layout");
+
+/// Packs the scene's records the same way for GL (SSBO upload) and the CPU twin.
+GpuLight packLight(const Light& light);
+GpuMaterial packMaterial(const Material& material, int materialIndex, std::optional<ShadingModel> override);
+/// The toon ramp of a material sampled at TD_TOON_RAMP_SIZE points over N·L in [-1, 1]: the 1D texture
+/// GL samples with nearest filtering, and the table the CPU reads.
+void bakeToonRamp(const Material& material, float* out /* TD_TOON_RAMP_SIZE */);
+/// Index into a baked ramp for N·L, the same texel GL's nearest filtering picks.
+inline int toonRampIndex(float nl) {
+  float t = glm::clamp(nl * 0.5f + 0.5f, 0.0f, 1.0f);
+  int i = static_cast<int>(t * TD_TOON_RAMP_SIZE);
+  return i >= TD_TOON_RAMP_SIZE ? TD_TOON_RAMP_SIZE - 1 : i;
+}
+inline int toneMapOp(ToneMap t) { return static_cast<int>(t); }
+
+}  // namespace tandem::shading

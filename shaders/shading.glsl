@@ -1,0 +1,158 @@
+// Tandem's shading formulas: the ONE definition, compiled both as GLSL (included by the shaders) and as
+// C++ (included by engine/src/core/Shading.h with glm, whose vec3 / dot / reflect / pow match GLSL).
+// Keep to the common subset: no GLSL-only qualifiers except through TD_OUT / TD_CONST, no C++-only syntax.
+// A parity test (tests/gl/ShadingParityGLTest) renders with the GLSL and compares with the C++ twin.
+
+// ---- Packed scene records (std430 in GLSL; identical glm::vec4 arrays in C++) ----
+#define TD_LIGHT_POINT 1
+#define TD_LIGHT_SPOT 2
+#define TD_LIGHT_DIRECTIONAL 3
+
+#define TD_MODEL_FLAT 0
+#define TD_MODEL_GOURAUD 1
+#define TD_MODEL_PHONG 2
+#define TD_MODEL_TOON 3
+
+#define TD_TONEMAP_NONE 0
+#define TD_TONEMAP_REINHARD 1
+#define TD_TONEMAP_ACES 2
+
+#define TD_MAX_LIGHTS 8
+#define TD_TOON_RAMP_SIZE 256
+
+struct GpuLight {
+  vec4 posType;      // xyz position (world), w type (TD_LIGHT_*)
+  vec4 dirRange;     // xyz direction the light travels (unit), w range (0 = unbounded)
+  vec4 radiance;     // rgb colour × intensity, w 1 if it casts shadows
+  vec4 attenCone;    // x constant, y linear, z quadratic attenuation; w unused
+  vec4 cone;         // x cos(inner), y cos(outer) for spots; zw unused
+};
+
+struct GpuMaterial {
+  vec4 kaToon;       // rgb ka, w toon-ramp row (material index)
+  vec4 kdTex;        // rgb kd, w kd texture layer (-1 none)
+  vec4 ksNs;         // rgb ks, w specular exponent ns
+  vec4 krKtIorModel; // x kr, y kt, z ior, w shading model (TD_MODEL_*)
+  vec4 kd2Checker;   // rgb second checker colour, w checker frequency (0 = off)
+  vec4 emissionFlags;// rgb emission, w unlit (1) or lit (0)
+};
+
+// ---- Lights ----
+// Radiance arriving at posW from light L, the unit direction towards the light and its distance
+// (directional: infinite, reported as -1). Zero outside a spot cone or beyond the range.
+vec3 tdLightIncident(GpuLight L, vec3 posW, TD_OUT(vec3) toLight, TD_OUT(float) dist) {
+  int type = int(L.posType.w + 0.5f);
+  if (type == TD_LIGHT_DIRECTIONAL) {
+    toLight = -vec3(L.dirRange);
+    dist = -1.0f;
+    return vec3(L.radiance);
+  }
+  vec3 d = vec3(L.posType) - posW;
+  float d2 = dot(d, d);
+  dist = sqrt(d2);
+  toLight = dist > 0.0f ? d / dist : vec3(0.0f, 1.0f, 0.0f);
+  float range = L.dirRange.w;
+  if (range > 0.0f && dist > range) return vec3(0.0f);
+  float att = L.attenCone.x + L.attenCone.y * dist + L.attenCone.z * d2;
+  float falloff = att > 0.0f ? 1.0f / att : 1.0f;
+  if (type == TD_LIGHT_SPOT) {
+    float cosAngle = dot(-toLight, vec3(L.dirRange));
+    float cosInner = L.cone.x;
+    float cosOuter = L.cone.y;
+    falloff *= cosInner > cosOuter ? smoothstep(cosOuter, cosInner, cosAngle) : (cosAngle >= cosOuter ? 1.0f : 0.0f);
+  }
+  return vec3(L.radiance) * falloff;
+}
+
+// Whether a light can reach posW at all: the ray pass traces no shadow ray when it cannot.
+bool tdLightCanReach(GpuLight L, vec3 posW, vec3 N) {
+  vec3 toLight;
+  float dist;
+  vec3 E = tdLightIncident(L, posW, toLight, dist);
+  return dot(N, toLight) > 0.0f && (E.x > 0.0f || E.y > 0.0f || E.z > 0.0f);
+}
+
+// ---- Phong terms ----
+float tdSpecular(vec3 N, vec3 toLight, vec3 toEye, float ns) {
+  vec3 R = reflect(-toLight, N);
+  float rv = dot(R, toEye);
+  // ns = 0 gives 1 wherever R·V > 0 (pow(0, 0) is undefined in GLSL).
+  return rv > 0.0f ? pow(rv, ns) : 0.0f;
+}
+
+// Diffuse + specular of one light for a lit point (visibility not applied). `toonLevel` is the ramp
+// value of N·L for the toon model (looked up by the caller: a texture in GLSL, a table in C++).
+vec3 tdShadeLight(vec3 kd, vec3 ks, float ns, int model, vec3 N, vec3 toEye, vec3 E, vec3 toLight,
+                  float toonLevel) {
+  float nl = dot(N, toLight);
+  if (model == TD_MODEL_TOON) {
+    // Hard bands for diffuse; the highlight is a hard spot where the Phong term passes one half.
+    float spec = nl > 0.0f && tdSpecular(N, toLight, toEye, ns) > 0.5f ? 1.0f : 0.0f;
+    return E * (kd * toonLevel + ks * spec);
+  }
+  if (nl <= 0.0f) return vec3(0.0f);
+  return E * (kd * nl + ks * tdSpecular(N, toLight, toEye, ns));
+}
+
+// The diffuse colour at a point: kd, times the procedural checker, texture and vertex colour handled
+// by the caller (textures differ between GL and CPU sampling, the checker does not).
+vec3 tdCheckerKd(GpuMaterial m, vec2 uv) {
+  float f = m.kd2Checker.w;
+  if (f <= 0.0f) return vec3(m.kdTex);
+  float cx = floor(uv.x * f);
+  float cy = floor(uv.y * f);
+  float parity = cx + cy - 2.0f * floor((cx + cy) * 0.5f);
+  return parity < 0.5f ? vec3(m.kdTex) : vec3(m.kd2Checker);
+}
+
+// ---- Fresnel (dielectric, outside IOR 1) ----
+// Exact unpolarised Fresnel reflectance for a ray with cos(incidence) `cosI` measured against the
+// normal on the side it arrives from, going from IOR etaI into etaT. Returns 1 on total internal reflection.
+float tdFresnelExact(float cosI, float etaI, float etaT) {
+  cosI = clamp(cosI, 0.0f, 1.0f);
+  float eta = etaI / etaT;
+  float sin2T = eta * eta * (1.0f - cosI * cosI);
+  if (sin2T >= 1.0f) return 1.0f;
+  float cosT = sqrt(max(0.0f, 1.0f - sin2T));
+  float rPar = (etaT * cosI - etaI * cosT) / (etaT * cosI + etaI * cosT);
+  float rPerp = (etaI * cosI - etaT * cosT) / (etaI * cosI + etaT * cosT);
+  return 0.5f * (rPar * rPar + rPerp * rPerp);
+}
+
+// Schlick's approximation, with the cosine on the less dense side and TIR tested first.
+float tdFresnelSchlick(float cosI, float etaI, float etaT) {
+  cosI = clamp(cosI, 0.0f, 1.0f);
+  float eta = etaI / etaT;
+  float sin2T = eta * eta * (1.0f - cosI * cosI);
+  if (sin2T >= 1.0f) return 1.0f;
+  float c = etaI > etaT ? sqrt(max(0.0f, 1.0f - sin2T)) : cosI;
+  float r0 = (etaI - etaT) / (etaI + etaT);
+  r0 = r0 * r0;
+  float k = 1.0f - c;
+  return r0 + (1.0f - r0) * k * k * k * k * k;
+}
+
+// ---- Output ----
+vec3 tdToneMap(vec3 c, int op) {
+  c = max(c, vec3(0.0f));
+  if (op == TD_TONEMAP_REINHARD) return c / (vec3(1.0f) + c);
+  if (op == TD_TONEMAP_ACES) {
+    // Narkowicz 2015 fit of the ACES filmic curve.
+    vec3 num = c * (2.51f * c + vec3(0.03f));
+    vec3 den = c * (2.43f * c + vec3(0.59f)) + vec3(0.14f);
+    return clamp(num / den, vec3(0.0f), vec3(1.0f));
+  }
+  return clamp(c, vec3(0.0f), vec3(1.0f));
+}
+
+float tdSrgbEncode1(float x) {
+  return x <= 0.0031308f ? 12.92f * x : 1.055f * pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+vec3 tdSrgbEncode(vec3 c) {
+  return vec3(tdSrgbEncode1(c.x), tdSrgbEncode1(c.y), tdSrgbEncode1(c.z));
+}
+
+float tdSrgbDecode1(float x) {
+  return x <= 0.04045f ? x / 12.92f : pow((x + 0.055f) / 1.055f, 2.4f);
+}
