@@ -1,0 +1,40 @@
+#pragma once
+// glTF 2.0 import (.gltf + .bin + images, .glb) through tinygltf, treating every file as untrusted:
+// files are read only inside the asset's own folder, validated before any data is used.
+// docs/gltf.md documents the material mapping, light units, defaults and limits.
+//
+//   GltfOptions opt;
+//   Result<Scene> s = loadGltf("model/Model.gltf", opt);
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "tandem/Result.h"
+#include "tandem/Scene.h"
+
+namespace tandem {
+
+struct GltfLimits {
+  std::uint64_t maxFileBytes = 512ull << 20;    // any one file read (main, buffer, image)
+  int maxJsonDepth = 64;                        // nesting depth of the JSON
+  std::uint64_t maxImagePixels = 4096ull * 4096; // per image, checked before decoding
+  std::uint64_t maxTriangles = 20'000'000;
+  std::uint64_t maxNodes = 1'000'000;
+};
+
+struct GltfOptions {
+  int sceneIndex = -1;  // -1: the file's default scene (or scene 0)
+  GltfLimits limits;
+  /// Called with the canonical path of every file the loader opens (tests check confinement).
+  std::function<void(const std::string&)> onFileOpened;
+  bool addDefaultLights = true;  // when the file has none (see docs/gltf.md)
+  bool addDefaultCamera = true;
+};
+
+/// Node transform animation, sampled by time (seconds); applies to instances created from animated nodes.
+struct GltfAnimation;
+
+/// Loads a glTF file into a Scene. Warnings (skipped primitives, missing images) go to the log.
+Result<Scene> loadGltf(const std::string& path, const GltfOptions& options = {});
+
+}  // namespace tandem

@@ -1,0 +1,82 @@
+#pragma once
+// The CPU ray pass on Embree 3 (no GL here: its tests need no context).
+//
+// Hybrid use (Renderer, every frame):
+//   prepare:  setScene() once per scene; updateTransforms() when dynamic instances moved (top-level
+//             commit only). Never called while trace() runs.
+//   rays:     trace(scene, camera, settings, visibility, out)
+// Reference use: renderReference() — primary visibility by camera rays, N×N jittered samples.
+//
+// Ray grid: with settings.rayScale = s, the grid is ceil(W/s) × ceil(H/s); grid pixel (gx, gy) stands for
+// full-resolution pixel (min(gx·s + s/2, W−1), min(gy·s + s/2, H−1)), whose ids and camera ray it uses.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "tandem/FrameStats.h"
+#include "tandem/Image.h"
+#include "tandem/Result.h"
+#include "tandem/Scene.h"
+#include "tandem/Settings.h"
+
+namespace tandem::rt {
+
+/// The raster pass's visibility channel read back to memory: per pixel (row 0 = top),
+/// x = instance index + 1 (0 = background), y = triangle index within that instance's mesh.
+struct VisibilityBuffer {
+  int width = 0;
+  int height = 0;
+  std::vector<glm::uvec2> ids;
+};
+
+/// Ray results on the ray grid. A vector is empty when its effect traced no ray this frame
+/// (cost follows the scene and the settings).
+struct RayOutputs {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint32_t> lightMask;  // bit j: direct light j (Scene::directLights()) unoccluded
+  std::vector<glm::vec4> reflected;      // rgb: weighted reflected radiance (wR·S), linear
+  std::vector<glm::vec4> transmitted;    // rgb: weighted transmitted radiance (wT·T), linear
+  RayCounts counts;
+  int threads = 0;
+};
+
+class RayTracer {
+ public:
+  /// threads = 0: all hardware threads. Fails (error value) if Embree cannot create a device.
+  static Result<std::unique_ptr<RayTracer>> create(int threads = 0);
+  ~RayTracer();
+  RayTracer(const RayTracer&) = delete;
+  RayTracer& operator=(const RayTracer&) = delete;
+
+  /// Builds the two-level Embree scene: one static BLAS per mesh, instanced. Embree errors (out of
+  /// memory included) come back as an error value and leave the previous scene in place.
+  Result<void> setScene(const Scene& scene);
+  /// Re-reads the transforms of dynamic instances and lights; commits the top level only.
+  void updateTransforms(const Scene& scene);
+
+  /// The hybrid ray pass: per grid pixel, the exact primary hit of the visible triangle, then shadow
+  /// rays, Whitted reflection and refraction as the settings ask. Never fails.
+  void trace(const Scene& scene, const Camera& camera, const FrameSettings& settings,
+             const VisibilityBuffer& visibility, RayOutputs& out);
+
+  /// Pure ray-traced frame (linear radiance, before tone mapping), settings.referenceSpp² jittered
+  /// samples per pixel, seeded per pixel so the image does not depend on the thread count.
+  void renderReference(const Scene& scene, const Camera& camera, const FrameSettings& settings, ImageF& out,
+                       RayCounts& counts);
+
+  /// Primary visibility by camera rays through pixel centres: the same buffer the raster pass writes.
+  void castVisibility(const Camera& camera, int width, int height, VisibilityBuffer& out);
+
+  int threads() const;
+
+  struct Impl;
+
+ private:
+  explicit RayTracer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tandem::rt
