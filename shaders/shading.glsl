@@ -105,6 +105,20 @@ vec3 tdCheckerKd(GpuMaterial m, vec2 uv) {
   return parity < 0.5f ? vec3(m.kdTex) : vec3(m.kd2Checker);
 }
 
+// Surface colour C: the checker's colour times the texture × vertex colour `tint` (white when absent).
+vec3 tdSurfaceColor(GpuMaterial m, vec2 uv, vec3 tint) {
+  return tdCheckerKd(m, uv) * tint;
+}
+
+// Ambient term ka·Ia, carried by the surface's pattern: the texture × vertex colour `tint` and, on the
+// checker's second colour, kd2 relative to kd (so shadowed checkerboards keep their squares).
+vec3 tdAmbient(GpuMaterial m, vec3 Ia, vec2 uv, vec3 tint) {
+  vec3 kd = vec3(m.kdTex);
+  vec3 c = tdCheckerKd(m, uv);
+  vec3 ratio = vec3(kd.x > 0.0f ? c.x / kd.x : 1.0f, kd.y > 0.0f ? c.y / kd.y : 1.0f, kd.z > 0.0f ? c.z / kd.z : 1.0f);
+  return vec3(m.kaToon) * Ia * tint * ratio;
+}
+
 // ---- Fresnel (dielectric, outside IOR 1) ----
 // Exact unpolarised Fresnel reflectance for a ray with cos(incidence) `cosI` measured against the
 // normal on the side it arrives from, going from IOR etaI into etaT. Returns 1 on total internal reflection.
