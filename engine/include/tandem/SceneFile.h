@@ -20,3 +20,9 @@ Result<Scene> loadDefaultScene();
 std::string_view defaultSceneText();
 
 }  // namespace tandem
+
+namespace tandem {
+/// Loads any scene the tools accept: a JSON scene file (.json), a glTF file (.gltf / .glb), or the
+/// embedded default scene when `path` is empty.
+Result<Scene> loadAnyScene(const std::string& path);
+}  // namespace tandem

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Set-up, build and the whole test suite through ctest. Idempotent.
+#   tools/test.sh                 the default suite (every test without the 'long' label)
+#   tools/test.sh --all           everything, long tests included
+#   tools/test.sh --asan          the suite under AddressSanitizer + UBSan (separate build dir build-asan)
+#   tools/test.sh --tsan          the ray pass under ThreadSanitizer (build-tsan)
+# Other arguments go to ctest (e.g. -R Scene, -L rt).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+source "$root/tools/deps.sh"
+tandem_install_deps
+
+mode=default
+args=()
+for a in "$@"; do
+  case "$a" in
+    --all) mode=all ;;
+    --asan) mode=asan ;;
+    --tsan) mode=tsan ;;
+    *) args+=("$a") ;;
+  esac
+done
+
+jobs="$(nproc 2>/dev/null || echo 2)"
+case "$mode" in
+  asan)
+    cmake -S "$root" -B "$root/build-asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTANDEM_SANITIZE=address,undefined \
+      -DTANDEM_BUILD_BENCH=OFF -DTANDEM_BUILD_SAMPLES=OFF >/dev/null
+    cmake --build "$root/build-asan" -j "$jobs"
+    export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
+    export LSAN_OPTIONS="suppressions=$root/tools/lsan.supp:print_suppressions=0"
+    export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+    cd "$root/build-asan" && ctest --output-on-failure -LE long "${args[@]}"
+    ;;
+  tsan)
+    cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTANDEM_SANITIZE=thread \
+      -DTANDEM_BUILD_BENCH=OFF -DTANDEM_BUILD_SAMPLES=OFF >/dev/null
+    cmake --build "$root/build-tsan" -j "$jobs" --target tandem-rt-tests
+    export TSAN_OPTIONS="halt_on_error=1:suppressions=$root/tools/tsan.supp"
+    cd "$root/build-tsan" && ctest --output-on-failure -L rt "${args[@]}"
+    ;;
+  *)
+    tandem_build
+    cd "$root/build"
+    if [ "$mode" = all ]; then
+      ctest --output-on-failure "${args[@]}"
+    else
+      ctest --output-on-failure -LE long "${args[@]}"
+    fi
+    ;;
+esac
