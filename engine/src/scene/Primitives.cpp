@@ -17,7 +17,8 @@ Mesh makeSphere(float radius, int segments, int rings) {
     float theta = v * glm::pi<float>();
     for (int s = 0; s <= segments; ++s) {
       float u = float(s) / float(segments);
-      float phi = u * glm::two_pi<float>();
+      // The seam column reuses phi = 0: sin(2π) in float is not 0, which would leave a crack.
+      float phi = (s == segments ? 0.0f : u) * glm::two_pi<float>();
       // The poles are exact so the mesh closes (needed by "rays from inside always hit").
       glm::vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi));
       if (r == 0) n = {0, 1, 0};

@@ -1,0 +1,993 @@
+// The JSON scene format (docs/scene-format.md).
+//
+// Scene files are written by hand, so the reader is strict: every key is checked against the keys its
+// object allows (a typo is an error, not a silently ignored setting), every number against its range,
+// and every error names the file, the JSON pointer of the offending value and the reason. Internally a
+// failure throws SceneFileError, which the public functions turn into Result errors: nothing escapes.
+#include "tandem/SceneFile.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <limits>
+#include <map>
+#include <new>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <unordered_map>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/Embedded.h"
+#include "tandem/Gltf.h"
+#include "tandem/Primitives.h"
+#include "tandem/Settings.h"
+
+namespace tandem {
+
+namespace {
+
+namespace fs = std::filesystem;
+// ordered_json keeps the file's order, so "known: ..." lists and mesh/material indices follow the file.
+using Json = nlohmann::ordered_json;
+
+// Limits against absurd input: a hand-written scene never comes near them, a corrupted or hostile one
+// must fail with a message instead of exhausting memory.
+constexpr std::uintmax_t kMaxFileBytes = 64ull << 20;
+constexpr int kMaxJsonDepth = 64;
+constexpr int kMaxTessellation = 4096;                     // sphere segments/rings, plane divisions
+constexpr std::uint64_t kMaxPrimitiveTriangles = 4u << 20;  // one built-in mesh
+constexpr std::uint64_t kMaxSceneTriangles = 20'000'000;     // all meshes together (the glTF limit)
+constexpr std::size_t kMaxToonSteps = 64;
+constexpr int kMaxImageSide = 16384;
+constexpr int kMaxDepthLimit = 64;
+
+struct SceneFileError {
+  std::string message;
+};
+
+// ---------------------------------------------------------------------------------------------------
+// JSON pointers (RFC 6901), used as the location in every message.
+
+std::string escapePointer(std::string_view token) {
+  std::string out;
+  for (char c : token) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
+}
+std::string child(const std::string& path, std::string_view key) { return path + "/" + escapePointer(key); }
+std::string child(const std::string& path, std::size_t index) { return path + "/" + std::to_string(index); }
+
+std::string joinNames(const std::vector<std::string>& names) {
+  if (names.empty()) return "none";
+  std::string out;
+  // A glTF file can hold thousands of names; the first ones are enough to spot a typo.
+  const std::size_t shown = std::min<std::size_t>(names.size(), 24);
+  for (std::size_t i = 0; i < shown; ++i) out += (i ? ", " : "") + names[i];
+  if (shown < names.size()) out += ", ... (" + std::to_string(names.size() - shown) + " more)";
+  return out;
+}
+
+std::string formatNumber(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Text → JSON, with line/column on syntax errors, duplicate-key detection and a depth limit.
+
+std::pair<std::size_t, std::size_t> lineColumn(std::string_view text, std::size_t byte) {
+  byte = std::min(byte, text.size());
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i < byte; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return {line, column};
+}
+
+// Tracks where the parser is so a duplicate key can be reported by its JSON pointer. nlohmann keeps the
+// last of duplicate keys silently, which would hide a copy-paste mistake (two "kd" in one material).
+class KeyTracker {
+ public:
+  explicit KeyTracker(const std::string& file) : file_(file) {}
+
+  bool operator()(int depth, Json::parse_event_t event, Json& parsed) {
+    using E = Json::parse_event_t;
+    switch (event) {
+      case E::object_start:
+      case E::array_start:
+        beginValue();
+        if (depth >= kMaxJsonDepth)
+          throw SceneFileError{file_ + ": " + currentPath() + ": nesting deeper than " + std::to_string(kMaxJsonDepth) + " levels"};
+        frames_.push_back(Frame{event == E::array_start, 0, {}, {}});
+        break;
+      case E::key: {
+        Frame& f = frames_.back();
+        f.key = parsed.get<std::string>();
+        if (!f.keys.insert(f.key).second)
+          throw SceneFileError{file_ + ": " + currentPath() + ": duplicate key '" + f.key + "'"};
+        break;
+      }
+      case E::value:
+        beginValue();
+        break;
+      case E::object_end:
+      case E::array_end:
+        frames_.pop_back();
+        break;
+    }
+    return true;
+  }
+
+ private:
+  struct Frame {
+    bool array;
+    std::size_t count;  // elements begun so far (arrays)
+    std::string key;    // the current key (objects)
+    std::set<std::string> keys;
+  };
+  void beginValue() {
+    if (!frames_.empty() && frames_.back().array) ++frames_.back().count;
+  }
+  std::string currentPath() const {
+    std::string p;
+    for (const Frame& f : frames_) p = f.array ? child(p, f.count - 1) : child(p, f.key);
+    return p.empty() ? "/" : p;
+  }
+  std::string file_;
+  std::vector<Frame> frames_;
+};
+
+Json parseText(std::string_view text, const std::string& file) {
+  KeyTracker tracker(file);
+  try {
+    return Json::parse(text.begin(), text.end(), std::ref(tracker), /*allow_exceptions=*/true,
+                       /*ignore_comments=*/true);
+  } catch (const Json::parse_error& e) {
+    auto [line, column] = lineColumn(text, e.byte == 0 ? 0 : e.byte - 1);
+    // nlohmann's text is "[json.exception.parse_error.101] parse error at line L, column C: reason";
+    // keep the reason, and give the position in the same form as the rest of our messages.
+    std::string what = e.what();
+    std::size_t colon = what.find(": ");
+    std::string reason = colon == std::string::npos ? what : what.substr(colon + 2);
+    throw SceneFileError{file + ": line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + reason};
+  } catch (const Json::out_of_range& e) {
+    // Number overflow (1e400): nlohmann gives no position, so find the literal in the text.
+    std::string what = e.what();
+    std::string where;
+    std::size_t q1 = what.find('\''), q2 = what.rfind('\'');
+    if (q1 != std::string::npos && q2 > q1 + 1) {
+      std::size_t at = text.find(what.substr(q1 + 1, q2 - q1 - 1));
+      if (at != std::string_view::npos) {
+        auto [line, column] = lineColumn(text, at);
+        where = "line " + std::to_string(line) + ", column " + std::to_string(column) + ": ";
+      }
+    }
+    std::size_t bracket = what.find("] ");
+    throw SceneFileError{file + ": " + where + (bracket == std::string::npos ? what : what.substr(bracket + 2)) +
+                         " (not representable as a number)"};
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Typed access with ranges. Every reader takes the value and its JSON pointer.
+
+struct Range {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool loOpen = false;  // lo itself excluded
+  bool hiOpen = false;
+  bool contains(double v) const {
+    return (loOpen ? v > lo : v >= lo) && (hiOpen ? v < hi : v <= hi);
+  }
+  std::string describe() const {
+    const bool hasLo = std::isfinite(lo), hasHi = std::isfinite(hi);
+    if (hasLo && hasHi)
+      return std::string("in ") + (loOpen ? "(" : "[") + formatNumber(lo) + ", " + formatNumber(hi) + (hiOpen ? ")" : "]");
+    if (hasLo) return std::string(loOpen ? "> " : ">= ") + formatNumber(lo);
+    if (hasHi) return std::string(hiOpen ? "< " : "<= ") + formatNumber(hi);
+    return "finite";
+  }
+};
+constexpr Range kAny{};
+constexpr Range kNonNegative{0.0};
+constexpr Range kPositive{0.0, std::numeric_limits<double>::infinity(), true};
+constexpr Range kUnit{0.0, 1.0};
+
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const std::string& path, const std::string& reason) const {
+    throw SceneFileError{file_ + ": " + (path.empty() ? std::string("/") : path) + ": " + reason};
+  }
+  const std::string& file() const { return file_; }
+
+  const Json& object(const Json& j, const std::string& path) const {
+    if (!j.is_object()) fail(path, std::string("expected an object, got ") + typeName(j));
+    return j;
+  }
+  const Json& array(const Json& j, const std::string& path) const {
+    if (!j.is_array()) fail(path, std::string("expected an array, got ") + typeName(j));
+    return j;
+  }
+  /// Rejects keys outside `allowed`, naming the key and the allowed ones.
+  void checkKeys(const Json& obj, const std::string& path, std::initializer_list<std::string_view> allowed,
+                 std::string_view context = {}) const {
+    for (const auto& [key, value] : obj.items()) {
+      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+      std::string list;
+      for (std::string_view a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+      fail(child(path, key), "unknown key '" + key + "'" + (context.empty() ? "" : " for " + std::string(context)) +
+                                 " (allowed: " + list + ")");
+    }
+  }
+  static const Json* find(const Json& obj, std::string_view key) {
+    auto it = obj.find(std::string(key));
+    return it == obj.end() ? nullptr : &*it;
+  }
+  const Json& require(const Json& obj, const std::string& path, std::string_view key,
+                      std::string_view what = {}) const {
+    const Json* v = find(obj, key);
+    if (!v) fail(path, "missing required key '" + std::string(key) + "'" + (what.empty() ? "" : " (" + std::string(what) + ")"));
+    return *v;
+  }
+
+  float number(const Json& j, const std::string& path, Range range = kAny) const {
+    if (!j.is_number()) fail(path, std::string("expected a number, got ") + typeName(j));
+    const double d = j.get<double>();
+    // Doubles beyond float range (1e39) would become infinite in the scene: reject them here.
+    const auto f = static_cast<float>(d);
+    if (!std::isfinite(d) || !std::isfinite(f)) fail(path, formatNumber(d) + " is too large (not a finite float)");
+    if (!range.contains(d)) fail(path, "must be " + range.describe() + ", got " + formatNumber(d));
+    return f;
+  }
+  int integer(const Json& j, const std::string& path, int lo, int hi) const {
+    if (!j.is_number()) fail(path, std::string("expected an integer, got ") + typeName(j));
+    const double d = j.get<double>();
+    if (!j.is_number_integer() && d != std::floor(d)) fail(path, "expected an integer, got " + formatNumber(d));
+    if (!(d >= lo && d <= hi))
+      fail(path, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + formatNumber(d));
+    return static_cast<int>(d);
+  }
+  bool boolean(const Json& j, const std::string& path) const {
+    if (!j.is_boolean()) fail(path, std::string("expected true or false, got ") + typeName(j));
+    return j.get<bool>();
+  }
+  std::string string(const Json& j, const std::string& path) const {
+    if (!j.is_string()) fail(path, std::string("expected a string, got ") + typeName(j));
+    return j.get<std::string>();
+  }
+  std::string nonEmptyString(const Json& j, const std::string& path) const {
+    std::string s = string(j, path);
+    if (s.empty()) fail(path, "must not be empty");
+    return s;
+  }
+  /// [x, y, z]; with `scalarOk`, a single number s means [s, s, s].
+  glm::vec3 vec3(const Json& j, const std::string& path, Range range = kAny, bool scalarOk = false) const {
+    if (scalarOk && j.is_number()) return glm::vec3(number(j, path, range));
+    if (!j.is_array() || j.size() != 3)
+      fail(path, std::string("expected [x, y, z]") + (scalarOk ? " or a number" : "") + ", got " + describe(j));
+    return {number(j[0], child(path, 0), range), number(j[1], child(path, 1), range), number(j[2], child(path, 2), range)};
+  }
+  /// A linear RGB colour: [r, g, b] or a grey level.
+  glm::vec3 color(const Json& j, const std::string& path) const { return vec3(j, path, kNonNegative, true); }
+
+  static const char* typeName(const Json& j) {
+    switch (j.type()) {
+      case Json::value_t::null: return "null";
+      case Json::value_t::object: return "an object";
+      case Json::value_t::array: return "an array";
+      case Json::value_t::string: return "a string";
+      case Json::value_t::boolean: return "a boolean";
+      case Json::value_t::binary: return "binary data";
+      case Json::value_t::discarded: return "nothing";
+      default: return "a number";
+    }
+  }
+  static std::string describe(const Json& j) {
+    if (j.is_array()) return "an array of " + std::to_string(j.size());
+    return typeName(j);
+  }
+
+ private:
+  std::string file_;
+};
+
+// ---------------------------------------------------------------------------------------------------
+// Mesh helpers for glTF-sourced meshes.
+
+/// Appends `src`, transformed by `m`, to `dst`. Attributes survive only when every part has them
+/// (the caller clears the flags); a mirroring transform swaps the winding back to counter-clockwise.
+struct MergeAttributes {
+  bool normals = true, uvs = true, tangents = true, colors = true;
+};
+
+void appendTransformed(Mesh& dst, const Mesh& src, const glm::mat4& m, const MergeAttributes& keep) {
+  const auto base = static_cast<std::uint32_t>(dst.positions.size());
+  const glm::mat3 linear(m);
+  const glm::mat3 normalMatrix = glm::transpose(glm::inverse(linear));
+  const bool mirrored = glm::determinant(linear) < 0.0f;
+  for (const glm::vec3& p : src.positions) dst.positions.push_back(glm::vec3(m * glm::vec4(p, 1.0f)));
+  if (keep.normals)
+    for (const glm::vec3& n : src.normals) {
+      glm::vec3 t = normalMatrix * n;
+      float len = glm::length(t);
+      dst.normals.push_back(len > 0.0f ? t / len : glm::vec3(0, 1, 0));
+    }
+  if (keep.uvs) dst.uvs.insert(dst.uvs.end(), src.uvs.begin(), src.uvs.end());
+  if (keep.tangents)
+    for (const glm::vec4& t : src.tangents) {
+      glm::vec3 v = linear * glm::vec3(t);
+      float len = glm::length(v);
+      dst.tangents.push_back(glm::vec4(len > 0.0f ? v / len : glm::vec3(1, 0, 0), mirrored ? -t.w : t.w));
+    }
+  if (keep.colors) dst.colors.insert(dst.colors.end(), src.colors.begin(), src.colors.end());
+  for (std::size_t i = 0; i + 2 < src.indices.size(); i += 3) {
+    std::uint32_t a = src.indices[i] + base, b = src.indices[i + 1] + base, c = src.indices[i + 2] + base;
+    if (mirrored) std::swap(b, c);
+    dst.indices.insert(dst.indices.end(), {a, b, c});
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The builder: JSON → Scene.
+
+class Builder {
+ public:
+  Builder(Reader reader, std::optional<std::string> baseDir) : r_(std::move(reader)), baseDir_(std::move(baseDir)) {}
+
+  Scene build(const Json& root, const std::string& defaultName) {
+    r_.object(root, "");
+    r_.checkKeys(root, "", {"name", "meshes", "materials", "lights", "instances", "camera", "background", "render"});
+    scene_.name = defaultName;
+    if (const Json* j = Reader::find(root, "name")) scene_.name = r_.nonEmptyString(*j, "/name");
+    if (const Json* j = Reader::find(root, "meshes")) meshes(*j, "/meshes");
+    if (const Json* j = Reader::find(root, "materials")) materials(*j, "/materials");
+    if (const Json* j = Reader::find(root, "lights")) lights(*j, "/lights");
+    if (const Json* j = Reader::find(root, "instances")) instances(*j, "/instances");
+    checkLightCount();
+    checkTriangleBudget();
+    if (const Json* j = Reader::find(root, "camera")) camera(*j, "/camera");
+    if (const Json* j = Reader::find(root, "background")) scene_.background = r_.color(*j, "/background");
+    if (const Json* j = Reader::find(root, "render")) render(*j, "/render");
+    return std::move(scene_);
+  }
+
+ private:
+  // ---- meshes ----
+  void meshes(const Json& j, const std::string& path) {
+    r_.object(j, path);
+    for (const auto& [name, value] : j.items()) {
+      const std::string p = child(path, name);
+      if (name.empty()) r_.fail(p, "mesh names must not be empty");
+      r_.object(value, p);
+      const Json* prim = Reader::find(value, "primitive");
+      const Json* gltf = Reader::find(value, "gltf");
+      if (prim && gltf) r_.fail(p, "a mesh has either 'primitive' or 'gltf', not both");
+      if (!prim && !gltf) r_.fail(p, "missing required key 'primitive' or 'gltf'");
+      Mesh mesh = prim ? primitive(value, p) : gltfMesh(value, p);
+      mesh.name = name;
+      meshIndex_[name] = static_cast<std::uint32_t>(scene_.meshes.size());
+      meshNames_.push_back(name);
+      scene_.meshes.push_back(std::move(mesh));
+    }
+  }
+
+  Mesh primitive(const Json& j, const std::string& path) {
+    const std::string type = r_.string(j.at("primitive"), child(path, "primitive"));
+    if (type == "sphere") {
+      r_.checkKeys(j, path, {"primitive", "radius", "segments", "rings"}, "a sphere");
+      float radius = 1.0f;
+      int segments = 64, rings = 32;
+      if (const Json* v = Reader::find(j, "radius")) radius = r_.number(*v, child(path, "radius"), kPositive);
+      if (const Json* v = Reader::find(j, "segments")) segments = r_.integer(*v, child(path, "segments"), 3, kMaxTessellation);
+      if (const Json* v = Reader::find(j, "rings")) rings = r_.integer(*v, child(path, "rings"), 2, kMaxTessellation);
+      // The two pole rows have one triangle per segment, the others two.
+      checkPrimitiveTriangles(std::uint64_t(segments) * std::uint64_t(2 * rings - 2), path);
+      return makeSphere(radius, segments, rings);
+    }
+    if (type == "box") {
+      r_.checkKeys(j, path, {"primitive", "size"}, "a box");
+      glm::vec3 size(1.0f);
+      if (const Json* v = Reader::find(j, "size")) size = r_.vec3(*v, child(path, "size"), kPositive, true);
+      return makeBox(size);
+    }
+    if (type == "plane") {
+      r_.checkKeys(j, path, {"primitive", "size", "divisions"}, "a plane");
+      glm::vec2 size(10.0f);
+      int divisions = 1;
+      if (const Json* v = Reader::find(j, "size")) {
+        const std::string p = child(path, "size");
+        if (v->is_number()) {
+          size = glm::vec2(r_.number(*v, p, kPositive));
+        } else {
+          if (!v->is_array() || v->size() != 2) r_.fail(p, "expected [x, z] or a number, got " + Reader::describe(*v));
+          size = {r_.number((*v)[0], child(p, 0), kPositive), r_.number((*v)[1], child(p, 1), kPositive)};
+        }
+      }
+      if (const Json* v = Reader::find(j, "divisions")) divisions = r_.integer(*v, child(path, "divisions"), 1, kMaxTessellation);
+      checkPrimitiveTriangles(2ull * std::uint64_t(divisions) * std::uint64_t(divisions), path);
+      return makePlane(size, divisions);
+    }
+    r_.fail(child(path, "primitive"), "unknown primitive '" + type + "' (known: sphere, box, plane)");
+  }
+
+  void checkPrimitiveTriangles(std::uint64_t n, const std::string& path) const {
+    if (n > kMaxPrimitiveTriangles)
+      r_.fail(path, "tessellation gives " + std::to_string(n) + " triangles, more than the limit of " +
+                        std::to_string(kMaxPrimitiveTriangles));
+  }
+
+  Mesh gltfMesh(const Json& j, const std::string& path) {
+    r_.checkKeys(j, path, {"gltf", "mesh"}, "a glTF mesh");
+    const Scene& g = loadGltfCached(j.at("gltf"), child(path, "gltf"));
+    std::vector<std::pair<const Mesh*, glm::mat4>> parts;
+    if (const Json* sel = Reader::find(j, "mesh")) {
+      // One named (or numbered) mesh of the file, in its own object space.
+      const std::string p = child(path, "mesh");
+      if (sel->is_string()) {
+        const std::string want = sel->get<std::string>();
+        for (const Mesh& m : g.meshes)
+          if (m.name == want) parts.push_back({&m, glm::mat4(1.0f)});
+        if (parts.empty()) {
+          std::vector<std::string> known;
+          for (const Mesh& m : g.meshes)
+            if (std::find(known.begin(), known.end(), m.name) == known.end()) known.push_back(m.name);
+          r_.fail(p, "no mesh named '" + want + "' in the glTF file (known: " + joinNames(known) + ")");
+        }
+      } else {
+        if (g.meshes.empty()) r_.fail(p, "the glTF file has no meshes");
+        const int i = r_.integer(*sel, p, 0, static_cast<int>(std::min<std::size_t>(g.meshes.size() - 1, 1u << 30)));
+        parts.push_back({&g.meshes[static_cast<std::size_t>(i)], glm::mat4(1.0f)});
+      }
+    } else {
+      // The whole file as it is placed by its nodes, flattened into one mesh.
+      for (const Instance& inst : g.instances) parts.push_back({&g.meshes[inst.mesh], inst.worldFromObject});
+      if (parts.empty()) r_.fail(child(path, "gltf"), "the glTF file places no meshes");
+    }
+    MergeAttributes keep;
+    std::uint64_t vertices = 0, triangles = 0;
+    for (const auto& [m, xf] : parts) {
+      keep.normals = keep.normals && m->normals.size() == m->positions.size();
+      keep.uvs = keep.uvs && m->uvs.size() == m->positions.size();
+      keep.tangents = keep.tangents && m->tangents.size() == m->positions.size();
+      keep.colors = keep.colors && m->colors.size() == m->positions.size();
+      vertices += m->positions.size();
+      triangles += m->triangleCount();
+    }
+    if (vertices >= std::numeric_limits<std::uint32_t>::max() || triangles > kMaxSceneTriangles)
+      r_.fail(path, "the merged glTF mesh is too large (" + std::to_string(triangles) + " triangles)");
+    Mesh out;
+    for (const auto& [m, xf] : parts) appendTransformed(out, *m, xf, keep);
+    return out;
+  }
+
+  std::string resolve(const Json& j, const std::string& path) const {
+    const std::string rel = r_.nonEmptyString(j, path);
+    fs::path p(rel);
+    if (p.is_absolute()) return p.lexically_normal().string();
+    if (!baseDir_)
+      r_.fail(path, "cannot resolve the relative path '" + rel +
+                        "': the embedded default scene has no folder (the repository's assets/scenes was not found)");
+    return (fs::path(*baseDir_) / p).lexically_normal().string();
+  }
+
+  const Scene& loadGltfCached(const Json& j, const std::string& path) {
+    const std::string file = resolve(j, path);
+    auto it = gltfCache_.find(file);
+    if (it != gltfCache_.end()) return it->second;
+    GltfOptions options;
+    // The scene file decides lights and camera; the glTF loader's stand-ins would only get in the way.
+    options.addDefaultLights = false;
+    options.addDefaultCamera = false;
+    Result<Scene> g = loadGltf(file, options);
+    if (!g) r_.fail(path, "cannot load glTF '" + file + "': " + g.error().message);
+    return gltfCache_.emplace(file, std::move(*g)).first->second;
+  }
+
+  // ---- materials ----
+  void materials(const Json& j, const std::string& path) {
+    r_.object(j, path);
+    for (const auto& [name, value] : j.items()) {
+      const std::string p = child(path, name);
+      if (name.empty()) r_.fail(p, "material names must not be empty");
+      Material m = material(value, p);
+      m.name = name;
+      materialIndex_[name] = static_cast<std::uint32_t>(scene_.materials.size());
+      materialNames_.push_back(name);
+      scene_.materials.push_back(std::move(m));
+    }
+  }
+
+  Material material(const Json& j, const std::string& path) const {
+    r_.object(j, path);
+    r_.checkKeys(j, path, {"ka", "kd", "ks", "ns", "kr", "kt", "ior", "emission", "shading", "toonRamp", "checker",
+                           "opacity", "alphaMode", "alphaCutoff", "doubleSided", "unlit"});
+    Material m;
+    auto opt = [&](std::string_view key) { return Reader::find(j, key); };
+    if (const Json* v = opt("ka")) m.ka = r_.color(*v, child(path, "ka"));
+    if (const Json* v = opt("kd")) m.kd = r_.color(*v, child(path, "kd"));
+    if (const Json* v = opt("ks")) m.ks = r_.color(*v, child(path, "ks"));
+    if (const Json* v = opt("ns")) m.ns = r_.number(*v, child(path, "ns"), Range{0.0, 10000.0});
+    if (const Json* v = opt("kr")) m.kr = r_.number(*v, child(path, "kr"), kUnit);
+    if (const Json* v = opt("kt")) m.kt = r_.number(*v, child(path, "kt"), kUnit);
+    if (const Json* v = opt("ior")) m.ior = r_.number(*v, child(path, "ior"), Range{0.0, 10.0, true});
+    if (const Json* v = opt("emission")) m.emission = r_.color(*v, child(path, "emission"));
+    if (const Json* v = opt("shading")) {
+      const std::string p = child(path, "shading");
+      const std::string s = r_.string(*v, p);
+      std::optional<ShadingModel> model = parseShadingModel(s);
+      if (!model) r_.fail(p, "unknown shading model '" + s + "' (known: flat, gouraud, phong, toon)");
+      m.shading = *model;
+    }
+    if (const Json* v = opt("toonRamp")) m.toonRamp = toonRamp(*v, child(path, "toonRamp"));
+    if (const Json* v = opt("checker")) {
+      const std::string p = child(path, "checker");
+      r_.object(*v, p);
+      r_.checkKeys(*v, p, {"color2", "frequency"});
+      m.kd2 = r_.color(r_.require(*v, p, "color2", "the second colour of the squares"), child(p, "color2"));
+      m.checkerFrequency = 1.0f;
+      if (const Json* f = Reader::find(*v, "frequency")) m.checkerFrequency = r_.number(*f, child(p, "frequency"), Range{0.0, 1e6, true});
+    }
+    if (const Json* v = opt("opacity")) m.opacity = r_.number(*v, child(path, "opacity"), kUnit);
+    if (const Json* v = opt("alphaMode")) {
+      const std::string p = child(path, "alphaMode");
+      const std::string s = r_.string(*v, p);
+      if (s == "opaque") m.alphaMode = AlphaMode::Opaque;
+      else if (s == "mask") m.alphaMode = AlphaMode::Mask;
+      else if (s == "blend") m.alphaMode = AlphaMode::Blend;
+      else r_.fail(p, "unknown alpha mode '" + s + "' (known: opaque, mask, blend)");
+    }
+    if (const Json* v = opt("alphaCutoff")) m.alphaCutoff = r_.number(*v, child(path, "alphaCutoff"), kUnit);
+    if (const Json* v = opt("doubleSided")) m.doubleSided = r_.boolean(*v, child(path, "doubleSided"));
+    if (const Json* v = opt("unlit")) m.unlit = r_.boolean(*v, child(path, "unlit"));
+    return m;
+  }
+
+  std::vector<ToonStep> toonRamp(const Json& j, const std::string& path) const {
+    r_.array(j, path);
+    if (j.empty()) r_.fail(path, "needs at least one [threshold, level] step");
+    if (j.size() > kMaxToonSteps) r_.fail(path, "more than " + std::to_string(kMaxToonSteps) + " steps");
+    std::vector<ToonStep> ramp;
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      const std::string p = child(path, i);
+      const Json& s = j[i];
+      if (!s.is_array() || s.size() != 2) r_.fail(p, "expected [threshold, level], got " + Reader::describe(s));
+      ramp.push_back({r_.number(s[0], child(p, 0), Range{-1.0, 1.0}), r_.number(s[1], child(p, 1), kNonNegative)});
+    }
+    return ramp;
+  }
+
+  // ---- lights ----
+  void lights(const Json& j, const std::string& path) {
+    r_.array(j, path);
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      const std::string p = child(path, i);
+      Light l = light(j[i], p);
+      if (const Json* n = Reader::find(j[i], "name")) {
+        l.name = r_.nonEmptyString(*n, child(p, "name"));
+        if (!names.insert(l.name).second) r_.fail(child(p, "name"), "duplicate light name '" + l.name + "'");
+      } else {
+        l.name = "light" + std::to_string(i);
+      }
+      addLight(std::move(l), p);
+    }
+  }
+
+  Light light(const Json& j, const std::string& path) const {
+    r_.object(j, path);
+    const std::string typePath = child(path, "type");
+    const std::string type = r_.string(r_.require(j, path, "type", "ambient, point, spot or directional"), typePath);
+    Light l;
+    if (type == "ambient") {
+      l.type = LightType::Ambient;
+      r_.checkKeys(j, path, {"type", "name", "color", "intensity"}, "an ambient light");
+    } else if (type == "point") {
+      l.type = LightType::Point;
+      r_.checkKeys(j, path, {"type", "name", "color", "intensity", "position", "range", "attenuation", "castShadows"},
+                   "a point light");
+    } else if (type == "spot") {
+      l.type = LightType::Spot;
+      r_.checkKeys(j, path, {"type", "name", "color", "intensity", "position", "direction", "range", "attenuation",
+                             "innerCone", "outerCone", "castShadows"},
+                   "a spot light");
+    } else if (type == "directional") {
+      l.type = LightType::Directional;
+      r_.checkKeys(j, path, {"type", "name", "color", "intensity", "direction", "castShadows"}, "a directional light");
+    } else {
+      r_.fail(typePath, "unknown light type '" + type + "' (known: ambient, point, spot, directional)");
+    }
+    if (const Json* v = Reader::find(j, "color")) l.color = r_.color(*v, child(path, "color"));
+    if (const Json* v = Reader::find(j, "intensity")) l.intensity = r_.number(*v, child(path, "intensity"), kNonNegative);
+    const bool positioned = l.type == LightType::Point || l.type == LightType::Spot;
+    const bool directed = l.type == LightType::Spot || l.type == LightType::Directional;
+    if (positioned) l.posW = r_.vec3(r_.require(j, path, "position"), child(path, "position"));
+    if (directed) {
+      const std::string p = child(path, "direction");
+      glm::vec3 d = r_.vec3(r_.require(j, path, "direction", "the way the light travels"), p);
+      const float len = glm::length(d);
+      if (!(len > 1e-12f) || !std::isfinite(len)) r_.fail(p, "direction must be a non-zero vector");
+      l.dirW = d / len;
+    }
+    if (positioned) {
+      if (const Json* v = Reader::find(j, "range")) l.range = r_.number(*v, child(path, "range"), kNonNegative);
+      if (const Json* v = Reader::find(j, "attenuation")) {
+        const std::string p = child(path, "attenuation");
+        l.attenuation = r_.vec3(*v, p, kNonNegative);
+        // 1 / (c + l·d + q·d²) must stay finite away from the light.
+        if (l.attenuation.x + l.attenuation.y + l.attenuation.z <= 0.0f)
+          r_.fail(p, "at least one of constant, linear, quadratic must be > 0");
+      }
+    }
+    if (l.type == LightType::Spot) {
+      if (const Json* v = Reader::find(j, "innerCone")) l.innerConeDeg = r_.number(*v, child(path, "innerCone"), Range{0.0, 90.0});
+      if (const Json* v = Reader::find(j, "outerCone"))
+        l.outerConeDeg = r_.number(*v, child(path, "outerCone"), Range{0.0, 90.0, false, true});
+      if (l.innerConeDeg > l.outerConeDeg)
+        r_.fail(child(path, "innerCone"), "innerCone (" + formatNumber(l.innerConeDeg) + ") must not exceed outerCone (" +
+                                              formatNumber(l.outerConeDeg) + ")");
+    }
+    if (const Json* v = Reader::find(j, "castShadows")) l.castShadows = r_.boolean(*v, child(path, "castShadows"));
+    return l;
+  }
+
+  void addLight(Light l, const std::string& source) {
+    lightSources_.push_back(source);
+    scene_.lights.push_back(std::move(l));
+  }
+
+  void checkLightCount() const {
+    int direct = 0;
+    for (std::size_t i = 0; i < scene_.lights.size(); ++i) {
+      if (scene_.lights[i].type == LightType::Ambient) continue;
+      if (++direct > kMaxLights) {
+        int total = 0;
+        for (const Light& l : scene_.lights) total += l.type != LightType::Ambient;
+        r_.fail(lightSources_[i], "too many lights: " + std::to_string(total) + " non-ambient lights, the limit is " +
+                                      std::to_string(kMaxLights) + " (ambient lights do not count)");
+      }
+    }
+  }
+
+  void checkTriangleBudget() const {
+    std::uint64_t n = 0;
+    for (const Mesh& m : scene_.meshes) n += m.triangleCount();
+    if (n > kMaxSceneTriangles)
+      r_.fail("/meshes", "the meshes hold " + std::to_string(n) + " triangles, more than the limit of " +
+                             std::to_string(kMaxSceneTriangles));
+  }
+
+  // ---- instances and glTF placements ----
+  void instances(const Json& j, const std::string& path) {
+    r_.array(j, path);
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      const std::string p = child(path, i);
+      r_.object(j[i], p);
+      std::string name;
+      if (const Json* n = Reader::find(j[i], "name")) {
+        name = r_.nonEmptyString(*n, child(p, "name"));
+        if (!names.insert(name).second) r_.fail(child(p, "name"), "duplicate instance name '" + name + "'");
+      }
+      if (Reader::find(j[i], "gltf")) placement(j[i], p, name);
+      else meshInstance(j[i], p, name);
+    }
+  }
+
+  void meshInstance(const Json& j, const std::string& path, std::string name) {
+    r_.checkKeys(j, path, {"name", "mesh", "material", "transform", "dynamic"}, "a mesh instance");
+    Instance inst;
+    const std::string meshName = r_.string(r_.require(j, path, "mesh", "or 'gltf' for a glTF placement"), child(path, "mesh"));
+    auto m = meshIndex_.find(meshName);
+    if (m == meshIndex_.end()) r_.fail(child(path, "mesh"), "unknown mesh '" + meshName + "' (known: " + joinNames(meshNames_) + ")");
+    inst.mesh = m->second;
+    inst.material = materialByName(r_.require(j, path, "material"), child(path, "material"));
+    if (const Json* v = Reader::find(j, "transform")) inst.worldFromObject = transform(*v, child(path, "transform"));
+    if (const Json* v = Reader::find(j, "dynamic")) inst.dynamic = r_.boolean(*v, child(path, "dynamic"));
+    inst.name = name.empty() ? meshName : std::move(name);
+    scene_.instances.push_back(std::move(inst));
+  }
+
+  std::uint32_t materialByName(const Json& j, const std::string& path) const {
+    const std::string s = r_.string(j, path);
+    auto it = materialIndex_.find(s);
+    if (it == materialIndex_.end()) r_.fail(path, "unknown material '" + s + "' (known: " + joinNames(materialNames_) + ")");
+    return it->second;
+  }
+
+  void placement(const Json& j, const std::string& path, std::string name) {
+    r_.checkKeys(j, path, {"name", "gltf", "transform", "materialOverrides", "lights", "dynamic"}, "a glTF placement");
+    const std::string gltfPath = child(path, "gltf");
+    if (name.empty()) name = fs::path(r_.nonEmptyString(j.at("gltf"), gltfPath)).stem().string();
+    glm::mat4 xf(1.0f);
+    if (const Json* v = Reader::find(j, "transform")) xf = transform(*v, child(path, "transform"));
+    bool dynamic = false;
+    if (const Json* v = Reader::find(j, "dynamic")) dynamic = r_.boolean(*v, child(path, "dynamic"));
+    bool keepLights = true;
+    if (const Json* v = Reader::find(j, "lights")) {
+      const std::string p = child(path, "lights");
+      const std::string s = r_.string(*v, p);
+      if (s != "keep" && s != "drop") r_.fail(p, "expected 'keep' or 'drop', got '" + s + "'");
+      keepLights = s == "keep";
+    }
+    const Scene& g = loadGltfCached(j.at("gltf"), gltfPath);
+
+    // materialOverrides: glTF material name (or "*" for all) → material of this file.
+    std::optional<std::uint32_t> overrideAll;
+    std::map<std::string, std::uint32_t> overrides;
+    if (const Json* v = Reader::find(j, "materialOverrides")) {
+      const std::string p = child(path, "materialOverrides");
+      r_.object(*v, p);
+      std::vector<std::string> known;
+      for (const Material& m : g.materials)
+        if (std::find(known.begin(), known.end(), m.name) == known.end()) known.push_back(m.name);
+      for (const auto& [key, value] : v->items()) {
+        const std::string kp = child(p, key);
+        const std::uint32_t target = materialByName(value, kp);
+        if (key == "*") {
+          overrideAll = target;
+        } else {
+          if (std::find(known.begin(), known.end(), key) == known.end())
+            r_.fail(kp, "no material named '" + key + "' in the glTF file (known: " + joinNames(known) + ")");
+          overrides[key] = target;
+        }
+      }
+    }
+
+    const auto meshBase = static_cast<std::uint32_t>(scene_.meshes.size());
+    const int textureBase = static_cast<int>(scene_.textures.size());
+    const std::string prefix = name + "/";
+    for (const Mesh& m : g.meshes) {
+      scene_.meshes.push_back(m);
+      scene_.meshes.back().name = prefix + m.name;
+    }
+    for (const Texture& t : g.textures) {
+      scene_.textures.push_back(t);
+      scene_.textures.back().name = prefix + t.name;
+    }
+    // Non-overridden materials are appended with their texture indices shifted; overridden ones map to
+    // the scene's material and are not copied.
+    std::vector<std::uint32_t> materialMap(g.materials.size());
+    for (std::size_t i = 0; i < g.materials.size(); ++i) {
+      const Material& gm = g.materials[i];
+      auto o = overrides.find(gm.name);
+      if (o != overrides.end()) {
+        materialMap[i] = o->second;
+      } else if (overrideAll) {
+        materialMap[i] = *overrideAll;
+      } else {
+        Material m = gm;
+        m.name = prefix + gm.name;
+        if (m.kdTexture >= 0) m.kdTexture += textureBase;
+        if (m.normalTexture >= 0) m.normalTexture += textureBase;
+        materialMap[i] = static_cast<std::uint32_t>(scene_.materials.size());
+        scene_.materials.push_back(std::move(m));
+      }
+    }
+    for (const Instance& gi : g.instances) {
+      if (gi.mesh >= g.meshes.size() || gi.material >= g.materials.size())
+        r_.fail(gltfPath, "the glTF loader returned an instance with an out-of-range index");
+      Instance inst = gi;
+      inst.name = prefix + gi.name;
+      inst.mesh = meshBase + gi.mesh;
+      inst.material = materialMap[gi.material];
+      inst.worldFromObject = xf * gi.worldFromObject;
+      inst.dynamic = gi.dynamic || dynamic;
+      scene_.instances.push_back(std::move(inst));
+    }
+    if (keepLights) {
+      const glm::mat3 linear(xf);
+      for (const Light& gl : g.lights) {
+        Light l = gl;
+        l.name = prefix + gl.name;
+        l.posW = glm::vec3(xf * glm::vec4(gl.posW, 1.0f));
+        // Directions move with the placement; range and attenuation stay in the file's units.
+        glm::vec3 d = linear * gl.dirW;
+        const float len = glm::length(d);
+        l.dirW = len > 0.0f ? d / len : gl.dirW;
+        addLight(std::move(l), path);
+      }
+    }
+  }
+
+  glm::mat4 transform(const Json& j, const std::string& path) const {
+    r_.object(j, path);
+    r_.checkKeys(j, path, {"translate", "rotate", "scale", "matrix"});
+    if (const Json* mj = Reader::find(j, "matrix")) {
+      const std::string p = child(path, "matrix");
+      if (j.size() > 1) r_.fail(p, "'matrix' cannot be combined with translate/rotate/scale");
+      if (!mj->is_array() || mj->size() != 16)
+        r_.fail(p, "expected 16 numbers (column-major), got " + Reader::describe(*mj));
+      glm::mat4 m(0.0f);
+      for (int c = 0; c < 4; ++c)
+        for (int row = 0; row < 4; ++row) {
+          const auto k = static_cast<std::size_t>(c * 4 + row);
+          m[c][row] = r_.number((*mj)[k], child(p, k));
+        }
+      // Instances are rigid placements: a projective bottom row would break normals and ray transforms.
+      if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f)
+        r_.fail(p, "not an affine transform: elements 3, 7, 11 must be 0 and 15 must be 1 (column-major)");
+      const float det = glm::determinant(glm::mat3(m));
+      if (!std::isfinite(det) || std::abs(det) < 1e-12f) r_.fail(p, "the matrix is singular (determinant 0)");
+      if (det < 0.0f) r_.fail(p, "the matrix mirrors (negative determinant), which flips triangle winding; not supported");
+      return m;
+    }
+    glm::mat4 m(1.0f);
+    if (const Json* v = Reader::find(j, "translate")) m = glm::translate(m, r_.vec3(*v, child(path, "translate")));
+    if (const Json* v = Reader::find(j, "rotate")) m = m * rotation(*v, child(path, "rotate"));
+    if (const Json* v = Reader::find(j, "scale"))
+      // Mirroring (negative) or flattening (zero) scales would flip or collapse triangles.
+      m = glm::scale(m, r_.vec3(*v, child(path, "scale"), Range{0.0, 1e6, true}, true));
+    return m;
+  }
+
+  glm::mat4 rotation(const Json& j, const std::string& path) const {
+    if (j.is_object()) {
+      r_.checkKeys(j, path, {"axis", "angle"});
+      const std::string ap = child(path, "axis");
+      glm::vec3 axis = r_.vec3(r_.require(j, path, "axis"), ap);
+      const float len = glm::length(axis);
+      if (!(len > 1e-12f) || !std::isfinite(len)) r_.fail(ap, "axis must be a non-zero vector");
+      const float angle = r_.number(r_.require(j, path, "angle", "degrees"), child(path, "angle"));
+      return glm::rotate(glm::mat4(1.0f), glm::radians(angle), axis / len);
+    }
+    if (!j.is_array()) r_.fail(path, std::string("expected [x, y, z] Euler degrees or {\"axis\", \"angle\"}, got ") + Reader::typeName(j));
+    const glm::vec3 e = r_.vec3(j, path);
+    // xyz Euler: about X first, then Y, then Z (fixed axes), so R = Rz·Ry·Rx.
+    glm::mat4 rz = glm::rotate(glm::mat4(1.0f), glm::radians(e.z), glm::vec3(0, 0, 1));
+    glm::mat4 ry = glm::rotate(glm::mat4(1.0f), glm::radians(e.y), glm::vec3(0, 1, 0));
+    glm::mat4 rx = glm::rotate(glm::mat4(1.0f), glm::radians(e.x), glm::vec3(1, 0, 0));
+    return rz * ry * rx;
+  }
+
+  // ---- camera and render settings ----
+  void camera(const Json& j, const std::string& path) {
+    r_.object(j, path);
+    r_.checkKeys(j, path, {"position", "target", "up", "fov", "near", "far", "orthographic", "height"});
+    Camera& c = scene_.camera;
+    if (const Json* v = Reader::find(j, "position")) c.posW = r_.vec3(*v, child(path, "position"));
+    if (const Json* v = Reader::find(j, "target")) c.targetW = r_.vec3(*v, child(path, "target"));
+    if (const Json* v = Reader::find(j, "up")) c.upW = r_.vec3(*v, child(path, "up"));
+    if (const Json* v = Reader::find(j, "fov")) c.yFovDeg = r_.number(*v, child(path, "fov"), Range{0.0, 180.0, true, true});
+    if (const Json* v = Reader::find(j, "near")) c.nearZ = r_.number(*v, child(path, "near"), kPositive);
+    if (const Json* v = Reader::find(j, "far")) {
+      const std::string p = child(path, "far");
+      if (v->is_string()) {
+        if (v->get<std::string>() != "infinite") r_.fail(p, "expected a number or \"infinite\", got '" + v->get<std::string>() + "'");
+        c.farZ = std::numeric_limits<float>::infinity();
+      } else {
+        c.farZ = r_.number(*v, p, kPositive);
+      }
+    }
+    if (!(c.farZ > c.nearZ))
+      r_.fail(child(path, "far"), "far (" + formatNumber(c.farZ) + ") must be greater than near (" + formatNumber(c.nearZ) + ")");
+    if (const Json* v = Reader::find(j, "orthographic")) c.orthographic = r_.boolean(*v, child(path, "orthographic"));
+    if (const Json* v = Reader::find(j, "height")) c.orthoHeight = r_.number(*v, child(path, "height"), kPositive);
+    const glm::vec3 forward = c.targetW - c.posW;
+    if (!(glm::length(forward) > 1e-6f)) r_.fail(child(path, "target"), "target must differ from position");
+    const float upLen = glm::length(c.upW);
+    if (!(upLen > 1e-12f)) r_.fail(child(path, "up"), "up must be a non-zero vector");
+    if (glm::length(glm::cross(glm::normalize(forward), c.upW / upLen)) < 1e-4f)
+      r_.fail(child(path, "up"), "up is parallel to the view direction (target - position)");
+  }
+
+  void render(const Json& j, const std::string& path) {
+    r_.object(j, path);
+    r_.checkKeys(j, path, {"width", "height", "preset", "maxDepth"});
+    SceneRenderDefaults& d = scene_.render;
+    if (const Json* v = Reader::find(j, "width")) d.width = r_.integer(*v, child(path, "width"), 1, kMaxImageSide);
+    if (const Json* v = Reader::find(j, "height")) d.height = r_.integer(*v, child(path, "height"), 1, kMaxImageSide);
+    if (const Json* v = Reader::find(j, "preset")) {
+      const std::string p = child(path, "preset");
+      d.preset = r_.string(*v, p);
+      const std::vector<std::string> known = presetNames();
+      if (std::find(known.begin(), known.end(), d.preset) == known.end())
+        r_.fail(p, "unknown preset '" + d.preset + "' (known: " + joinNames(known) + ")");
+    }
+    if (const Json* v = Reader::find(j, "maxDepth")) d.maxDepth = r_.integer(*v, child(path, "maxDepth"), 0, kMaxDepthLimit);
+  }
+
+  Reader r_;
+  std::optional<std::string> baseDir_;  // nullopt: no folder to resolve relative paths against
+  Scene scene_;
+  std::unordered_map<std::string, std::uint32_t> meshIndex_, materialIndex_;
+  std::vector<std::string> meshNames_, materialNames_;  // in file order, for "known: ..." lists
+  std::vector<std::string> lightSources_;               // JSON pointer each light came from
+  std::map<std::string, Scene> gltfCache_;              // one load per file, shared by meshes and placements
+};
+
+Result<Scene> parseImpl(std::string_view text, const std::string& name, std::optional<std::string> baseDir) {
+  try {
+    Json root = parseText(text, name);
+    Builder builder{Reader(name), std::move(baseDir)};
+    Scene scene = builder.build(root, fs::path(name).stem().string());
+    // The builder checks everything it reads; validateScene is the contract the Renderer relies on,
+    // so it is the last word (it also covers what glTF placements bring in).
+    Result<void> valid = validateScene(scene);
+    if (!valid) return Error{name + ": " + valid.error().message};
+    return scene;
+  } catch (const SceneFileError& e) {
+    return Error{e.message};
+  } catch (const std::bad_alloc&) {
+    return Error{name + ": out of memory"};
+  } catch (const std::exception& e) {
+    return Error{name + ": " + e.what()};
+  }
+}
+
+/// The repository's assets/scenes, for relative paths in the embedded default scene: looked for under
+/// the working directory and above the executable (build trees sit inside or beside the checkout).
+std::optional<std::string> findRepositoryScenes() {
+  std::error_code ec;
+  std::vector<fs::path> starts{fs::current_path(ec)};
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) starts.push_back(exe.parent_path());
+  for (fs::path dir : starts) {
+    for (int up = 0; up < 5 && !dir.empty(); ++up) {
+      fs::path candidate = dir / "assets" / "scenes";
+      if (fs::is_regular_file(candidate / "whitted.json", ec)) return candidate.string();
+      if (dir == dir.parent_path()) break;
+      dir = dir.parent_path();
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+Result<Scene> parseSceneJson(std::string_view text, const std::string& name, const std::string& baseDir) {
+  return parseImpl(text, name, baseDir.empty() ? std::string(".") : baseDir);
+}
+
+Result<Scene> loadSceneFile(const std::string& path) {
+  try {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) return Error{path + ": no such file"};
+    const std::uintmax_t size = fs::file_size(path, ec);
+    if (ec) return Error{path + ": cannot read: " + ec.message()};
+    if (size > kMaxFileBytes)
+      return Error{path + ": " + std::to_string(size) + " bytes, more than the limit of " + std::to_string(kMaxFileBytes)};
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return Error{path + ": cannot open: " + std::strerror(errno)};
+    std::string text(static_cast<std::size_t>(size), '\0');
+    in.read(text.data(), static_cast<std::streamsize>(size));
+    if (in.gcount() != static_cast<std::streamsize>(size)) return Error{path + ": read failed"};
+    fs::path dir = fs::path(path).parent_path();
+    return parseImpl(text, path, dir.empty() ? std::string(".") : dir.string());
+  } catch (const std::exception& e) {
+    return Error{path + ": " + e.what()};
+  }
+}
+
+std::string_view defaultSceneText() { return findEmbedded("assets/scenes/whitted.json").value_or(std::string_view{}); }
+
+Result<Scene> loadDefaultScene() {
+  std::string_view text = defaultSceneText();
+  if (text.empty()) return Error{"whitted.json: the default scene is not embedded in this binary"};
+  std::optional<std::string> dir;
+  try {
+    dir = findRepositoryScenes();
+  } catch (const std::exception&) {
+    dir.reset();  // no folder: relative glTF references then fail with their own message
+  }
+  return parseImpl(text, "whitted.json", std::move(dir));
+}
+
+}  // namespace tandem

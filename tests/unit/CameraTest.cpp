@@ -1,0 +1,132 @@
+// The camera contract shared by the rasterizer (clipFromView·viewFromWorld) and the ray pass
+// (rayThroughPixel): both must see the same point at the same pixel, with reversed-Z depth.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "tandem/Camera.h"
+
+namespace tandem {
+namespace {
+
+/// Depth in [0, 1] of a point at view-space z (negative in front of the camera).
+float depthAt(const Camera& c, float zView) {
+  glm::vec4 clip = c.clipFromView(16.0f / 9.0f) * glm::vec4(0.0f, 0.0f, zView, 1.0f);
+  return clip.z / clip.w;
+}
+
+/// Projects a world point to pixels (y down), in double so only the camera's own rounding shows.
+glm::dvec2 project(const Camera& c, glm::ivec2 size, glm::dvec3 pW) {
+  const float aspect = float(size.x) / float(size.y);
+  glm::dmat4 m = glm::dmat4(c.clipFromView(aspect)) * glm::dmat4(c.viewFromWorld());
+  glm::dvec4 clip = m * glm::dvec4(pW, 1.0);
+  glm::dvec2 ndc = glm::dvec2(clip) / clip.w;
+  return {(ndc.x * 0.5 + 0.5) * size.x, (0.5 - ndc.y * 0.5) * size.y};
+}
+
+/// In double: forming the point in float near the camera would add rounding of its own.
+glm::dvec3 pointOnRay(const Ray& r, double t) { return glm::dvec3(r.origin) + glm::dvec3(r.dir) * t; }
+
+Camera tiltedCamera() {
+  Camera c;
+  c.posW = {1.5f, 2.0f, 6.0f};
+  c.targetW = {-0.5f, 0.7f, 0.0f};
+  c.upW = {0.1f, 1.0f, 0.0f};  // not orthogonal to the view direction: lookAt must orthogonalize
+  c.yFovDeg = 40.0f;
+  c.nearZ = 0.1f;
+  c.farZ = 100.0f;
+  return c;
+}
+
+TEST(Camera, ViewFromWorldPutsTargetOnNegativeZ) {
+  Camera c = tiltedCamera();
+  glm::vec4 eye = c.viewFromWorld() * glm::vec4(c.posW, 1.0f);
+  EXPECT_NEAR(glm::length(glm::vec3(eye)), 0.0f, 1e-5f);
+  glm::vec4 t = c.viewFromWorld() * glm::vec4(c.targetW, 1.0f);
+  EXPECT_NEAR(t.x, 0.0f, 1e-5f);
+  EXPECT_NEAR(t.y, 0.0f, 1e-5f);
+  EXPECT_NEAR(t.z, -glm::length(c.targetW - c.posW), 1e-5f);
+  glm::mat4 id = c.worldFromView() * c.viewFromWorld();
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) EXPECT_NEAR(id[i][j], i == j ? 1.0f : 0.0f, 1e-5f);
+}
+
+TEST(Camera, PerspectiveIsReversedZ) {
+  Camera c = tiltedCamera();
+  EXPECT_NEAR(depthAt(c, -c.nearZ), 1.0f, 1e-6f);
+  EXPECT_NEAR(depthAt(c, -c.farZ), 0.0f, 1e-6f);
+  // Nearer is larger everywhere in between.
+  float prev = 1.0f;
+  for (float z = c.nearZ * 2; z < c.farZ; z *= 2) {
+    float d = depthAt(c, -z);
+    EXPECT_LT(d, prev) << "z " << z;
+    EXPECT_GT(d, 0.0f);
+    prev = d;
+  }
+}
+
+TEST(Camera, InfiniteFarPlaneTendsToZero) {
+  Camera c = tiltedCamera();
+  c.farZ = std::numeric_limits<float>::infinity();
+  EXPECT_NEAR(depthAt(c, -c.nearZ), 1.0f, 1e-6f);
+  EXPECT_NEAR(depthAt(c, -1e9f), 0.0f, 1e-9f);
+  EXPECT_GT(depthAt(c, -1e9f), 0.0f);  // never behind the far plane
+  EXPECT_NEAR(depthAt(c, -2.0f * c.nearZ), 0.5f, 1e-6f);
+}
+
+TEST(Camera, RayThroughPixelAgreesWithProjection) {
+  const glm::ivec2 size(640, 360);
+  Camera c = tiltedCamera();
+  for (bool infinite : {false, true}) {
+    c.farZ = infinite ? std::numeric_limits<float>::infinity() : 100.0f;
+    for (glm::vec2 px : {glm::vec2(0.5f, 0.5f), glm::vec2(320.5f, 180.5f), glm::vec2(639.5f, 359.5f),
+                         glm::vec2(17.5f, 300.5f), glm::vec2(600.5f, 20.5f)}) {
+      Ray r = c.rayThroughPixel(px, size);
+      EXPECT_NEAR(glm::length(r.dir), 1.0f, 1e-6f);
+      EXPECT_NEAR(glm::length(r.origin - c.posW), 0.0f, 1e-6f);
+      // viewFromWorld is float: its translation carries ~eps·|posW| of rounding, which is 1e-4 px only
+      // for points at least about |posW| away; nearer points get the looser bound that rounding allows.
+      for (double t : {0.5, 5.0, 12.0, 40.0}) {
+        const double tolerance = t < 5.0 ? 1e-3 : 1e-4;
+        glm::dvec2 back = project(c, size, pointOnRay(r, t));
+        EXPECT_NEAR(back.x, px.x, tolerance) << "pixel " << px.x << "," << px.y << " t " << t;
+        EXPECT_NEAR(back.y, px.y, tolerance) << "pixel " << px.x << "," << px.y << " t " << t;
+      }
+    }
+  }
+}
+
+TEST(Camera, RayThroughCentreLooksAtTarget) {
+  Camera c = tiltedCamera();
+  Ray r = c.rayThroughPixel({320.0f, 180.0f}, {640, 360});  // the exact image centre
+  glm::vec3 expected = glm::normalize(c.targetW - c.posW);
+  EXPECT_NEAR(glm::dot(r.dir, expected), 1.0f, 1e-6f);
+}
+
+TEST(Camera, OrthographicRaysAreParallelAndProjectBack) {
+  const glm::ivec2 size(400, 300);
+  Camera c = tiltedCamera();
+  c.orthographic = true;
+  c.orthoHeight = 5.0f;
+  const glm::vec3 forward = glm::normalize(c.targetW - c.posW);
+  EXPECT_NEAR(depthAt(c, -c.nearZ), 1.0f, 1e-6f);
+  EXPECT_NEAR(depthAt(c, -c.farZ), 0.0f, 1e-6f);
+  Ray a = c.rayThroughPixel({0.5f, 0.5f}, size);
+  Ray b = c.rayThroughPixel({399.5f, 299.5f}, size);
+  EXPECT_NEAR(glm::dot(a.dir, forward), 1.0f, 1e-6f);
+  EXPECT_NEAR(glm::dot(b.dir, forward), 1.0f, 1e-6f);
+  // The image spans orthoHeight vertically and orthoHeight·aspect horizontally.
+  glm::vec3 span = glm::vec3(c.viewFromWorld() * glm::vec4(b.origin - a.origin, 0.0f));
+  EXPECT_NEAR(span.x, 5.0f * 4.0f / 3.0f * 399.0f / 400.0f, 1e-4f);
+  EXPECT_NEAR(span.y, -5.0f * 299.0f / 300.0f, 1e-4f);
+  for (glm::vec2 px : {glm::vec2(0.5f, 0.5f), glm::vec2(200.5f, 150.5f), glm::vec2(399.5f, 10.5f)}) {
+    Ray r = c.rayThroughPixel(px, size);
+    glm::dvec2 back = project(c, size, pointOnRay(r, 7.0));
+    EXPECT_NEAR(back.x, px.x, 1e-4);
+    EXPECT_NEAR(back.y, px.y, 1e-4);
+  }
+}
+
+}  // namespace
+}  // namespace tandem
