@@ -3,6 +3,12 @@
 // Keep to the common subset: no GLSL-only qualifiers except through TD_OUT / TD_CONST, no C++-only syntax.
 // A parity test (tests/gl/ShadingParityGLTest) renders with the GLSL and compares with the C++ twin.
 
+// Function linkage: C++ defines TD_FN as `inline` (several translation units include this file; without it
+// every one of them defines each function and the link fails), GLSL as nothing.
+#ifndef TD_FN
+#define TD_FN
+#endif
+
 // ---- Packed scene records (std430 in GLSL; identical glm::vec4 arrays in C++) ----
 #define TD_LIGHT_POINT 1
 #define TD_LIGHT_SPOT 2
@@ -40,7 +46,7 @@ struct GpuMaterial {
 // ---- Lights ----
 // Radiance arriving at posW from light L, the unit direction towards the light and its distance
 // (directional: infinite, reported as -1). Zero outside a spot cone or beyond the range.
-vec3 tdLightIncident(GpuLight L, vec3 posW, TD_OUT(vec3) toLight, TD_OUT(float) dist) {
+TD_FN vec3 tdLightIncident(GpuLight L, vec3 posW, TD_OUT(vec3) toLight, TD_OUT(float) dist) {
   int type = int(L.posType.w + 0.5f);
   if (type == TD_LIGHT_DIRECTIONAL) {
     toLight = -vec3(L.dirRange);
@@ -65,7 +71,7 @@ vec3 tdLightIncident(GpuLight L, vec3 posW, TD_OUT(vec3) toLight, TD_OUT(float) 
 }
 
 // Whether a light can reach posW at all: the ray pass traces no shadow ray when it cannot.
-bool tdLightCanReach(GpuLight L, vec3 posW, vec3 N) {
+TD_FN bool tdLightCanReach(GpuLight L, vec3 posW, vec3 N) {
   vec3 toLight;
   float dist;
   vec3 E = tdLightIncident(L, posW, toLight, dist);
@@ -73,7 +79,7 @@ bool tdLightCanReach(GpuLight L, vec3 posW, vec3 N) {
 }
 
 // ---- Phong terms ----
-float tdSpecular(vec3 N, vec3 toLight, vec3 toEye, float ns) {
+TD_FN float tdSpecular(vec3 N, vec3 toLight, vec3 toEye, float ns) {
   vec3 R = reflect(-toLight, N);
   float rv = dot(R, toEye);
   // ns = 0 gives 1 wherever R·V > 0 (pow(0, 0) is undefined in GLSL).
@@ -82,8 +88,8 @@ float tdSpecular(vec3 N, vec3 toLight, vec3 toEye, float ns) {
 
 // Diffuse + specular of one light for a lit point (visibility not applied). `toonLevel` is the ramp
 // value of N·L for the toon model (looked up by the caller: a texture in GLSL, a table in C++).
-vec3 tdShadeLight(vec3 kd, vec3 ks, float ns, int model, vec3 N, vec3 toEye, vec3 E, vec3 toLight,
-                  float toonLevel) {
+TD_FN vec3 tdShadeLight(vec3 kd, vec3 ks, float ns, int model, vec3 N, vec3 toEye, vec3 E, vec3 toLight,
+                        float toonLevel) {
   float nl = dot(N, toLight);
   if (model == TD_MODEL_TOON) {
     // Hard bands for diffuse; the highlight is a hard spot where the Phong term passes one half.
@@ -96,7 +102,7 @@ vec3 tdShadeLight(vec3 kd, vec3 ks, float ns, int model, vec3 N, vec3 toEye, vec
 
 // The diffuse colour at a point: kd, times the procedural checker, texture and vertex colour handled
 // by the caller (textures differ between GL and CPU sampling, the checker does not).
-vec3 tdCheckerKd(GpuMaterial m, vec2 uv) {
+TD_FN vec3 tdCheckerKd(GpuMaterial m, vec2 uv) {
   float f = m.kd2Checker.w;
   if (f <= 0.0f) return vec3(m.kdTex);
   float cx = floor(uv.x * f);
@@ -106,13 +112,13 @@ vec3 tdCheckerKd(GpuMaterial m, vec2 uv) {
 }
 
 // Surface colour C: the checker's colour times the texture × vertex colour `tint` (white when absent).
-vec3 tdSurfaceColor(GpuMaterial m, vec2 uv, vec3 tint) {
+TD_FN vec3 tdSurfaceColor(GpuMaterial m, vec2 uv, vec3 tint) {
   return tdCheckerKd(m, uv) * tint;
 }
 
 // Ambient term ka·Ia, carried by the surface's pattern: the texture × vertex colour `tint` and, on the
 // checker's second colour, kd2 relative to kd (so shadowed checkerboards keep their squares).
-vec3 tdAmbient(GpuMaterial m, vec3 Ia, vec2 uv, vec3 tint) {
+TD_FN vec3 tdAmbient(GpuMaterial m, vec3 Ia, vec2 uv, vec3 tint) {
   vec3 kd = vec3(m.kdTex);
   vec3 c = tdCheckerKd(m, uv);
   vec3 ratio = vec3(kd.x > 0.0f ? c.x / kd.x : 1.0f, kd.y > 0.0f ? c.y / kd.y : 1.0f, kd.z > 0.0f ? c.z / kd.z : 1.0f);
@@ -122,7 +128,7 @@ vec3 tdAmbient(GpuMaterial m, vec3 Ia, vec2 uv, vec3 tint) {
 // ---- Fresnel (dielectric, outside IOR 1) ----
 // Exact unpolarised Fresnel reflectance for a ray with cos(incidence) `cosI` measured against the
 // normal on the side it arrives from, going from IOR etaI into etaT. Returns 1 on total internal reflection.
-float tdFresnelExact(float cosI, float etaI, float etaT) {
+TD_FN float tdFresnelExact(float cosI, float etaI, float etaT) {
   cosI = clamp(cosI, 0.0f, 1.0f);
   float eta = etaI / etaT;
   float sin2T = eta * eta * (1.0f - cosI * cosI);
@@ -134,7 +140,7 @@ float tdFresnelExact(float cosI, float etaI, float etaT) {
 }
 
 // Schlick's approximation, with the cosine on the less dense side and TIR tested first.
-float tdFresnelSchlick(float cosI, float etaI, float etaT) {
+TD_FN float tdFresnelSchlick(float cosI, float etaI, float etaT) {
   cosI = clamp(cosI, 0.0f, 1.0f);
   float eta = etaI / etaT;
   float sin2T = eta * eta * (1.0f - cosI * cosI);
@@ -147,7 +153,7 @@ float tdFresnelSchlick(float cosI, float etaI, float etaT) {
 }
 
 // ---- Output ----
-vec3 tdToneMap(vec3 c, int op) {
+TD_FN vec3 tdToneMap(vec3 c, int op) {
   c = max(c, vec3(0.0f));
   if (op == TD_TONEMAP_REINHARD) return c / (vec3(1.0f) + c);
   if (op == TD_TONEMAP_ACES) {
@@ -159,14 +165,14 @@ vec3 tdToneMap(vec3 c, int op) {
   return clamp(c, vec3(0.0f), vec3(1.0f));
 }
 
-float tdSrgbEncode1(float x) {
+TD_FN float tdSrgbEncode1(float x) {
   return x <= 0.0031308f ? 12.92f * x : 1.055f * pow(x, 1.0f / 2.4f) - 0.055f;
 }
 
-vec3 tdSrgbEncode(vec3 c) {
+TD_FN vec3 tdSrgbEncode(vec3 c) {
   return vec3(tdSrgbEncode1(c.x), tdSrgbEncode1(c.y), tdSrgbEncode1(c.z));
 }
 
-float tdSrgbDecode1(float x) {
+TD_FN float tdSrgbDecode1(float x) {
   return x <= 0.04045f ? x / 12.92f : pow((x + 0.055f) / 1.055f, 2.4f);
 }

@@ -26,7 +26,9 @@ using std::sqrt;
 using std::pow;
 
 #define TD_OUT(T) T&
+#define TD_FN inline
 #include "../../../shaders/shading.glsl"
+#undef TD_FN
 #undef TD_OUT
 
 static_assert(sizeof(GpuLight) == 5 * 16, "GpuLight must match its std430 layout");

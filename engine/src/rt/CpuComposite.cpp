@@ -1,0 +1,39 @@
+#include "rt/CpuComposite.h"
+
+#include <algorithm>
+#include <cassert>
+
+#include "rt/RayMath.h"
+#include "rt/SurfaceShading.h"
+
+namespace tandem::rt {
+
+void compositeOnCpu(const Scene& scene, const Camera& camera, const FrameSettings& settings,
+                    const VisibilityBuffer& visibility, const RayOutputs& rays, ImageF& out) {
+  const int scale = std::max(1, settings.rayScale);
+  const int width = visibility.width, height = visibility.height;
+  assert(rays.width == gridSize(width, scale) && rays.height == gridSize(height, scale));
+  out.width = rays.width;
+  out.height = rays.height;
+  out.rgb.assign(static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height), scene.background);
+  FrameShading frame(scene, settings.shadingOverride);
+  for (int gy = 0; gy < out.height; ++gy)
+    for (int gx = 0; gx < out.width; ++gx) {
+      std::size_t g = static_cast<std::size_t>(gy) * static_cast<std::size_t>(out.width) + static_cast<std::size_t>(gx);
+      glm::ivec2 p = fullPixelOfGridPixel(gx, gy, scale, width, height);
+      glm::uvec2 id = visibility.ids[static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x)];
+      if (id.x == 0 || id.x > scene.instances.size()) continue;
+      std::uint32_t instance = id.x - 1;
+      if (id.y >= scene.meshes[scene.instances[instance].mesh].triangleCount()) continue;
+      InstanceTransform transform = makeInstanceTransform(scene.instances[instance].worldFromObject);
+      Ray ray = camera.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
+      SurfaceHit hit = resolveHit(scene, transform, instance, id.y, ray);
+      std::uint32_t mask = rays.lightMask.empty() ? ~0u : rays.lightMask[g];
+      glm::vec3 c = shadeLocal(scene, frame, transform, hit, mask);
+      if (!rays.reflected.empty()) c += glm::vec3(rays.reflected[g]);
+      if (!rays.transmitted.empty()) c += glm::vec3(rays.transmitted[g]);
+      out.rgb[g] = c;
+    }
+}
+
+}  // namespace tandem::rt

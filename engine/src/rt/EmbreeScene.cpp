@@ -1,0 +1,190 @@
+#include "rt/EmbreeScene.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstring>
+
+#include "rt/RayMath.h"
+#include "tandem/Log.h"
+
+namespace tandem::rt {
+
+namespace {
+
+const char* errorName(RTCError code) {
+  switch (code) {
+    case RTC_ERROR_NONE: return "none";
+    case RTC_ERROR_UNKNOWN: return "unknown error";
+    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
+    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
+    case RTC_ERROR_CANCELLED: return "cancelled";
+  }
+  return "unrecognised error";
+}
+
+}  // namespace
+
+Result<std::unique_ptr<EmbreeDevice>> EmbreeDevice::create() {
+  auto d = std::unique_ptr<EmbreeDevice>(new EmbreeDevice());
+  d->device_.reset(rtcNewDevice(nullptr));
+  if (!d->device_) {
+    RTCError code = rtcGetDeviceError(nullptr);
+    std::string message = std::string("Embree: cannot create a device (") + errorName(code) + ")";
+    logError(message);
+    return Error{message};
+  }
+  rtcSetDeviceErrorFunction(d->device_.get(), &EmbreeDevice::onError, d.get());
+  rtcSetDeviceMemoryMonitorFunction(d->device_.get(), &EmbreeDevice::onMemory, d.get());
+  return d;
+}
+
+void EmbreeDevice::onError(void* self, RTCError code, const char* message) {
+  auto* d = static_cast<EmbreeDevice*>(self);
+  std::string text = std::string("Embree ") + errorName(code) + (message ? std::string(": ") + message : std::string());
+  logError(text);
+  std::lock_guard<std::mutex> lock(d->errorMutex_);
+  if (d->errorText_.empty()) d->errorText_ = text;
+}
+
+bool EmbreeDevice::onMemory(void* self, ssize_t bytes, bool /*post*/) {
+  auto* d = static_cast<EmbreeDevice*>(self);
+  std::size_t limit = d->memoryLimit_.load();
+  if (bytes > 0 && limit > 0) {
+    long long after = d->bytesInUse_.fetch_add(bytes) + bytes;
+    if (after > static_cast<long long>(limit)) {
+      // Refused: Embree cancels the call with RTC_ERROR_OUT_OF_MEMORY (reported through onError).
+      d->bytesInUse_.fetch_sub(bytes);
+      return false;
+    }
+    return true;
+  }
+  d->bytesInUse_.fetch_add(bytes);
+  return true;
+}
+
+void EmbreeDevice::clearError() {
+  rtcGetDeviceError(device_.get());  // reading it resets Embree's own sticky code
+  std::lock_guard<std::mutex> lock(errorMutex_);
+  errorText_.clear();
+}
+
+std::string EmbreeDevice::firstError() {
+  RTCError code = rtcGetDeviceError(device_.get());
+  std::lock_guard<std::mutex> lock(errorMutex_);
+  if (errorText_.empty() && code != RTC_ERROR_NONE) errorText_ = std::string("Embree ") + errorName(code);
+  return errorText_;
+}
+
+Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, const Scene& scene) {
+  RTCDevice dev = device.get();
+  device.clearError();
+  const std::string where = scene.name.empty() ? std::string("scene") : "scene '" + scene.name + "'";
+  // Bad input is refused here, before Embree sees it: Debian's Embree does not skip invalid data.
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    if (mesh.indices.size() % 3 != 0)
+      return Error{where + ": mesh " + std::to_string(m) + ": index count is not a multiple of 3"};
+    for (std::uint32_t i : mesh.indices)
+      if (i >= mesh.positions.size())
+        return Error{where + ": mesh " + std::to_string(m) + ": index " + std::to_string(i) + " out of range"};
+    for (const glm::vec3& p : mesh.positions)
+      if (!isFinite(p)) return Error{where + ": mesh " + std::to_string(m) + ": a position is NaN or infinite"};
+  }
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    if (inst.mesh >= scene.meshes.size() || inst.material >= scene.materials.size())
+      return Error{where + ": instance " + std::to_string(i) + ": mesh or material index out of range"};
+    for (int c = 0; c < 4; ++c)
+      if (!std::isfinite(inst.worldFromObject[c].x) || !std::isfinite(inst.worldFromObject[c].y) ||
+          !std::isfinite(inst.worldFromObject[c].z) || !std::isfinite(inst.worldFromObject[c].w))
+        return Error{where + ": instance " + std::to_string(i) + ": transform is NaN or infinite"};
+  }
+
+  auto out = std::unique_ptr<EmbreeScene>(new EmbreeScene());
+  auto failed = [&](const std::string& what) -> Result<std::unique_ptr<EmbreeScene>> {
+    std::string e = device.firstError();
+    return Error{where + ": " + what + ": " + (e.empty() ? std::string("Embree failed") : e)};
+  };
+
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    SceneHandle blas(rtcNewScene(dev));
+    if (!blas) return failed("mesh " + std::to_string(m));
+    // Static geometry traced for many frames: spend build time for traversal speed. ROBUST makes
+    // traversal watertight, so shared edges never leak a ray (shadows and refraction through meshes).
+    rtcSetSceneBuildQuality(blas.get(), RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneFlags(blas.get(), RTC_SCENE_FLAG_ROBUST);
+    std::size_t triangles = mesh.triangleCount();
+    if (triangles > 0) {
+      RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+      if (!geom) return failed("mesh " + std::to_string(m));
+      // Embree-allocated buffers carry the readable padding after the last vertex that its SIMD loads need.
+      auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                   3 * sizeof(float), mesh.positions.size()));
+      auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+          geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), triangles));
+      if (!vertices || !indices) {
+        rtcReleaseGeometry(geom);
+        return failed("mesh " + std::to_string(m) + " buffers");
+      }
+      std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3));
+      // Every triangle keeps its slot, degenerate ones included, so primID = the mesh's triangle index
+      // (the rasterizer's gl_PrimitiveID); Embree itself never reports a zero-area triangle as hit.
+      std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t));
+      rtcCommitGeometry(geom);
+      rtcAttachGeometryByID(blas.get(), geom, 0);
+      rtcReleaseGeometry(geom);
+    }
+    rtcCommitScene(blas.get());
+    if (!device.firstError().empty()) return failed("mesh " + std::to_string(m));
+    out->meshScenes_.push_back(std::move(blas));
+  }
+
+  out->top_.reset(rtcNewScene(dev));
+  if (!out->top_) return failed("top level");
+  // The top level is rebuilt whenever a dynamic instance moves: a fast build beats a better tree there.
+  rtcSetSceneFlags(out->top_.get(), RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(out->top_.get(), RTC_BUILD_QUALITY_LOW);
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_INSTANCE);
+    if (!geom) return failed("instance " + std::to_string(i));
+    rtcSetGeometryInstancedScene(geom, out->meshScenes_[inst.mesh].get());
+    rtcSetGeometryTimeStepCount(geom, 1);
+    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &inst.worldFromObject[0][0]);
+    rtcCommitGeometry(geom);
+    // geomID = instance index, so a hit's instID is the Scene::instances index the rasterizer writes.
+    rtcAttachGeometryByID(out->top_.get(), geom, static_cast<unsigned>(i));
+    rtcReleaseGeometry(geom);
+    out->transforms_.push_back(makeInstanceTransform(inst.worldFromObject));
+    out->triangleCounts_.push_back(scene.meshes[inst.mesh].triangleCount());
+  }
+  rtcCommitScene(out->top_.get());
+  if (!device.firstError().empty()) return failed("top level");
+  return out;
+}
+
+void EmbreeScene::updateTransforms(const Scene& scene) {
+  assert(scene.instances.size() == transforms_.size() && "updateTransforms: the scene's instances changed; call setScene");
+  bool moved = false;
+  std::size_t n = std::min(scene.instances.size(), transforms_.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const Instance& inst = scene.instances[i];
+    if (!inst.dynamic || inst.worldFromObject == transforms_[i].worldFromObject) continue;
+    bool finite = true;
+    for (int c = 0; c < 4; ++c) finite = finite && isFinite(glm::vec3(inst.worldFromObject[c])) && std::isfinite(inst.worldFromObject[c].w);
+    // Per-frame code never fails: a non-finite transform keeps the instance where it was.
+    if (!finite) continue;
+    RTCGeometry geom = rtcGetGeometry(top_.get(), static_cast<unsigned>(i));
+    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &inst.worldFromObject[0][0]);
+    rtcCommitGeometry(geom);
+    transforms_[i] = makeInstanceTransform(inst.worldFromObject);
+    moved = true;
+  }
+  if (moved) rtcCommitScene(top_.get());  // the top level only: every BLAS stays as built
+}
+
+}  // namespace tandem::rt

@@ -1,0 +1,78 @@
+#pragma once
+// The Embree device and the two-level Embree scene built from tandem::Scene: one static BLAS per mesh
+// (built once, high quality), instanced into a top-level scene whose dynamic instances move by
+// rtcSetGeometryTransform + a top-level commit. Owns every Embree handle it makes (RAII, move-only).
+// Thread safety: const members may run from any number of threads; build/updateTransforms must not run
+// while rays are in flight (Embree v3: never commit a scene that is being traced).
+#include <atomic>
+#include <cstddef>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <embree3/rtcore.h>
+
+#include "rt/SurfaceShading.h"
+#include "tandem/Result.h"
+#include "tandem/Scene.h"
+
+namespace tandem::rt {
+
+struct DeviceDeleter {
+  void operator()(RTCDeviceTy* d) const { rtcReleaseDevice(d); }
+};
+struct SceneDeleter {
+  void operator()(RTCSceneTy* s) const { rtcReleaseScene(s); }
+};
+using DeviceHandle = std::unique_ptr<RTCDeviceTy, DeviceDeleter>;
+using SceneHandle = std::unique_ptr<RTCSceneTy, SceneDeleter>;
+
+/// The device with its error and memory callbacks. Errors go to tandem::log and are remembered so the
+/// operation that caused them can return an error value.
+class EmbreeDevice {
+ public:
+  static Result<std::unique_ptr<EmbreeDevice>> create();
+  RTCDevice get() const { return device_.get(); }
+  /// Forgets the last error; then firstError() says whether one happened since.
+  void clearError();
+  /// The first error since clearError(), as text ("" when none); also polls rtcGetDeviceError.
+  std::string firstError();
+  /// Embree allocations beyond this many bytes fail with RTC_ERROR_OUT_OF_MEMORY (0 = no limit).
+  void setMemoryLimit(std::size_t bytes) { memoryLimit_.store(bytes); }
+  std::size_t bytesInUse() const { return static_cast<std::size_t>(std::max<long long>(0, bytesInUse_.load())); }
+
+ private:
+  static void onError(void* self, RTCError code, const char* message);
+  static bool onMemory(void* self, ssize_t bytes, bool post);
+  DeviceHandle device_;
+  std::atomic<long long> bytesInUse_{0};
+  std::atomic<std::size_t> memoryLimit_{0};
+  std::mutex errorMutex_;  // errors may come from Embree's build threads
+  std::string errorText_;
+};
+
+class EmbreeScene {
+ public:
+  /// Builds every BLAS and the top level. Bad input (non-finite positions, indices out of range) and
+  /// Embree errors (out of memory included) come back as an error value; nothing half-built escapes.
+  static Result<std::unique_ptr<EmbreeScene>> build(EmbreeDevice& device, const Scene& scene);
+  /// Moves dynamic instances to their current transforms: per-geometry transform + top-level commit.
+  void updateTransforms(const Scene& scene);
+
+  RTCScene top() const { return top_.get(); }
+  const InstanceTransform& transform(std::size_t instance) const { return transforms_[instance]; }
+  std::size_t instanceCount() const { return transforms_.size(); }
+  /// Whether the instance's mesh has this triangle (guards ids read back from the rasterizer).
+  bool hasTriangle(std::size_t instance, std::uint32_t triangle) const {
+    return instance < triangleCounts_.size() && triangle < triangleCounts_[instance];
+  }
+
+ private:
+  std::vector<SceneHandle> meshScenes_;  // one BLAS per mesh
+  SceneHandle top_;
+  std::vector<InstanceTransform> transforms_;  // the copy Embree holds, used to rebuild hits
+  std::vector<std::size_t> triangleCounts_;
+};
+
+}  // namespace tandem::rt

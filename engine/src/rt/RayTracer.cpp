@@ -1,0 +1,281 @@
+#include "rt/RayTracer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <thread>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "rt/EmbreeScene.h"
+#include "rt/RayMath.h"
+#include "rt/SurfaceShading.h"
+#include "rt/Whitted.h"
+#include "tandem/Log.h"
+
+namespace tandem::rt {
+
+namespace {
+
+// Square tiles of ray-grid pixels: the unit of parallel work, and of one batched shadow-ray call.
+constexpr int kTile = 16;
+
+struct AtomicCounts {
+  std::atomic<std::uint64_t> primary{0}, shadow{0}, reflection{0}, refraction{0};
+  void add(const RayCounts& c) {
+    primary += c.primary;
+    shadow += c.shadow;
+    reflection += c.reflection;
+    refraction += c.refraction;
+  }
+  RayCounts get() const { return {primary.load(), shadow.load(), reflection.load(), refraction.load()}; }
+};
+
+/// Runs body(x0, y0, x1, y1) for every tile of a width × height grid, in parallel. The order tiles run
+/// in does not matter: every pixel depends on nothing but its own inputs.
+template <class Body>
+void forEachTile(int width, int height, Body&& body) {
+  int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
+  tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<int>& r) {
+    for (int t = r.begin(); t != r.end(); ++t) {
+      int x0 = (t % tilesX) * kTile, y0 = (t / tilesX) * kTile;
+      body(x0, y0, std::min(x0 + kTile, width), std::min(y0 + kTile, height));
+    }
+  });
+}
+
+/// The [tNear, tFar] span of a camera ray that the rasterizer keeps (between its near and far planes).
+void cameraSpan(const Camera& camera, const Ray& ray, float& tNear, float& tFar) {
+  glm::vec3 forward = glm::normalize(camera.targetW - camera.posW);
+  float cosine = camera.orthographic ? 1.0f : std::max(glm::dot(ray.dir, forward), 1e-6f);
+  tNear = camera.nearZ / cosine;
+  tFar = std::isinf(camera.farZ) ? std::numeric_limits<float>::infinity() : camera.farZ / cosine;
+}
+
+}  // namespace
+
+struct RayTracer::Impl {
+  int threads = 1;
+  tbb::task_arena arena;
+  std::unique_ptr<EmbreeDevice> device;
+  std::unique_ptr<EmbreeScene> scene;
+  bool batchedShadows = true;
+};
+
+Result<std::unique_ptr<RayTracer>> RayTracer::create(int threads) {
+  auto device = EmbreeDevice::create();
+  if (!device) return device.error();
+  auto impl = std::make_unique<Impl>();
+  impl->threads = threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  impl->arena.initialize(impl->threads);
+  impl->device = std::move(*device);
+  return std::unique_ptr<RayTracer>(new RayTracer(std::move(impl)));
+}
+
+RayTracer::RayTracer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+RayTracer::~RayTracer() {
+  // Embree scenes before the device that made them.
+  if (impl_) impl_->scene.reset();
+}
+
+int RayTracer::threads() const { return impl_->threads; }
+void RayTracer::setBatchedShadowRays(bool batched) { impl_->batchedShadows = batched; }
+void RayTracer::setEmbreeMemoryLimit(std::size_t bytes) { impl_->device->setMemoryLimit(bytes); }
+
+Result<void> RayTracer::setScene(const Scene& scene) {
+  Result<std::unique_ptr<EmbreeScene>> built = Error{};
+  // Inside the arena so Embree's TBB build uses the requested thread count.
+  impl_->arena.execute([&] { built = EmbreeScene::build(*impl_->device, scene); });
+  if (!built) {
+    logError("ray pass: " + built.error().message);
+    return built.error();
+  }
+  impl_->scene = std::move(*built);
+  return {};
+}
+
+void RayTracer::updateTransforms(const Scene& scene) {
+  assert(impl_->scene && "updateTransforms before a successful setScene");
+  if (!impl_->scene) return;
+  impl_->arena.execute([&] { impl_->scene->updateTransforms(scene); });
+}
+
+void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSettings& settings,
+                      const VisibilityBuffer& visibility, RayOutputs& out) {
+  assert(impl_->scene && "trace before a successful setScene");
+  assert(visibility.ids.size() == static_cast<std::size_t>(visibility.width) * static_cast<std::size_t>(visibility.height));
+  const int scale = std::max(1, settings.rayScale);
+  const int width = visibility.width, height = visibility.height;
+  const int gw = gridSize(width, scale), gh = gridSize(height, scale);
+  out.width = gw;
+  out.height = gh;
+  out.threads = impl_->threads;
+  out.counts = {};
+  const std::size_t n = static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh);
+  out.lightMask.assign(n, 0u);
+  out.reflected.assign(n, glm::vec4(0.0f));
+  out.transmitted.assign(n, glm::vec4(0.0f));
+  if (!impl_->scene || n == 0) {
+    out.lightMask.clear();
+    out.reflected.clear();
+    out.transmitted.clear();
+    return;
+  }
+
+  const EmbreeScene& embree = *impl_->scene;
+  FrameShading frame(scene, settings.shadingOverride);
+  Whitted whitted(scene, embree, frame, TraceModes::hybrid(settings));
+  const TraceModes& modes = whitted.modes();
+  const bool batched = impl_->batchedShadows;
+  AtomicCounts total;
+
+  impl_->arena.execute([&] {
+    forEachTile(gw, gh, [&](int x0, int y0, int x1, int y1) {
+      RayCounts counts;
+      // Batched shadow rays of this tile: the ray and the (pixel, light bit) it answers.
+      std::vector<RTCRay> rays;
+      std::vector<std::pair<std::size_t, std::uint32_t>> owners;
+      for (int gy = y0; gy < y1; ++gy)
+        for (int gx = x0; gx < x1; ++gx) {
+          std::size_t g = static_cast<std::size_t>(gy) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(gx);
+          glm::ivec2 p = fullPixelOfGridPixel(gx, gy, scale, width, height);
+          glm::uvec2 id = visibility.ids[static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x)];
+          if (id.x == 0) continue;  // background: no light, nothing reflected or transmitted
+          std::uint32_t instance = id.x - 1;
+          // Ids come from the rasterizer of the same scene; a stale one is a bug, skipped in release.
+          assert(embree.hasTriangle(instance, id.y) && "trace: visibility id not in the scene");
+          if (!embree.hasTriangle(instance, id.y)) continue;
+          Ray ray = camera.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
+          SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, id.y, ray);
+          ++counts.primary;
+          if (modes.primaryShadowRays) {
+            if (!batched) {
+              out.lightMask[g] = whitted.lightMask(hit, counts);
+            } else {
+              std::uint32_t mask = 0;
+              for (std::size_t j = 0; j < frame.lights.size(); ++j) {
+                ShadowRay s = whitted.shadowRay(hit, j);
+                if (s.needed) {
+                  rays.emplace_back();
+                  makeEmbreeRay(rays.back(), s.originW, s.dirW, 0.0f, s.tFar);
+                  owners.emplace_back(g, 1u << j);
+                } else if (s.visibleWithoutRay) {
+                  mask |= 1u << j;
+                }
+              }
+              out.lightMask[g] = mask;
+            }
+          }
+          glm::vec3 reflected, transmitted;
+          bool tracedR, tracedT;
+          whitted.secondary(hit, 0, 1.0f, reflected, transmitted, tracedR, tracedT, counts);
+          out.reflected[g] = glm::vec4(reflected, 1.0f);
+          out.transmitted[g] = glm::vec4(transmitted, 1.0f);
+        }
+      if (!rays.empty()) {
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        // Left incoherent on purpose: with RTC_INTERSECT_CONTEXT_FLAG_COHERENT, Debian's Embree 3.13.5
+        // never returned from one tile's batch (tests/rt GlassSlab after the grazing-light scenes).
+        rtcOccluded1M(embree.top(), &ctx, rays.data(), static_cast<unsigned>(rays.size()), sizeof(RTCRay));
+        counts.shadow += rays.size();
+        for (std::size_t i = 0; i < rays.size(); ++i)
+          if (rays[i].tfar >= 0.0f) out.lightMask[owners[i].first] |= owners[i].second;  // occluded: -inf
+      }
+      total.add(counts);
+    });
+  });
+
+  out.counts = total.get();
+  // Cost follows the scene: an effect that traced no ray leaves its channel empty.
+  if (out.counts.shadow == 0) out.lightMask.clear();
+  if (out.counts.reflection == 0) out.reflected.clear();
+  if (out.counts.refraction == 0) out.transmitted.clear();
+}
+
+void RayTracer::renderReference(const Scene& scene, const Camera& camera, const FrameSettings& settings, ImageF& out,
+                                RayCounts& counts) {
+  assert(impl_->scene && "renderReference before a successful setScene");
+  const int width = settings.width, height = settings.height;
+  out.width = width;
+  out.height = height;
+  out.rgb.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), scene.background);
+  counts = {};
+  if (!impl_->scene) return;
+  const EmbreeScene& embree = *impl_->scene;
+  FrameShading frame(scene, settings.shadingOverride);
+  Whitted whitted(scene, embree, frame, TraceModes::reference(settings));
+  const int spp = std::max(1, settings.referenceSpp);
+  AtomicCounts total;
+
+  impl_->arena.execute([&] {
+    forEachTile(width, height, [&](int x0, int y0, int x1, int y1) {
+      RayCounts c;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          glm::vec3 sum(0.0f);
+          for (int sy = 0; sy < spp; ++sy)
+            for (int sx = 0; sx < spp; ++sx) {
+              // One sample per stratum, jittered by a hash of (pixel, sample): no shared RNG state. One
+              // sample is the pixel centre, the point the hybrid pass sees.
+              glm::vec2 offset(0.5f);
+              if (spp > 1) {
+                auto sample = static_cast<std::uint32_t>(sy * spp + sx);
+                auto ux = static_cast<std::uint32_t>(x), uy = static_cast<std::uint32_t>(y);
+                offset = (glm::vec2(sx, sy) + glm::vec2(random01(ux, uy, sample, 0), random01(ux, uy, sample, 1))) /
+                         static_cast<float>(spp);
+              }
+              Ray ray = camera.rayThroughPixel(glm::vec2(x, y) + offset, {width, height});
+              float tNear, tFar;
+              cameraSpan(camera, ray, tNear, tFar);
+              ++c.primary;
+              std::uint32_t instance, triangle;
+              if (!whitted.intersect(ray.origin, ray.dir, tNear, tFar, instance, triangle)) {
+                sum += frame.background;
+                continue;
+              }
+              SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, triangle, ray);
+              sum += whitted.shade(hit, 0, 1.0f, c);
+            }
+          out.at(x, y) = sum / static_cast<float>(spp * spp);
+        }
+      total.add(c);
+    });
+  });
+  counts = total.get();
+}
+
+void RayTracer::castVisibility(const Camera& camera, int width, int height, VisibilityBuffer& out) {
+  assert(impl_->scene && "castVisibility before a successful setScene");
+  out.width = width;
+  out.height = height;
+  out.ids.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), glm::uvec2(0));
+  if (!impl_->scene) return;
+  RTCScene top = impl_->scene->top();
+  impl_->arena.execute([&] {
+    forEachTile(width, height, [&](int x0, int y0, int x1, int y1) {
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          Ray ray = camera.rayThroughPixel(glm::vec2(x, y) + 0.5f, {width, height});
+          float tNear, tFar;
+          cameraSpan(camera, ray, tNear, tFar);
+          RTCRayHit rh;
+          if (!makeEmbreeRay(rh.ray, ray.origin, ray.dir, tNear, tFar)) continue;
+          rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+          rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+          RTCIntersectContext ctx;
+          rtcInitIntersectContext(&ctx);
+          rtcIntersect1(top, &ctx, &rh);
+          if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID) continue;
+          out.ids[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] =
+              glm::uvec2(rh.hit.instID[0] + 1, rh.hit.primID);
+        }
+    });
+  });
+}
+
+}  // namespace tandem::rt

@@ -1,0 +1,202 @@
+#include "rt/SurfaceShading.h"
+
+#include <cassert>
+#include <cmath>
+
+#include "rt/RayMath.h"
+
+namespace tandem::rt {
+
+using namespace tandem::shading;
+
+InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject) {
+  InstanceTransform t;
+  t.worldFromObject = worldFromObject;
+  glm::mat3 m(worldFromObject);
+  // A singular transform (scale 0 on an axis) has no inverse; its normals fall back to Ng per hit.
+  float det = glm::determinant(m);
+  t.normalWorldFromObject = std::isfinite(det) && det != 0.0f ? glm::transpose(glm::inverse(m)) : glm::mat3(0.0f);
+  return t;
+}
+
+FrameShading::FrameShading(const Scene& scene, std::optional<ShadingModel> shadingOverride) {
+  for (const Light* l : scene.directLights()) lights.push_back(packLight(*l));
+  materials.reserve(scene.materials.size());
+  toonRamps.resize(scene.materials.size());
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    materials.push_back(packMaterial(scene.materials[i], static_cast<int>(i), shadingOverride));
+    bakeToonRamp(scene.materials[i], toonRamps[i].data());
+  }
+  ambient = scene.ambientIntensity();
+  background = scene.background;
+}
+
+namespace {
+
+// sRGB → linear for every 8-bit value, with the GLSL twin's decode so CPU and GL agree.
+const std::array<float, 256>& srgbTable() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[static_cast<std::size_t>(i)] = tdSrgbDecode1(static_cast<float>(i) / 255.0f);
+    return t;
+  }();
+  return table;
+}
+
+glm::vec4 texel(const Texture& t, int x, int y) {
+  std::size_t i = (static_cast<std::size_t>(y) * static_cast<std::size_t>(t.width) + static_cast<std::size_t>(x)) * 4;
+  const std::uint8_t* p = &t.rgba8[i];
+  if (t.srgb) {
+    const auto& lut = srgbTable();
+    return {lut[p[0]], lut[p[1]], lut[p[2]], static_cast<float>(p[3]) / 255.0f};
+  }
+  return glm::vec4(p[0], p[1], p[2], p[3]) / 255.0f;
+}
+
+int wrap(int i, int n) {
+  int m = i % n;
+  return m < 0 ? m + n : m;
+}
+
+template <class T>
+T interpolate(const std::vector<T>& attr, const SurfaceHit& h) {
+  return h.bary.x * attr[h.vertex[0]] + h.bary.y * attr[h.vertex[1]] + h.bary.z * attr[h.vertex[2]];
+}
+
+}  // namespace
+
+glm::vec4 sampleBilinear(const Texture& texture, glm::vec2 uv) {
+  if (texture.width <= 0 || texture.height <= 0 ||
+      texture.rgba8.size() < static_cast<std::size_t>(texture.width) * static_cast<std::size_t>(texture.height) * 4)
+    return glm::vec4(1.0f);
+  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) uv = glm::vec2(0.0f);
+  // Texel centres at (i + 0.5) / size; keep the coordinate small so the float fraction stays exact.
+  float fx = (uv.x - std::floor(uv.x)) * static_cast<float>(texture.width) - 0.5f;
+  float fy = (uv.y - std::floor(uv.y)) * static_cast<float>(texture.height) - 0.5f;
+  float x0f = std::floor(fx), y0f = std::floor(fy);
+  float tx = fx - x0f, ty = fy - y0f;
+  int x0 = wrap(static_cast<int>(x0f), texture.width), x1 = wrap(static_cast<int>(x0f) + 1, texture.width);
+  int y0 = wrap(static_cast<int>(y0f), texture.height), y1 = wrap(static_cast<int>(y0f) + 1, texture.height);
+  glm::vec4 top = glm::mix(texel(texture, x0, y0), texel(texture, x1, y0), tx);
+  glm::vec4 bottom = glm::mix(texel(texture, x0, y1), texel(texture, x1, y1), tx);
+  return glm::mix(top, bottom, ty);
+}
+
+SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, std::uint32_t instance,
+                      std::uint32_t triangle, const Ray& ray) {
+  assert(instance < scene.instances.size());
+  const Instance& inst = scene.instances[instance];
+  const Mesh& mesh = scene.meshes[inst.mesh];
+  assert(triangle < mesh.triangleCount());
+  SurfaceHit h;
+  h.instance = instance;
+  h.triangle = triangle;
+  h.material = inst.material;
+  for (int i = 0; i < 3; ++i) {
+    h.vertex[i] = mesh.indices[3 * static_cast<std::size_t>(triangle) + static_cast<std::size_t>(i)];
+    h.vertexW[i] = glm::vec3(transform.worldFromObject * glm::vec4(mesh.positions[h.vertex[i]], 1.0f));
+  }
+  h.bary = triangleBarycentrics(ray.origin, ray.dir, h.vertexW[0], h.vertexW[1], h.vertexW[2]);
+  h.posW = h.bary.x * h.vertexW[0] + h.bary.y * h.vertexW[1] + h.bary.z * h.vertexW[2];
+  h.eyeW = ray.origin;
+  h.toEyeW = -ray.dir;
+
+  glm::vec3 ng = glm::cross(h.vertexW[1] - h.vertexW[0], h.vertexW[2] - h.vertexW[0]);
+  float ngLen = glm::length(ng);
+  // A zero-area triangle has no plane: face the ray so shading and offsets stay finite.
+  h.geomNormalW = ngLen > 0.0f && std::isfinite(ngLen) ? ng / ngLen : h.toEyeW;
+  h.normalW = h.geomNormalW;
+  if (!mesh.normals.empty()) {
+    glm::vec3 n = transform.normalWorldFromObject * interpolate(mesh.normals, h);
+    float len = glm::length(n);
+    if (len > 0.0f && std::isfinite(len)) h.normalW = n / len;
+  }
+  if (!mesh.uvs.empty()) {
+    glm::vec2 uv = interpolate(mesh.uvs, h);
+    const Material& m = scene.materials[h.material];
+    h.uv = glm::vec2(m.uvTransform * glm::vec3(uv, 1.0f));
+  }
+  const Material& m = scene.materials[h.material];
+  if (m.normalTexture >= 0 && !mesh.tangents.empty() && !mesh.uvs.empty()) {
+    // Tangent-space normal map (glTF): perturb N in the frame (T, B, N), T re-orthogonalised against N.
+    glm::vec4 t4 = interpolate(mesh.tangents, h);
+    glm::vec3 t = glm::mat3(transform.worldFromObject) * glm::vec3(t4);
+    t -= glm::dot(t, h.normalW) * h.normalW;
+    float tLen = glm::length(t);
+    if (tLen > 0.0f && std::isfinite(tLen)) {
+      t /= tLen;
+      glm::vec3 b = glm::cross(h.normalW, t) * (t4.w < 0.0f ? -1.0f : 1.0f);
+      glm::vec3 tn = glm::vec3(sampleBilinear(scene.textures[static_cast<std::size_t>(m.normalTexture)], h.uv)) * 2.0f - 1.0f;
+      tn.x *= m.normalScale;
+      tn.y *= m.normalScale;
+      glm::vec3 n = t * tn.x + b * tn.y + h.normalW * tn.z;
+      float len = glm::length(n);
+      if (len > 0.0f && std::isfinite(len)) h.normalW = n / len;
+    }
+  }
+  // Two-sided lighting: back faces are lit like fronts.
+  if (glm::dot(h.geomNormalW, h.toEyeW) < 0.0f) {
+    h.backFace = true;
+    h.geomNormalW = -h.geomNormalW;
+    h.normalW = -h.normalW;
+  }
+  if (m.kdTexture >= 0) h.tint = glm::vec3(sampleBilinear(scene.textures[static_cast<std::size_t>(m.kdTexture)], h.uv));
+  if (!mesh.colors.empty()) h.tint *= glm::vec3(interpolate(mesh.colors, h));
+  return h;
+}
+
+glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const InstanceTransform& transform,
+                     const SurfaceHit& hit, std::uint32_t visibleLights) {
+  const GpuMaterial& m = frame.materials[hit.material];
+  glm::vec3 emission(m.emissionFlags);
+  glm::vec3 c = tdSurfaceColor(m, hit.uv, hit.tint);
+  if (m.emissionFlags.w > 0.5f) return c + emission;
+  glm::vec3 color = emission + tdAmbient(m, frame.ambient, hit.uv, hit.tint);
+  glm::vec3 ks(m.ksNs);
+  float ns = m.ksNs.w;
+  int model = static_cast<int>(m.krKtIorModel.w + 0.5f);
+  const auto& ramp = frame.toonRamps[hit.material];
+
+  // Gouraud: the per-vertex normals, flipped with the pixel's two-sided flip.
+  glm::vec3 vertexNormalW[3];
+  if (model == TD_MODEL_GOURAUD) {
+    const Mesh& mesh = scene.meshes[scene.instances[hit.instance].mesh];
+    for (int i = 0; i < 3; ++i) {
+      glm::vec3 n = hit.geomNormalW;
+      if (!mesh.normals.empty()) {
+        glm::vec3 t = transform.normalWorldFromObject * mesh.normals[hit.vertex[i]];
+        float len = glm::length(t);
+        if (len > 0.0f && std::isfinite(len)) n = (hit.backFace ? -t : t) / len;
+      }
+      vertexNormalW[i] = n;
+    }
+  }
+  glm::vec3 n = model == TD_MODEL_FLAT ? hit.geomNormalW : hit.normalW;
+
+  for (std::size_t j = 0; j < frame.lights.size(); ++j) {
+    if (!(visibleLights & (1u << j))) continue;
+    const GpuLight& light = frame.lights[j];
+    if (model == TD_MODEL_GOURAUD) {
+      glm::vec3 sum(0.0f);
+      for (int i = 0; i < 3; ++i) {
+        glm::vec3 toLight;
+        float dist;
+        glm::vec3 e = tdLightIncident(light, hit.vertexW[i], toLight, dist);
+        glm::vec3 toEye = hit.eyeW - hit.vertexW[i];
+        float len = glm::length(toEye);
+        toEye = len > 0.0f ? toEye / len : hit.toEyeW;
+        sum += hit.bary[i] * tdShadeLight(c, ks, ns, model, vertexNormalW[i], toEye, e, toLight, 0.0f);
+      }
+      color += sum;
+      continue;
+    }
+    glm::vec3 toLight;
+    float dist;
+    glm::vec3 e = tdLightIncident(light, hit.posW, toLight, dist);
+    float toon = model == TD_MODEL_TOON ? ramp[static_cast<std::size_t>(toonRampIndex(glm::dot(n, toLight)))] : 0.0f;
+    color += tdShadeLight(c, ks, ns, model, n, hit.toEyeW, e, toLight, toon);
+  }
+  return color;
+}
+
+}  // namespace tandem::rt

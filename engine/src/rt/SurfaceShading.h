@@ -1,0 +1,69 @@
+#pragma once
+// The CPU side of docs/shading.md: turning (instance, triangle, ray) into a surface point and shading its
+// local term with the formulas of shaders/shading.glsl (through core/Shading.h). No Embree here: the
+// exact primary hit and local shading need only the scene data, so tests and the CPU composite use them too.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/Shading.h"
+#include "tandem/Camera.h"
+#include "tandem/Scene.h"
+
+namespace tandem::rt {
+
+/// An instance's transforms as the ray pass uses them (the same copy Embree was given).
+struct InstanceTransform {
+  glm::mat4 worldFromObject{1.0f};
+  glm::mat3 normalWorldFromObject{1.0f};  // inverse transpose of the upper 3x3
+};
+InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject);
+
+/// Per-frame shading records: lights and materials packed as GL packs them (override applied), toon
+/// ramps baked, Ia. Built once per frame, read by every thread.
+struct FrameShading {
+  std::vector<shading::GpuLight> lights;  // Scene::directLights() order: index j = light-mask bit j
+  std::vector<shading::GpuMaterial> materials;
+  std::vector<std::array<float, TD_TOON_RAMP_SIZE>> toonRamps;
+  glm::vec3 ambient{0.0f};     // Ia
+  glm::vec3 background{0.0f};  // radiance of escaped rays
+  FrameShading(const Scene& scene, std::optional<ShadingModel> shadingOverride);
+  bool castsShadows(std::size_t light) const { return lights[light].radiance.w > 0.5f; }
+};
+
+/// A surface point, from docs/shading.md "Inputs at a hit".
+struct SurfaceHit {
+  std::uint32_t instance = 0;
+  std::uint32_t triangle = 0;
+  std::uint32_t vertex[3] = {0, 0, 0};
+  glm::vec3 bary{1.0f, 0.0f, 0.0f};  // b0, b1, b2
+  glm::vec3 vertexW[3];              // p0, p1, p2 in world space
+  glm::vec3 posW{0.0f};              // b0·p0 + b1·p1 + b2·p2
+  glm::vec3 geomNormalW{0.0f, 1.0f, 0.0f};  // Ng, unit, flipped towards the viewer (two-sided lighting)
+  glm::vec3 normalW{0.0f, 1.0f, 0.0f};      // N, unit, flipped with Ng
+  bool backFace = false;             // the ray arrived against the counter-clockwise front (Ng was flipped)
+  glm::vec3 toEyeW{0.0f, 0.0f, 1.0f};       // V: unit, towards the ray origin
+  glm::vec3 eyeW{0.0f};              // the ray origin (Gouraud's per-vertex V)
+  glm::vec2 uv{0.0f};                // after uvTransform
+  glm::vec3 tint{1.0f};              // texture × vertex colour
+  std::uint32_t material = 0;
+};
+
+/// Exact hit of `ray` on triangle `triangle` of `instance`: watertight barycentrics (clamped onto the
+/// triangle when the ray grazes past it), the position interpolated from the world-space vertices.
+SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, std::uint32_t instance,
+                      std::uint32_t triangle, const Ray& ray);
+
+/// Local shading (docs/shading.md "Local shading"): emission + ambient + Σj visj·Lj, where visj is bit j
+/// of `visibleLights`; unlit materials give C + emission.
+glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const InstanceTransform& transform,
+                     const SurfaceHit& hit, std::uint32_t visibleLights);
+
+/// Bilinear sample of level 0 with repeat wrapping; sRGB texels are decoded before filtering, as GL's
+/// sRGB textures do. Row 0 of the data is v = 0.
+glm::vec4 sampleBilinear(const Texture& texture, glm::vec2 uv);
+
+}  // namespace tandem::rt

@@ -1,0 +1,189 @@
+#include "rt/Whitted.h"
+
+#include <cmath>
+#include <limits>
+
+namespace tandem::rt {
+
+using namespace tandem::shading;
+
+namespace {
+// Shadow rays stop this fraction short of a point light, so a light sitting on a surface (or an
+// emitter's own geometry around it) does not occlude itself; Embree promises nothing at exactly tfar.
+constexpr float kShadowRayEnd = 1.0f - 1.0f / 4096.0f;
+}  // namespace
+
+TraceModes TraceModes::hybrid(const FrameSettings& s) {
+  TraceModes m;
+  m.primaryShadowRays = s.shadows == EffectMode::Ray;
+  m.secondaryShadowRays = s.shadows != EffectMode::Off;
+  m.reflections = s.reflections == EffectMode::Ray;
+  m.refraction = s.refraction == EffectMode::Ray;
+  m.maxDepth = s.maxDepth;
+  m.minContribution = s.minContribution;
+  m.fresnel = s.fresnel;
+  m.fresnelWeighted = s.fresnelWeighted;
+  return m;
+}
+
+TraceModes TraceModes::reference(const FrameSettings& s) {
+  TraceModes m = hybrid(s);
+  m.primaryShadowRays = m.secondaryShadowRays = s.shadows != EffectMode::Off;
+  m.reflections = s.reflections != EffectMode::Off;
+  m.refraction = s.refraction != EffectMode::Off;
+  return m;
+}
+
+bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar) {
+  if (!isFinite(originW) || !isFinite(dirW) || std::isnan(tNear) || std::isnan(tFar) || !(tFar >= tNear)) return false;
+  ray.org_x = originW.x;
+  ray.org_y = originW.y;
+  ray.org_z = originW.z;
+  ray.tnear = tNear;
+  ray.dir_x = dirW.x;
+  ray.dir_y = dirW.y;
+  ray.dir_z = dirW.z;
+  ray.time = 0.0f;
+  ray.tfar = tFar;
+  ray.mask = 0xFFFFFFFFu;
+  ray.id = 0;
+  ray.flags = 0;
+  return true;
+}
+
+ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light) const {
+  ShadowRay r;
+  const GpuLight& l = frame_.lights[light];
+  const GpuMaterial& m = frame_.materials[hit.material];
+  bool flat = static_cast<int>(m.krKtIorModel.w + 0.5f) == TD_MODEL_FLAT;
+  // The light is tested against the normal the model shades with, as in the shading formula.
+  glm::vec3 n = flat ? hit.geomNormalW : hit.normalW;
+  if (!tdLightCanReach(l, hit.posW, n) || !frame_.castsShadows(light)) {
+    r.visibleWithoutRay = true;
+    return r;
+  }
+  glm::vec3 toLight;
+  float dist;
+  tdLightIncident(l, hit.posW, toLight, dist);
+  // Leave from the side of the geometric surface the ray goes to (W&B offset, never a fixed epsilon).
+  glm::vec3 side = glm::dot(toLight, hit.geomNormalW) >= 0.0f ? hit.geomNormalW : -hit.geomNormalW;
+  r.originW = offsetRayOrigin(hit.posW, side);
+  if (dist < 0.0f) {  // directional
+    r.dirW = toLight;
+    r.tFar = std::numeric_limits<float>::infinity();
+  } else {
+    glm::vec3 d = glm::vec3(l.posType) - r.originW;
+    float len = glm::length(d);
+    if (!(len > 0.0f) || !std::isfinite(len)) {
+      r.visibleWithoutRay = true;  // the light sits on the point: nothing can be between them
+      return r;
+    }
+    r.dirW = d / len;
+    r.tFar = len * kShadowRayEnd;
+  }
+  r.needed = isFinite(r.originW) && isFinite(r.dirW);
+  r.visibleWithoutRay = !r.needed;
+  return r;
+}
+
+std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts) const {
+  std::uint32_t mask = 0;
+  for (std::size_t j = 0; j < frame_.lights.size(); ++j) {
+    ShadowRay s = shadowRay(hit, j);
+    if (!s.needed) {
+      if (s.visibleWithoutRay) mask |= 1u << j;
+      continue;
+    }
+    RTCRay ray;
+    makeEmbreeRay(ray, s.originW, s.dirW, 0.0f, s.tFar);
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    rtcOccluded1(embree_.top(), &ctx, &ray);
+    ++counts.shadow;
+    // Embree marks an occluded ray by tfar = -inf.
+    if (ray.tfar >= 0.0f) mask |= 1u << j;
+  }
+  return mask;
+}
+
+WhittedWeights Whitted::weights(const SurfaceHit& hit) const {
+  WhittedWeights w;
+  const GpuMaterial& m = frame_.materials[hit.material];
+  float kr = m.krKtIorModel.x, kt = m.krKtIorModel.y, ior = m.krKtIorModel.z;
+  if (kt > 0.0f) {
+    // Inside/outside from the geometric normal: arriving at a back face means leaving the medium.
+    float etaI = hit.backFace ? ior : 1.0f;
+    float etaT = hit.backFace ? 1.0f : ior;
+    w.refraction = refractDielectric(hit.toEyeW, hit.normalW, etaI, etaT, modes_.fresnel);
+  }
+  float f = w.refraction.fresnel;
+  if (modes_.fresnelWeighted) {
+    w.reflect = kr + (kt > 0.0f ? kt * f : 0.0f);
+    w.transmit = kt > 0.0f ? kt * (1.0f - f) : 0.0f;
+  } else {
+    w.reflect = kr;
+    w.transmit = kt;
+  }
+  if (kt <= 0.0f || w.refraction.totalInternal) w.transmit = 0.0f;  // T is absent
+  return w;
+}
+
+void Whitted::secondary(const SurfaceHit& hit, int depth, float throughput, glm::vec3& reflected,
+                        glm::vec3& transmitted, bool& tracedReflection, bool& tracedRefraction,
+                        RayCounts& counts) const {
+  reflected = transmitted = glm::vec3(0.0f);
+  tracedReflection = tracedRefraction = false;
+  if (depth >= modes_.maxDepth || (!modes_.reflections && !modes_.refraction)) return;
+  WhittedWeights w = weights(hit);
+  if (modes_.reflections && w.reflect > 0.0f && throughput * w.reflect >= modes_.minContribution) {
+    glm::vec3 dir = glm::reflect(-hit.toEyeW, hit.normalW);
+    glm::vec3 side = glm::dot(dir, hit.geomNormalW) >= 0.0f ? hit.geomNormalW : -hit.geomNormalW;
+    ++counts.reflection;
+    tracedReflection = true;
+    reflected = w.reflect * radiance(offsetRayOrigin(hit.posW, side), dir, depth + 1, throughput * w.reflect, counts);
+  }
+  if (modes_.refraction && w.transmit > 0.0f && throughput * w.transmit >= modes_.minContribution) {
+    glm::vec3 dir = w.refraction.dirW;
+    glm::vec3 side = glm::dot(dir, hit.geomNormalW) >= 0.0f ? hit.geomNormalW : -hit.geomNormalW;
+    ++counts.refraction;
+    tracedRefraction = true;
+    transmitted =
+        w.transmit * radiance(offsetRayOrigin(hit.posW, side), dir, depth + 1, throughput * w.transmit, counts);
+  }
+}
+
+glm::vec3 Whitted::shade(const SurfaceHit& hit, int depth, float throughput, RayCounts& counts) const {
+  bool shadowRays = depth == 0 ? modes_.primaryShadowRays : modes_.secondaryShadowRays;
+  std::uint32_t mask = shadowRays ? lightMask(hit, counts) : ~0u;
+  glm::vec3 color = shadeLocal(scene_, frame_, embree_.transform(hit.instance), hit, mask);
+  glm::vec3 reflected, transmitted;
+  bool tracedR, tracedT;
+  secondary(hit, depth, throughput, reflected, transmitted, tracedR, tracedT, counts);
+  return color + reflected + transmitted;
+}
+
+bool Whitted::intersect(glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, std::uint32_t& instance,
+                        std::uint32_t& triangle) const {
+  RTCRayHit rh;
+  if (!makeEmbreeRay(rh.ray, originW, dirW, tNear, tFar)) return false;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  rtcIntersect1(embree_.top(), &ctx, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID) return false;
+  instance = rh.hit.instID[0];
+  triangle = rh.hit.primID;
+  return embree_.hasTriangle(instance, triangle);
+}
+
+glm::vec3 Whitted::radiance(glm::vec3 originW, glm::vec3 dirW, int depth, float throughput, RayCounts& counts) const {
+  std::uint32_t instance, triangle;
+  if (!intersect(originW, dirW, 0.0f, std::numeric_limits<float>::infinity(), instance, triangle))
+    return frame_.background;
+  Ray ray{originW, dirW};
+  SurfaceHit hit = resolveHit(scene_, embree_.transform(instance), instance, triangle, ray);
+  return shade(hit, depth, throughput, counts);
+}
+
+}  // namespace tandem::rt

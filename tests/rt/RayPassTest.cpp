@@ -1,0 +1,560 @@
+// The hybrid ray pass and the reference tracer on analytic scenes with known answers.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "rt/CpuComposite.h"
+#include "rt/RayMath.h"
+#include "rt/RtTestScenes.h"
+#include "tandem/Log.h"
+
+namespace tandem::rt {
+namespace {
+
+using namespace tandem::rt::test;
+
+std::size_t at(int x, int y, int w) { return static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x); }
+
+// ---- Shadows ----
+
+struct EllipseScene {
+  Scene scene;
+  glm::vec3 center{0.0f, 2.0f, 0.0f};
+  float radius = 1.0f;
+  glm::vec3 lightDir = glm::normalize(glm::vec3(0.5f, -1.0f, 0.3f));  // direction the light travels
+  std::uint32_t plane = 0, sphere = 0;
+  EllipseScene() {
+    std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
+    plane = addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 4)), mat, glm::mat4(1.0f));
+    sphere = addInstance(scene, addMesh(scene, makeSphere(radius, 256, 128)), mat, translate(center), true);
+    scene.lights.push_back(directional(lightDir));
+    scene.camera.posW = {1.0f, 10.0f, 5.0f};
+    scene.camera.targetW = {1.0f, 0.0f, 0.6f};
+    scene.camera.yFovDeg = 30.0f;
+  }
+  // Analytic: the plane point p is in shadow when the ray from p towards the light passes within r of c.
+  bool inShadow(glm::vec2 pixel, int w, int h) const {
+    Ray r = scene.camera.rayThroughPixel(pixel, {w, h});
+    double t = -double(r.origin.y) / double(r.dir.y);
+    glm::dvec3 p = glm::dvec3(r.origin) + t * glm::dvec3(r.dir);
+    glm::dvec3 toLight = -glm::dvec3(lightDir);
+    glm::dvec3 c = glm::dvec3(center);
+    double s = glm::dot(c - p, toLight);
+    double d2 = glm::dot(c - p, c - p) - s * s;
+    return s > 0.0 && d2 < double(radius) * radius;
+  }
+};
+
+TEST(RayPassShadows, SphereShadowOnPlaneMatchesTheAnalyticEllipse) {
+  EllipseScene e;
+  auto rt = makeTracer(e.scene);
+  ASSERT_TRUE(rt);
+  const int w = 256, h = 256;
+  VisibilityBuffer vis;
+  rt->castVisibility(e.scene.camera, w, h, vis);
+  FrameSettings s = settingsFor(w, h);
+  RayOutputs out;
+  rt->trace(e.scene, e.scene.camera, s, vis, out);
+  ASSERT_EQ(out.lightMask.size(), static_cast<std::size_t>(w * h));
+  int shadowed = 0, checked = 0, mismatches = 0, farMismatches = 0;
+  for (int y = 1; y < h - 1; ++y)
+    for (int x = 1; x < w - 1; ++x) {
+      if (vis.ids[at(x, y, w)].x != e.plane + 1) continue;
+      ++checked;
+      bool analytic = e.inShadow(glm::vec2(x, y) + 0.5f, w, h);
+      bool traced = (out.lightMask[at(x, y, w)] & 1u) == 0;
+      shadowed += traced;
+      if (analytic == traced) continue;
+      ++mismatches;
+      // Allowed only where the analytic boundary passes within one pixel.
+      bool nearBoundary = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          nearBoundary = nearBoundary || e.inShadow(glm::vec2(x + dx, y + dy) + 0.5f, w, h) != analytic;
+      if (!nearBoundary) ++farMismatches;
+    }
+  EXPECT_GT(checked, w * h / 2);
+  EXPECT_GT(shadowed, 1500);  // the ellipse covers thousands of pixels at this size
+  EXPECT_EQ(farMismatches, 0) << mismatches << " boundary pixels differ";
+  // Every plane pixel faces the light (one ray each); of the sphere, only the lit half sends one.
+  EXPECT_GE(out.counts.shadow, static_cast<std::uint64_t>(checked));
+  EXPECT_LT(out.counts.shadow, out.counts.primary);
+}
+
+TEST(RayPassShadows, MovingADynamicInstanceMovesTheShadowWithoutSetScene) {
+  EllipseScene e;
+  auto rt = makeTracer(e.scene);
+  ASSERT_TRUE(rt);
+  const int w = 128, h = 128;
+  FrameSettings s = settingsFor(w, h);
+  auto shadowPixels = [&](std::vector<bool>& shadow) {
+    VisibilityBuffer vis;
+    rt->castVisibility(e.scene.camera, w, h, vis);
+    RayOutputs out;
+    rt->trace(e.scene, e.scene.camera, s, vis, out);
+    shadow.assign(static_cast<std::size_t>(w * h), false);
+    for (std::size_t i = 0; i < shadow.size(); ++i)
+      shadow[i] = vis.ids[i].x == e.plane + 1 && !(out.lightMask[i] & 1u);
+  };
+  std::vector<bool> before, after;
+  shadowPixels(before);
+  e.center += glm::vec3(-3.0f, 0.0f, -2.0f);
+  e.scene.instances[e.sphere].worldFromObject = translate(e.center);
+  rt->updateTransforms(e.scene);
+  shadowPixels(after);
+  int lit = 0, darkened = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      std::size_t i = at(x, y, w);
+      lit += before[i] && !after[i];
+      darkened += !before[i] && after[i];
+      // The new shadow is where the analytic ellipse of the moved sphere says (boundary pixels aside).
+      if (after[i] && !e.inShadow(glm::vec2(x, y) + 0.5f, w, h)) {
+        bool nearBoundary = false;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) nearBoundary = nearBoundary || e.inShadow(glm::vec2(x + dx, y + dy) + 0.5f, w, h);
+        EXPECT_TRUE(nearBoundary) << x << "," << y;
+      }
+    }
+  EXPECT_GT(lit, 200);
+  EXPECT_GT(darkened, 200);
+}
+
+// Zero acne: a large plane lit at grazing angles, nothing else in the scene: every pixel is lit.
+TEST(RayPassShadows, NoAcneOnALargePlaneAtGrazingLight) {
+  for (glm::vec3 offset : {glm::vec3(0.0f), glm::vec3(300.0f, 20.0f, -200.0f), glm::vec3(-2000.0f, -150.0f, 1000.0f)}) {
+    Scene scene;
+    std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
+    // Tilted a little so no coordinate is exactly zero, and subdivided into long thin triangles.
+    glm::mat4 m = translate(offset) * glm::rotate(glm::mat4(1.0f), 0.05f, glm::vec3(1, 0, 0.3f));
+    addInstance(scene, addMesh(scene, makePlane({2000.0f, 2000.0f}, 7)), mat, m);
+    glm::vec3 up = glm::normalize(glm::vec3(m * glm::vec4(0, 1, 0, 0)));
+    for (float elevationDeg : {0.1f, 0.5f, 2.0f, 10.0f}) {
+      float e = glm::radians(elevationDeg);
+      // Directions at this elevation above the tilted plane, from several azimuths.
+      glm::vec3 t1 = glm::normalize(glm::cross(up, glm::vec3(0.3f, 0.1f, 1.0f)));
+      glm::vec3 t2 = glm::cross(up, t1);
+      for (float az : {0.0f, 2.0f, 4.0f})
+        scene.lights.push_back(directional(-(std::sin(e) * up + std::cos(e) * (std::cos(az) * t1 + std::sin(az) * t2))));
+      // A point light just above the surface, far from most of what it lights.
+      glm::vec3 onPlane = glm::vec3(m * glm::vec4(40.0f, 0.0f, -60.0f, 1.0f));
+      scene.lights.push_back(pointLight(onPlane + up * (0.02f + elevationDeg), 1.0f));
+      ASSERT_LE(scene.lights.size(), static_cast<std::size_t>(kMaxLights));
+      if (scene.lights.size() + 4 > static_cast<std::size_t>(kMaxLights)) {
+        scene.camera.posW = glm::vec3(m * glm::vec4(0.0f, 4.0f, 30.0f, 1.0f));
+        scene.camera.targetW = glm::vec3(m * glm::vec4(0.0f, 0.0f, -60.0f, 1.0f));
+        scene.camera.upW = up;
+        auto rt = makeTracer(scene);
+        ASSERT_TRUE(rt);
+        const int w = 160, h = 120;
+        VisibilityBuffer vis;
+        rt->castVisibility(scene.camera, w, h, vis);
+        RayOutputs out;
+        rt->trace(scene, scene.camera, settingsFor(w, h), vis, out);
+        ASSERT_FALSE(out.lightMask.empty());
+        std::uint32_t all = (1u << scene.lights.size()) - 1u;
+        int planePixels = 0, acne = 0;
+        for (std::size_t i = 0; i < vis.ids.size(); ++i) {
+          if (vis.ids[i].x == 0) continue;
+          ++planePixels;
+          acne += out.lightMask[i] != all;
+        }
+        EXPECT_GT(planePixels, w * h / 3);
+        EXPECT_EQ(acne, 0) << "offset " << offset.x << " elevation up to " << elevationDeg;
+        EXPECT_EQ(out.counts.shadow, static_cast<std::uint64_t>(planePixels) * scene.lights.size());
+        scene.lights.clear();
+      }
+    }
+  }
+}
+
+// ---- Ray counts ----
+
+TEST(RayPassCounts, CostFollowsTheScene) {
+  Scene scene;
+  Material m = diffuse(glm::vec3(0.7f));
+  std::uint32_t mat = addMaterial(scene, m);
+  addInstance(scene, addMesh(scene, makePlane({10.0f, 10.0f}, 2)), mat, glm::mat4(1.0f));
+  scene.lights.push_back(directional({0.2f, -1.0f, 0.1f}));  // above: one ray per pixel
+  scene.lights.push_back(pointLight({0.0f, -3.0f, 0.0f}));   // below the plane: never a ray
+  Light noShadow = directional({0.0f, -1.0f, 0.0f});
+  noShadow.castShadows = false;                              // visible without a ray
+  scene.lights.push_back(noShadow);
+  scene.lights.push_back(ambientLight(0.2f));
+  scene.camera.posW = {0.0f, 6.0f, 2.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  auto rt = makeTracer(scene);
+  ASSERT_TRUE(rt);
+  const int w = 64, h = 48;
+  VisibilityBuffer vis;
+  rt->castVisibility(scene.camera, w, h, vis);
+  auto visible = static_cast<std::uint64_t>(std::count_if(vis.ids.begin(), vis.ids.end(), [](glm::uvec2 id) { return id.x != 0; }));
+  ASSERT_GT(visible, 1000u);
+
+  FrameSettings s = settingsFor(w, h);
+  RayOutputs out;
+  rt->trace(scene, scene.camera, s, vis, out);
+  EXPECT_EQ(out.counts.primary, visible);
+  EXPECT_EQ(out.counts.shadow, visible);
+  EXPECT_EQ(out.counts.reflection, 0u);
+  EXPECT_EQ(out.counts.refraction, 0u);
+  EXPECT_TRUE(out.reflected.empty());
+  EXPECT_TRUE(out.transmitted.empty());
+  ASSERT_EQ(out.lightMask.size(), static_cast<std::size_t>(w * h));
+  for (std::size_t i = 0; i < vis.ids.size(); ++i)
+    if (vis.ids[i].x != 0) {
+      ASSERT_EQ(out.lightMask[i], 0b111u) << "unoccluded, unreachable and shadowless lights";
+    }
+
+  s.shadows = EffectMode::Off;
+  rt->trace(scene, scene.camera, s, vis, out);
+  EXPECT_EQ(out.counts.shadow, 0u);
+  EXPECT_TRUE(out.lightMask.empty());
+
+  // A mirror: one reflection ray per pixel (escaping: no further rays); no refraction.
+  scene.materials[mat].kr = 0.5f;
+  s.shadows = EffectMode::Ray;
+  rt->trace(scene, scene.camera, s, vis, out);
+  EXPECT_EQ(out.counts.reflection, visible);
+  EXPECT_EQ(out.counts.refraction, 0u);
+  EXPECT_TRUE(out.transmitted.empty());
+  ASSERT_EQ(out.reflected.size(), static_cast<std::size_t>(w * h));
+  // Below the contribution threshold, or no bounce allowed, or reflections by raster: none.
+  s.minContribution = 0.6f;
+  rt->trace(scene, scene.camera, s, vis, out);
+  EXPECT_EQ(out.counts.reflection, 0u);
+  EXPECT_TRUE(out.reflected.empty());
+  s.minContribution = 0.01f;
+  s.maxDepth = 0;
+  rt->trace(scene, scene.camera, s, vis, out);
+  EXPECT_EQ(out.counts.reflection, 0u);
+  s.maxDepth = 5;
+  s.reflections = EffectMode::Raster;
+  rt->trace(scene, scene.camera, s, vis, out);
+  EXPECT_EQ(out.counts.reflection, 0u);
+
+  // Half-resolution grid: one primary hit per grid pixel on the plane.
+  s = settingsFor(w, h);
+  s.rayScale = 2;
+  rt->trace(scene, scene.camera, s, vis, out);
+  EXPECT_EQ(out.width, 32);
+  EXPECT_EQ(out.height, 24);
+  std::uint64_t gridVisible = 0;
+  for (int gy = 0; gy < 24; ++gy)
+    for (int gx = 0; gx < 32; ++gx) {
+      glm::ivec2 p = fullPixelOfGridPixel(gx, gy, 2, w, h);
+      gridVisible += vis.ids[at(p.x, p.y, w)].x != 0;
+    }
+  EXPECT_EQ(out.counts.primary, gridVisible);
+  EXPECT_EQ(out.counts.reflection, gridVisible);
+}
+
+TEST(RayPassCounts, RefractionRaysOnlyWhereSomethingTransmits) {
+  Scene scene;
+  Material glass = diffuse(glm::vec3(0.0f));
+  glass.kt = 0.9f;
+  std::uint32_t glassMat = addMaterial(scene, glass);
+  std::uint32_t wallMat = addMaterial(scene, diffuse(glm::vec3(0.5f)));
+  addInstance(scene, addMesh(scene, makeBox({2.0f, 2.0f, 0.2f})), glassMat, glm::mat4(1.0f));
+  addInstance(scene, addMesh(scene, makeBox({20.0f, 20.0f, 0.1f})), wallMat, translate({0, 0, -3}));
+  scene.lights.push_back(directional({0.0f, 0.0f, -1.0f}));
+  scene.camera.posW = {0.0f, 0.0f, 6.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  auto rt = makeTracer(scene);
+  ASSERT_TRUE(rt);
+  const int w = 64, h = 64;
+  VisibilityBuffer vis;
+  rt->castVisibility(scene.camera, w, h, vis);
+  auto glassPixels = static_cast<std::uint64_t>(std::count_if(vis.ids.begin(), vis.ids.end(), [](glm::uvec2 id) { return id.x == 1; }));
+  ASSERT_GT(glassPixels, 100u);
+  FrameSettings s = settingsFor(w, h);
+  s.reflections = EffectMode::Off;
+  s.maxDepth = 2;
+  RayOutputs out;
+  rt->trace(scene, scene.camera, s, vis, out);
+  // Into the slab at every glass pixel, and out of its back face (no TIR near normal incidence).
+  EXPECT_EQ(out.counts.refraction, 2 * glassPixels);
+  EXPECT_EQ(out.counts.reflection, 0u);
+  EXPECT_FALSE(out.transmitted.empty());
+  s.refraction = EffectMode::Off;
+  rt->trace(scene, scene.camera, s, vis, out);
+  EXPECT_EQ(out.counts.refraction, 0u);
+  EXPECT_TRUE(out.transmitted.empty());
+}
+
+// ---- Reflection and refraction ----
+
+// A mirror facing the camera returns what is behind the camera: a wall whose colour is an affine
+// function of position, so the expected radiance at each pixel follows from the reflected ray alone.
+TEST(RayPassWhitted, MirrorFacingTheCameraShowsWhatIsBehindIt) {
+  Scene scene;
+  Material mirror = diffuse(glm::vec3(0.0f));
+  mirror.ka = glm::vec3(0.0f);
+  mirror.kr = 1.0f;
+  Material wall = diffuse(glm::vec3(1.0f));
+  wall.unlit = true;
+  std::uint32_t mirrorMat = addMaterial(scene, mirror), wallMat = addMaterial(scene, wall);
+  glm::mat4 facingZ = glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(1, 0, 0));  // +Y → +Z
+  addInstance(scene, addMesh(scene, makePlane({40.0f, 40.0f}, 1)), mirrorMat, facingZ);
+  Mesh wallMesh = makePlane({200.0f, 200.0f}, 1);
+  auto colorAt = [](glm::vec3 pW) { return glm::vec3(0.5f + 0.004f * pW.x, 0.5f + 0.002f * pW.y, 0.3f); };
+  glm::mat4 wallFromObject = translate({0, 0, 10}) * glm::rotate(glm::mat4(1.0f), glm::radians(-90.0f), glm::vec3(1, 0, 0));
+  for (const glm::vec3& p : wallMesh.positions) wallMesh.colors.emplace_back(colorAt(glm::vec3(wallFromObject * glm::vec4(p, 1))), 1.0f);
+  addInstance(scene, addMesh(scene, wallMesh), wallMat, wallFromObject);
+  scene.lights.push_back(ambientLight(1.0f));
+  scene.camera.posW = {0.3f, 0.2f, 5.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  auto rt = makeTracer(scene);
+  ASSERT_TRUE(rt);
+  const int w = 96, h = 64;
+  VisibilityBuffer vis;
+  rt->castVisibility(scene.camera, w, h, vis);
+  RayOutputs out;
+  rt->trace(scene, scene.camera, settingsFor(w, h), vis, out);
+  ASSERT_FALSE(out.reflected.empty());
+  int checked = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      ASSERT_EQ(vis.ids[at(x, y, w)].x, 1u) << "the mirror fills the view";
+      Ray r = scene.camera.rayThroughPixel(glm::vec2(x, y) + 0.5f, {w, h});
+      glm::vec3 m = r.origin + r.dir * (-r.origin.z / r.dir.z);
+      glm::vec3 d(r.dir.x, r.dir.y, -r.dir.z);
+      glm::vec3 onWall = m + d * ((10.0f - m.z) / d.z);
+      glm::vec3 expected = colorAt(onWall);
+      glm::vec3 got(out.reflected[at(x, y, w)]);
+      ASSERT_NEAR(got.x, expected.x, 1e-4f) << x << "," << y;
+      ASSERT_NEAR(got.y, expected.y, 1e-4f) << x << "," << y;
+      ASSERT_NEAR(got.z, expected.z, 1e-4f) << x << "," << y;
+      ++checked;
+    }
+  EXPECT_EQ(checked, w * h);
+}
+
+// A glass slab of IOR 1 is no slab: its transmitted radiance is what the camera sees without it.
+TEST(RayPassWhitted, GlassSlabOfIorOneEqualsNoSlab) {
+  Scene without;
+  Material wall = diffuse({0.8f, 0.6f, 0.3f});
+  wall.kd2 = {0.2f, 0.3f, 0.9f};
+  wall.checkerFrequency = 0.5f;
+  wall.ks = glm::vec3(0.3f);
+  std::uint32_t wallMat = addMaterial(without, wall);
+  glm::mat4 wallFromObject = translate({0, 0, -4}) * glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(1, 0, 0));
+  addInstance(without, addMesh(without, makePlane({30.0f, 30.0f}, 3)), wallMat, wallFromObject);
+  without.lights.push_back(ambientLight(0.2f));
+  without.lights.push_back(pointLight({1.0f, 2.0f, -2.0f}, 3.0f));  // between slab and wall: no slab shadow
+  without.camera.posW = {0.5f, 0.3f, 6.0f};
+  without.camera.targetW = {0.0f, 0.0f, 0.0f};
+  Scene with = without;
+  Material glass = diffuse(glm::vec3(0.0f));
+  glass.ka = glm::vec3(0.0f);
+  glass.kt = 1.0f;
+  glass.ior = 1.0f;
+  std::uint32_t glassMat = addMaterial(with, glass);
+  std::uint32_t slab = addInstance(with, addMesh(with, makeBox({3.0f, 3.0f, 0.5f})), glassMat,
+                                   translate({0, 0, 1}) * glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(0.2f, 1, 0)));
+
+  const int w = 80, h = 60;
+  FrameSettings s = settingsFor(w, h);
+  auto rtWith = makeTracer(with), rtWithout = makeTracer(without);
+  ASSERT_TRUE(rtWith && rtWithout);
+  VisibilityBuffer vis;
+  rtWith->castVisibility(with.camera, w, h, vis);
+  RayOutputs out;
+  rtWith->trace(with, with.camera, s, vis, out);
+  ImageF reference;
+  RayCounts counts;
+  rtWithout->renderReference(without, without.camera, s, reference, counts);
+  ASSERT_FALSE(out.transmitted.empty());
+  EXPECT_TRUE(out.reflected.empty()) << "IOR 1: F = 0, so no reflection ray";
+  int slabPixels = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (vis.ids[at(x, y, w)].x != slab + 1) continue;
+      ++slabPixels;
+      glm::vec3 got(out.transmitted[at(x, y, w)]), expected = reference.at(x, y);
+      ASSERT_NEAR(got.x, expected.x, 1e-4f * (1.0f + expected.x)) << x << "," << y;
+      ASSERT_NEAR(got.y, expected.y, 1e-4f * (1.0f + expected.y)) << x << "," << y;
+      ASSERT_NEAR(got.z, expected.z, 1e-4f * (1.0f + expected.z)) << x << "," << y;
+    }
+  EXPECT_GT(slabPixels, w * h / 4);
+}
+
+// ---- Determinism, reference, composite ----
+
+TEST(RayPassWhitted, ImagesAreIdenticalWithOneAndTwoThreads) {
+  Scene scene = makeWhittedScene();
+  const int w = 120, h = 90;
+  FrameSettings s = settingsFor(w, h);
+  auto one = makeTracer(scene, 1), two = makeTracer(scene, 2);
+  ASSERT_TRUE(one && two);
+  EXPECT_EQ(one->threads(), 1);
+  EXPECT_EQ(two->threads(), 2);
+  VisibilityBuffer vis1, vis2;
+  one->castVisibility(scene.camera, w, h, vis1);
+  two->castVisibility(scene.camera, w, h, vis2);
+  ASSERT_EQ(vis1.ids, vis2.ids);
+  RayOutputs a, b;
+  one->trace(scene, scene.camera, s, vis1, a);
+  two->trace(scene, scene.camera, s, vis1, b);
+  EXPECT_EQ(a.lightMask, b.lightMask);
+  EXPECT_EQ(a.reflected, b.reflected);
+  EXPECT_EQ(a.transmitted, b.transmitted);
+  EXPECT_EQ(a.counts.total(), b.counts.total());
+  EXPECT_GT(a.counts.reflection, 0u);
+  EXPECT_GT(a.counts.refraction, 0u);
+  // One shadow ray per rtcOccluded1 call gives the same masks as the batched rtcOccluded1M.
+  two->setBatchedShadowRays(false);
+  two->trace(scene, scene.camera, s, vis1, b);
+  EXPECT_EQ(a.lightMask, b.lightMask);
+  EXPECT_EQ(a.counts.shadow, b.counts.shadow);
+
+  s.referenceSpp = 2;
+  ImageF r1, r2;
+  RayCounts c1, c2;
+  one->renderReference(scene, scene.camera, s, r1, c1);
+  two->renderReference(scene, scene.camera, s, r2, c2);
+  EXPECT_EQ(r1.rgb, r2.rgb);
+  EXPECT_EQ(c1.total(), c2.total());
+  EXPECT_EQ(c1.primary, static_cast<std::uint64_t>(w * h * 4));
+  writeDebugPng(r1, "rt-whitted-reference-spp2.png");
+}
+
+TEST(RayPassWhitted, HybridPointEqualsTheReferenceAtOneSample) {
+  Scene scene = makeWhittedScene();
+  const int w = 160, h = 120;
+  for (std::optional<ShadingModel> model :
+       {std::optional<ShadingModel>{}, std::optional<ShadingModel>{ShadingModel::Flat}, std::optional<ShadingModel>{ShadingModel::Gouraud},
+        std::optional<ShadingModel>{ShadingModel::Toon}}) {
+    FrameSettings s = settingsFor(w, h);
+    s.shadingOverride = model;
+    s.fresnel = model ? FresnelMode::Schlick : FresnelMode::Exact;
+    auto rt = makeTracer(scene);
+    ASSERT_TRUE(rt);
+    VisibilityBuffer vis;
+    rt->castVisibility(scene.camera, w, h, vis);
+    RayOutputs out;
+    rt->trace(scene, scene.camera, s, vis, out);
+    ImageF hybrid, reference;
+    compositeOnCpu(scene, scene.camera, s, vis, out, hybrid);
+    RayCounts counts;
+    rt->renderReference(scene, scene.camera, s, reference, counts);
+    // Same points, same rays: the same colour, up to float reassociation.
+    int differ = 0;
+    for (std::size_t i = 0; i < hybrid.rgb.size(); ++i) {
+      glm::vec3 d = glm::abs(hybrid.rgb[i] - reference.rgb[i]);
+      if (glm::max(d.x, glm::max(d.y, d.z)) > 1e-5f * (1.0f + glm::max(reference.rgb[i].x, reference.rgb[i].y))) ++differ;
+    }
+    EXPECT_EQ(differ, 0) << "model override " << (model ? int(*model) : -1);
+    // The reference counts the same rays as the hybrid plus the local-shading shadow rays it does itself.
+    EXPECT_EQ(counts.reflection, out.counts.reflection);
+    EXPECT_EQ(counts.refraction, out.counts.refraction);
+    EXPECT_EQ(counts.shadow, out.counts.shadow);
+    EXPECT_EQ(counts.primary, static_cast<std::uint64_t>(w * h));
+    if (!model) {
+      writeDebugPng(hybrid, "rt-whitted-hybrid-composite.png");
+      writeDebugPng(reference, "rt-whitted-reference-spp1.png");
+    }
+  }
+}
+
+// ---- Robustness ----
+
+TEST(RayPassRobustness, DegenerateTrianglesAndStaleIdsNeverBreakTheFrame) {
+  Scene scene;
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 2, 0}, {2, 2, 0}, {1e-9f, 0, 0}, {3, 3, 3}};
+  m.indices = {0, 1, 2, 3, 4, 3, 0, 5, 1, 0, 6, 6};  // a good triangle, a point, a needle, a zero-length edge
+  Material mat = diffuse(glm::vec3(0.5f));
+  mat.kr = 0.5f;
+  mat.kt = 0.5f;
+  addInstance(scene, addMesh(scene, m), addMaterial(scene, mat), glm::mat4(1.0f));
+  scene.lights.push_back(pointLight({0.2f, 0.2f, 3.0f}));
+  scene.camera.posW = {0.3f, 0.3f, 4.0f};
+  scene.camera.targetW = {0.3f, 0.3f, 0.0f};
+  auto rt = makeTracer(scene);
+  ASSERT_TRUE(rt);
+  VisibilityBuffer vis;
+  vis.width = 4;
+  vis.height = 1;
+  vis.ids = {{1, 0}, {1, 1}, {1, 2}, {1, 3}};  // the ids a rasterizer could write for each triangle
+  RayOutputs out;
+  rt->trace(scene, scene.camera, settingsFor(4, 1), vis, out);
+  EXPECT_EQ(out.counts.primary, 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    if (!out.reflected.empty()) {
+      EXPECT_TRUE(isFinite(glm::vec3(out.reflected[i]))) << i;
+    }
+    if (!out.transmitted.empty()) {
+      EXPECT_TRUE(isFinite(glm::vec3(out.transmitted[i]))) << i;
+    }
+  }
+  ImageF image;
+  RayCounts counts;
+  FrameSettings s = settingsFor(32, 32);
+  rt->renderReference(scene, scene.camera, s, image, counts);
+  for (const glm::vec3& c : image.rgb) ASSERT_TRUE(isFinite(c));
+}
+
+TEST(RayPassRobustness, SetSceneRefusesBadInputAndKeepsThePreviousScene) {
+  EllipseScene e;
+  auto rt = makeTracer(e.scene);
+  ASSERT_TRUE(rt);
+  VisibilityBuffer before, after;
+  rt->castVisibility(e.scene.camera, 64, 64, before);
+
+  Scene bad = e.scene;
+  bad.meshes[0].positions[0].x = std::nanf("");
+  auto r = rt->setScene(bad);
+  EXPECT_FALSE(r.ok());
+  rt->castVisibility(e.scene.camera, 64, 64, after);
+  EXPECT_EQ(before.ids, after.ids);
+
+  // Embree out of memory (a tight budget through the memory monitor): an error value, old scene kept.
+  std::vector<std::string> logged;
+  LogSink old = setLogSink([&](LogLevel, std::string_view m) { logged.emplace_back(m); });
+  rt->setEmbreeMemoryLimit(4096);
+  r = rt->setScene(e.scene);
+  setLogSink(old);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("out of memory"), std::string::npos) << r.error().message;
+  EXPECT_FALSE(logged.empty());
+  rt->castVisibility(e.scene.camera, 64, 64, after);
+  EXPECT_EQ(before.ids, after.ids);
+  rt->setEmbreeMemoryLimit(0);
+  EXPECT_TRUE(rt->setScene(e.scene).ok());
+}
+
+// ---- Throughput (run explicitly: --gtest_also_run_disabled_tests --gtest_filter=*Throughput*) ----
+
+TEST(RayPassPerf, DISABLED_ShadowRayThroughput) {
+  Scene scene = makeWhittedScene();
+  for (int i = 0; i < 4; ++i) scene.lights.push_back(pointLight({-4.0f + 2.5f * float(i), 5.0f, 3.0f}, 0.3f));
+  const int w = 640, h = 480;
+  FrameSettings s = settingsFor(w, h);
+  s.reflections = s.refraction = EffectMode::Off;
+  for (int threads : {1, 2})
+    for (bool batched : {false, true}) {
+      auto rt = makeTracer(scene, threads);
+      ASSERT_TRUE(rt);
+      rt->setBatchedShadowRays(batched);
+      VisibilityBuffer vis;
+      rt->castVisibility(scene.camera, w, h, vis);
+      RayOutputs out;
+      rt->trace(scene, scene.camera, s, vis, out);  // warm-up
+      double best = 1e30;
+      for (int rep = 0; rep < 5; ++rep) {
+        auto t0 = std::chrono::steady_clock::now();
+        rt->trace(scene, scene.camera, s, vis, out);
+        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      }
+      ASSERT_GT(out.counts.shadow, 0u);
+      std::printf("threads %d %-10s shadow rays %llu  best %.2f ms  %.2f Mrays/s (shadow)  %.2f Mrays/s (all)\n", threads,
+                  batched ? "occluded1M" : "occluded1", static_cast<unsigned long long>(out.counts.shadow), best * 1e3,
+                  double(out.counts.shadow) / best * 1e-6, double(out.counts.total()) / best * 1e-6);
+    }
+}
+
+}  // namespace
+}  // namespace tandem::rt
