@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "tandem/Animation.h"
 #include "tandem/Result.h"
 #include "tandem/Scene.h"
 
@@ -20,6 +21,8 @@ struct GltfLimits {
   std::uint64_t maxImagePixels = 4096ull * 4096; // per image, checked before decoding
   std::uint64_t maxTriangles = 20'000'000;
   std::uint64_t maxNodes = 1'000'000;
+  std::uint64_t maxTotalPixels = 64ull << 20;   // all decoded images together
+  std::uint64_t maxObjects = 4'000'000;         // accessors, views, meshes, materials… each
 };
 
 struct GltfOptions {
@@ -29,12 +32,20 @@ struct GltfOptions {
   std::function<void(const std::string&)> onFileOpened;
   bool addDefaultLights = true;  // when the file has none (see docs/gltf.md)
   bool addDefaultCamera = true;
+  /// Called with every warning (skipped primitive, missing image, ignored skin…); they also go to the log.
+  std::function<void(const std::string&)> onWarning;
 };
 
-/// Node transform animation, sampled by time (seconds); applies to instances created from animated nodes.
-struct GltfAnimation;
+/// A loaded file: the scene and its node-transform animation (empty when the file has none).
+/// Instances that follow animated nodes are marked `dynamic`.
+struct GltfAsset {
+  Scene scene;
+  SceneAnimation animation;
+};
 
 /// Loads a glTF file into a Scene. Warnings (skipped primitives, missing images) go to the log.
 Result<Scene> loadGltf(const std::string& path, const GltfOptions& options = {});
+/// The same, keeping the animation.
+Result<GltfAsset> loadGltfAsset(const std::string& path, const GltfOptions& options = {});
 
 }  // namespace tandem

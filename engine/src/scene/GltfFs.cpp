@@ -1,0 +1,305 @@
+// Filesystem confinement and the checks made before tinygltf sees a byte (see GltfInternal.h).
+#include <sys/stat.h>
+
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/GltfInternal.h"
+
+namespace tandem::gltf {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+bool hasScheme(const std::string& rel) {
+  // RFC 3986: scheme = ALPHA *( ALPHA / DIGIT / "+" / "-" / "." ) ":". A relative reference cannot
+  // start like that, so "file:", "http:", "https:", "data:<unsupported type>" all land here.
+  if (rel.empty() || !std::isalpha(static_cast<unsigned char>(rel[0]))) return false;
+  for (char ch : rel) {
+    if (ch == ':') return true;
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '+' && ch != '-' && ch != '.') return false;
+  }
+  return false;
+}
+
+bool isInside(const fs::path& root, const fs::path& p) {
+  auto r = root.begin();
+  auto q = p.begin();
+  for (; r != root.end(); ++r, ++q)
+    if (q == p.end() || *q != *r) return false;
+  return true;
+}
+
+// For messages: at most 200 bytes, control characters (NUL included) shown as '?'.
+std::string shortUri(const std::string& s) {
+  std::string r = s.size() > 200 ? s.substr(0, 200) + "…" : s;
+  for (char& ch : r)
+    if (static_cast<unsigned char>(ch) < 0x20) ch = '?';
+  return r;
+}
+
+}  // namespace
+
+Resolve resolveInside(Confinement& c, const std::string& joined, fs::path* out) {
+  // tinygltf asks for JoinPath(baseDir, uri) first and JoinPath(".", uri) second (its current-directory
+  // fallback). We gave it the canonical root as baseDir, so anything without that prefix is the fallback:
+  // not found, silently, without touching the filesystem.
+  if (joined.compare(0, c.rootPrefix.size(), c.rootPrefix) != 0) return Resolve::NotFound;
+  const std::string rel = joined.substr(c.rootPrefix.size());
+  auto refuse = [&](const std::string& why) {
+    c.refusals.push_back("uri '" + shortUri(rel) + "': " + why);
+    return Resolve::Refused;
+  };
+  // An empty uri is "missing", not hostile: tinygltf reports it as such.
+  if (rel.empty()) return Resolve::NotFound;
+  // data: URIs of media types tinygltf does not decode (image/webp, non-base64) reach us as paths:
+  // unsupported, not an escape attempt. Buffers then fail as missing, images are skipped.
+  if (rel.rfind("data:", 0) == 0) return Resolve::NotFound;
+  if (rel.find('\0') != std::string::npos) return refuse("NUL byte in the path");
+  if (hasScheme(rel)) return refuse("URI scheme not allowed (only relative paths and data: buffers/images)");
+  if (rel[0] == '/') return refuse("absolute path outside the asset folder");
+  // Lexical check first: '..' is refused even when it would come back inside, so nothing is opened
+  // by probing outside the folder.
+  std::size_t start = 0;
+  while (start <= rel.size()) {
+    std::size_t end = rel.find('/', start);
+    if (end == std::string::npos) end = rel.size();
+    if (rel.compare(start, end - start, "..") == 0 && end - start == 2) return refuse("'..' leaves the asset folder");
+    start = end + 1;
+  }
+  std::error_code ec;
+  fs::path canon = fs::canonical(c.root / rel, ec);
+  if (ec) return Resolve::NotFound;
+  if (!isInside(c.root, canon)) return refuse("resolves (through a symlink) outside the asset folder");
+  struct stat st {};
+  if (::stat(canon.c_str(), &st) != 0) return Resolve::NotFound;
+  if (!S_ISREG(st.st_mode)) return refuse("not a regular file");
+  if (static_cast<std::uint64_t>(st.st_size) > c.maxFileBytes)
+    return refuse(std::to_string(st.st_size) + " bytes exceeds the file size cap maxFileBytes = " +
+                  std::to_string(c.maxFileBytes));
+  *out = canon;
+  return Resolve::Ok;
+}
+
+Result<std::vector<std::uint8_t>> readFileCapped(const fs::path& canonical, std::uint64_t cap,
+                                                 const std::function<void(const std::string&)>* onOpened) {
+  struct stat st {};
+  if (::stat(canonical.c_str(), &st) != 0) return Error{"cannot stat: " + std::string(std::strerror(errno))};
+  if (!S_ISREG(st.st_mode)) return Error{"not a regular file"};
+  if (static_cast<std::uint64_t>(st.st_size) > cap)
+    return Error{std::to_string(st.st_size) + " bytes exceeds the file size cap maxFileBytes = " + std::to_string(cap)};
+  if (onOpened && *onOpened) (*onOpened)(canonical.string());
+  std::ifstream in(canonical, std::ios::binary);
+  if (!in) return Error{"cannot open"};
+  std::vector<std::uint8_t> data(static_cast<std::size_t>(st.st_size));
+  if (!data.empty()) in.read(reinterpret_cast<char*>(data.data()), static_cast<std::streamsize>(data.size()));
+  // A file that shrank between stat and read is refused rather than half-used.
+  if (static_cast<std::size_t>(in.gcount()) != data.size()) return Error{"short read"};
+  return data;
+}
+
+namespace {
+
+bool fsFileExists(const std::string& path, void* user) {
+  fs::path p;
+  return resolveInside(*static_cast<Confinement*>(user), path, &p) == Resolve::Ok;
+}
+
+// No expansion at all: tinygltf's default expands '~' and environment variables.
+std::string fsExpand(const std::string& path, void*) { return path; }
+
+bool fsRead(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  auto& c = *static_cast<Confinement*>(user);
+  fs::path p;
+  if (resolveInside(c, path, &p) != Resolve::Ok) {
+    if (err) *err += "refused";
+    return false;
+  }
+  auto r = readFileCapped(p, c.maxFileBytes, c.onFileOpened);
+  if (!r) {
+    c.refusals.push_back("file '" + p.string() + "': " + r.error().message);
+    if (err) *err += r.error().message;
+    return false;
+  }
+  *out = std::move(*r);
+  return true;
+}
+
+bool fsWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "writing is disabled";
+  return false;
+}
+
+}  // namespace
+
+tinygltf::FsCallbacks makeFsCallbacks(Confinement* c) {
+  tinygltf::FsCallbacks cb{};
+  cb.FileExists = &fsFileExists;
+  cb.ExpandFilePath = &fsExpand;
+  cb.ReadWholeFile = &fsRead;
+  cb.WriteWholeFile = &fsWrite;
+  cb.user_data = c;
+  return cb;
+}
+
+Result<void> checkJsonDepth(const std::uint8_t* data, std::size_t size, int maxDepth) {
+  int depth = 0;
+  bool inString = false;
+  for (std::size_t i = 0; i < size; ++i) {
+    const std::uint8_t ch = data[i];
+    if (inString) {
+      if (ch == '\\') ++i;  // skip the escaped character (an escaped quote does not end the string)
+      else if (ch == '"') inString = false;
+      continue;
+    }
+    if (ch == '"') inString = true;
+    else if (ch == '{' || ch == '[') {
+      if (++depth > maxDepth)
+        return Error{"JSON nested deeper than the cap maxJsonDepth = " + std::to_string(maxDepth) + " (at byte " +
+                     std::to_string(i) + ")"};
+    } else if (ch == '}' || ch == ']') {
+      --depth;
+    }
+  }
+  return {};
+}
+
+namespace {
+
+// Properties whose numbers are indices, counts, offsets or enums. tinygltf reads them with
+// static_cast<int>(int64), so 2^32 + 1 would silently become 1; a float would silently become "absent".
+bool isIntegerKey(const std::string& k) {
+  static const char* const keys[] = {"buffer",  "bufferView", "byteOffset", "byteLength", "byteStride", "count",
+                                     "componentType", "index", "texCoord", "source", "sampler", "mesh",
+                                     "camera", "skin", "material", "indices", "mode", "node", "input",
+                                     "output", "scene", "skeleton", "inverseBindMatrices", "light",
+                                     "magFilter", "minFilter", "wrapS", "wrapT", "target"};
+  for (const char* key : keys)
+    if (k == key) return true;
+  return false;
+}
+bool isIndexArrayKey(const std::string& k) { return k == "children" || k == "nodes" || k == "joints"; }
+
+bool validIndexNumber(const nlohmann::json& v) {
+  if (v.is_number_unsigned()) return v.get<std::uint64_t>() <= std::uint64_t(std::numeric_limits<int>::max());
+  if (v.is_number_integer()) return false;  // negative
+  return false;                             // float or other type
+}
+
+}  // namespace
+
+Result<void> checkJsonTypes(const std::uint8_t* data, std::size_t size) {
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(data, data + size);
+  } catch (const std::exception& e) {
+    return Error{std::string("JSON parse error: ") + e.what()};
+  }
+  if (!doc.is_object()) return Error{"the JSON root is not an object"};
+  struct Item {
+    const nlohmann::json* v;
+    std::string pointer;
+  };
+  std::vector<Item> stack{{&doc, ""}};
+  while (!stack.empty()) {
+    Item it = std::move(stack.back());
+    stack.pop_back();
+    if (it.v->is_object()) {
+      const bool attributeMap =
+          it.pointer.ends_with("/attributes") || it.pointer.find("/targets/") != std::string::npos;
+      for (auto e = it.v->begin(); e != it.v->end(); ++e) {
+        const std::string& key = e.key();
+        const std::string ptr = it.pointer + "/" + key;
+        if (key == "extras") continue;  // free-form application data
+        const nlohmann::json& v = e.value();
+        if (attributeMap || isIntegerKey(key)) {
+          if (v.is_number() && !validIndexNumber(v))
+            return Error{ptr + ": " + v.dump() + " is not an integer in [0, 2^31)"};
+          if (attributeMap && !v.is_number()) return Error{ptr + ": attribute must be an accessor index"};
+          // Objects are legitimate under some of these names (channel "target", sparse "indices") and are
+          // walked below; strings, booleans and null never are.
+          if (!v.is_number() && !v.is_object() && !v.is_array()) return Error{ptr + ": expected an integer"};
+        } else if (isIndexArrayKey(key) && v.is_array() && !it.pointer.empty()) {  // top-level "nodes" holds objects
+          for (std::size_t i = 0; i < v.size(); ++i)
+            if (!validIndexNumber(v[i]))
+              return Error{ptr + "/" + std::to_string(i) + ": " + v[i].dump() + " is not an integer in [0, 2^31)"};
+        }
+        if (v.is_object() || v.is_array()) stack.push_back({&v, ptr});
+      }
+    } else if (it.v->is_array()) {
+      for (std::size_t i = 0; i < it.v->size(); ++i) {
+        const nlohmann::json& v = (*it.v)[i];
+        if (v.is_object() || v.is_array()) stack.push_back({&v, it.pointer + "/" + std::to_string(i)});
+      }
+    }
+  }
+  return {};
+}
+
+namespace {
+std::uint32_t le32(const std::uint8_t* p) {
+  std::uint32_t v;
+  std::memcpy(&v, p, 4);  // glTF is little-endian, as is every machine this builds for
+  return v;
+}
+}  // namespace
+
+Result<void> checkGlb(const std::vector<std::uint8_t>& b, std::size_t* jsonOffset, std::size_t* jsonSize) {
+  if (b.size() < 12) return Error{"GLB: " + std::to_string(b.size()) + " bytes, shorter than the 12-byte header"};
+  if (std::memcmp(b.data(), "glTF", 4) != 0) return Error{"GLB: bad magic"};
+  const std::uint32_t version = le32(b.data() + 4);
+  if (version != 2) return Error{"GLB: container version " + std::to_string(version) + ", expected 2"};
+  const std::uint32_t length = le32(b.data() + 8);
+  if (length != b.size())
+    return Error{"GLB: header length " + std::to_string(length) + " differs from the file size " +
+                 std::to_string(b.size())};
+  std::uint64_t pos = 12;
+  int chunk = 0;
+  bool haveJson = false;
+  while (pos < b.size()) {
+    if (b.size() - pos < 8) return Error{"GLB: chunk " + std::to_string(chunk) + " header truncated"};
+    const std::uint64_t clen = le32(b.data() + pos);
+    const std::uint32_t ctype = le32(b.data() + pos + 4);
+    if (clen > b.size() - pos - 8)
+      return Error{"GLB: chunk " + std::to_string(chunk) + " length " + std::to_string(clen) + " runs past the file"};
+    if (clen % 4 != 0)
+      return Error{"GLB: chunk " + std::to_string(chunk) + " length " + std::to_string(clen) +
+                   " is not a multiple of 4"};
+    if (chunk == 0) {
+      if (ctype != 0x4E4F534Au) return Error{"GLB: the first chunk is not JSON"};
+      if (clen == 0) return Error{"GLB: empty JSON chunk"};
+      *jsonOffset = static_cast<std::size_t>(pos + 8);
+      *jsonSize = static_cast<std::size_t>(clen);
+      haveJson = true;
+    } else if (chunk == 1 && ctype == 0x004E4942u && clen == 0) {
+      return Error{"GLB: empty BIN chunk"};
+    } else if (ctype == 0x4E4F534Au) {
+      return Error{"GLB: chunk " + std::to_string(chunk) + " is a second JSON chunk"};
+    } else if (chunk > 1 && ctype == 0x004E4942u) {
+      return Error{"GLB: chunk " + std::to_string(chunk) + " is a BIN chunk that is not the second chunk"};
+    }
+    pos += 8 + clen;
+    ++chunk;
+  }
+  if (!haveJson) return Error{"GLB: no JSON chunk"};
+  return {};
+}
+
+bool recordImage(tinygltf::Image* image, int index, std::string*, std::string*, int, int, const unsigned char* bytes,
+                 int size, void* user) {
+  // bufferView images: the pointer tinygltf computed may lie outside the buffer. Touch nothing; the
+  // importer reads them from the view after validation.
+  if (image->bufferView >= 0) return true;
+  if (bytes == nullptr || size <= 0) return true;
+  auto* d = static_cast<DeferredImages*>(user);
+  d->bytes[index].assign(bytes, bytes + size);
+  return true;
+}
+
+}  // namespace tandem::gltf

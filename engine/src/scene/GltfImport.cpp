@@ -1,0 +1,917 @@
+// loadGltf: the hardened pipeline (GltfInternal.h) and the conversion of a validated model into a Scene.
+// docs/gltf.md documents the material mapping, light units, defaults, limits and refusals.
+#include <stb_image.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <new>
+#include <tuple>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "scene/GltfInternal.h"
+#include "tandem/Log.h"
+
+namespace tandem {
+
+using namespace gltf;
+namespace fs = std::filesystem;
+
+void gltf::Warn::operator()(const std::string& message) {
+  ++count;
+  const std::string full = file + ": " + message;
+  logWarning(full);
+  if (options && options->onWarning) options->onWarning(full);
+}
+
+namespace {
+
+using u64 = std::uint64_t;
+
+bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finiteMat(const glm::mat4& m) {
+  for (int c = 0; c < 4; ++c)
+    if (!finite3(glm::vec3(m[c])) || !std::isfinite(m[c][3])) return false;
+  return true;
+}
+
+// A tinygltf extension value read defensively: numbers only when they are numbers.
+double num(const tinygltf::Value& v, const char* key, double fallback) {
+  if (!v.IsObject() || !v.Has(key)) return fallback;
+  const tinygltf::Value& x = v.Get(key);
+  if (!x.IsNumber()) return fallback;
+  const double d = x.GetNumberAsDouble();
+  return std::isfinite(d) ? d : fallback;
+}
+int intOf(const tinygltf::Value& v, const char* key, int fallback) {
+  if (!v.IsObject() || !v.Has(key)) return fallback;
+  const tinygltf::Value& x = v.Get(key);
+  return x.IsInt() ? x.GetNumberAsInt() : fallback;  // checkJsonTypes bounded index-like integers to int
+}
+glm::vec3 vec3Of(const tinygltf::Value& v, const char* key, glm::vec3 fallback) {
+  if (!v.IsObject() || !v.Has(key)) return fallback;
+  const tinygltf::Value& a = v.Get(key);
+  if (!a.IsArray() || a.ArrayLen() != 3) return fallback;
+  glm::vec3 r;
+  for (int i = 0; i < 3; ++i) {
+    if (!a.Get(i).IsNumber()) return fallback;
+    r[i] = static_cast<float>(a.Get(i).GetNumberAsDouble());
+  }
+  return finite3(r) ? r : fallback;
+}
+const tinygltf::Value* ext(const tinygltf::ExtensionMap& m, const char* name) {
+  auto it = m.find(name);
+  return it == m.end() ? nullptr : &it->second;
+}
+
+bool isPng(const std::uint8_t* p, std::size_t n) {
+  static const std::uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  return n >= 8 && std::memcmp(p, sig, 8) == 0;
+}
+bool isJpeg(const std::uint8_t* p, std::size_t n) { return n >= 3 && p[0] == 0xFF && p[1] == 0xD8 && p[2] == 0xFF; }
+
+class Importer {
+ public:
+  Importer(const tinygltf::Model& m, const GltfOptions& o, std::string file, Warn& w, DeferredImages& img)
+      : m_(m), opt_(o), file_(std::move(file)), warn_(w), images_(img) {}
+
+  Result<GltfAsset> run();
+
+ private:
+  Error err(const std::string& msg) const { return Error{file_ + ": " + msg}; }
+  Result<void> buildMaterials();
+  int texture(int gltfTexture, bool srgb, const std::string& usage);
+  int fallbackTexture();
+  Result<int> meshFor(int mesh, int prim, bool flip);
+  Result<Mesh> convertPrimitive(int mesh, int prim);
+  Result<void> traverse(const std::vector<int>& roots);
+  Result<std::vector<glm::mat4>> gpuInstances(const tinygltf::Node& n, std::size_t nodeIndex);
+  void addCamera(const tinygltf::Node& n, const glm::mat4& world);
+  void addLight(const tinygltf::Node& n, std::size_t nodeIndex, const glm::mat4& world);
+  void addDefaults();
+  void warnOnce(const std::string& key, const std::string& msg) {
+    if (warned_.insert({key, true}).second) warn_(msg);
+  }
+
+  const tinygltf::Model& m_;
+  const GltfOptions& opt_;
+  std::string file_;
+  Warn& warn_;
+  DeferredImages& images_;
+  GltfAsset out_;
+  std::vector<int> materialOf_;   // glTF material → scene material
+  std::vector<bool> wantsTangents_;  // per glTF material: has a normal map
+  int defaultMaterial_ = -1;
+  int fallbackTexture_ = -1;
+  std::map<std::pair<int, bool>, int> textureCache_;  // (image, srgb) → scene texture or -1
+  std::map<std::tuple<int, int, bool>, int> meshCache_;  // (mesh, primitive, flipped) → scene mesh or -1
+  std::map<std::string, bool> warned_;
+  u64 totalPixels_ = 0;
+  u64 triangles_ = 0;
+  bool haveCamera_ = false;
+  std::vector<int> animIndexOfNode_;
+  std::vector<bool> animated_;  // glTF node targeted by a TRS channel
+};
+
+// ---- textures ----
+
+int Importer::fallbackTexture() {
+  // SKIP policy for images (bad-inputs.md I2–I4, U13): the material keeps a neutral white texture so the
+  // rest renders and nothing indexes a missing texture.
+  if (fallbackTexture_ < 0) {
+    Texture t;
+    t.name = "fallback";
+    t.width = t.height = 2;
+    t.rgba8.assign(16, 255);
+    fallbackTexture_ = int(out_.scene.textures.size());
+    out_.scene.textures.push_back(std::move(t));
+  }
+  return fallbackTexture_;
+}
+
+int Importer::texture(int gltfTexture, bool srgb, const std::string& usage) {
+  if (gltfTexture < 0) return -1;
+  const tinygltf::Texture& t = m_.textures[std::size_t(gltfTexture)];
+  const std::string id = "textures[" + std::to_string(gltfTexture) + "] (" + usage + ")";
+  if (t.source < 0) {
+    warn_(id + ": no image source (or only an unsupported extension source); fallback texture used");
+    return srgb ? fallbackTexture() : -1;
+  }
+  auto key = std::make_pair(t.source, srgb);
+  if (auto it = textureCache_.find(key); it != textureCache_.end()) return it->second;
+  auto fail = [&](const std::string& why) {
+    warn_("images[" + std::to_string(t.source) + "]: " + why + "; " + (srgb ? "fallback texture used" : "map dropped"));
+    const int r = srgb ? fallbackTexture() : -1;
+    textureCache_[key] = r;
+    return r;
+  };
+  const tinygltf::Image& img = m_.images[std::size_t(t.source)];
+  const std::uint8_t* bytes = nullptr;
+  std::size_t size = 0;
+  if (img.bufferView >= 0) {
+    const tinygltf::BufferView& v = m_.bufferViews[std::size_t(img.bufferView)];  // range validated
+    bytes = m_.buffers[std::size_t(v.buffer)].data.data() + v.byteOffset;
+    size = v.byteLength;
+  } else if (auto it = images_.bytes.find(t.source); it != images_.bytes.end()) {
+    bytes = it->second.data();
+    size = it->second.size();
+  } else {
+    return fail("'" + img.uri.substr(0, 200) + "' could not be read (missing file?)");
+  }
+  if (!isPng(bytes, size) && !isJpeg(bytes, size)) return fail("not PNG or JPEG data (only those are decoded)");
+  if (size > std::size_t(INT32_MAX)) return fail("encoded image too large");
+  int w = 0, h = 0, comp = 0;
+  if (!stbi_info_from_memory(bytes, int(size), &w, &h, &comp) || w <= 0 || h <= 0)
+    return fail(std::string("unreadable header (") + (stbi_failure_reason() ? stbi_failure_reason() : "?") + ")");
+  const u64 pixels = u64(w) * u64(h);
+  if (pixels > opt_.limits.maxImagePixels)
+    return fail(std::to_string(w) + "×" + std::to_string(h) + " exceeds the cap maxImagePixels = " +
+                std::to_string(opt_.limits.maxImagePixels));
+  if (totalPixels_ + pixels > opt_.limits.maxTotalPixels)
+    return fail("decoding it would exceed the cap maxTotalPixels = " + std::to_string(opt_.limits.maxTotalPixels));
+  stbi_uc* px = stbi_load_from_memory(bytes, int(size), &w, &h, &comp, 4);
+  if (!px) return fail(std::string("decoding failed (") + (stbi_failure_reason() ? stbi_failure_reason() : "?") + ")");
+  Texture tex;
+  tex.name = !img.name.empty() ? img.name : img.uri.substr(0, 200);
+  tex.width = w;
+  tex.height = h;
+  tex.srgb = srgb;
+  tex.rgba8.assign(px, px + pixels * 4);
+  stbi_image_free(px);
+  totalPixels_ += pixels;
+  const int index = int(out_.scene.textures.size());
+  out_.scene.textures.push_back(std::move(tex));
+  textureCache_[key] = index;
+  return index;
+}
+
+// ---- materials ----
+
+glm::mat3 textureTransform(const tinygltf::ExtensionMap& e) {
+  const tinygltf::Value* tt = ext(e, "KHR_texture_transform");
+  if (!tt) return glm::mat3(1.0f);
+  glm::vec2 offset(0.0f), scale(1.0f);
+  if (tt->Has("offset") && tt->Get("offset").ArrayLen() == 2 && tt->Get("offset").Get(0).IsNumber() &&
+      tt->Get("offset").Get(1).IsNumber())
+    offset = {float(tt->Get("offset").Get(0).GetNumberAsDouble()), float(tt->Get("offset").Get(1).GetNumberAsDouble())};
+  if (tt->Has("scale") && tt->Get("scale").ArrayLen() == 2 && tt->Get("scale").Get(0).IsNumber() &&
+      tt->Get("scale").Get(1).IsNumber())
+    scale = {float(tt->Get("scale").Get(0).GetNumberAsDouble()), float(tt->Get("scale").Get(1).GetNumberAsDouble())};
+  const float rot = float(num(*tt, "rotation", 0.0));
+  if (!std::isfinite(offset.x) || !std::isfinite(offset.y) || !std::isfinite(scale.x) || !std::isfinite(scale.y))
+    return glm::mat3(1.0f);
+  // KHR_texture_transform README: uv' = T · R · S · (u, v, 1), matrices column-major as in GLSL.
+  const glm::mat3 T(1, 0, 0, 0, 1, 0, offset.x, offset.y, 1);
+  const glm::mat3 R(std::cos(rot), std::sin(rot), 0, -std::sin(rot), std::cos(rot), 0, 0, 0, 1);
+  const glm::mat3 S(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
+  return T * R * S;
+}
+
+Result<void> Importer::buildMaterials() {
+  for (std::size_t i = 0; i < m_.materials.size(); ++i) {
+    const tinygltf::Material& g = m_.materials[i];
+    const auto& pbr = g.pbrMetallicRoughness;
+    const std::string id = "materials[" + std::to_string(i) + "]";
+    Material mat;
+    mat.name = g.name;
+    const glm::vec3 base(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]), float(pbr.baseColorFactor[2]));
+    const float metallic = float(pbr.metallicFactor), rough = float(pbr.roughnessFactor);
+    float ior = 1.5f;
+    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_ior")) {
+      const double v = num(*e, "ior", 1.5);
+      // The extension allows 0 (meaning "no refraction"); anything else must be >= 1. Clamp the rest.
+      ior = v == 0.0 ? 1.0f : float(std::clamp(v, 1.0, 5.0));
+      if (v != 0.0 && (v < 1.0 || v > 5.0)) warn_(id + ": ior " + std::to_string(v) + " clamped to [1, 5]");
+    }
+    float specular = 1.0f;
+    glm::vec3 specularColor(1.0f);
+    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_specular")) {
+      specular = float(std::clamp(num(*e, "specularFactor", 1.0), 0.0, 1.0));
+      specularColor = glm::clamp(vec3Of(*e, "specularColorFactor", glm::vec3(1.0f)), 0.0f, 1e3f);
+    }
+    float transmission = 0.0f;
+    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_transmission"))
+      transmission = float(std::clamp(num(*e, "transmissionFactor", 0.0), 0.0, 1.0));
+    bool thick = false;
+    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_volume")) thick = num(*e, "thicknessFactor", 0.0) > 0.0;
+    float emissiveStrength = 1.0f;
+    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_emissive_strength"))
+      emissiveStrength = float(std::clamp(num(*e, "emissiveStrength", 1.0), 0.0, 1e6));
+
+    // Fresnel reflectance at normal incidence: dielectric F0 from the IOR, scaled by KHR_materials_specular;
+    // metals reflect their base colour.
+    const float f0d = std::pow((ior - 1.0f) / (ior + 1.0f), 2.0f);
+    const glm::vec3 f0Dielectric = glm::min(glm::vec3(f0d) * specularColor * specular, glm::vec3(1.0f));
+    mat.ks = glm::mix(f0Dielectric, base, metallic);
+    // Energy that is not reflected specularly by metals or transmitted goes to the diffuse lobe.
+    mat.kd = base * (1.0f - metallic) * (1.0f - transmission);
+    mat.ka = mat.kd;
+    // Phong exponent from GGX roughness: α = roughness², ns = 2/α² − 2 (Walter et al. 2007, Beckmann↔Phong).
+    const float alpha = std::max(rough * rough, 1e-3f);
+    mat.ns = std::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 10000.0f);
+    // Mirror rays only for smooth surfaces: rough ones would need blurred reflections we do not trace.
+    const float smooth = (1.0f - rough) * (1.0f - rough);
+    const float f0Max = std::max({f0Dielectric.x, f0Dielectric.y, f0Dielectric.z});
+    mat.kr = std::clamp(smooth * (metallic + (1.0f - metallic) * f0Max), 0.0f, 1.0f);
+    mat.kt = transmission * (1.0f - metallic);
+    // Without KHR_materials_volume a transmissive surface is thin-walled: light passes without bending.
+    mat.ior = (mat.kt > 0.0f && !thick) ? 1.0f : ior;
+    if (g.emissiveFactor.size() == 3)
+      mat.emission = glm::vec3(float(g.emissiveFactor[0]), float(g.emissiveFactor[1]), float(g.emissiveFactor[2])) *
+                     emissiveStrength;
+    mat.opacity = float(pbr.baseColorFactor[3]);
+    mat.alphaMode = g.alphaMode == "MASK" ? AlphaMode::Mask : g.alphaMode == "BLEND" ? AlphaMode::Blend : AlphaMode::Opaque;
+    mat.alphaCutoff = float(g.alphaCutoff);
+    mat.doubleSided = g.doubleSided;
+    if (ext(g.extensions, "KHR_materials_unlit")) {
+      mat.unlit = true;
+      mat.kd = base;
+      mat.ka = glm::vec3(0.0f);
+      mat.ks = glm::vec3(0.0f);
+      mat.kr = mat.kt = 0.0f;
+    }
+    auto texCoordOf = [&](const tinygltf::ExtensionMap& e, int texCoord) {
+      const tinygltf::Value* tt = ext(e, "KHR_texture_transform");
+      return tt ? intOf(*tt, "texCoord", texCoord) : texCoord;
+    };
+    if (pbr.baseColorTexture.index >= 0) {
+      mat.kdTexture = texture(pbr.baseColorTexture.index, true, id + " base colour");
+      mat.uvTransform = textureTransform(pbr.baseColorTexture.extensions);
+      if (texCoordOf(pbr.baseColorTexture.extensions, pbr.baseColorTexture.texCoord) != 0)
+        warn_(id + ": base colour texture uses a TEXCOORD other than 0; TEXCOORD_0 is used");
+    }
+    if (g.normalTexture.index >= 0) {
+      mat.normalTexture = texture(g.normalTexture.index, false, id + " normal map");
+      mat.normalScale = float(g.normalTexture.scale);
+      if (pbr.baseColorTexture.index < 0) mat.uvTransform = textureTransform(g.normalTexture.extensions);
+      if (texCoordOf(g.normalTexture.extensions, g.normalTexture.texCoord) != 0)
+        warn_(id + ": normal map uses a TEXCOORD other than 0; TEXCOORD_0 is used");
+    }
+    if (pbr.metallicRoughnessTexture.index >= 0 || g.occlusionTexture.index >= 0 || g.emissiveTexture.index >= 0)
+      warnOnce("unusedTextures", "metallic-roughness, occlusion and emissive textures are not used (their factors are)");
+    wantsTangents_.push_back(mat.normalTexture >= 0);
+    materialOf_.push_back(int(out_.scene.materials.size()));
+    out_.scene.materials.push_back(std::move(mat));
+  }
+  return {};
+}
+
+// ---- meshes ----
+
+void generateNormals(Mesh& mesh) {
+  // Area-weighted face normals (the cross product's length), accumulated per vertex.
+  mesh.normals.assign(mesh.positions.size(), glm::vec3(0.0f));
+  for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const std::uint32_t a = mesh.indices[t], b = mesh.indices[t + 1], c = mesh.indices[t + 2];
+    const glm::vec3 n = glm::cross(mesh.positions[b] - mesh.positions[a], mesh.positions[c] - mesh.positions[a]);
+    if (!finite3(n)) continue;
+    mesh.normals[a] += n;
+    mesh.normals[b] += n;
+    mesh.normals[c] += n;
+  }
+  for (glm::vec3& n : mesh.normals) {
+    const float len = glm::length(n);
+    // Degenerate-only vertices get an arbitrary unit normal rather than NaN (bad-inputs.md M6).
+    n = (len > 1e-30f && std::isfinite(len)) ? n / len : glm::vec3(0.0f, 0.0f, 1.0f);
+  }
+}
+
+void generateTangents(Mesh& mesh) {
+  // Per-triangle tangent from the uv gradient (Lengyel), accumulated, then Gram-Schmidt against the
+  // normal; w is the handedness of (T, B, N).
+  const std::size_t n = mesh.positions.size();
+  std::vector<glm::vec3> tan(n, glm::vec3(0.0f)), bit(n, glm::vec3(0.0f));
+  for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const std::uint32_t i0 = mesh.indices[t], i1 = mesh.indices[t + 1], i2 = mesh.indices[t + 2];
+    const glm::vec3 e1 = mesh.positions[i1] - mesh.positions[i0], e2 = mesh.positions[i2] - mesh.positions[i0];
+    const glm::vec2 d1 = mesh.uvs[i1] - mesh.uvs[i0], d2 = mesh.uvs[i2] - mesh.uvs[i0];
+    const float det = d1.x * d2.y - d2.x * d1.y;
+    if (std::abs(det) < 1e-20f || !std::isfinite(det)) continue;
+    const float r = 1.0f / det;
+    const glm::vec3 sdir = (e1 * d2.y - e2 * d1.y) * r, tdir = (e2 * d1.x - e1 * d2.x) * r;
+    if (!finite3(sdir) || !finite3(tdir)) continue;
+    for (std::uint32_t i : {i0, i1, i2}) {
+      tan[i] += sdir;
+      bit[i] += tdir;
+    }
+  }
+  mesh.tangents.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::vec3 nn = mesh.normals[i];
+    glm::vec3 t = tan[i] - nn * glm::dot(nn, tan[i]);
+    float len = glm::length(t);
+    if (!(len > 1e-20f) || !std::isfinite(len)) {
+      // No usable uv gradient: any unit vector perpendicular to the normal.
+      t = std::abs(nn.x) < 0.9f ? glm::cross(nn, glm::vec3(1, 0, 0)) : glm::cross(nn, glm::vec3(0, 1, 0));
+      len = glm::length(t);
+    }
+    t /= len;
+    const float w = glm::dot(glm::cross(nn, t), bit[i]) < 0.0f ? -1.0f : 1.0f;
+    mesh.tangents[i] = glm::vec4(t, w);
+  }
+}
+
+Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
+  const tinygltf::Primitive& p = m_.meshes[std::size_t(meshIndex)].primitives[std::size_t(primIndex)];
+  const std::string id = "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(primIndex) + "]";
+  Mesh mesh;
+  mesh.name = m_.meshes[std::size_t(meshIndex)].name;
+  if (m_.meshes[std::size_t(meshIndex)].primitives.size() > 1) mesh.name += "#" + std::to_string(primIndex);
+  auto attr = [&](const char* name) {
+    auto it = p.attributes.find(name);
+    return it == p.attributes.end() ? -1 : it->second;
+  };
+  const int posAcc = attr("POSITION");
+  auto pos = readFloats(m_, posAcc, file_);
+  if (!pos) return pos.error();
+  const std::size_t vertexCount = pos->size() / 3;
+  if (vertexCount > std::size_t(UINT32_MAX)) return err(id + ": too many vertices");
+  mesh.positions.resize(vertexCount);
+  for (std::size_t i = 0; i < vertexCount; ++i) {
+    mesh.positions[i] = glm::vec3((*pos)[3 * i], (*pos)[3 * i + 1], (*pos)[3 * i + 2]);
+    if (!finite3(mesh.positions[i]))
+      return err(id + ": POSITION " + std::to_string(i) + " is NaN or infinite (accessors[" + std::to_string(posAcc) + "])");
+  }
+  // Indices: read, range-check, then expand the topology into a triangle list.
+  std::vector<std::uint32_t> idx;
+  if (p.indices >= 0) {
+    auto r = readIndices(m_, p.indices, file_);
+    if (!r) return r.error();
+    idx = std::move(*r);
+    const int ct = m_.accessors[std::size_t(p.indices)].componentType;
+    const u64 restart = ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 0xFFu
+                        : ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 0xFFFFu
+                                                                       : 0xFFFFFFFFu;
+    for (std::size_t i = 0; i < idx.size(); ++i) {
+      if (idx[i] == restart)
+        return err(id + ": index " + std::to_string(i) + " is the primitive-restart value " + std::to_string(restart) +
+                   ", which glTF forbids (accessors[" + std::to_string(p.indices) + "])");
+      if (idx[i] >= vertexCount)
+        return err(id + ": index " + std::to_string(i) + " = " + std::to_string(idx[i]) + " is not below the vertex count " +
+                   std::to_string(vertexCount) + " (accessors[" + std::to_string(p.indices) + "])");
+    }
+  } else {
+    idx.resize(vertexCount);
+    for (std::size_t i = 0; i < vertexCount; ++i) idx[i] = std::uint32_t(i);
+  }
+  const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    if (idx.size() % 3 != 0)
+      return err(id + ": " + std::to_string(idx.size()) + " indices for a triangle list, not a multiple of 3");
+    mesh.indices = std::move(idx);
+  } else if (idx.size() >= 3) {
+    mesh.indices.reserve((idx.size() - 2) * 3);
+    for (std::size_t i = 0; i + 2 < idx.size(); ++i) {
+      if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        // glTF 3.7.2.1: odd triangles swap their last two vertices to keep a consistent winding.
+        const std::size_t b = i + 1 + i % 2, c = i + 2 - i % 2;
+        mesh.indices.insert(mesh.indices.end(), {idx[i], idx[b], idx[c]});
+      } else {  // fan
+        mesh.indices.insert(mesh.indices.end(), {idx[i + 1], idx[i + 2], idx[0]});
+      }
+    }
+  }
+  if (mesh.indices.empty()) return mesh;  // caller skips it with a warning
+
+  if (int a = attr("NORMAL"); a >= 0) {
+    auto r = readFloats(m_, a, file_);
+    if (!r) return r.error();
+    mesh.normals.resize(vertexCount);
+    bool zero = false;
+    for (std::size_t i = 0; i < vertexCount; ++i) {
+      glm::vec3 n((*r)[3 * i], (*r)[3 * i + 1], (*r)[3 * i + 2]);
+      if (!finite3(n)) return err(id + ": NORMAL " + std::to_string(i) + " is NaN or infinite");
+      const float len = glm::length(n);
+      if (!(len > 1e-20f)) {
+        zero = true;
+        n = glm::vec3(0, 0, 1);
+      } else {
+        n /= len;
+      }
+      mesh.normals[i] = n;
+    }
+    if (zero) warn_(id + ": zero-length normals replaced");
+  } else {
+    generateNormals(mesh);
+  }
+  if (int a = attr("TEXCOORD_0"); a >= 0) {
+    auto r = readFloats(m_, a, file_);
+    if (!r) return r.error();
+    mesh.uvs.resize(vertexCount);
+    for (std::size_t i = 0; i < vertexCount; ++i) {
+      mesh.uvs[i] = glm::vec2((*r)[2 * i], (*r)[2 * i + 1]);
+      if (!std::isfinite(mesh.uvs[i].x) || !std::isfinite(mesh.uvs[i].y))
+        return err(id + ": TEXCOORD_0 " + std::to_string(i) + " is NaN or infinite");
+    }
+  }
+  if (int a = attr("COLOR_0"); a >= 0) {
+    auto r = readFloats(m_, a, file_);
+    if (!r) return r.error();
+    const std::size_t nc = std::size_t(componentCount(m_.accessors[std::size_t(a)].type));
+    mesh.colors.resize(vertexCount);
+    for (std::size_t i = 0; i < vertexCount; ++i) {
+      glm::vec4 c(1.0f);
+      for (std::size_t k = 0; k < nc; ++k) c[int(k)] = (*r)[nc * i + k];
+      if (!finite3(glm::vec3(c)) || !std::isfinite(c.w)) return err(id + ": COLOR_0 " + std::to_string(i) + " is NaN or infinite");
+      mesh.colors[i] = glm::clamp(c, 0.0f, 1.0f);
+    }
+  }
+  const bool normalMap = p.material >= 0 && wantsTangents_[std::size_t(p.material)];
+  if (int a = attr("TANGENT"); a >= 0 && normalMap) {
+    auto r = readFloats(m_, a, file_);
+    if (!r) return r.error();
+    mesh.tangents.resize(vertexCount);
+    for (std::size_t i = 0; i < vertexCount; ++i) {
+      glm::vec4 t((*r)[4 * i], (*r)[4 * i + 1], (*r)[4 * i + 2], (*r)[4 * i + 3]);
+      if (!finite3(glm::vec3(t)) || !std::isfinite(t.w)) return err(id + ": TANGENT " + std::to_string(i) + " is NaN or infinite");
+      const float len = glm::length(glm::vec3(t));
+      mesh.tangents[i] = len > 1e-20f ? glm::vec4(glm::vec3(t) / len, t.w < 0 ? -1.0f : 1.0f) : glm::vec4(1, 0, 0, 1);
+    }
+  } else if (normalMap) {
+    if (mesh.uvs.empty()) warn_(id + ": normal map without TEXCOORD_0; tangents are arbitrary");
+    else generateTangents(mesh);
+    if (mesh.uvs.empty()) {
+      mesh.uvs.assign(vertexCount, glm::vec2(0.0f));
+      generateTangents(mesh);
+    }
+  }
+  return mesh;
+}
+
+Result<int> Importer::meshFor(int meshIndex, int primIndex, bool flip) {
+  const auto key = std::make_tuple(meshIndex, primIndex, flip);
+  if (auto it = meshCache_.find(key); it != meshCache_.end()) return it->second;
+  const tinygltf::Primitive& p = m_.meshes[std::size_t(meshIndex)].primitives[std::size_t(primIndex)];
+  const std::string id = "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(primIndex) + "]";
+  auto skip = [&](const std::string& why) {
+    warn_(id + ": " + why + "; primitive skipped");
+    meshCache_[key] = -1;
+    return -1;
+  };
+  const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+  if (mode <= TINYGLTF_MODE_LINE_STRIP) return skip(mode == 0 ? "points are not rendered" : "lines are not rendered");
+  if (p.attributes.find("POSITION") == p.attributes.end()) return skip("no POSITION attribute");
+  if (!p.targets.empty()) warnOnce("morph", "morph targets are ignored; the base shape is used");
+  // The twin of the other handedness may exist already: copy it and reverse it instead of converting twice.
+  Mesh mesh;
+  bool reverse = flip;
+  if (auto twin = meshCache_.find(std::make_tuple(meshIndex, primIndex, !flip));
+      twin != meshCache_.end() && twin->second >= 0) {
+    mesh = out_.scene.meshes[std::size_t(twin->second)];
+    reverse = true;
+  } else {
+    auto r = convertPrimitive(meshIndex, primIndex);
+    if (!r) return r.error();
+    mesh = std::move(*r);
+    if (mesh.indices.empty()) return skip("fewer than 3 vertices");
+  }
+  if (reverse) {
+    // Under a mirroring transform (det < 0) glTF asks for the opposite winding. Normals stay in object
+    // space (the inverse transpose handles them); the bitangent sign flips with the handedness.
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+    for (glm::vec4& t : mesh.tangents) t.w = -t.w;
+  }
+  const std::string suffix = " (mirrored)";
+  if (mesh.name.ends_with(suffix)) mesh.name.resize(mesh.name.size() - suffix.size());
+  if (flip) mesh.name += suffix;
+  const int index = int(out_.scene.meshes.size());
+  out_.scene.meshes.push_back(std::move(mesh));
+  meshCache_[key] = index;
+  return index;
+}
+
+// ---- nodes ----
+
+Result<std::vector<glm::mat4>> Importer::gpuInstances(const tinygltf::Node& n, std::size_t nodeIndex) {
+  const tinygltf::Value* e = ext(n.extensions, "EXT_mesh_gpu_instancing");
+  if (!e) return std::vector<glm::mat4>{glm::mat4(1.0f)};
+  const std::string id = "nodes[" + std::to_string(nodeIndex) + "].EXT_mesh_gpu_instancing";
+  if (!e->Has("attributes") || !e->Get("attributes").IsObject()) return err(id + ": no attributes");
+  const tinygltf::Value& attrs = e->Get("attributes");
+  std::size_t count = 0;
+  std::vector<float> data[3];
+  const char* names[3] = {"TRANSLATION", "ROTATION", "SCALE"};
+  const int types[3] = {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4, TINYGLTF_TYPE_VEC3};
+  for (int k = 0; k < 3; ++k) {
+    if (!attrs.Has(names[k])) continue;
+    const int a = intOf(attrs, names[k], -1);
+    if (a < 0 || a >= int(m_.accessors.size()))
+      return err(id + ": " + names[k] + " names accessor " + std::to_string(a) + ", which does not exist");
+    const tinygltf::Accessor& acc = m_.accessors[std::size_t(a)];
+    if (acc.type != types[k]) return err(id + ": " + names[k] + " accessor has the wrong type");
+    if (count != 0 && acc.count != count) return err(id + ": attribute counts differ");
+    count = acc.count;
+    auto r = readFloats(m_, a, file_);
+    if (!r) return r.error();
+    for (float v : *r)
+      if (!std::isfinite(v)) return err(id + ": " + names[k] + " contains NaN or infinity");
+    data[k] = std::move(*r);
+  }
+  if (count == 0) return err(id + ": no TRANSLATION, ROTATION or SCALE attribute");
+  std::vector<glm::mat4> out(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    glm::mat4 t(1.0f);
+    if (!data[0].empty()) t = glm::translate(t, glm::vec3(data[0][3 * i], data[0][3 * i + 1], data[0][3 * i + 2]));
+    if (!data[1].empty()) {
+      glm::quat q(data[1][4 * i + 3], data[1][4 * i], data[1][4 * i + 1], data[1][4 * i + 2]);
+      const float len = glm::length(q);
+      t *= glm::mat4_cast(len > 1e-20f ? q / len : glm::quat(1, 0, 0, 0));
+    }
+    if (!data[2].empty()) t = glm::scale(t, glm::vec3(data[2][3 * i], data[2][3 * i + 1], data[2][3 * i + 2]));
+    out[i] = t;
+  }
+  return out;
+}
+
+void Importer::addCamera(const tinygltf::Node& n, const glm::mat4& world) {
+  const tinygltf::Camera& c = m_.cameras[std::size_t(n.camera)];
+  const std::string id = "cameras[" + std::to_string(n.camera) + "]";
+  Camera cam;
+  if (c.type == "perspective") {
+    const auto& p = c.perspective;
+    if (!(p.yfov > 0.0 && p.yfov < 3.14159) || !(p.znear > 0.0) || !std::isfinite(p.znear) ||
+        !(p.zfar == 0.0 || (std::isfinite(p.zfar) && p.zfar > p.znear)) || !(p.aspectRatio >= 0.0)) {
+      warn_(id + ": invalid perspective parameters (need 0 < yfov < π, znear > 0, zfar > znear); camera skipped");
+      return;
+    }
+    cam.yFovDeg = float(glm::degrees(p.yfov));
+    cam.nearZ = float(p.znear);
+    cam.farZ = p.zfar == 0.0 ? std::numeric_limits<float>::infinity() : float(p.zfar);
+  } else {
+    const auto& o = c.orthographic;
+    if (!(std::abs(o.ymag) > 0.0) || !std::isfinite(o.ymag) || !(std::abs(o.xmag) > 0.0) || !(o.znear >= 0.0) ||
+        !std::isfinite(o.zfar) || !(o.zfar > o.znear)) {
+      warn_(id + ": invalid orthographic parameters (need xmag, ymag ≠ 0, zfar > znear >= 0); camera skipped");
+      return;
+    }
+    cam.orthographic = true;
+    cam.orthoHeight = float(2.0 * std::abs(o.ymag));
+    cam.nearZ = std::max(float(o.znear), 1e-4f);  // the engine's projections need near > 0
+    cam.farZ = float(o.zfar);
+  }
+  // glTF cameras look down their local −Z with +Y up.
+  const glm::vec3 pos(world[3]);
+  const glm::vec3 fwd = glm::mat3(world) * glm::vec3(0, 0, -1);
+  const glm::vec3 up = glm::mat3(world) * glm::vec3(0, 1, 0);
+  if (!finite3(pos) || !(glm::length(fwd) > 1e-12f) || !(glm::length(up) > 1e-12f) ||
+      !(glm::length(glm::cross(fwd, up)) > 1e-12f)) {
+    warn_(id + ": its node's transform is degenerate; camera skipped");
+    return;
+  }
+  cam.posW = pos;
+  cam.targetW = pos + glm::normalize(fwd);
+  cam.upW = glm::normalize(up);
+  out_.scene.camera = cam;
+  haveCamera_ = true;
+}
+
+void Importer::addLight(const tinygltf::Node& n, std::size_t nodeIndex, const glm::mat4& world) {
+  const tinygltf::Value* e = ext(n.extensions, "KHR_lights_punctual");
+  if (!e) return;
+  const std::string id = "nodes[" + std::to_string(nodeIndex) + "].KHR_lights_punctual";
+  const int li = intOf(*e, "light", -1);
+  if (li < 0 || li >= int(m_.lights.size())) {
+    warn_(id + ": light " + std::to_string(li) + " does not exist; light skipped");
+    return;
+  }
+  const tinygltf::Light& g = m_.lights[std::size_t(li)];
+  const std::string lid = "KHR_lights_punctual.lights[" + std::to_string(li) + "]";
+  Light l;
+  l.name = g.name;
+  if (g.type == "point") l.type = LightType::Point;
+  else if (g.type == "spot") l.type = LightType::Spot;
+  else if (g.type == "directional") l.type = LightType::Directional;
+  else {
+    warn_(lid + ": unknown type '" + g.type + "'; light skipped");
+    return;
+  }
+  if (!g.color.empty()) {
+    if (g.color.size() != 3) {
+      warn_(lid + ": color needs 3 numbers; light skipped");
+      return;
+    }
+    l.color = glm::vec3(float(g.color[0]), float(g.color[1]), float(g.color[2]));
+  }
+  if (!finite3(l.color) || l.color.x < 0 || l.color.y < 0 || l.color.z < 0 || !std::isfinite(g.intensity) ||
+      g.intensity < 0 || !std::isfinite(g.range) || g.range < 0) {
+    warn_(lid + ": negative or non-finite colour, intensity or range; light skipped");
+    return;
+  }
+  // Units (docs/gltf.md): point/spot intensity in candela with inverse-square falloff, directional in lux;
+  // both taken as the engine's intensity unchanged.
+  l.intensity = float(g.intensity);
+  l.range = float(g.range);
+  l.attenuation = l.type == LightType::Directional ? glm::vec3(1, 0, 0) : glm::vec3(0, 0, 1);
+  if (l.type == LightType::Spot) {
+    const double inner = g.spot.innerConeAngle, outer = g.spot.outerConeAngle;
+    if (!(inner >= 0.0) || !(outer > inner) || !(outer <= 1.5707964)) {
+      warn_(lid + ": spot cone needs 0 <= inner < outer <= π/2; light skipped");
+      return;
+    }
+    l.innerConeDeg = float(glm::degrees(inner));
+    l.outerConeDeg = float(glm::degrees(outer));
+  }
+  l.posW = glm::vec3(world[3]);
+  const glm::vec3 dir = glm::mat3(world) * glm::vec3(0, 0, -1);  // lights shine down their local −Z
+  if (!finite3(l.posW) || !(glm::length(dir) > 1e-12f)) {
+    warn_(lid + ": its node's transform is degenerate; light skipped");
+    return;
+  }
+  l.dirW = glm::normalize(dir);
+  if (out_.scene.directLights().size() >= std::size_t(kMaxLights)) {
+    warn_(lid + ": more than " + std::to_string(kMaxLights) + " lights; light skipped");
+    return;
+  }
+  out_.scene.lights.push_back(std::move(l));
+}
+
+Result<void> Importer::traverse(const std::vector<int>& roots) {
+  struct Item {
+    int node;
+    int parentAnim;
+    bool dynamic;
+    glm::mat4 parentWorld;
+  };
+  const bool animating = !m_.animations.empty();
+  animIndexOfNode_.assign(m_.nodes.size(), -1);
+  std::vector<Item> stack;
+  for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, -1, false, glm::mat4(1.0f)});
+  // Iterative depth-first walk (validateModel proved the graph a forest), so a 100 000-deep chain needs
+  // no call stack.
+  while (!stack.empty()) {
+    const Item item = stack.back();
+    stack.pop_back();
+    const std::size_t ni = std::size_t(item.node);
+    const tinygltf::Node& n = m_.nodes[ni];
+    const glm::mat4 local = nodeLocalMatrix(n);
+    const glm::mat4 world = item.parentWorld * local;
+    const bool dynamic = item.dynamic || animated_[ni];
+    int animIndex = -1;
+    if (animating) {
+      AnimNode an;
+      an.parent = item.parentAnim;
+      if (n.matrix.size() == 16) {
+        an.hasMatrix = true;
+        an.matrix = local;
+      } else {
+        if (n.translation.size() == 3) an.translation = glm::vec3(float(n.translation[0]), float(n.translation[1]), float(n.translation[2]));
+        if (n.rotation.size() == 4)
+          an.rotation = glm::normalize(glm::quat(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]), float(n.rotation[2])));
+        if (n.scale.size() == 3) an.scale = glm::vec3(float(n.scale[0]), float(n.scale[1]), float(n.scale[2]));
+      }
+      animIndex = int(out_.animation.nodes.size());
+      animIndexOfNode_[ni] = animIndex;
+      out_.animation.nodes.push_back(an);
+    }
+    if (n.skin >= 0) warnOnce("skin", "skins are ignored; skinned meshes are drawn unposed with their node transform");
+    if (n.camera >= 0 && !haveCamera_) addCamera(n, world);
+    addLight(n, ni, world);
+    if (n.mesh >= 0) {
+      auto xf = gpuInstances(n, ni);
+      if (!xf) return xf.error();
+      const tinygltf::Mesh& mesh = m_.meshes[std::size_t(n.mesh)];
+      for (const glm::mat4& x : *xf) {
+        const glm::mat4 w = world * x;
+        const float det = glm::determinant(glm::mat3(w));
+        if (!finiteMat(w) || (!dynamic && !(std::abs(det) > 1e-30f))) {
+          // A singular static transform (zero scale) draws nothing and would give NaN normals.
+          warnOnce("singular" + std::to_string(ni), "nodes[" + std::to_string(ni) + "]: singular or non-finite transform; its mesh is skipped");
+          continue;
+        }
+        for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+          auto mi = meshFor(n.mesh, int(p), det < 0.0f);
+          if (!mi) return mi.error();
+          if (*mi < 0) continue;
+          triangles_ += out_.scene.meshes[std::size_t(*mi)].triangleCount();
+          if (triangles_ > opt_.limits.maxTriangles)
+            return err("more than the cap maxTriangles = " + std::to_string(opt_.limits.maxTriangles) + " triangles");
+          const int gm = mesh.primitives[p].material;
+          if (gm < 0 && defaultMaterial_ < 0) {
+            // glTF's default material: white, fully rough dielectric.
+            Material d;
+            d.name = "default";
+            d.kd = d.ka = glm::vec3(1.0f);
+            d.ks = glm::vec3(0.04f);
+            d.ns = 1.0f;
+            defaultMaterial_ = int(out_.scene.materials.size());
+            out_.scene.materials.push_back(std::move(d));
+          }
+          Instance inst;
+          inst.name = n.name.empty() ? "node " + std::to_string(ni) : n.name;
+          inst.mesh = std::uint32_t(*mi);
+          inst.material = std::uint32_t(gm < 0 ? defaultMaterial_ : materialOf_[std::size_t(gm)]);
+          inst.worldFromObject = w;
+          inst.dynamic = dynamic;
+          if (dynamic && animIndex >= 0)
+            out_.animation.bindings.push_back({std::uint32_t(out_.scene.instances.size()), std::uint32_t(animIndex), x});
+          out_.scene.instances.push_back(std::move(inst));
+        }
+      }
+    }
+    for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) stack.push_back({*c, animIndex, dynamic, world});
+  }
+  return {};
+}
+
+void Importer::addDefaults() {
+  Scene& s = out_.scene;
+  if (!haveCamera_ && opt_.addDefaultCamera) {
+    // Frame the world bounds of every instance from the glTF "front" (+Z), slightly above.
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const Instance& inst : s.instances)
+      for (const glm::vec3& p : s.meshes[inst.mesh].positions) {
+        const glm::vec3 w(inst.worldFromObject * glm::vec4(p, 1.0f));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+      }
+    Camera cam;
+    if (!s.instances.empty() && finite3(lo) && finite3(hi) && lo.x <= hi.x) {
+      const glm::vec3 c = (lo + hi) * 0.5f;
+      const float r = std::max(glm::length(hi - lo) * 0.5f, 1e-3f);
+      const float d = r / std::sin(glm::radians(cam.yFovDeg) * 0.5f) * 1.1f;
+      cam.posW = c + glm::normalize(glm::vec3(0.0f, 0.25f, 1.0f)) * d;
+      cam.targetW = c;
+      cam.nearZ = std::max(r * 1e-3f, 1e-5f);
+    }
+    s.camera = cam;
+  }
+  if (s.lights.empty() && opt_.addDefaultLights) {
+    // A headlight along the view direction (every visible surface facing the camera is lit) plus a
+    // dim ambient so faces turned away are not black.
+    Light head;
+    head.name = "default headlight";
+    head.type = LightType::Directional;
+    head.intensity = 1.0f;
+    head.attenuation = glm::vec3(1, 0, 0);
+    const glm::vec3 dir = s.camera.targetW - s.camera.posW;
+    head.dirW = glm::length(dir) > 1e-12f ? glm::normalize(dir) : glm::vec3(0, 0, -1);
+    head.castShadows = false;
+    Light amb;
+    amb.name = "default ambient";
+    amb.type = LightType::Ambient;
+    amb.intensity = 0.2f;
+    s.lights.push_back(std::move(head));
+    s.lights.push_back(std::move(amb));
+  }
+}
+
+Result<GltfAsset> Importer::run() {
+  if (m_.scenes.empty() && opt_.sceneIndex >= 0) return err("scene " + std::to_string(opt_.sceneIndex) + " does not exist (the file has no scenes)");
+  if (opt_.sceneIndex >= int(m_.scenes.size())) return err("scene " + std::to_string(opt_.sceneIndex) + " does not exist (the file has " + std::to_string(m_.scenes.size()) + ")");
+  std::vector<int> roots;
+  if (!m_.scenes.empty()) {
+    const int si = opt_.sceneIndex >= 0 ? opt_.sceneIndex : std::max(m_.defaultScene, 0);
+    roots = m_.scenes[std::size_t(si)].nodes;
+    out_.scene.name = m_.scenes[std::size_t(si)].name;
+  } else {
+    // No scene: glTF leaves rendering to the application; we show every root node.
+    std::vector<bool> child(m_.nodes.size(), false);
+    for (const auto& n : m_.nodes)
+      for (int c : n.children) child[std::size_t(c)] = true;
+    for (std::size_t i = 0; i < m_.nodes.size(); ++i)
+      if (!child[i]) roots.push_back(int(i));
+  }
+  if (out_.scene.name.empty()) out_.scene.name = fs::path(file_).stem().string();
+  animated_.assign(m_.nodes.size(), false);
+  for (const auto& a : m_.animations)
+    for (const auto& c : a.channels)
+      if (c.target_node >= 0 && (c.target_path == "translation" || c.target_path == "rotation" || c.target_path == "scale"))
+        animated_[std::size_t(c.target_node)] = true;
+  if (auto r = buildMaterials(); !r) return r.error();
+  if (auto r = traverse(roots); !r) return r.error();
+  if (!m_.animations.empty()) buildAnimationClips(m_, animIndexOfNode_, out_.animation, warn_, file_);
+  if (out_.animation.clips.empty()) out_.animation = SceneAnimation{};
+  if (out_.scene.instances.empty()) warn_("the scene has nothing to draw");
+  addDefaults();
+  if (auto r = validateScene(out_.scene); !r) return err("imported scene failed validation: " + r.error().message);
+  return std::move(out_);
+}
+
+Result<GltfAsset> loadImpl(const std::string& path, const GltfOptions& opt) {
+  const std::string file = fs::path(path).filename().string();
+  std::error_code ec;
+  const fs::path canon = fs::canonical(fs::path(path), ec);
+  if (ec) return Error{file + ": cannot open: " + ec.message()};
+  // The main file gets the same treatment as every file it names.
+  auto bytes = readFileCapped(canon, opt.limits.maxFileBytes, &opt.onFileOpened);
+  if (!bytes) return Error{file + ": " + bytes.error().message};
+  if (bytes->empty()) return Error{file + ": empty file"};
+  if (bytes->size() > std::size_t(UINT32_MAX)) return Error{file + ": larger than tinygltf can take (4 GiB)"};
+
+  Confinement conf;
+  conf.root = canon.parent_path();
+  conf.rootPrefix = conf.root.string();
+  if (conf.rootPrefix.empty() || conf.rootPrefix.back() != '/') conf.rootPrefix += '/';
+  conf.maxFileBytes = opt.limits.maxFileBytes;
+  conf.onFileOpened = &opt.onFileOpened;
+  // tinygltf joins baseDir and uri with '/', so the root without its trailing slash (except "/").
+  const std::string baseDir = conf.root.string();
+
+  const bool glb = bytes->size() >= 4 && std::memcmp(bytes->data(), "glTF", 4) == 0;
+  std::size_t jsonOffset = 0, jsonSize = bytes->size();
+  if (glb)
+    if (auto r = checkGlb(*bytes, &jsonOffset, &jsonSize); !r) return Error{file + ": " + r.error().message};
+  if (auto r = checkJsonDepth(bytes->data() + jsonOffset, jsonSize, opt.limits.maxJsonDepth); !r)
+    return Error{file + ": " + r.error().message};
+  if (auto r = checkJsonTypes(bytes->data() + jsonOffset, jsonSize); !r) return Error{file + ": " + r.error().message};
+
+  tinygltf::Model model;
+  DeferredImages images;
+  std::string err, warn;
+  bool ok = false;
+  try {
+    tinygltf::TinyGLTF loader;
+    loader.SetFsCallbacks(makeFsCallbacks(&conf));
+    loader.SetImageLoader(&recordImage, &images);
+    if (glb)
+      ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes->data(), static_cast<unsigned>(bytes->size()), baseDir);
+    else
+      ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes->data()),
+                                      static_cast<unsigned>(bytes->size()), baseDir);
+  } catch (const std::bad_alloc&) {
+    return Error{file + ": out of memory while parsing (tinygltf threw std::bad_alloc)"};
+  } catch (const std::exception& e) {
+    return Error{file + ": parse failed (tinygltf threw: " + e.what() + ")"};
+  } catch (...) {
+    return Error{file + ": parse failed (tinygltf threw an unknown exception)"};
+  }
+  // A refused file (escape, non-regular, oversized) rejects the load whatever tinygltf made of it.
+  if (!conf.refusals.empty()) return Error{file + ": " + conf.refusals.front()};
+  auto trim = [](std::string s) {
+    while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+    for (char& ch : s)
+      if (ch == '\n') ch = ';';
+    return s;
+  };
+  if (!ok) return Error{file + ": " + (err.empty() ? std::string("tinygltf failed without a message") : trim(err))};
+
+  Warn w{file, &opt, 0};
+  if (!warn.empty()) w(trim(warn));
+  if (auto r = validateModel(model, opt.limits, file); !r) return r.error();
+  Importer imp(model, opt, file, w, images);
+  return imp.run();
+}
+
+}  // namespace
+
+Result<GltfAsset> loadGltfAsset(const std::string& path, const GltfOptions& options) {
+  // Everything the loader allocates is sized by validated data, but a hostile file can still ask for a
+  // lot within the caps: running out of memory fails this load, not the process.
+  try {
+    return loadImpl(path, options);
+  } catch (const std::bad_alloc&) {
+    return Error{fs::path(path).filename().string() + ": out of memory"};
+  } catch (const std::exception& e) {
+    return Error{fs::path(path).filename().string() + ": " + e.what()};
+  }
+}
+
+Result<Scene> loadGltf(const std::string& path, const GltfOptions& options) {
+  auto r = loadGltfAsset(path, options);
+  if (!r) return r.error();
+  return std::move(r->scene);
+}
+
+}  // namespace tandem
