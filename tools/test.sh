@@ -2,8 +2,9 @@
 # Set-up, build and the whole test suite through ctest. Idempotent.
 #   tools/test.sh                 the default suite (every test without the 'long' label)
 #   tools/test.sh --all           everything, long tests included
-#   tools/test.sh --asan          the suite under AddressSanitizer + UBSan (separate build dir build-asan)
-#   tools/test.sh --tsan          the ray pass under ThreadSanitizer (build-tsan)
+#   tools/test.sh --asan          the suite under AddressSanitizer + UBSan, built with clang (build-asan), with
+#                                 the libFuzzer smoke run of the glTF loader
+#   tools/test.sh --tsan          the ray pass (rt + numerics tests) under ThreadSanitizer (build-tsan)
 # Other arguments go to ctest (e.g. -R Scene, -L rt).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -24,7 +25,9 @@ done
 jobs="$(nproc 2>/dev/null || echo 2)"
 case "$mode" in
   asan)
+    # clang so the same tree also builds the libFuzzer target (gcc has no libFuzzer).
     cmake -S "$root" -B "$root/build-asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTANDEM_SANITIZE=address,undefined \
+      -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 -DTANDEM_BUILD_FUZZ=ON \
       -DTANDEM_BUILD_BENCH=OFF -DTANDEM_BUILD_SAMPLES=OFF >/dev/null
     cmake --build "$root/build-asan" -j "$jobs"
     export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0:halt_on_error=1"
@@ -35,9 +38,9 @@ case "$mode" in
   tsan)
     cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTANDEM_SANITIZE=thread \
       -DTANDEM_BUILD_BENCH=OFF -DTANDEM_BUILD_SAMPLES=OFF >/dev/null
-    cmake --build "$root/build-tsan" -j "$jobs" --target tandem-rt-tests
+    cmake --build "$root/build-tsan" -j "$jobs" --target tandem-rt-tests tandem-numerics-tests
     export TSAN_OPTIONS="halt_on_error=1:suppressions=$root/tools/tsan.supp"
-    cd "$root/build-tsan" && ctest --output-on-failure -L rt "${args[@]}"
+    cd "$root/build-tsan" && ctest --output-on-failure -L 'rt|numerics' "${args[@]}"
     ;;
   *)
     tandem_build
