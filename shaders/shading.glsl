@@ -128,12 +128,20 @@ TD_FN vec3 tdAmbient(GpuMaterial m, vec3 Ia, vec2 uv, vec3 tint) {
 // ---- Fresnel (dielectric, outside IOR 1) ----
 // Exact unpolarised Fresnel reflectance for a ray with cos(incidence) `cosI` measured against the
 // normal on the side it arrives from, going from IOR etaI into etaT. Returns 1 on total internal reflection.
+// cos²θt = 1 − eta²·sin²θi is evaluated as (1 − eta)(1 + eta) + eta²·cos²θi (tdCos2T): 1 − eta is exact in
+// float for IORs within a factor 2, so near the critical angle the small result keeps its digits instead
+// of cancelling against 1 (with IOR 1.0001 the direct form had no correct digit 1e-6 rad from it).
+// Total internal reflection is cos²θt <= 0, decided by this one expression everywhere.
+TD_FN float tdCos2T(float cosI, float eta) {
+  return (1.0f - eta) * (1.0f + eta) + eta * eta * cosI * cosI;
+}
+
 TD_FN float tdFresnelExact(float cosI, float etaI, float etaT) {
   cosI = clamp(cosI, 0.0f, 1.0f);
   float eta = etaI / etaT;
-  float sin2T = eta * eta * (1.0f - cosI * cosI);
-  if (sin2T >= 1.0f) return 1.0f;
-  float cosT = sqrt(max(0.0f, 1.0f - sin2T));
+  float cos2T = tdCos2T(cosI, eta);
+  if (cos2T <= 0.0f) return 1.0f;
+  float cosT = sqrt(cos2T);
   float rPar = (etaT * cosI - etaI * cosT) / (etaT * cosI + etaI * cosT);
   float rPerp = (etaI * cosI - etaT * cosT) / (etaI * cosI + etaT * cosT);
   return 0.5f * (rPar * rPar + rPerp * rPerp);
@@ -143,9 +151,9 @@ TD_FN float tdFresnelExact(float cosI, float etaI, float etaT) {
 TD_FN float tdFresnelSchlick(float cosI, float etaI, float etaT) {
   cosI = clamp(cosI, 0.0f, 1.0f);
   float eta = etaI / etaT;
-  float sin2T = eta * eta * (1.0f - cosI * cosI);
-  if (sin2T >= 1.0f) return 1.0f;
-  float c = etaI > etaT ? sqrt(max(0.0f, 1.0f - sin2T)) : cosI;
+  float cos2T = tdCos2T(cosI, eta);
+  if (cos2T <= 0.0f) return 1.0f;
+  float c = etaI > etaT ? sqrt(cos2T) : cosI;
   float r0 = (etaI - etaT) / (etaI + etaT);
   r0 = r0 * r0;
   float k = 1.0f - c;
@@ -154,7 +162,9 @@ TD_FN float tdFresnelSchlick(float cosI, float etaI, float etaT) {
 
 // ---- Output ----
 TD_FN vec3 tdToneMap(vec3 c, int op) {
-  c = max(c, vec3(0.0f));
+  // Bounded first: beyond 65504 (half-float max) every operator is at 1 anyway, and the curves' c² and
+  // c/(1 + c) would make inf/inf = NaN from an overflowed (or infinite) radiance.
+  c = min(max(c, vec3(0.0f)), vec3(65504.0f));
   if (op == TD_TONEMAP_REINHARD) return c / (vec3(1.0f) + c);
   if (op == TD_TONEMAP_ACES) {
     // Narkowicz 2015 fit of the ACES filmic curve.

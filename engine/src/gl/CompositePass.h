@@ -1,0 +1,69 @@
+#pragma once
+// Shade + composite (shade.frag: visibility buffer → linear radiance, ray results added) and the output
+// pass (tonemap.frag: linear → 8-bit sRGB), plus the textures the ray results are uploaded into and the
+// captures of the final frame. Channel table: docs/gbuffer.md.
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gl/GlObjects.h"
+#include "gl/GpuScene.h"
+#include "gl/VisibilityPass.h"
+#include "tandem/Camera.h"
+#include "tandem/Image.h"
+#include "tandem/Result.h"
+#include "tandem/Settings.h"
+
+namespace tandem::gl {
+
+/// Which ray results the shade pass reads (bits of its `rayInputs` uniform).
+enum RayInput : int { kRayLightMask = 1, kRayReflected = 2, kRayTransmitted = 4 };
+
+struct ShadeInputs {
+  glm::vec3 background{0.0f};
+  glm::vec3 ambient{0.0f};  // Ia
+  int rayInputs = 0;        // RayInput bits uploaded this frame
+  int rayScale = 1;
+  int rayWidth = 0, rayHeight = 0;
+  DebugView debugView = DebugView::Final;
+};
+
+class CompositePass {
+ public:
+  static Result<CompositePass> create();
+
+  void resize(int width, int height);
+  /// Ray results on the ray grid (row 0 = top, as RayOutputs holds them).
+  void uploadLightMask(int width, int height, const std::uint32_t* mask);
+  void uploadReflected(int width, int height, const glm::vec4* rgba);
+  void uploadTransmitted(int width, int height, const glm::vec4* rgba);
+  /// A finished linear frame (reference mode), row 0 = top; replaces the shade pass's output.
+  void uploadLinear(const ImageF& image);
+
+  void shade(const GpuScene& scene, const VisibilityPass& visibility, const Camera& camera, const ShadeInputs& in);
+  /// Exposure, tone map and sRGB encoding into the RGBA8 target; debug views that are already display
+  /// values (depth, ids, normals, light mask) pass through.
+  void output(float exposure, ToneMap toneMap, DebugView view);
+
+  Image readImage() const;
+  ImageF readLinear() const;
+  /// Draws the RGBA8 frame into the default framebuffer, letterboxed to keep its aspect.
+  void present(int framebufferWidth, int framebufferHeight) const;
+
+ private:
+  /// The shade program compiled for this frame's features (compiled on first use, then cached).
+  const Program& shadeVariant(const SceneFeatures& features, const ShadeInputs& in);
+
+  std::map<std::string, Program> shadeVariants_;
+  Program toneMap_;
+  VertexArray emptyVao_;  // core profile draws need a VAO even with no attributes
+  Texture linear_, display_;
+  Framebuffer linearFbo_, displayFbo_;
+  Texture lightMask_, reflected_, transmitted_;
+  int width_ = 0, height_ = 0;
+};
+
+}  // namespace tandem::gl

@@ -1,0 +1,70 @@
+#pragma once
+// Move-only owners of GL objects. This file and GlObjects.cpp are the only place GL objects are created
+// (glCreate*) or deleted; everything else holds one of these. Every object gets a label, so debuggers
+// (apitrace, RenderDoc) and KHR_debug messages name it.
+#include <cstddef>
+#include <string_view>
+#include <utility>
+
+#include "gl/Gl.h"
+
+namespace tandem::gl {
+
+template <class Traits>
+class Object {
+ public:
+  Object() = default;
+  explicit Object(GLuint id) : id_(id) {}
+  ~Object() { reset(); }
+  Object(const Object&) = delete;
+  Object& operator=(const Object&) = delete;
+  Object(Object&& other) noexcept : id_(std::exchange(other.id_, 0)) {}
+  Object& operator=(Object&& other) noexcept {
+    if (this != &other) {
+      reset();
+      id_ = std::exchange(other.id_, 0);
+    }
+    return *this;
+  }
+  GLuint id() const { return id_; }
+  explicit operator bool() const { return id_ != 0; }
+  void reset() {
+    if (id_ != 0) Traits::destroy(id_);
+    id_ = 0;
+  }
+
+ private:
+  GLuint id_ = 0;
+};
+
+struct BufferTraits { static void destroy(GLuint id); };
+struct TextureTraits { static void destroy(GLuint id); };
+struct FramebufferTraits { static void destroy(GLuint id); };
+struct VertexArrayTraits { static void destroy(GLuint id); };
+struct ShaderTraits { static void destroy(GLuint id); };
+struct ProgramTraits { static void destroy(GLuint id); };
+
+using Buffer = Object<BufferTraits>;
+using Texture = Object<TextureTraits>;
+using Framebuffer = Object<FramebufferTraits>;
+using VertexArray = Object<VertexArrayTraits>;
+using Shader = Object<ShaderTraits>;
+using Program = Object<ProgramTraits>;
+
+/// Immutable-size buffer (glNamedBufferStorage) with GL_DYNAMIC_STORAGE_BIT, so glNamedBufferSubData
+/// can update it; `data` may be null. A zero size allocates 16 bytes: GL refuses empty storage and
+/// shaders may still declare the binding.
+Buffer createBuffer(std::string_view label, std::size_t bytes, const void* data);
+/// Texture with immutable storage of `levels` × width × height (× layers for arrays).
+Texture createTexture2D(std::string_view label, GLenum internalFormat, int width, int height, int levels = 1);
+Texture createTexture2DArray(std::string_view label, GLenum internalFormat, int width, int height, int layers,
+                             int levels);
+Framebuffer createFramebuffer(std::string_view label);
+VertexArray createVertexArray(std::string_view label);
+Shader createShader(std::string_view label, GLenum stage);
+Program createProgram(std::string_view label);
+
+/// Nearest or linear sampling with clamp-to-edge, set on the texture itself (no sampler objects).
+void setSampling(const Texture& texture, GLenum minFilter, GLenum magFilter);
+
+}  // namespace tandem::gl

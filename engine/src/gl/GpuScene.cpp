@@ -1,0 +1,261 @@
+#include "gl/GpuScene.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <vector>
+
+#include "core/Shading.h"
+
+namespace tandem::gl {
+
+namespace {
+
+struct GpuInstance {
+  glm::mat4 worldFromObject;
+  glm::mat4 normalFromObject;
+  glm::uvec4 meshMaterial;
+};
+static_assert(sizeof(GpuInstance) == 144, "GpuInstance must match its std430 layout in scene.glsl");
+
+struct DrawCommand {
+  GLuint count, instanceCount, firstIndex;
+  GLint baseVertex;
+  GLuint baseInstance;
+};
+
+constexpr std::uint32_t kHasNormals = 1, kHasUvs = 2, kHasColors = 4;
+constexpr int kMaxTextureSize = 2048;
+
+template <class T>
+Buffer bufferOf(std::string_view label, const std::vector<T>& v) {
+  return createBuffer(label, v.size() * sizeof(T), v.data());
+}
+
+std::vector<GpuInstance> packInstances(const Scene& scene) {
+  std::vector<GpuInstance> out;
+  out.reserve(scene.instances.size());
+  for (const Instance& inst : scene.instances) {
+    GpuInstance g;
+    g.worldFromObject = inst.worldFromObject;
+    glm::mat3 m(inst.worldFromObject);
+    float det = glm::determinant(m);
+    // A singular transform has no inverse: a zero matrix makes every normal fall back to Ng, as on the CPU.
+    g.normalFromObject = std::isfinite(det) && det != 0.0f ? glm::mat4(glm::transpose(glm::inverse(m))) : glm::mat4(0.0f);
+    g.meshMaterial = glm::uvec4(inst.mesh, inst.material, 0, 0);
+    out.push_back(g);
+  }
+  return out;
+}
+
+// Bilinear resize of 8-bit RGBA in its stored encoding: textures of one scene are nearly always one
+// size already, and this only runs for the odd one out.
+std::vector<std::uint8_t> resizeRgba8(const tandem::Texture& t, int w, int h) {
+  if (t.width == w && t.height == h) return t.rgba8;
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(w) * h * 4);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      float sx = std::clamp((float(x) + 0.5f) * float(t.width) / float(w) - 0.5f, 0.0f, float(t.width - 1));
+      float sy = std::clamp((float(y) + 0.5f) * float(t.height) / float(h) - 0.5f, 0.0f, float(t.height - 1));
+      int x0 = int(sx), y0 = int(sy);
+      int x1 = std::min(x0 + 1, t.width - 1), y1 = std::min(y0 + 1, t.height - 1);
+      float fx = sx - float(x0), fy = sy - float(y0);
+      for (int c = 0; c < 4; ++c) {
+        auto at = [&](int xx, int yy) { return float(t.rgba8[(static_cast<std::size_t>(yy) * t.width + xx) * 4 + c]); };
+        float v = (at(x0, y0) * (1 - fx) + at(x1, y0) * fx) * (1 - fy) + (at(x0, y1) * (1 - fx) + at(x1, y1) * fx) * fy;
+        out[(static_cast<std::size_t>(y) * w + x) * 4 + c] = static_cast<std::uint8_t>(std::lround(v));
+      }
+    }
+  return out;
+}
+
+}  // namespace
+
+void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOverride) {
+  // ---- geometry: one shared set of buffers, indices made absolute so no base vertex is needed ----
+  std::size_t vertexCount = 0, indexCount = 0;
+  bool anyNormals = false, anyUvs = false, anyColors = false;
+  for (const Mesh& m : scene.meshes) {
+    vertexCount += m.positions.size();
+    indexCount += m.indices.size();
+    anyNormals |= !m.normals.empty();
+    anyUvs |= !m.uvs.empty();
+    anyColors |= !m.colors.empty() && m.colors.size() == m.positions.size();
+  }
+  std::vector<float> positions, normals;
+  std::vector<glm::vec2> uvs;
+  std::vector<glm::vec4> colors;
+  std::vector<std::uint32_t> indices;
+  std::vector<glm::uvec4> meshes;
+  positions.reserve(vertexCount * 3);
+  indices.reserve(indexCount);
+  if (anyNormals) normals.reserve(vertexCount * 3);
+  if (anyUvs) uvs.reserve(vertexCount);
+  if (anyColors) colors.reserve(vertexCount);
+  for (const Mesh& m : scene.meshes) {
+    auto first = static_cast<std::uint32_t>(positions.size() / 3);
+    std::uint32_t flags = 0;
+    for (const glm::vec3& p : m.positions) positions.insert(positions.end(), {p.x, p.y, p.z});
+    if (anyNormals) {
+      if (!m.normals.empty()) flags |= kHasNormals;
+      for (std::size_t i = 0; i < m.positions.size(); ++i) {
+        glm::vec3 n = m.normals.empty() ? glm::vec3(0.0f) : m.normals[i];
+        normals.insert(normals.end(), {n.x, n.y, n.z});
+      }
+    }
+    if (anyUvs) {
+      if (!m.uvs.empty()) flags |= kHasUvs;
+      for (std::size_t i = 0; i < m.positions.size(); ++i) uvs.push_back(m.uvs.empty() ? glm::vec2(0.0f) : m.uvs[i]);
+    }
+    if (anyColors) {
+      bool has = m.colors.size() == m.positions.size() && !m.colors.empty();
+      if (has) flags |= kHasColors;
+      for (std::size_t i = 0; i < m.positions.size(); ++i) colors.push_back(has ? m.colors[i] : glm::vec4(1.0f));
+    }
+    meshes.emplace_back(first, static_cast<std::uint32_t>(indices.size()), flags,
+                        static_cast<std::uint32_t>(m.triangleCount()));
+    for (std::uint32_t i : m.indices) indices.push_back(first + i);
+  }
+  features_.uvs = anyUvs;
+  features_.colors = anyColors;
+  positions_ = bufferOf("positions", positions);
+  normals_ = bufferOf("normals", normals);
+  uvs_ = bufferOf("uvs", uvs);
+  colors_ = bufferOf("colors", colors);
+  indices_ = bufferOf("indices", indices);
+  meshes_ = bufferOf("meshes", meshes);
+  bytes_ = (positions.size() + normals.size()) * sizeof(float) + uvs.size() * sizeof(glm::vec2) +
+           colors.size() * sizeof(glm::vec4) + indices.size() * sizeof(std::uint32_t);
+
+  // ---- instances and the draw commands (one per instance, baseInstance = instance index) ----
+  instanceCount_ = static_cast<int>(scene.instances.size());
+  instances_ = bufferOf("instances", packInstances(scene));
+  std::vector<DrawCommand> commands;
+  std::vector<std::uint32_t> ids;
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const glm::uvec4& mesh = meshes[scene.instances[i].mesh];
+    commands.push_back({mesh.w * 3, 1, mesh.y, 0, static_cast<GLuint>(i)});
+    ids.push_back(static_cast<std::uint32_t>(i));
+  }
+  indirect_ = bufferOf("draw commands", commands);
+  instanceIds_ = bufferOf("instance ids", ids);
+  vao_ = createVertexArray("visibility vao");
+  glVertexArrayElementBuffer(vao_.id(), indices_.id());
+  glVertexArrayVertexBuffer(vao_.id(), 0, instanceIds_.id(), 0, sizeof(std::uint32_t));
+  glVertexArrayBindingDivisor(vao_.id(), 0, 1);
+  glEnableVertexArrayAttrib(vao_.id(), 0);
+  glVertexArrayAttribIFormat(vao_.id(), 0, 1, GL_UNSIGNED_INT, 0);
+  glVertexArrayAttribBinding(vao_.id(), 0, 0);
+
+  updateLights(scene);
+  toonRamps_.reset();
+  updateMaterials(scene, shadingOverride);
+
+  // ---- kd textures: one sRGB array, layer = scene texture index (what packMaterial stores) ----
+  kdTextures_.reset();
+  bool anyKd = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
+    return m.kdTexture >= 0;
+  });
+  if (anyKd && !scene.textures.empty()) {
+    int w = 1, h = 1;
+    for (const tandem::Texture& t : scene.textures) {
+      w = std::max(w, t.width);
+      h = std::max(h, t.height);
+    }
+    w = std::min(w, kMaxTextureSize);
+    h = std::min(h, kMaxTextureSize);
+    int levels = 1 + static_cast<int>(std::floor(std::log2(static_cast<float>(std::max(w, h)))));
+    kdTextures_ = createTexture2DArray("kd textures", GL_SRGB8_ALPHA8, w, h, static_cast<int>(scene.textures.size()),
+                                       levels);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+      const tandem::Texture& t = scene.textures[i];
+      if (t.width <= 0 || t.height <= 0 ||
+          t.rgba8.size() < static_cast<std::size_t>(t.width) * static_cast<std::size_t>(t.height) * 4)
+        continue;  // an empty layer samples as black; validateScene does not look inside textures
+      std::vector<std::uint8_t> pixels = resizeRgba8(t, w, h);
+      glTextureSubImage3D(kdTextures_.id(), 0, 0, 0, static_cast<GLint>(i), w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                          pixels.data());
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glGenerateTextureMipmap(kdTextures_.id());
+    glTextureParameteri(kdTextures_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(kdTextures_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(kdTextures_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(kdTextures_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    bytes_ += static_cast<std::size_t>(w) * h * 4 * scene.textures.size() * 4 / 3;
+  }
+  features_.kdTextures = static_cast<bool>(kdTextures_);
+}
+
+// One row of TD_TOON_RAMP_SIZE texels per material, fetched by texel index (the C++ toonRampIndex).
+void GpuScene::bakeRamps(const Scene& scene) {
+  int rows = std::max<int>(1, static_cast<int>(scene.materials.size()));
+  std::vector<float> ramps(static_cast<std::size_t>(rows) * TD_TOON_RAMP_SIZE, 0.0f);
+  for (std::size_t m = 0; m < scene.materials.size(); ++m)
+    shading::bakeToonRamp(scene.materials[m], &ramps[m * TD_TOON_RAMP_SIZE]);
+  toonRamps_ = createTexture2D("toon ramps", GL_R32F, TD_TOON_RAMP_SIZE, rows);
+  setSampling(toonRamps_, GL_NEAREST, GL_NEAREST);
+  glTextureSubImage2D(toonRamps_.id(), 0, 0, 0, TD_TOON_RAMP_SIZE, rows, GL_RED, GL_FLOAT, ramps.data());
+}
+
+void GpuScene::updateInstances(const Scene& scene) {
+  assert(static_cast<int>(scene.instances.size()) == instanceCount_ && "updateInstances: instance count changed");
+  std::vector<GpuInstance> packed = packInstances(scene);
+  glNamedBufferSubData(instances_.id(), 0, static_cast<GLsizeiptr>(packed.size() * sizeof(GpuInstance)),
+                       packed.data());
+}
+
+void GpuScene::updateLights(const Scene& scene) {
+  std::vector<shading::GpuLight> packed;
+  for (const Light* l : scene.directLights()) packed.push_back(shading::packLight(*l));
+  // A light turned ambient (or back) changes the count: only then is the buffer reallocated.
+  if (!lights_ || packed.empty() || static_cast<int>(packed.size()) != lightCount_) {
+    lightCount_ = static_cast<int>(packed.size());
+    lights_ = bufferOf("lights", packed);
+    return;
+  }
+  glNamedBufferSubData(lights_.id(), 0, static_cast<GLsizeiptr>(packed.size() * sizeof(shading::GpuLight)),
+                       packed.data());
+}
+
+void GpuScene::updateMaterials(const Scene& scene, std::optional<ShadingModel> shadingOverride) {
+  std::vector<shading::GpuMaterial> packed;
+  for (std::size_t m = 0; m < scene.materials.size(); ++m)
+    packed.push_back(shading::packMaterial(scene.materials[m], static_cast<int>(m), shadingOverride));
+  materials_ = bufferOf("materials", packed);
+  std::vector<glm::mat4> uvTransforms;
+  for (const Material& m : scene.materials) uvTransforms.emplace_back(m.uvTransform);
+  uvTransforms_ = bufferOf("uv transforms", uvTransforms);
+  bool anyToon = shadingOverride == ShadingModel::Toon ||
+                 (!shadingOverride && std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
+                   return m.shading == ShadingModel::Toon;
+                 }));
+  if (anyToon && !toonRamps_) bakeRamps(scene);
+  features_.toon = anyToon;
+  features_.gouraud = shadingOverride == ShadingModel::Gouraud ||
+                      (!shadingOverride && std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
+                        return m.shading == ShadingModel::Gouraud;
+                      }));
+  override_ = shadingOverride;
+}
+
+void GpuScene::bind(GLuint kdUnit, GLuint rampUnit) const {
+  const Buffer* buffers[] = {&positions_, &normals_, &uvs_, &colors_, &indices_,
+                             &meshes_,    &instances_, &materials_, &lights_, &uvTransforms_};
+  for (GLuint b = 0; b < std::size(buffers); ++b)
+    if (*buffers[b]) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, buffers[b]->id());
+  glBindTextureUnit(kdUnit, kdTextures_.id());
+  glBindTextureUnit(rampUnit, toonRamps_.id());
+}
+
+void GpuScene::drawAll() const {
+  if (instanceCount_ == 0) return;
+  glBindVertexArray(vao_.id());
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, indirect_.id());
+  glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, instanceCount_, 0);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  glBindVertexArray(0);
+}
+
+}  // namespace tandem::gl

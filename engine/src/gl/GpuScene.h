@@ -1,0 +1,60 @@
+#pragma once
+// The GL copy of a Scene: every mesh in one set of shared vertex / index buffers (SSBOs the shade pass
+// reads by vertex number), per-instance transforms, packed materials and lights, the kd texture array
+// and the toon ramps. A cache: rebuilt by upload(), patched by the update*() calls, never the source
+// of truth. Only channels the scene uses are allocated (absent ones get a 16-byte stand-in binding).
+#include <cstdint>
+#include <optional>
+
+#include "gl/GlObjects.h"
+#include "tandem/Scene.h"
+
+namespace tandem::gl {
+
+// Binding points; shaders/scene.glsl and shaders/shade.frag declare the same numbers.
+inline constexpr GLuint kBindPositions = 0, kBindNormals = 1, kBindUvs = 2, kBindColors = 3, kBindIndices = 4,
+                        kBindMeshes = 5, kBindInstances = 6, kBindMaterials = 7, kBindLights = 8, kBindUvTransforms = 9;
+
+/// What the scene uses, for choosing the shade pass's variant.
+struct SceneFeatures {
+  bool uvs = false, colors = false, kdTextures = false;
+  bool gouraud = false, toon = false;  // after the shading override
+};
+
+class GpuScene {
+ public:
+  void upload(const Scene& scene, std::optional<ShadingModel> shadingOverride);
+  /// Rewrites every instance record (a few hundred bytes each): cheaper than tracking which moved.
+  void updateInstances(const Scene& scene);
+  void updateLights(const Scene& scene);
+  /// Re-packs materials when the shading override changes.
+  void updateMaterials(const Scene& scene, std::optional<ShadingModel> shadingOverride);
+
+  /// Binds the SSBOs and textures (kd array on unit `kdUnit`, ramps on `rampUnit`).
+  void bind(GLuint kdUnit, GLuint rampUnit) const;
+  /// All instances in one glMultiDrawElementsIndirect; the visibility shader reads the instance from a
+  /// per-instance attribute offset by each command's baseInstance.
+  void drawAll() const;
+
+  int instanceCount() const { return instanceCount_; }
+  int lightCount() const { return lightCount_; }
+  bool hasKdTextures() const { return static_cast<bool>(kdTextures_); }
+  std::optional<ShadingModel> shadingOverride() const { return override_; }
+  const SceneFeatures& features() const { return features_; }
+  std::size_t gpuBytes() const { return bytes_; }
+
+ private:
+  void bakeRamps(const Scene& scene);
+
+  Buffer positions_, normals_, uvs_, colors_, indices_, meshes_, instances_, materials_, lights_, uvTransforms_;
+  Buffer indirect_, instanceIds_;
+  VertexArray vao_;
+  Texture kdTextures_, toonRamps_;
+  int instanceCount_ = 0;
+  int lightCount_ = 0;
+  std::optional<ShadingModel> override_;
+  SceneFeatures features_;
+  std::size_t bytes_ = 0;
+};
+
+}  // namespace tandem::gl

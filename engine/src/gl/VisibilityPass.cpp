@@ -1,0 +1,82 @@
+#include "gl/VisibilityPass.h"
+
+#include <algorithm>
+#include <cassert>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "gl/Program.h"
+
+namespace tandem::gl {
+
+Result<VisibilityPass> VisibilityPass::create() {
+  auto program = buildProgram("visibility", {{GL_VERTEX_SHADER, "shaders/visibility.vert"},
+                                             {GL_FRAGMENT_SHADER, "shaders/visibility.frag"}});
+  if (!program) return program.error();
+  VisibilityPass pass;
+  pass.program_ = std::move(*program);
+  return pass;
+}
+
+void VisibilityPass::resize(int width, int height) {
+  assert(width > 0 && height > 0 && "VisibilityPass::resize: empty frame");
+  if (width == width_ && height == height_) return;
+  width_ = width;
+  height_ = height;
+  ids_ = createTexture2D("gbuffer ids", GL_RG32UI, width, height);
+  setSampling(ids_, GL_NEAREST, GL_NEAREST);
+  depth_ = createTexture2D("gbuffer depth", GL_DEPTH_COMPONENT32F, width, height);
+  setSampling(depth_, GL_NEAREST, GL_NEAREST);
+  fbo_ = createFramebuffer("gbuffer");
+  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, ids_.id(), 0);
+  glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
+  glNamedFramebufferDrawBuffer(fbo_.id(), GL_COLOR_ATTACHMENT0);
+  glNamedFramebufferReadBuffer(fbo_.id(), GL_COLOR_ATTACHMENT0);
+  assert(glCheckNamedFramebufferStatus(fbo_.id(), GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
+}
+
+void VisibilityPass::render(const GpuScene& scene, const Camera& camera) {
+  assert(width_ > 0 && "VisibilityPass::render before resize");
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  glViewport(0, 0, width_, height_);
+  // Reversed-Z: near → 1, far → 0 with [0, 1] clip depth, so float depth keeps its precision far away.
+  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);  // two-sided lighting: back faces are visible surfaces too
+  glDisable(GL_BLEND);
+  const GLuint zeroIds[4] = {0, 0, 0, 0};
+  const GLfloat farDepth = 0.0f;
+  glClearNamedFramebufferuiv(fbo_.id(), GL_COLOR, 0, zeroIds);
+  glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &farDepth);
+
+  float aspect = float(width_) / float(height_);
+  glm::mat4 viewFromWorld = camera.viewFromWorld();
+  // The rotation part of viewFromWorld applied to camera-relative positions equals viewFromWorld.
+  glm::mat4 viewRotation = glm::mat4(glm::mat3(viewFromWorld));
+  glm::mat4 clipFromWorldRelative = camera.clipFromView(aspect) * viewRotation;
+  glUseProgram(program_.id());
+  glProgramUniformMatrix4fv(program_.id(), 0, 1, GL_FALSE, glm::value_ptr(clipFromWorldRelative));
+  glProgramUniform3fv(program_.id(), 1, 1, glm::value_ptr(camera.posW));
+  scene.bind(2, 3);
+  scene.drawAll();
+  glUseProgram(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void VisibilityPass::readIds(std::vector<glm::uvec2>& ids) const {
+  std::size_t rowLength = static_cast<std::size_t>(width_);
+  ids.resize(rowLength * static_cast<std::size_t>(height_));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_.id());
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glReadPixels(0, 0, width_, height_, GL_RG_INTEGER, GL_UNSIGNED_INT, ids.data());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  // GL rows run bottom-up; the ray pass wants row 0 at the top.
+  for (int y = 0; y < height_ / 2; ++y)
+    std::swap_ranges(ids.begin() + static_cast<std::ptrdiff_t>(y * rowLength),
+                     ids.begin() + static_cast<std::ptrdiff_t>((y + 1) * rowLength),
+                     ids.begin() + static_cast<std::ptrdiff_t>((height_ - 1 - y) * rowLength));
+}
+
+}  // namespace tandem::gl

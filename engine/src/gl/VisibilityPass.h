@@ -1,0 +1,37 @@
+#pragma once
+// The raster pass: the visibility G-buffer (instance + 1, triangle) over reversed-Z float depth, and its
+// read-back for the ray pass. Channel table: docs/gbuffer.md.
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gl/GlObjects.h"
+#include "gl/GpuScene.h"
+#include "tandem/Camera.h"
+#include "tandem/Result.h"
+
+namespace tandem::gl {
+
+class VisibilityPass {
+ public:
+  static Result<VisibilityPass> create();
+
+  /// Reallocates the targets when the frame size changes.
+  void resize(int width, int height);
+  void render(const GpuScene& scene, const Camera& camera);
+  /// The ids channel, row 0 = top (the ray pass's convention); `ids` is resized to width × height.
+  void readIds(std::vector<glm::uvec2>& ids) const;
+
+  const Texture& ids() const { return ids_; }
+  const Texture& depth() const { return depth_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  Program program_;
+  Texture ids_, depth_;
+  Framebuffer fbo_;
+  int width_ = 0, height_ = 0;
+};
+
+}  // namespace tandem::gl

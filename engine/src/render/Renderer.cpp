@@ -1,0 +1,282 @@
+// The Renderer: the frame, top to bottom, in Renderer::render. The GL objects (GpuScene, the passes)
+// and the Embree scene are caches of the Scene held here, rebuilt or patched only in the prepare stage.
+#include "tandem/Renderer.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include "core/Timer.h"
+#include "gl/CompositePass.h"
+#include "gl/Gl.h"
+#include "gl/GpuScene.h"
+#include "gl/VisibilityPass.h"
+#include "rt/RayTracer.h"
+#include "tandem/Log.h"
+
+namespace tandem {
+
+struct Renderer::Impl {
+  GlContext* context = nullptr;
+  std::unique_ptr<rt::RayTracer> tracer;
+  gl::VisibilityPass visibilityPass;
+  gl::CompositePass compositePass;
+  gl::GpuScene gpu;
+  Scene scene;
+
+  // What the caches are missing. The GL copy is synced every frame; the Embree scene only on frames
+  // whose ray pass runs, so raster-only use never builds a BVH.
+  bool gpuStale = true;
+  bool gpuInstancesStale = false;
+  bool gpuLightsStale = false;
+  bool rtSceneStale = true;
+  bool rtTransformsStale = false;
+  bool rtBroken = false;  // Embree refused this scene (logged once); ray effects are off until the next one
+
+  rt::VisibilityBuffer visibility;
+  rt::RayOutputs rays;
+  ImageF reference;
+};
+
+namespace {
+
+bool finiteMatrix(const glm::mat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  return true;
+}
+
+bool finiteVec(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// Raster effects (shadow maps, cube maps, blending) are not built yet: they render as Off.
+EffectMode effective(EffectMode m) { return m == EffectMode::Ray ? EffectMode::Ray : EffectMode::Off; }
+
+}  // namespace
+
+Result<std::unique_ptr<Renderer>> Renderer::create(GlContext& context, const RendererDesc& desc) {
+  context.makeCurrent();
+  auto impl = std::make_unique<Impl>();
+  impl->context = &context;
+  auto tracer = rt::RayTracer::create(desc.threads);
+  if (!tracer) return Error{"Renderer: " + tracer.error().message};
+  impl->tracer = std::move(*tracer);
+  auto visibility = gl::VisibilityPass::create();
+  if (!visibility) return Error{"Renderer: " + visibility.error().message};
+  impl->visibilityPass = std::move(*visibility);
+  auto composite = gl::CompositePass::create();
+  if (!composite) return Error{"Renderer: " + composite.error().message};
+  impl->compositePass = std::move(*composite);
+  return std::unique_ptr<Renderer>(new Renderer(std::move(impl)));
+}
+
+Renderer::Renderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Renderer::~Renderer() = default;
+
+Result<void> Renderer::setScene(Scene scene) {
+  auto valid = validateScene(scene);
+  if (!valid) return Error{"Renderer::setScene: " + valid.error().message + " (the previous scene stays)"};
+  impl_->scene = std::move(scene);
+  impl_->gpuStale = true;
+  impl_->rtSceneStale = true;
+  impl_->rtBroken = false;
+  return {};
+}
+
+const Scene& Renderer::scene() const { return impl_->scene; }
+
+void Renderer::setInstanceTransform(std::uint32_t instance, const glm::mat4& worldFromObject) {
+  Impl& r = *impl_;
+  assert(instance < r.scene.instances.size() && "Renderer::setInstanceTransform: instance out of range");
+  if (!finiteMatrix(worldFromObject)) {
+    logWarning("Renderer::setInstanceTransform: instance " + std::to_string(instance) +
+               " given a NaN or infinite transform; kept the previous one");
+    return;
+  }
+  Instance& inst = r.scene.instances[instance];
+  inst.worldFromObject = worldFromObject;
+  r.gpuInstancesStale = true;
+  // Static geometry lives in Embree's bottom level baked in place: moving it needs a rebuild.
+  (inst.dynamic ? r.rtTransformsStale : r.rtSceneStale) = true;
+}
+
+void Renderer::setLight(std::uint32_t light, const Light& value) {
+  Impl& r = *impl_;
+  assert(light < r.scene.lights.size() && "Renderer::setLight: light out of range");
+  bool finite = finiteVec(value.color) && std::isfinite(value.intensity) && finiteVec(value.posW) &&
+                finiteVec(value.dirW) && std::isfinite(value.range) && finiteVec(value.attenuation);
+  int direct = 0;
+  for (std::size_t i = 0; i < r.scene.lights.size(); ++i)
+    direct += (i == light ? value.type : r.scene.lights[i].type) != LightType::Ambient ? 1 : 0;
+  if (!finite || direct > kMaxLights) {
+    logWarning("Renderer::setLight: light " + std::to_string(light) +
+               (finite ? " would exceed the light limit" : " has a NaN or infinite value") + "; kept the previous one");
+    return;
+  }
+  r.scene.lights[light] = value;
+  r.gpuLightsStale = true;
+  r.rtTransformsStale = true;
+}
+
+FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested) {
+  Impl& r = *impl_;
+  const Scene& scene = r.scene;
+  FrameStats stats;
+  Timer total;
+  Timer clock;
+
+  // ---------------------------------------------------------------------------------------------
+  // prepare: resolve settings, decide which ray effects the scene needs, sync the GL buffers and
+  // (when rays run) the Embree scene — the only place Embree commits.
+  // ---------------------------------------------------------------------------------------------
+  const FrameSettings s = requested.resolved();
+  FrameSettings raySettings = s;
+  raySettings.shadows = effective(s.shadows);
+  raySettings.reflections = effective(s.reflections);
+  raySettings.refraction = effective(s.refraction);
+  bool anyShadowLight = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+    return l.type != LightType::Ambient && l.castShadows;
+  });
+  bool anyMirror = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.kr > 0.0f; });
+  bool anyGlass = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.kt > 0.0f; });
+  if (!anyShadowLight) raySettings.shadows = EffectMode::Off;
+  if (!anyMirror || s.maxDepth == 0) raySettings.reflections = EffectMode::Off;
+  if (!anyGlass || s.maxDepth == 0) raySettings.refraction = EffectMode::Off;
+  const bool wantsRays = raySettings.shadows == EffectMode::Ray || raySettings.reflections == EffectMode::Ray ||
+                         raySettings.refraction == EffectMode::Ray;
+  const bool wantsReference = s.reference && s.debugView == DebugView::Final;
+
+  if (r.gpuStale) {
+    r.gpu.upload(scene, s.shadingOverride);
+    r.gpuStale = r.gpuInstancesStale = r.gpuLightsStale = false;
+  }
+  if (r.gpuInstancesStale) r.gpu.updateInstances(scene);
+  if (r.gpuLightsStale) r.gpu.updateLights(scene);
+  if (r.gpu.shadingOverride() != s.shadingOverride) r.gpu.updateMaterials(scene, s.shadingOverride);
+  r.gpuInstancesStale = r.gpuLightsStale = false;
+
+  if ((wantsRays || wantsReference) && !r.rtBroken) {
+    if (r.rtSceneStale) {
+      auto built = r.tracer->setScene(scene);
+      if (!built) {
+        logError("Renderer: the ray pass cannot use this scene, ray effects are off: " + built.error().message);
+        r.rtBroken = true;
+      }
+      r.rtSceneStale = r.rtTransformsStale = false;
+    } else if (r.rtTransformsStale) {
+      r.tracer->updateTransforms(scene);
+      r.rtTransformsStale = false;
+    }
+  }
+  const bool rayPass = wantsRays && !r.rtBroken && !wantsReference;
+  const bool referenceFrame = wantsReference && !r.rtBroken;
+  r.visibilityPass.resize(s.width, s.height);
+  r.compositePass.resize(s.width, s.height);
+  stats.prepareMs = clock.ms();
+
+  // ---------------------------------------------------------------------------------------------
+  // raster: the visibility G-buffer (instance + 1, triangle) over reversed-Z depth.
+  // ---------------------------------------------------------------------------------------------
+  clock.reset();
+  if (!referenceFrame) {
+    r.visibilityPass.render(r.gpu, camera);
+    glFinish();
+  }
+  stats.rasterMs = clock.ms();
+
+  // ---------------------------------------------------------------------------------------------
+  // readback: the ids channel, top row first, only for the ray pass.
+  // ---------------------------------------------------------------------------------------------
+  clock.reset();
+  if (rayPass) {
+    r.visibility.width = s.width;
+    r.visibility.height = s.height;
+    r.visibilityPass.readIds(r.visibility.ids);
+  }
+  stats.readbackMs = clock.ms();
+
+  // ---------------------------------------------------------------------------------------------
+  // rays: the hybrid ray pass on the ray grid, or the whole reference frame.
+  // ---------------------------------------------------------------------------------------------
+  clock.reset();
+  r.rays.lightMask.clear();
+  r.rays.reflected.clear();
+  r.rays.transmitted.clear();
+  r.rays.counts = {};
+  if (rayPass) {
+    r.tracer->trace(scene, camera, raySettings, r.visibility, r.rays);
+    stats.rays = r.rays.counts;
+    stats.rayWidth = r.rays.width;
+    stats.rayHeight = r.rays.height;
+  } else if (referenceFrame) {
+    r.tracer->renderReference(scene, camera, s, r.reference, stats.rays);
+    stats.rayWidth = r.reference.width;
+    stats.rayHeight = r.reference.height;
+  }
+  stats.threads = r.tracer->threads();
+  stats.raysMs = clock.ms();
+
+  // ---------------------------------------------------------------------------------------------
+  // upload: only the ray results that exist this frame.
+  // ---------------------------------------------------------------------------------------------
+  clock.reset();
+  gl::ShadeInputs shadeIn;
+  shadeIn.background = scene.background;
+  shadeIn.ambient = scene.ambientIntensity();
+  shadeIn.debugView = s.debugView;
+  shadeIn.rayScale = s.rayScale;
+  if (rayPass) {
+    std::size_t n = static_cast<std::size_t>(r.rays.width) * static_cast<std::size_t>(r.rays.height);
+    shadeIn.rayWidth = r.rays.width;
+    shadeIn.rayHeight = r.rays.height;
+    if (r.rays.lightMask.size() == n && n > 0) {
+      r.compositePass.uploadLightMask(r.rays.width, r.rays.height, r.rays.lightMask.data());
+      shadeIn.rayInputs |= gl::kRayLightMask;
+    }
+    if (r.rays.reflected.size() == n && n > 0) {
+      r.compositePass.uploadReflected(r.rays.width, r.rays.height, r.rays.reflected.data());
+      shadeIn.rayInputs |= gl::kRayReflected;
+    }
+    if (r.rays.transmitted.size() == n && n > 0) {
+      r.compositePass.uploadTransmitted(r.rays.width, r.rays.height, r.rays.transmitted.data());
+      shadeIn.rayInputs |= gl::kRayTransmitted;
+    }
+  } else if (referenceFrame) {
+    r.compositePass.uploadLinear(r.reference);
+  }
+  glFinish();
+  stats.uploadMs = clock.ms();
+
+  // ---------------------------------------------------------------------------------------------
+  // composite: shade the visibility buffer, add the ray results, then exposure + tone map + sRGB once.
+  // ---------------------------------------------------------------------------------------------
+  clock.reset();
+  if (!referenceFrame) r.compositePass.shade(r.gpu, r.visibilityPass, camera, shadeIn);
+  r.compositePass.output(s.exposure, s.toneMap, s.debugView);
+  glFinish();
+  stats.compositeMs = clock.ms();
+
+  // ---------------------------------------------------------------------------------------------
+  // present: a window gets the frame in its default framebuffer, ready for the application to draw its
+  // UI and swap; headless frames stay in the offscreen target until readImage() captures them.
+  // ---------------------------------------------------------------------------------------------
+  clock.reset();
+  if (r.context->window() != nullptr) {
+    int w = 0, h = 0;
+    r.context->framebufferSize(w, h);
+    r.compositePass.present(w, h);
+  }
+  stats.presentMs = clock.ms();
+  stats.totalMs = total.ms();
+  return stats;
+}
+
+void Renderer::present(int framebufferWidth, int framebufferHeight) {
+  impl_->compositePass.present(framebufferWidth, framebufferHeight);
+}
+
+Image Renderer::readImage() { return impl_->compositePass.readImage(); }
+
+ImageF Renderer::readLinear() { return impl_->compositePass.readLinear(); }
+
+}  // namespace tandem

@@ -1,0 +1,403 @@
+#version 450 core
+// Shade + composite: per pixel, the visible triangle from the visibility buffer, the exact hit rebuilt
+// from the camera ray (as the CPU ray pass does), local shading per docs/shading.md, the ray pass's
+// light visibility, reflected and transmitted radiance added. Writes linear radiance (or a debug
+// view's display values); tonemap.frag encodes it. Channels: docs/gbuffer.md.
+#define TD_OUT(T) out T
+#include "shading.glsl"
+#include "scene.glsl"
+
+layout(std430, binding = 7) readonly buffer Materials { GpuMaterial materials[]; };
+layout(std430, binding = 8) readonly buffer Lights { GpuLight lights[]; };
+layout(std430, binding = 9) readonly buffer UvTransforms { mat4 uvTransforms[]; };  // Material::uvTransform in the upper 3×3
+
+layout(binding = 0) uniform usampler2D idsTex;        // GL rows: bottom first
+layout(binding = 1) uniform sampler2D depthTex;
+layout(binding = 2) uniform sampler2DArray kdTextures;
+layout(binding = 3) uniform sampler2D toonRamps;      // row = material, nearest
+layout(binding = 4) uniform usampler2D lightMaskTex;  // ray grid, row 0 = top
+layout(binding = 5) uniform sampler2D reflectedTex;   // ray grid, row 0 = top
+layout(binding = 6) uniform sampler2D transmittedTex; // ray grid, row 0 = top
+
+layout(location = 0) uniform vec3 cameraPosW;
+layout(location = 1) uniform vec3 cameraForward;
+layout(location = 2) uniform vec3 cameraRight;  // scaled: tan(fov/2)·aspect (perspective) or half width (ortho)
+layout(location = 3) uniform vec3 cameraUp;     // scaled: tan(fov/2) or half height
+layout(location = 4) uniform int orthographic;
+layout(location = 5) uniform ivec2 frameSize;
+layout(location = 6) uniform vec3 background;
+layout(location = 7) uniform vec3 ambientIa;
+layout(location = 8) uniform int lightCount;
+layout(location = 11) uniform int rayScale;
+
+// Variant flags, set by CompositePass for each frame's scene and settings. llvmpipe runs both sides of a
+// branch that diverges inside an 8-pixel SIMD group, so features a frame does not use are compiled out
+// rather than skipped at run time (a 3-5x difference on the shade pass).
+#ifndef TD_DEBUG_VIEW
+#define TD_DEBUG_VIEW 0      // DebugView
+#endif
+#ifndef TD_RAY_INPUTS
+#define TD_RAY_INPUTS 0      // TD_RAY_* bits: which ray results were uploaded
+#endif
+#ifndef TD_RAY_SCALED
+#define TD_RAY_SCALED 0      // rayScale > 1: edge-aware upsampling instead of a direct fetch
+#endif
+#ifndef TD_USE_GOURAUD
+#define TD_USE_GOURAUD 1     // some material shades with Gouraud
+#endif
+#ifndef TD_USE_TOON
+#define TD_USE_TOON 1        // some material shades with toon (ramps + outlines)
+#endif
+#ifndef TD_USE_UVS
+#define TD_USE_UVS 1         // some mesh has uvs
+#endif
+#ifndef TD_USE_KD_TEXTURES
+#define TD_USE_KD_TEXTURES 1 // some material has a kd texture
+#endif
+#ifndef TD_USE_COLORS
+#define TD_USE_COLORS 1      // some mesh has vertex colours
+#endif
+#define debugView TD_DEBUG_VIEW
+#define rayInputs TD_RAY_INPUTS
+layout(location = 12) uniform ivec2 rayGridSize;
+
+#define TD_RAY_LIGHT_MASK 1
+#define TD_RAY_REFLECTED 2
+#define TD_RAY_TRANSMITTED 4
+
+// DebugView values (Settings.h).
+#define TD_VIEW_FINAL 0
+#define TD_VIEW_DEPTH 1
+#define TD_VIEW_INSTANCE 2
+#define TD_VIEW_PRIMITIVE 3
+#define TD_VIEW_NORMAL 4
+#define TD_VIEW_LIGHT_MASK 5
+#define TD_VIEW_REFLECTION 6
+#define TD_VIEW_TRANSMISSION 7
+
+layout(location = 0) out vec4 outColor;
+
+// ---- camera rays: the same construction as Camera::rayThroughPixel ----
+void cameraRay(vec2 fragXY, out vec3 origin, out vec3 dir) {
+  // gl_FragCoord has y up; the camera's pixel y runs down, and 1 - 2·(H - y)/H = 2·y/H - 1.
+  float nx = fragXY.x / float(frameSize.x) * 2.0 - 1.0;
+  float ny = fragXY.y / float(frameSize.y) * 2.0 - 1.0;
+  if (orthographic != 0) {
+    origin = cameraPosW + cameraRight * nx + cameraUp * ny;
+    dir = cameraForward;
+  } else {
+    origin = cameraPosW;
+    dir = normalize(cameraForward + cameraRight * nx + cameraUp * ny);
+  }
+}
+
+// ---- the visible triangle ----
+struct Triangle {
+  uint v0, v1, v2;  // absolute vertex numbers
+  vec3 p0, p1, p2;  // world space
+  uint flags;
+  uint material;
+  mat3 normalFromObject;
+};
+
+Triangle loadTriangle(uint instance, uint primitive) {
+  Triangle t;
+  GpuInstance inst = instances[instance];
+  uvec4 mesh = meshes[inst.meshMaterial.x].firstIndexFlags;
+  uint i = mesh.y + 3u * primitive;
+  t.v0 = indices[i];
+  t.v1 = indices[i + 1u];
+  t.v2 = indices[i + 2u];
+  t.p0 = (inst.worldFromObject * vec4(tdPositionO(t.v0), 1.0)).xyz;
+  t.p1 = (inst.worldFromObject * vec4(tdPositionO(t.v1), 1.0)).xyz;
+  t.p2 = (inst.worldFromObject * vec4(tdPositionO(t.v2), 1.0)).xyz;
+  t.flags = mesh.z;
+  t.material = inst.meshMaterial.y;
+  t.normalFromObject = mat3(inst.normalFromObject);
+  return t;
+}
+
+vec3 geometricNormal(Triangle t) {
+  vec3 n = cross(t.p1 - t.p0, t.p2 - t.p0);
+  float len = length(n);
+  return len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
+}
+
+// Barycentrics (b0, b1, b2) where the ray meets the triangle's plane (Möller–Trumbore without the
+// inside test: the rasterizer already decided this pixel sees this triangle). Unclamped, for ray
+// differentials; hitBarycentrics clamps onto the triangle as the CPU's resolveHit does, so a pixel whose
+// centre grazes past an edge still shades a point of the triangle.
+vec3 rayBarycentrics(vec3 origin, vec3 dir, Triangle t) {
+  vec3 e1 = t.p1 - t.p0;
+  vec3 e2 = t.p2 - t.p0;
+  vec3 pv = cross(dir, e2);
+  float det = dot(e1, pv);
+  if (abs(det) <= 1e-20 * dot(e1, e1) * dot(e2, e2) || det == 0.0) return vec3(1.0 / 3.0);
+  float inv = 1.0 / det;
+  vec3 tv = origin - t.p0;
+  float b1 = dot(tv, pv) * inv;
+  float b2 = dot(dir, cross(tv, e1)) * inv;
+  return vec3(1.0 - b1 - b2, b1, b2);
+}
+
+vec3 hitBarycentrics(vec3 origin, vec3 dir, Triangle t) {
+  vec3 b = rayBarycentrics(origin, dir, t);
+  if (min(b.x, min(b.y, b.z)) >= 0.0) return b;
+  b = max(b, vec3(0.0));
+  float sum = b.x + b.y + b.z;
+  return sum > 0.0 ? b / sum : vec3(1.0 / 3.0);
+}
+
+vec3 objectNormal(uint v) { return tdNormalO(v); }
+
+// ---- the toon ramp: the same texel as shading::toonRampIndex picks in C++ ----
+int tdToonRampIndex(float nl) {
+  float t = clamp(nl * 0.5 + 0.5, 0.0, 1.0);
+  return min(int(t * float(TD_TOON_RAMP_SIZE)), TD_TOON_RAMP_SIZE - 1);
+}
+
+float toonLevel(GpuMaterial m, float nl) {
+  return texelFetch(toonRamps, ivec2(tdToonRampIndex(nl), int(m.kaToon.w + 0.5)), 0).r;
+}
+
+// ---- ray results, upsampled edge-aware from the ray grid ----
+// Grid pixel g stands for full-resolution pixel min(g·s + s/2, size − 1) (rows from the top), as
+// engine/src/rt/RayTracer.h defines; only grid pixels that saw this pixel's instance are blended.
+uint instanceAtTop(ivec2 pTop) { return texelFetch(idsTex, ivec2(pTop.x, frameSize.y - 1 - pTop.y), 0).x; }
+ivec2 gridPixelCentre(ivec2 g) { return min(g * rayScale + rayScale / 2, frameSize - 1); }
+
+struct RaySample {
+  float vis[TD_MAX_LIGHTS];
+  vec3 reflected;
+  vec3 transmitted;
+};
+
+void accumulate(inout RaySample acc, ivec2 g, float w) {
+  if ((rayInputs & TD_RAY_LIGHT_MASK) != 0) {
+    uint mask = texelFetch(lightMaskTex, g, 0).x;
+    for (int j = 0; j < TD_MAX_LIGHTS; ++j) acc.vis[j] += ((mask >> uint(j)) & 1u) != 0u ? w : 0.0;
+  }
+  if ((rayInputs & TD_RAY_REFLECTED) != 0) acc.reflected += w * texelFetch(reflectedTex, g, 0).rgb;
+  if ((rayInputs & TD_RAY_TRANSMITTED) != 0) acc.transmitted += w * texelFetch(transmittedTex, g, 0).rgb;
+}
+
+RaySample gatherRays(ivec2 pTop, uint instance) {
+  RaySample acc;
+  for (int j = 0; j < TD_MAX_LIGHTS; ++j) acc.vis[j] = 0.0;
+  acc.reflected = vec3(0.0);
+  acc.transmitted = vec3(0.0);
+  if (rayInputs == 0) return acc;
+#if !TD_RAY_SCALED
+  // Full-resolution rays: grid pixel = this pixel, which saw this instance by definition.
+  accumulate(acc, pTop, 1.0);
+  return acc;
+#endif
+  vec2 f = (vec2(pTop) - float(rayScale / 2)) / float(rayScale);
+  ivec2 g0 = ivec2(floor(f));
+  vec2 w = f - vec2(g0);
+  float total = 0.0;
+  RaySample sum = acc;
+  for (int dy = 0; dy <= 1; ++dy)
+    for (int dx = 0; dx <= 1; ++dx) {
+      float wk = (dx == 1 ? w.x : 1.0 - w.x) * (dy == 1 ? w.y : 1.0 - w.y);
+      ivec2 g = clamp(g0 + ivec2(dx, dy), ivec2(0), rayGridSize - 1);
+      if (wk <= 0.0 || instanceAtTop(gridPixelCentre(g)) != instance) continue;
+      accumulate(sum, g, wk);
+      total += wk;
+    }
+  if (total <= 0.0) {
+    // No bilinear neighbour saw this surface (a thin object or a silhouette): take the nearest grid
+    // pixel within one step that did, else the nearest grid pixel at all.
+    ivec2 gn = clamp(ivec2(floor(f + 0.5)), ivec2(0), rayGridSize - 1);
+    ivec2 best = gn;
+    float bestD = 1e30;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        ivec2 g = clamp(gn + ivec2(dx, dy), ivec2(0), rayGridSize - 1);
+        vec2 d = vec2(g) - f;
+        if (instanceAtTop(gridPixelCentre(g)) == instance && dot(d, d) < bestD) {
+          bestD = dot(d, d);
+          best = g;
+        }
+      }
+    accumulate(sum, best, 1.0);
+    total = 1.0;
+  }
+  for (int j = 0; j < TD_MAX_LIGHTS; ++j) acc.vis[j] = sum.vis[j] / total;
+  acc.reflected = sum.reflected / total;
+  acc.transmitted = sum.transmitted / total;
+  return acc;
+}
+
+// ---- debug colours ----
+vec3 hashColor(uint x) {
+  x = x * 747796405u + 2891336453u;
+  x = ((x >> ((x >> 28u) + 4u)) ^ x) * 277803737u;
+  x = (x >> 22u) ^ x;
+  return vec3(float(x & 255u), float((x >> 8u) & 255u), float((x >> 16u) & 255u)) / 255.0 * 0.8 + 0.2;
+}
+
+// ---- toon outlines: black where instance, depth or normal are discontinuous ----
+bool isEdge(ivec2 p, uvec2 id, vec3 ngUnflipped) {
+  float d = texelFetch(depthTex, p, 0).r;
+  const ivec2 offsets[2] = ivec2[2](ivec2(1, 0), ivec2(0, 1));
+  for (int k = 0; k < 2; ++k) {
+    ivec2 a = clamp(p - offsets[k], ivec2(0), frameSize - 1);
+    ivec2 b = clamp(p + offsets[k], ivec2(0), frameSize - 1);
+    uvec2 ia = texelFetch(idsTex, a, 0).xy;
+    uvec2 ib = texelFetch(idsTex, b, 0).xy;
+    if (ia.x != id.x || ib.x != id.x) return true;
+    // Reversed-Z depth is affine in 1/z, so it is linear in screen space across a plane: a large second
+    // difference is a fold or a step, not a slope.
+    float da = texelFetch(depthTex, a, 0).r;
+    float db = texelFetch(depthTex, b, 0).r;
+    if (abs(da + db - 2.0 * d) > 0.02 * d) return true;
+    if (ia.y != id.y && dot(geometricNormal(loadTriangle(id.x - 1u, ia.y)), ngUnflipped) < 0.8) return true;
+    if (ib.y != id.y && dot(geometricNormal(loadTriangle(id.x - 1u, ib.y)), ngUnflipped) < 0.8) return true;
+  }
+  return false;
+}
+
+void main() {
+  ivec2 pix = ivec2(gl_FragCoord.xy);
+  ivec2 pTop = ivec2(pix.x, frameSize.y - 1 - pix.y);
+  uvec2 id = texelFetch(idsTex, pix, 0).xy;
+
+  if (id.x == 0u) {
+    outColor = vec4(debugView == TD_VIEW_FINAL ? background : vec3(0.0), 1.0);
+    return;
+  }
+  if (debugView == TD_VIEW_DEPTH) {
+    // Reversed-Z depth crowds towards 0 with distance; the fourth root spreads it over the grey ramp.
+    outColor = vec4(vec3(pow(texelFetch(depthTex, pix, 0).r, 0.25)), 1.0);
+    return;
+  }
+  if (debugView == TD_VIEW_INSTANCE) {
+    outColor = vec4(hashColor(id.x), 1.0);
+    return;
+  }
+  if (debugView == TD_VIEW_PRIMITIVE) {
+    outColor = vec4(hashColor(id.x * 2654435761u + id.y), 1.0);
+    return;
+  }
+
+  // ---- the exact hit ----
+  vec3 origin, dir;
+  cameraRay(gl_FragCoord.xy, origin, dir);
+  uint instance = id.x - 1u;
+  Triangle tri = loadTriangle(instance, id.y);
+  vec3 b = hitBarycentrics(origin, dir, tri);
+  vec3 posW = b.x * tri.p0 + b.y * tri.p1 + b.z * tri.p2;
+  vec3 V = -dir;
+  vec3 ngRaw = geometricNormal(tri);
+  vec3 Ng = ngRaw;
+  vec3 N = Ng;
+  bool hasNormals = (tri.flags & TD_MESH_HAS_NORMALS) != 0u;
+  if (hasNormals) {
+    vec3 nO = b.x * objectNormal(tri.v0) + b.y * objectNormal(tri.v1) + b.z * objectNormal(tri.v2);
+    vec3 n = tri.normalFromObject * nO;
+    float len = length(n);
+    if (len > 0.0) N = n / len;
+  }
+  if (debugView == TD_VIEW_NORMAL) {
+    outColor = vec4(0.5 + 0.5 * N, 1.0);
+    return;
+  }
+  float side = dot(Ng, V) < 0.0 ? -1.0 : 1.0;  // two-sided: back faces are lit like fronts
+  Ng *= side;
+  N *= side;
+
+  RaySample rays = gatherRays(pTop, id.x);
+  if (debugView == TD_VIEW_LIGHT_MASK) {
+    float visible = 1.0;
+    if ((rayInputs & TD_RAY_LIGHT_MASK) != 0 && lightCount > 0) {
+      visible = 0.0;
+      for (int j = 0; j < lightCount; ++j) visible += rays.vis[j];
+      visible /= float(lightCount);
+    }
+    outColor = vec4(vec3(visible), 1.0);
+    return;
+  }
+  if (debugView == TD_VIEW_REFLECTION || debugView == TD_VIEW_TRANSMISSION) {
+    outColor = vec4(debugView == TD_VIEW_REFLECTION ? rays.reflected : rays.transmitted, 1.0);
+    return;
+  }
+
+  // ---- surface inputs ----
+  GpuMaterial m = materials[tri.material];
+  vec2 uv = vec2(0.0);
+  vec3 tint = vec3(1.0);
+  if (TD_USE_UVS != 0 && (tri.flags & TD_MESH_HAS_UVS) != 0u) {
+    vec2 uv0 = uvs[tri.v0], uv1 = uvs[tri.v1], uv2 = uvs[tri.v2];
+    mat3 uvFromMesh = mat3(uvTransforms[tri.material]);
+    uv = (uvFromMesh * vec3(b.x * uv0 + b.y * uv1 + b.z * uv2, 1.0)).xy;
+    int layer = int(m.kdTex.w + 0.5);
+    if (TD_USE_KD_TEXTURES != 0 && m.kdTex.w >= 0.0) {
+      // Ray differentials: where the neighbouring pixels' rays meet this triangle's plane gives exact
+      // uv derivatives (screen-space dFdx would mix triangles at edges in a full-screen pass).
+      vec3 ox, dx, oy, dy;
+      cameraRay(gl_FragCoord.xy + vec2(1.0, 0.0), ox, dx);
+      cameraRay(gl_FragCoord.xy + vec2(0.0, 1.0), oy, dy);
+      vec3 bx = rayBarycentrics(ox, dx, tri);
+      vec3 by = rayBarycentrics(oy, dy, tri);
+      vec2 uvx = (uvFromMesh * vec3(bx.x * uv0 + bx.y * uv1 + bx.z * uv2, 1.0)).xy;
+      vec2 uvy = (uvFromMesh * vec3(by.x * uv0 + by.y * uv1 + by.z * uv2, 1.0)).xy;
+      tint = textureGrad(kdTextures, vec3(uv, float(layer)), uvx - uv, uvy - uv).rgb;
+    }
+  }
+  if (TD_USE_COLORS != 0 && (tri.flags & TD_MESH_HAS_COLORS) != 0u)
+    tint *= (b.x * colors[tri.v0] + b.y * colors[tri.v1] + b.z * colors[tri.v2]).rgb;
+
+  // ---- local shading ----
+  vec3 C = tdSurfaceColor(m, uv, tint);
+  vec3 emission = vec3(m.emissionFlags);
+  int model = int(m.krKtIorModel.w + 0.5);
+  vec3 local;
+  if (m.emissionFlags.w > 0.5) {
+    local = C + emission;
+  } else {
+    local = emission + tdAmbient(m, ambientIa, uv, tint);
+    vec3 ks = vec3(m.ksNs);
+    float ns = m.ksNs.w;
+    vec3 Ns = model == TD_MODEL_FLAT ? Ng : N;
+    vec3 N0 = Ng, N1 = Ng, N2 = Ng;
+    if (TD_USE_GOURAUD != 0 && model == TD_MODEL_GOURAUD && hasNormals) {
+      vec3 n0 = tri.normalFromObject * objectNormal(tri.v0);
+      vec3 n1 = tri.normalFromObject * objectNormal(tri.v1);
+      vec3 n2 = tri.normalFromObject * objectNormal(tri.v2);
+      N0 = dot(n0, n0) > 0.0 ? side * normalize(n0) : Ng;
+      N1 = dot(n1, n1) > 0.0 ? side * normalize(n1) : Ng;
+      N2 = dot(n2, n2) > 0.0 ? side * normalize(n2) : Ng;
+    }
+    for (int j = 0; j < lightCount; ++j) {
+      GpuLight L = lights[j];
+      float vis = (rayInputs & TD_RAY_LIGHT_MASK) != 0 && L.radiance.w > 0.5 ? rays.vis[j] : 1.0;
+      if (vis <= 0.0) continue;
+      vec3 Lj;
+      vec3 toLight;
+      float dist;
+      if (TD_USE_GOURAUD != 0 && model == TD_MODEL_GOURAUD) {
+        vec3 E0 = tdLightIncident(L, tri.p0, toLight, dist);
+        vec3 L0 = tdShadeLight(C, ks, ns, model, N0, normalize(origin - tri.p0), E0, toLight, 0.0);
+        vec3 E1 = tdLightIncident(L, tri.p1, toLight, dist);
+        vec3 L1 = tdShadeLight(C, ks, ns, model, N1, normalize(origin - tri.p1), E1, toLight, 0.0);
+        vec3 E2 = tdLightIncident(L, tri.p2, toLight, dist);
+        vec3 L2 = tdShadeLight(C, ks, ns, model, N2, normalize(origin - tri.p2), E2, toLight, 0.0);
+        Lj = b.x * L0 + b.y * L1 + b.z * L2;
+      } else {
+        vec3 E = tdLightIncident(L, posW, toLight, dist);
+        float level = TD_USE_TOON != 0 && model == TD_MODEL_TOON ? toonLevel(m, dot(Ns, toLight)) : 0.0;
+        Lj = tdShadeLight(C, ks, ns, model, Ns, V, E, toLight, level);
+      }
+      local += vis * Lj;
+    }
+  }
+
+  vec3 I = local;
+  if ((rayInputs & TD_RAY_REFLECTED) != 0) I += rays.reflected;
+  if ((rayInputs & TD_RAY_TRANSMITTED) != 0) I += rays.transmitted;
+#if TD_USE_TOON
+  if (model == TD_MODEL_TOON && m.emissionFlags.w < 0.5 && isEdge(pix, id, ngRaw)) I = vec3(0.0);
+#endif
+  outColor = vec4(I, 1.0);
+}

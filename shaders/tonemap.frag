@@ -1,0 +1,17 @@
+#version 450 core
+// The one place radiance becomes display values: exposure, tone map, sRGB encode (docs/shading.md,
+// "Output"). Debug views that are already display values pass through.
+#define TD_OUT(T) out T
+#include "shading.glsl"
+
+layout(binding = 0) uniform sampler2D linearColor;
+layout(location = 0) uniform float exposure;
+layout(location = 1) uniform int toneMap;
+layout(location = 2) uniform int passThrough;
+
+layout(location = 0) out vec4 outColor;
+
+void main() {
+  vec3 c = texelFetch(linearColor, ivec2(gl_FragCoord.xy), 0).rgb;
+  outColor = vec4(passThrough != 0 ? clamp(c, 0.0, 1.0) : tdSrgbEncode(tdToneMap(exposure * c, toneMap)), 1.0);
+}

@@ -1,0 +1,153 @@
+// GLSL / C++ parity: the GL shade pass and the CPU twin (rt::resolveHit + rt::shadeLocal, the code the ray
+// pass shades secondary hits with) give the same linear radiance for the same visible triangles, for every
+// shading model, light type, checker, texture and vertex colour.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "GlTestUtil.h"
+#include "gl/GpuScene.h"
+#include "gl/VisibilityPass.h"
+#include "rt/SurfaceShading.h"
+
+namespace tandem {
+namespace {
+
+Scene parityScene() {
+  Scene s;
+  s.name = "parity";
+  Mesh box = makeBox(glm::vec3(1.0f));
+  for (std::size_t i = 0; i < box.positions.size(); ++i)
+    box.colors.push_back(glm::vec4(0.5f + 0.5f * glm::abs(box.normals[i]), 1.0f));
+  s.meshes = {makePlane(glm::vec2(8.0f), 8), box, makeSphere(0.7f, 48, 24)};
+  // A small texture, magnified: GL samples level 0 bilinearly, as the CPU does.
+  Texture tex;
+  tex.width = tex.height = 4;
+  for (int i = 0; i < 16; ++i) {
+    std::uint8_t v = static_cast<std::uint8_t>(40 + 13 * i);
+    tex.rgba8.insert(tex.rgba8.end(), {v, static_cast<std::uint8_t>(255 - v), 128, 255});
+  }
+  s.textures = {tex};
+  Material floor;
+  floor.kd = {0.8f, 0.7f, 0.6f};
+  floor.kd2 = {0.1f, 0.2f, 0.3f};
+  floor.checkerFrequency = 1.0f;
+  floor.ks = glm::vec3(0.2f);
+  floor.ns = 8.0f;
+  floor.ka = glm::vec3(0.3f);
+  Material textured;
+  textured.kd = glm::vec3(1.0f);
+  textured.kdTexture = 0;
+  textured.ks = glm::vec3(0.3f);
+  textured.ns = 16.0f;
+  Material shiny;
+  shiny.kd = {0.6f, 0.2f, 0.2f};
+  shiny.ks = glm::vec3(0.6f);
+  shiny.ns = 40.0f;
+  shiny.emission = {0.02f, 0.0f, 0.0f};
+  s.materials = {floor, textured, shiny};
+  Instance plane, cube, ball;
+  cube.mesh = 1;
+  cube.material = 1;
+  cube.worldFromObject = glm::translate(glm::mat4(1.0f), glm::vec3(-0.9f, 0.5f, 0.0f)) *
+                         glm::rotate(glm::mat4(1.0f), 0.6f, glm::vec3(0, 1, 0)) * glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 1.3f, 0.8f));
+  ball.mesh = 2;
+  ball.material = 2;
+  ball.worldFromObject = glm::translate(glm::mat4(1.0f), glm::vec3(0.9f, 0.7f, 0.3f));
+  s.instances = {plane, cube, ball};
+  Light ambient;
+  ambient.type = LightType::Ambient;
+  ambient.color = {0.2f, 0.25f, 0.3f};
+  Light point;
+  point.posW = {2.0f, 3.0f, 2.0f};
+  point.attenuation = {1.0f, 0.1f, 0.02f};
+  point.intensity = 2.0f;
+  Light spot;
+  spot.type = LightType::Spot;
+  spot.posW = {-2.0f, 4.0f, 1.0f};
+  spot.dirW = glm::normalize(glm::vec3(0.5f, -1.0f, -0.2f));
+  spot.color = {0.4f, 0.6f, 1.0f};
+  spot.innerConeDeg = 15.0f;
+  spot.outerConeDeg = 35.0f;
+  Light sun;
+  sun.type = LightType::Directional;
+  sun.dirW = glm::normalize(glm::vec3(-0.3f, -1.0f, -0.5f));
+  sun.intensity = 0.4f;
+  s.lights = {ambient, point, spot, sun};
+  s.camera.posW = {0.3f, 2.5f, 4.5f};
+  s.camera.targetW = {0.0f, 0.4f, 0.0f};
+  s.background = {0.05f, 0.05f, 0.1f};
+  return s;
+}
+
+void checkParity(ShadingModel model) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene = parityScene();
+  const int w = 192, h = 108;
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(renderer);
+  ASSERT_TRUE(renderer->setScene(scene).ok());
+  FrameSettings settings = gltest::rasterOnly(w, h);
+  settings.shadingOverride = model;
+  renderer->render(scene.camera, settings);
+  ImageF gl = renderer->readLinear();
+  gltest::savePng("parity-" + std::string(toString(model)) + ".png", renderer->readImage());
+
+  // The same visible triangles the renderer shaded.
+  gl::GpuScene gpu;
+  gpu.upload(scene, model);
+  auto pass = gl::VisibilityPass::create();
+  ASSERT_TRUE(pass.ok());
+  pass->resize(w, h);
+  pass->render(gpu, scene.camera);
+  std::vector<glm::uvec2> ids;
+  pass->readIds(ids);
+
+  rt::FrameShading frame(scene, model);
+  std::vector<rt::InstanceTransform> transforms;
+  for (const Instance& inst : scene.instances) transforms.push_back(rt::makeInstanceTransform(inst.worldFromObject));
+  int compared = 0, mismatched = 0, outlined = 0;
+  double worst = 0.0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      glm::uvec2 id = ids[static_cast<std::size_t>(y) * w + x];
+      glm::vec3 got = gl.at(x, y);
+      glm::vec3 want = scene.background;
+      if (id.x != 0) {
+        Ray ray = scene.camera.rayThroughPixel({float(x) + 0.5f, float(y) + 0.5f}, {w, h});
+        rt::SurfaceHit hit = rt::resolveHit(scene, transforms[id.x - 1], id.x - 1, id.y, ray);
+        want = rt::shadeLocal(scene, frame, transforms[id.x - 1], hit, ~0u);
+      }
+      if (model == ShadingModel::Toon && id.x != 0 && got == glm::vec3(0.0f) && want != glm::vec3(0.0f)) {
+        ++outlined;  // silhouette outline: a GL-only screen-space step (docs/shading.md)
+        continue;
+      }
+      float err = glm::length(got - want);
+      worst = std::max(worst, double(err));
+      if (err > 2e-3f + 2e-3f * glm::length(want)) {
+        ++mismatched;
+        if (model != ShadingModel::Toon && mismatched < 10)
+          ADD_FAILURE() << toString(model) << " pixel " << x << "," << y << " id " << id.x << "/" << id.y << " GL ("
+                        << got.x << ", " << got.y << ", " << got.z << ") CPU (" << want.x << ", " << want.y << ", "
+                        << want.z << ")";
+      }
+      ++compared;
+    }
+  EXPECT_EQ(compared + outlined, w * h);
+  if (model == ShadingModel::Toon) {
+    // Hard bands: a pixel whose N·L sits on a ramp step may land on either side in float.
+    EXPECT_LT(mismatched, compared / 200) << "worst " << worst;
+    EXPECT_GT(outlined, 50);
+    EXPECT_LT(outlined, w * h / 8);
+  } else {
+    EXPECT_EQ(mismatched, 0) << "worst " << worst;
+  }
+}
+
+TEST(ShadingParityGLTest, Flat) { checkParity(ShadingModel::Flat); }
+TEST(ShadingParityGLTest, Gouraud) { checkParity(ShadingModel::Gouraud); }
+TEST(ShadingParityGLTest, Phong) { checkParity(ShadingModel::Phong); }
+TEST(ShadingParityGLTest, Toon) { checkParity(ShadingModel::Toon); }
+
+}  // namespace
+}  // namespace tandem
