@@ -1,0 +1,119 @@
+#include "Hud.h"
+
+#include <cstdio>
+#include <string>
+
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+namespace marble {
+
+Hud::Hud(GLFWwindow* window) {
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini dropped into the working directory
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  ImGui_ImplOpenGL3_Init("#version 330 core");
+}
+
+Hud::~Hud() {
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+}
+
+bool Hud::wantsMouse() const { return ImGui::GetIO().WantCaptureMouse; }
+bool Hud::wantsKeyboard() const { return ImGui::GetIO().WantCaptureKeyboard; }
+
+void Hud::draw(const HudInfo& info) {
+  ImGui_ImplOpenGL3_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  ImGui::NewFrame();
+  const Game& game = *info.game;
+  const ViewState& view = *info.view;
+  const tandem::FrameSettings& s = view.settings;
+  const ImGuiWindowFlags overlay = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
+                                   ImGuiWindowFlags_NoNav;
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+
+  // Top right: the game itself — gems, clock, outcome.
+  ImGui::SetNextWindowPos(ImVec2(display.x - 8.0f, 8.0f), ImGuiCond_Always, ImVec2(1.0f, 0.0f));
+  ImGui::SetNextWindowBgAlpha(0.55f);
+  if (ImGui::Begin("game", nullptr, overlay)) {
+    const bool flash = info.game->lastPickupTime() >= 0.0 && game.time() - game.lastPickupTime() < 0.6;
+    ImGui::TextColored(flash ? ImVec4(1, 0.9f, 0.2f, 1) : ImVec4(1, 1, 1, 1), "Gems %d / %d", game.score(),
+                       game.gemCount());
+    ImGui::SameLine(0, 24);
+    const double left = game.timeLeft();
+    ImGui::TextColored(left < 10.0 ? ImVec4(1, 0.35f, 0.3f, 1) : ImVec4(1, 1, 1, 1), "Time %5.1f s", left);
+    if (!view.showHelp) {
+      ImGui::SameLine(0, 24);
+      ImGui::TextDisabled("F1: keys");
+    }
+    if (game.outcome() == Outcome::Won)
+      ImGui::TextColored(ImVec4(0.3f, 1, 0.4f, 1), "ALL GEMS! You win with %.1f s to spare. R to play again.", left);
+    else if (game.outcome() == Outcome::Lost)
+      ImGui::TextColored(ImVec4(1, 0.35f, 0.3f, 1), "Time is up. R to try again.");
+  }
+  ImGui::End();
+
+  if (view.showHud) {
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
+    ImGui::SetNextWindowBgAlpha(0.55f);
+    if (ImGui::Begin("stats", nullptr, overlay)) {
+      const tandem::FrameStats& st = info.stats;
+      ImGui::Text("%.1f fps  (%.1f ms/frame)", info.frameMs > 0 ? 1000.0 / info.frameMs : 0.0, info.frameMs);
+      ImGui::Text("frame %dx%d  window %dx%d", s.width, s.height, info.framebufferW, info.framebufferH);
+      ImGui::Separator();
+      ImGui::Text("prepare   %7.2f ms", st.prepareMs);
+      ImGui::Text("raster    %7.2f ms", st.rasterMs);
+      ImGui::Text("readback  %7.2f ms", st.readbackMs);
+      ImGui::Text("rays      %7.2f ms  (%dx%d, %d thr)", st.raysMs, st.rayWidth, st.rayHeight, st.threads);
+      ImGui::Text("upload    %7.2f ms", st.uploadMs);
+      ImGui::Text("composite %7.2f ms", st.compositeMs);
+      ImGui::Text("present   %7.2f ms", info.presentMs);
+      ImGui::Text("renderer  %7.2f ms total", st.totalMs);
+      ImGui::Separator();
+      auto k = [](std::uint64_t n) { return static_cast<double>(n) / 1000.0; };
+      ImGui::Text("rays/frame %.1fk: primary %.1fk", k(st.rays.total()), k(st.rays.primary));
+      ImGui::Text("  shadow %.1fk  reflect %.1fk  refract %.1fk", k(st.rays.shadow), k(st.rays.reflection),
+                  k(st.rays.refraction));
+      ImGui::Separator();
+      ImGui::Text("preset      %s", view.preset.c_str());
+      ImGui::Text("shadows     %s  [1]", std::string(tandem::toString(s.shadows)).c_str());
+      ImGui::Text("reflections %s  [2]", std::string(tandem::toString(s.reflections)).c_str());
+      ImGui::Text("refraction  %s  [3]", std::string(tandem::toString(s.refraction)).c_str());
+      ImGui::Text("shading     %s  [4]", view.shadingName().c_str());
+      ImGui::Text("depth %d [5/6]  ray scale 1/%d [7]", s.maxDepth, s.rayScale);
+      ImGui::Text("view %s [9]  render %d%% [0]", std::string(tandem::toString(s.debugView)).c_str(),
+                  view.renderScalePct);
+      ImGui::Text("vsync %s [V]  %s [F]", view.vsync ? "on" : "off", view.fullscreen ? "fullscreen" : "windowed");
+      const glm::vec3 p = game.marblePos();
+      ImGui::Text("marble %.2f %.2f  speed %.2f", static_cast<double>(p.x), static_cast<double>(p.z),
+                  static_cast<double>(glm::length(game.marbleVelXZ())));
+      ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 300.0f);  // the context line is long; keep the HUD narrow
+      ImGui::TextDisabled("%s", info.context);
+      ImGui::PopTextWrapPos();
+      if (info.message[0]) ImGui::TextColored(ImVec4(0.6f, 0.9f, 1, 1), "%s", info.message);
+    }
+    ImGui::End();
+  }
+
+  if (view.showHelp) {
+    ImGui::SetNextWindowPos(ImVec2(display.x - 8.0f, display.y - 8.0f), ImGuiCond_Always, ImVec2(1.0f, 1.0f));
+    ImGui::SetNextWindowBgAlpha(0.6f);
+    if (ImGui::Begin("help", nullptr, overlay)) {
+      ImGui::TextColored(ImVec4(1, 0.9f, 0.5f, 1), "Marble Mirrors: collect every gem before the clock runs out");
+      for (const char* const* line = helpLines(); *line; ++line) ImGui::TextUnformatted(*line);
+    }
+    ImGui::End();
+  }
+
+  ImGui::Render();
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+}
+
+}  // namespace marble

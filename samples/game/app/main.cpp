@@ -1,0 +1,528 @@
+// tandem-game: "Marble Mirrors", the engine's sample game. Roll a glass marble through a hall of mirrors
+// and collect every gem before the clock runs out (docs/game.md).
+//
+//   tandem-game [--size WxH] [--preset NAME] [--shadows M] [--reflections M] [--refraction M] ...
+//   tandem-game --headless --frames N --capture OUT.png --script INPUT [--size WxH] [--preset NAME] ...
+//
+// Windowed and headless runs share one loop (Session::step / Session::render): only where input comes
+// from (GLFW or a script), the clock (wall or fixed) and the HUD differ.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#define GLFW_INCLUDE_NONE
+#include <GL/glcorearb.h>
+#include <GLFW/glfw3.h>
+
+#include <CLI/CLI.hpp>
+
+#include "Game.h"
+#include "Hud.h"
+#include "Input.h"
+#include "Level.h"
+#include "SceneBuilder.h"
+#include "Script.h"
+#include "Toggles.h"
+#include "tandem/Context.h"
+#include "tandem/Image.h"
+#include "tandem/Renderer.h"
+
+namespace marble {
+namespace {
+
+struct Options {
+  bool headless = false;
+  int frames = 0;  // 0 = until quit (window); headless needs >= 1
+  std::string capture;
+  std::string script;
+  std::string size;
+  std::string preset = "hybrid-fast";
+  std::string shading, shadows, reflections, refraction;
+  int depth = -1;
+  int scale = 0;
+  int threads = 0;
+  double dt = 1.0 / 60.0;
+  bool noVsync = false;
+  bool fullscreen = false;
+  std::string shotDir = ".";
+};
+
+int fail(const std::string& message) {
+  std::cerr << "tandem-game: " << message << "\n";
+  return 1;
+}
+
+bool parseSize(const std::string& s, int& w, int& h) {
+  char x = 0, extra = 0;
+  return std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) == 3 && (x == 'x' || x == 'X') && w >= 1 &&
+         h >= 1 && w <= 16384 && h <= 16384;
+}
+
+// ---- GLFW key codes to the names scripts use (Input.h). ----
+std::string keyName(int key) {
+  if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z) return std::string(1, static_cast<char>('A' + (key - GLFW_KEY_A)));
+  if (key >= GLFW_KEY_0 && key <= GLFW_KEY_9) return std::string(1, static_cast<char>('0' + (key - GLFW_KEY_0)));
+  if (key >= GLFW_KEY_F1 && key <= GLFW_KEY_F12) {
+    std::string f = "F";
+    f += std::to_string(key - GLFW_KEY_F1 + 1);
+    return f;
+  }
+  switch (key) {
+    case GLFW_KEY_SPACE: return "SPACE";
+    case GLFW_KEY_ENTER: return "ENTER";
+    case GLFW_KEY_ESCAPE: return "ESCAPE";
+    case GLFW_KEY_TAB: return "TAB";
+    case GLFW_KEY_BACKSPACE: return "BACKSPACE";
+    case GLFW_KEY_LEFT: return "LEFT";
+    case GLFW_KEY_RIGHT: return "RIGHT";
+    case GLFW_KEY_UP: return "UP";
+    case GLFW_KEY_DOWN: return "DOWN";
+    case GLFW_KEY_LEFT_SHIFT: return "LSHIFT";
+    case GLFW_KEY_RIGHT_SHIFT: return "RSHIFT";
+    case GLFW_KEY_LEFT_CONTROL: return "LCTRL";
+    case GLFW_KEY_RIGHT_CONTROL: return "RCTRL";
+    case GLFW_KEY_MINUS: return "MINUS";
+    case GLFW_KEY_EQUAL: return "EQUAL";
+    case GLFW_KEY_LEFT_BRACKET: return "LBRACKET";
+    case GLFW_KEY_RIGHT_BRACKET: return "RBRACKET";
+    case GLFW_KEY_COMMA: return "COMMA";
+    case GLFW_KEY_PERIOD: return "PERIOD";
+    case GLFW_KEY_KP_ADD: return "EQUAL";
+    case GLFW_KEY_KP_SUBTRACT: return "MINUS";
+    default: return {};
+  }
+}
+
+/// Everything one game session holds; the window and headless drivers call step() and render().
+class Session {
+ public:
+  Session(tandem::GlContext& ctx, std::unique_ptr<tandem::Renderer> renderer, ViewState view, double dt,
+          std::vector<ScriptEvent> script, std::string shotDir)
+      : ctx_(ctx),
+        renderer_(std::move(renderer)),
+        game_(makeHallOfMirrors()),
+        view_(std::move(view)),
+        dt_(dt),
+        script_(std::move(script)),
+        shotDir_(std::move(shotDir)) {
+    rig_.yaw = game_.level().startCameraYaw;
+  }
+
+  tandem::Result<void> init() {
+    BuiltScene built = buildScene(game_);
+    handles_ = built.handles;
+    camera_ = built.scene.camera;
+    return renderer_->setScene(std::move(built.scene));
+  }
+
+  /// A key's down edge, from GLFW or the script: toggles, then the window-level actions.
+  void keyDown(const std::string& key) {
+    switch (view_.onKey(key)) {
+      case WindowAction::Restart: game_.reset(); break;
+      case WindowAction::Screenshot: wantShot_ = true; break;
+      case WindowAction::Quit: quit_ = true; break;
+      case WindowAction::Vsync: ctx_.setVsync(view_.vsync); break;
+      case WindowAction::Fullscreen: wantFullscreen_ = true; break;
+      case WindowAction::None: break;
+    }
+  }
+
+  /// One fixed simulation step: scripted input for this instant, camera, then the game.
+  void step() {
+    script_.advance(clock_, input_, [this](const std::string& k) { keyDown(k); });
+    const MoveIntent intent = moveIntent(input_);
+    rig_.update(static_cast<float>(dt_), input_.mouseDelta, intent.orbit, input_.scroll);
+    input_.consumeDeltas();
+    game_.step(static_cast<float>(dt_), intent, rig_.yaw);
+    clock_ += dt_;
+  }
+
+  /// Moves the animated instances and lights, then renders at `w`×`h`.
+  tandem::FrameStats render(int w, int h) {
+    syncScene(*renderer_, game_, handles_);
+    const glm::vec3 target = game_.marblePos() + glm::vec3(0.0f, 0.3f, 0.0f);
+    camera_.targetW = target;
+    camera_.posW = rig_.eye(target, game_.level().halfSize);
+    tandem::FrameSettings s = view_.settings;
+    s.width = w;
+    s.height = h;
+    view_.settings.width = w;  // so the HUD shows the size actually rendered
+    view_.settings.height = h;
+    return renderer_->render(camera_, s);
+  }
+
+  /// Writes the last frame; returns the path or an error.
+  tandem::Result<std::string> saveFrame(const std::string& path) {
+    tandem::Image img = renderer_->readImage();
+    if (auto r = tandem::writePng(path, img); !r) return r.error();
+    return path;
+  }
+  std::string nextShotPath(const char* suffix) {
+    char name[64];
+    std::snprintf(name, sizeof name, "marble-%03d%s.png", shotIndex_, suffix);
+    return (std::filesystem::path(shotDir_) / name).string();
+  }
+
+  std::string settingsLine() const {
+    const tandem::FrameSettings& s = view_.settings;
+    std::ostringstream o;
+    o << "preset=" << view_.preset << " shadows=" << tandem::toString(s.shadows)
+      << " reflections=" << tandem::toString(s.reflections) << " refraction=" << tandem::toString(s.refraction)
+      << " shading=" << view_.shadingName() << " depth=" << s.maxDepth << " scale=" << s.rayScale;
+    return o.str();
+  }
+
+  tandem::GlContext& ctx_;
+  std::unique_ptr<tandem::Renderer> renderer_;
+  Game game_;
+  ViewState view_;
+  CameraRig rig_;
+  InputState input_;
+  double dt_;
+  double clock_ = 0.0;  // session time: keeps running across restarts, so script times stay absolute
+  ScriptPlayer script_;
+  std::string shotDir_;
+  SceneHandles handles_;
+  tandem::Camera camera_;
+  int shotIndex_ = 0;
+  bool wantShot_ = false;
+  bool wantFullscreen_ = false;
+  bool quit_ = false;
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+void printTimes(const std::vector<tandem::FrameStats>& frames, const std::vector<double>& loopMs, int w, int h) {
+  if (frames.empty()) return;
+  std::vector<double> total, rays, raster, composite;
+  for (const auto& f : frames) {
+    total.push_back(f.totalMs);
+    rays.push_back(f.raysMs);
+    raster.push_back(f.rasterMs);
+    composite.push_back(f.compositeMs);
+  }
+  const tandem::FrameStats& last = frames.back();
+  std::printf("times: size=%dx%d frames=%zu median_ms total=%.2f raster=%.2f rays=%.2f composite=%.2f loop=%.2f "
+              "rays_per_frame=%llu\n",
+              w, h, frames.size(), median(total), median(raster), median(rays), median(composite), median(loopMs),
+              static_cast<unsigned long long>(last.rays.total()));
+}
+
+// ---- Headless: fixed dt, scripted input, no wall clock in the simulation. ----
+int runHeadless(Session& s, const Options& o, int w, int h) {
+  std::vector<tandem::FrameStats> stats;
+  std::vector<double> loopMs;
+  for (int f = 0; f < o.frames && !s.quit_; ++f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    s.step();
+    stats.push_back(s.render(w, h));
+    if (s.wantShot_) {  // a scripted P: same files as in a window, minus the HUD copy
+      s.wantShot_ = false;
+      auto r = s.saveFrame(s.nextShotPath(""));
+      ++s.shotIndex_;
+      if (!r) return fail(r.error().message);
+    }
+    loopMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  if (!o.capture.empty())
+    if (auto r = s.saveFrame(o.capture); !r) return fail(r.error().message);
+  std::printf("game: %s frames=%zu %s\n", s.game_.stateLine().c_str(), stats.size(), s.settingsLine().c_str());
+  printTimes(stats, loopMs, w, h);
+  return 0;
+}
+
+// ---- Window: GLFW input, wall clock with a fixed-step accumulator, ImGui HUD. ----
+struct WindowInput {
+  Session* session = nullptr;
+  Hud* hud = nullptr;
+  glm::dvec2 lastCursor{0.0};
+  bool haveCursor = false;
+};
+
+WindowInput* inputOf(GLFWwindow* w) { return static_cast<WindowInput*>(glfwGetWindowUserPointer(w)); }
+
+void onKey(GLFWwindow* w, int key, int, int action, int) {
+  WindowInput* in = inputOf(w);
+  if (!in || !in->session) return;
+  const std::string name = keyName(key);
+  if (name.empty()) return;
+  if (action == GLFW_PRESS) {
+    if (in->hud && in->hud->wantsKeyboard()) return;
+    in->session->input_.held.insert(name);
+    in->session->keyDown(name);
+  } else if (action == GLFW_RELEASE) {
+    in->session->input_.held.erase(name);  // always, so a key never sticks when focus moves to the HUD
+  }
+}
+
+void onCursor(GLFWwindow* w, double x, double y) {
+  WindowInput* in = inputOf(w);
+  if (!in || !in->session) return;
+  const glm::dvec2 p(x, y);
+  const bool dragging = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS ||
+                        glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+  if (in->haveCursor && dragging && !(in->hud && in->hud->wantsMouse()))
+    in->session->input_.mouseDelta += glm::vec2(p - in->lastCursor);
+  in->lastCursor = p;
+  in->haveCursor = true;
+}
+
+void onScroll(GLFWwindow* w, double, double dy) {
+  WindowInput* in = inputOf(w);
+  if (!in || !in->session || (in->hud && in->hud->wantsMouse())) return;
+  in->session->input_.scroll += static_cast<float>(dy);
+}
+
+/// The default framebuffer as an image (the frame with the HUD on it), read after the HUD is drawn.
+tandem::Result<void> saveWindow(const std::string& path, int w, int h) {
+  auto bindFramebuffer = reinterpret_cast<PFNGLBINDFRAMEBUFFERPROC>(glfwGetProcAddress("glBindFramebuffer"));
+  auto readBuffer = reinterpret_cast<PFNGLREADBUFFERPROC>(glfwGetProcAddress("glReadBuffer"));
+  auto pixelStore = reinterpret_cast<PFNGLPIXELSTOREIPROC>(glfwGetProcAddress("glPixelStorei"));
+  auto readPixels = reinterpret_cast<PFNGLREADPIXELSPROC>(glfwGetProcAddress("glReadPixels"));
+  if (!bindFramebuffer || !readBuffer || !pixelStore || !readPixels)
+    return tandem::Error{"screenshot: GL functions unavailable"};
+  bindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  readBuffer(GL_BACK);
+  pixelStore(GL_PACK_ALIGNMENT, 1);
+  tandem::Image img;
+  img.width = w;
+  img.height = h;
+  img.rgba.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+  readPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
+  // GL rows run bottom-up; Image rows top-down.
+  const std::size_t row = static_cast<std::size_t>(w) * 4;
+  for (int y = 0; y < h / 2; ++y)
+    std::swap_ranges(img.rgba.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(y)),
+                     img.rgba.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(y + 1)),
+                     img.rgba.begin() + static_cast<std::ptrdiff_t>(row * static_cast<std::size_t>(h - 1 - y)));
+  for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
+  return tandem::writePng(path, img);
+}
+
+void setFullscreen(GLFWwindow* window, bool on, glm::ivec4& windowed) {
+  if (on) {
+    glfwGetWindowPos(window, &windowed.x, &windowed.y);
+    glfwGetWindowSize(window, &windowed.z, &windowed.w);
+    GLFWmonitor* monitor = glfwGetPrimaryMonitor();
+    const GLFWvidmode* mode = monitor ? glfwGetVideoMode(monitor) : nullptr;
+    if (!mode) return;
+    glfwSetWindowMonitor(window, monitor, 0, 0, mode->width, mode->height, mode->refreshRate);
+  } else {
+    glfwSetWindowMonitor(window, nullptr, windowed.x, windowed.y, windowed.z, windowed.w, 0);
+  }
+}
+
+int runWindow(Session& s, const Options& o) {
+  GLFWwindow* window = s.ctx_.window();
+  if (!window) return fail("the window context has no GLFW window");
+  WindowInput in;
+  in.session = &s;
+  glfwSetWindowUserPointer(window, &in);
+  // Ours first: ImGui's backend chains to callbacks installed before it.
+  glfwSetKeyCallback(window, onKey);
+  glfwSetCursorPosCallback(window, onCursor);
+  glfwSetScrollCallback(window, onScroll);
+  Hud hud(window);
+  in.hud = &hud;
+  s.ctx_.setVsync(s.view_.vsync);
+  glm::ivec4 windowed(100, 100, 1280, 720);
+  if (s.view_.fullscreen) setFullscreen(window, true, windowed);
+  {
+    // The help overlay covers the stats in a small window: there it starts hidden (F1 shows it).
+    int fbW = 0, fbH = 0;
+    s.ctx_.framebufferSize(fbW, fbH);
+    if (fbW < 1100) s.view_.showHelp = false;
+  }
+
+  std::string message;
+  std::string contextName = s.ctx_.describe();
+  tandem::FrameStats stats;
+  std::vector<tandem::FrameStats> allStats;
+  std::vector<double> loopMs;
+  double frameMs = 0.0;
+  int frames = 0;
+  int lastW = 0, lastH = 0;
+  auto last = std::chrono::steady_clock::now();
+  double accumulator = 0.0;
+  while (!glfwWindowShouldClose(window) && !s.quit_) {
+    glfwPollEvents();
+    if (s.wantFullscreen_) {
+      s.wantFullscreen_ = false;
+      setFullscreen(window, s.view_.fullscreen, windowed);
+    }
+    int fbW = 0, fbH = 0;
+    s.ctx_.framebufferSize(fbW, fbH);
+    if (fbW <= 0 || fbH <= 0) {
+      // Minimised: nothing to draw into. Sleep on events and pause the game clock.
+      glfwWaitEventsTimeout(0.1);
+      last = std::chrono::steady_clock::now();
+      continue;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    // Clamp a long hitch (window drag, debugger) so the marble does not jump through a second of physics.
+    accumulator += std::min(0.25, std::chrono::duration<double>(now - last).count());
+    last = now;
+    while (accumulator >= s.dt_) {
+      s.step();
+      accumulator -= s.dt_;
+    }
+    const int w = std::max(1, fbW * s.view_.renderScalePct / 100);
+    const int h = std::max(1, fbH * s.view_.renderScalePct / 100);
+    stats = s.render(w, h);
+    const auto p0 = std::chrono::steady_clock::now();
+    s.renderer_->present(fbW, fbH);
+    const double presentMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - p0).count();
+
+    HudInfo info;
+    info.game = &s.game_;
+    info.view = &s.view_;
+    info.stats = stats;
+    info.frameMs = frameMs;
+    info.presentMs = presentMs;
+    info.framebufferW = fbW;
+    info.framebufferH = fbH;
+    info.context = contextName.c_str();
+    info.message = message.c_str();
+    hud.draw(info);
+
+    const bool lastFrame = o.frames > 0 && frames + 1 >= o.frames;
+    if (s.wantShot_ || (lastFrame && !o.capture.empty())) {
+      const bool scripted = !s.wantShot_;
+      s.wantShot_ = false;
+      const std::string framePath = scripted ? o.capture : s.nextShotPath("");
+      std::string windowPath = framePath;
+      windowPath.insert(windowPath.size() - (windowPath.size() >= 4 ? 4 : 0), "-window");
+      if (!scripted) ++s.shotIndex_;
+      auto a = s.saveFrame(framePath);
+      auto b = saveWindow(windowPath, fbW, fbH);
+      message = !a ? a.error().message : !b ? b.error().message : "saved " + framePath + " and " + windowPath;
+      std::printf("%s\n", message.c_str());
+      // The HUD shows just the file name: a full path would stretch the stats window across the frame.
+      if (a && b) message = "saved " + std::filesystem::path(framePath).filename().string() + " (+ -window)";
+      if (scripted && (!a || !b)) return fail(message);
+    }
+    s.ctx_.swapBuffers();
+    frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - now).count();
+    allStats.push_back(stats);
+    loopMs.push_back(frameMs);
+    lastW = w;
+    lastH = h;
+    if (++frames >= o.frames && o.frames > 0) break;
+  }
+  glfwSetWindowUserPointer(window, nullptr);
+  std::printf("game: %s frames=%d %s\n", s.game_.stateLine().c_str(), frames, s.settingsLine().c_str());
+  printTimes(allStats, loopMs, lastW, lastH);
+  return 0;
+}
+
+int run(int argc, char** argv) {
+  CLI::App app{"Marble Mirrors: roll a glass marble through a hall of mirrors and collect every gem"};
+  Options o;
+  app.add_flag("--headless", o.headless, "Run offscreen (EGL / OSMesa) with scripted input and a fixed step");
+  app.add_option("--frames", o.frames, "Frames to run, then exit (required headless; 0 = until quit)")
+      ->check(CLI::Range(0, 10000000));
+  app.add_option("--capture", o.capture, "Write the last frame to this PNG (windowed: also OUT-window.png)");
+  app.add_option("--script", o.script, "Scripted input file (docs/game.md)");
+  app.add_option("--size", o.size, "Frame size headless / window size, WxH (default 640x360 / 1280x720)");
+  app.add_option("--preset", o.preset, "raster | hybrid-fast | hybrid-full | reference (default hybrid-fast)");
+  app.add_option("--shading", o.shading, "Override every material: flat | gouraud | phong | toon");
+  app.add_option("--shadows", o.shadows, "off | raster | ray");
+  app.add_option("--reflections", o.reflections, "off | raster | ray");
+  app.add_option("--refraction", o.refraction, "off | raster | ray");
+  app.add_option("--depth", o.depth, "Recursion depth 0..16")->check(CLI::Range(0, 16));
+  app.add_option("--scale", o.scale, "Ray-pass scale divisor 1, 2 or 4");
+  app.add_option("--threads", o.threads, "Ray-pass threads (0 = all)")->check(CLI::Range(0, 1024));
+  app.add_option("--dt", o.dt, "Fixed simulation step in seconds (default 1/60)")->check(CLI::Range(0.001, 0.1));
+  app.add_flag("--no-vsync", o.noVsync, "Start with vsync off");
+  app.add_flag("--fullscreen", o.fullscreen, "Start fullscreen");
+  app.add_option("--shots", o.shotDir, "Folder for screenshots (P / F12), default the working directory");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);
+    return fail(e.what());
+  }
+
+  int w = o.headless ? 640 : 1280, h = o.headless ? 360 : 720;
+  if (!o.size.empty() && !parseSize(o.size, w, h)) return fail("--size: expected WxH, got '" + o.size + "'");
+  if (o.headless && o.frames < 1) return fail("--headless needs --frames N (N >= 1)");
+
+  ViewState view;
+  if (!view.applyPreset(o.preset))
+    return fail("--preset: unknown preset '" + o.preset + "' (raster, hybrid-fast, hybrid-full, reference)");
+  auto effect = [&](const char* flag, const std::string& v, tandem::EffectMode& out) {
+    if (v.empty()) return true;
+    auto m = tandem::parseEffectMode(v);
+    if (!m) {
+      fail(std::string(flag) + ": expected off, raster or ray, got '" + v + "'");
+      return false;
+    }
+    out = *m;
+    view.preset = "custom";
+    return true;
+  };
+  if (!effect("--shadows", o.shadows, view.settings.shadows) ||
+      !effect("--reflections", o.reflections, view.settings.reflections) ||
+      !effect("--refraction", o.refraction, view.settings.refraction))
+    return 1;
+  if (!o.shading.empty()) {
+    auto m = tandem::parseShadingModel(o.shading);
+    if (!m) return fail("--shading: expected flat, gouraud, phong or toon, got '" + o.shading + "'");
+    view.settings.shadingOverride = *m;
+  }
+  if (o.depth >= 0) {
+    view.settings.maxDepth = o.depth;
+    view.preset = "custom";
+  }
+  if (o.scale != 0) {
+    if (o.scale != 1 && o.scale != 2 && o.scale != 4) return fail("--scale: must be 1, 2 or 4");
+    view.settings.rayScale = o.scale;
+    view.preset = "custom";
+  }
+  view.vsync = !o.noVsync;
+  view.fullscreen = o.fullscreen;
+  view.showHelp = !o.headless;
+
+  std::vector<ScriptEvent> events;
+  if (!o.script.empty()) {
+    std::ifstream f(o.script);
+    if (!f) return fail("--script: cannot read '" + o.script + "'");
+    std::stringstream text;
+    text << f.rdbuf();
+    ScriptParse parsed = parseScript(text.str());
+    if (!parsed.ok()) return fail(o.script + ": " + parsed.error);
+    events = std::move(parsed.events);
+  }
+
+  tandem::ContextDesc desc;
+  desc.kind = o.headless ? tandem::ContextKind::Headless : tandem::ContextKind::Window;
+  desc.width = w;
+  desc.height = h;
+  desc.title = "Tandem: Marble Mirrors";
+  desc.vsync = view.vsync;
+  auto ctx = tandem::createGlContext(desc);
+  if (!ctx) return fail(ctx.error().message);
+  tandem::RendererDesc rdesc;
+  rdesc.threads = o.threads;
+  auto renderer = tandem::Renderer::create(**ctx, rdesc);
+  if (!renderer) return fail(renderer.error().message);
+
+  Session session(**ctx, std::move(*renderer), view, o.dt, std::move(events), o.shotDir);
+  if (auto r = session.init(); !r) return fail(r.error().message);
+  return o.headless ? runHeadless(session, o, w, h) : runWindow(session, o);
+}
+
+}  // namespace
+}  // namespace marble
+
+int main(int argc, char** argv) { return marble::run(argc, argv); }
