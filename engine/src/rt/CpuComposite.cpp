@@ -16,7 +16,11 @@ void compositeOnCpu(const Scene& scene, const Camera& camera, const FrameSetting
   out.width = rays.width;
   out.height = rays.height;
   out.rgb.assign(static_cast<std::size_t>(out.width) * static_cast<std::size_t>(out.height), scene.background);
-  FrameShading frame(scene, settings.shadingOverride);
+  // Camera-relative, as the ray pass (docs/numerics.md): positions relative to the camera stay precise
+  // far from the world origin.
+  const glm::vec3 anchor = camera.posW;
+  const Camera cam = toRenderSpace(camera, anchor);
+  FrameShading frame(scene, settings.shadingOverride, anchor);
   for (int gy = 0; gy < out.height; ++gy)
     for (int gx = 0; gx < out.width; ++gx) {
       std::size_t g = static_cast<std::size_t>(gy) * static_cast<std::size_t>(out.width) + static_cast<std::size_t>(gx);
@@ -25,8 +29,8 @@ void compositeOnCpu(const Scene& scene, const Camera& camera, const FrameSetting
       if (id.x == 0 || id.x > scene.instances.size()) continue;
       std::uint32_t instance = id.x - 1;
       if (id.y >= scene.meshes[scene.instances[instance].mesh].triangleCount()) continue;
-      InstanceTransform transform = makeInstanceTransform(scene.instances[instance].worldFromObject);
-      Ray ray = camera.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
+      InstanceTransform transform = makeInstanceTransform(scene.instances[instance].worldFromObject, anchor);
+      Ray ray = cam.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
       SurfaceHit hit = resolveHit(scene, transform, instance, id.y, ray);
       std::uint32_t mask = rays.lightMask.empty() ? ~0u : rays.lightMask[g];
       glm::vec3 c = shadeLocal(scene, frame, transform, hit, mask);

@@ -104,6 +104,9 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, co
   }
 
   auto out = std::unique_ptr<EmbreeScene>(new EmbreeScene());
+  // Camera-relative: positions are kept relative to where the camera is, so their precision follows
+  // the distance to the viewer rather than to the world origin (docs/numerics.md, "Position").
+  if (isFinite(scene.camera.posW)) out->anchor_ = scene.camera.posW;
   auto failed = [&](const std::string& what) -> Result<std::unique_ptr<EmbreeScene>> {
     std::string e = device.firstError();
     return Error{where + ": " + what + ": " + (e.empty() ? std::string("Embree failed") : e)};
@@ -154,12 +157,14 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, co
     if (!geom) return failed("instance " + std::to_string(i));
     rtcSetGeometryInstancedScene(geom, out->meshScenes_[inst.mesh].get());
     rtcSetGeometryTimeStepCount(geom, 1);
-    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &inst.worldFromObject[0][0]);
+    InstanceTransform t = makeInstanceTransform(inst.worldFromObject, out->anchor_);
+    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &t.worldFromObject[0][0]);
     rtcCommitGeometry(geom);
     // geomID = instance index, so a hit's instID is the Scene::instances index the rasterizer writes.
     rtcAttachGeometryByID(out->top_.get(), geom, static_cast<unsigned>(i));
     rtcReleaseGeometry(geom);
-    out->transforms_.push_back(makeInstanceTransform(inst.worldFromObject));
+    out->transforms_.push_back(t);
+    out->worldFromObject_.push_back(inst.worldFromObject);
     out->triangleCounts_.push_back(scene.meshes[inst.mesh].triangleCount());
   }
   rtcCommitScene(out->top_.get());
@@ -173,15 +178,16 @@ void EmbreeScene::updateTransforms(const Scene& scene) {
   std::size_t n = std::min(scene.instances.size(), transforms_.size());
   for (std::size_t i = 0; i < n; ++i) {
     const Instance& inst = scene.instances[i];
-    if (!inst.dynamic || inst.worldFromObject == transforms_[i].worldFromObject) continue;
+    if (!inst.dynamic || inst.worldFromObject == worldFromObject_[i]) continue;
     bool finite = true;
     for (int c = 0; c < 4; ++c) finite = finite && isFinite(glm::vec3(inst.worldFromObject[c])) && std::isfinite(inst.worldFromObject[c].w);
     // Per-frame code never fails: a non-finite transform keeps the instance where it was.
     if (!finite) continue;
     RTCGeometry geom = rtcGetGeometry(top_.get(), static_cast<unsigned>(i));
-    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &inst.worldFromObject[0][0]);
+    transforms_[i] = makeInstanceTransform(inst.worldFromObject, anchor_);
+    worldFromObject_[i] = inst.worldFromObject;
+    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &transforms_[i].worldFromObject[0][0]);
     rtcCommitGeometry(geom);
-    transforms_[i] = makeInstanceTransform(inst.worldFromObject);
     moved = true;
   }
   if (moved) rtcCommitScene(top_.get());  // the top level only: every BLAS stays as built

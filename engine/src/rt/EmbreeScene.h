@@ -61,6 +61,10 @@ class EmbreeScene {
   void updateTransforms(const Scene& scene);
 
   RTCScene top() const { return top_.get(); }
+  /// The origin of render space (SurfaceShading.h, toRenderSpace): the scene camera's position at build.
+  /// Rays given to top() and the transforms below are relative to it.
+  glm::vec3 anchor() const { return anchor_; }
+  /// The instance's transform in render space.
   const InstanceTransform& transform(std::size_t instance) const { return transforms_[instance]; }
   std::size_t instanceCount() const { return transforms_.size(); }
   /// Whether the instance's mesh has this triangle (guards ids read back from the rasterizer).
@@ -71,7 +75,9 @@ class EmbreeScene {
  private:
   std::vector<SceneHandle> meshScenes_;  // one BLAS per mesh
   SceneHandle top_;
-  std::vector<InstanceTransform> transforms_;  // the copy Embree holds, used to rebuild hits
+  glm::vec3 anchor_{0.0f};
+  std::vector<InstanceTransform> transforms_;  // the copy Embree holds (render space), used to rebuild hits
+  std::vector<glm::mat4> worldFromObject_;     // the scene's world-space matrices, to detect moves
   std::vector<std::size_t> triangleCounts_;
 };
 

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include <glm/glm.hpp>
 
@@ -30,6 +31,40 @@ inline glm::vec3 offsetRayOrigin(glm::vec3 posW, glm::vec3 normalW) {
     auto bits = std::bit_cast<std::int32_t>(posW[i]);
     float moved = std::bit_cast<float>(bits + (posW[i] < 0.0f ? -ulps : ulps));
     out[i] = std::abs(posW[i]) < kOrigin ? posW[i] + kFloatScale * normalW[i] : moved;
+  }
+  return out;
+}
+
+/// Bound on the magnitudes that went into an interpolated hit position, per component (pbrt-v4's
+/// Σ|bj·pj|, with the transform's terms when the vertices were transformed): the rounding error of the
+/// position is a few ULPs of this, not of the position itself, which can be far smaller (a point near
+/// the origin on a large triangle, or a triangle spanning -1e8..1e8).
+inline glm::vec3 interpolationMagnitude(glm::vec3 bary, glm::vec3 m0, glm::vec3 m1, glm::vec3 m2) {
+  return std::abs(bary.x) * glm::abs(m0) + std::abs(bary.y) * glm::abs(m1) + std::abs(bary.z) * glm::abs(m2);
+}
+
+/// Scale-aware origin offset (pbrt-v4's error-bound offset, with margins sized for Embree): moves posW
+/// along the unit geometric normal `normalW` (on the side the new ray leaves from) by
+///   d = 2^-23 · (kErrUlps · dot(|n|, magnitude) + kMinUlps · max(magnitude)),
+/// the position's rounding error projected on the normal plus a floor for Embree's own rounding (relative
+/// to the triangle, so a surface through the origin still gets a real offset), then rounds each moved
+/// component one more ULP away so the addition can never round back onto the surface. Unlike a fixed
+/// epsilon or W&B's fixed near-origin offset it is invariant under scaling the scene (1e-4 .. 1e4), and it
+/// stays correct when one component of the position is small but carries a large error.
+inline glm::vec3 offsetRayOrigin(glm::vec3 posW, glm::vec3 normalW, glm::vec3 magnitude) {
+  constexpr float kUlp = 1.0f / 8388608.0f;  // 2^-23
+  constexpr float kErrUlps = 64.0f;
+  constexpr float kMinUlps = 16.0f;
+  glm::vec3 an = glm::abs(normalW);
+  float maxMag = std::max(magnitude.x, std::max(magnitude.y, magnitude.z));
+  float d = kUlp * (kErrUlps * glm::dot(an, magnitude) + kMinUlps * maxMag);
+  // A triangle entirely at 0 (all its coordinates zero, i.e. degenerate at the origin): the smallest
+  // normal float keeps the ray off it.
+  d = std::max(d, std::numeric_limits<float>::min());
+  glm::vec3 out = posW + d * normalW;
+  for (int i = 0; i < 3; ++i) {
+    if (normalW[i] > 0.0f) out[i] = std::nextafter(out[i], std::numeric_limits<float>::infinity());
+    else if (normalW[i] < 0.0f) out[i] = std::nextafter(out[i], -std::numeric_limits<float>::infinity());
   }
   return out;
 }
@@ -112,8 +147,8 @@ struct Refraction {
 };
 
 /// Light arriving along -toEyeW at a surface with unit normal normalW on the arrival side
-/// (dot(normalW, toEyeW) >= 0), passing from IOR etaI into etaT. TIR is decided by the same sin²θt
-/// expression as tdFresnelExact / tdFresnelSchlick, so F = 1 exactly when there is no transmitted ray.
+/// (dot(normalW, toEyeW) >= 0), passing from IOR etaI into etaT. TIR is decided by the same cos²θt
+/// expression (tdCos2T) as tdFresnelExact / tdFresnelSchlick, so F = 1 exactly when there is no transmitted ray.
 /// Equal IORs are an exact identity: no bending, F = 0.
 inline Refraction refractDielectric(glm::vec3 toEyeW, glm::vec3 normalW, float etaI, float etaT, FresnelMode mode) {
   Refraction r;
@@ -124,15 +159,16 @@ inline Refraction refractDielectric(glm::vec3 toEyeW, glm::vec3 normalW, float e
   }
   float cosI = glm::clamp(glm::dot(normalW, toEyeW), 0.0f, 1.0f);
   float eta = etaI / etaT;
-  float sin2T = eta * eta * (1.0f - cosI * cosI);
+  // The same cos²θt (and so the same TIR decision) as the Fresnel formulas, without cancellation.
+  float cos2T = shading::tdCos2T(cosI, eta);
   r.fresnel = mode == FresnelMode::Schlick ? shading::tdFresnelSchlick(cosI, etaI, etaT)
                                            : shading::tdFresnelExact(cosI, etaI, etaT);
-  if (sin2T >= 1.0f) {
+  if (cos2T <= 0.0f) {
     r.totalInternal = true;
     r.fresnel = 1.0f;
     return r;
   }
-  float cosT = std::sqrt(std::max(0.0f, 1.0f - sin2T));
+  float cosT = std::sqrt(cos2T);
   glm::vec3 t = eta * -toEyeW + (eta * cosI - cosT) * normalW;
   float len = glm::length(t);
   r.dirW = len > 0.0f ? t / len : -normalW;

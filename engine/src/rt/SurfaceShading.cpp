@@ -9,9 +9,24 @@ namespace tandem::rt {
 
 using namespace tandem::shading;
 
-InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject) {
+glm::vec3 toRenderSpace(glm::vec3 posW, glm::vec3 anchor) {
+  return glm::vec3(glm::dvec3(posW) - glm::dvec3(anchor));
+}
+
+Camera toRenderSpace(const Camera& camera, glm::vec3 anchor) {
+  Camera c = camera;
+  c.posW = toRenderSpace(camera.posW, anchor);
+  // The view direction from the world-space difference (exact in double): rounding the two rebased
+  // points separately would tilt it by their rounding when the target is close to the camera.
+  glm::dvec3 forward = glm::dvec3(camera.targetW) - glm::dvec3(camera.posW);
+  c.targetW = glm::vec3(glm::dvec3(c.posW) + forward);
+  return c;
+}
+
+InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject, glm::vec3 anchor) {
   InstanceTransform t;
   t.worldFromObject = worldFromObject;
+  t.worldFromObject[3] = glm::vec4(toRenderSpace(glm::vec3(worldFromObject[3]), anchor), worldFromObject[3].w);
   glm::mat3 m(worldFromObject);
   // A singular transform (scale 0 on an axis) has no inverse; its normals fall back to Ng per hit.
   float det = glm::determinant(m);
@@ -19,8 +34,11 @@ InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject) {
   return t;
 }
 
-FrameShading::FrameShading(const Scene& scene, std::optional<ShadingModel> shadingOverride) {
-  for (const Light* l : scene.directLights()) lights.push_back(packLight(*l));
+FrameShading::FrameShading(const Scene& scene, std::optional<ShadingModel> shadingOverride, glm::vec3 anchor) {
+  for (const Light* l : scene.directLights()) {
+    lights.push_back(packLight(*l));
+    lights.back().posType = glm::vec4(toRenderSpace(l->posW, anchor), lights.back().posType.w);
+  }
   materials.reserve(scene.materials.size());
   toonRamps.resize(scene.materials.size());
   for (std::size_t i = 0; i < scene.materials.size(); ++i) {
@@ -98,13 +116,24 @@ SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, st
   }
   h.bary = triangleBarycentrics(ray.origin, ray.dir, h.vertexW[0], h.vertexW[1], h.vertexW[2]);
   h.posW = h.bary.x * h.vertexW[0] + h.bary.y * h.vertexW[1] + h.bary.z * h.vertexW[2];
+  // Error scale of posW: the interpolation's terms and, before them, the transform's (|M|·|p| + |t|,
+  // larger than |vertexW| when the transform cancels a large object-space coordinate).
+  glm::mat3 absLinear(glm::abs(transform.worldFromObject[0]), glm::abs(transform.worldFromObject[1]),
+                      glm::abs(transform.worldFromObject[2]));
+  glm::vec3 absT = glm::abs(glm::vec3(transform.worldFromObject[3]));
+  glm::vec3 mag[3];
+  for (int i = 0; i < 3; ++i) mag[i] = absLinear * glm::abs(mesh.positions[h.vertex[i]]) + absT;
+  h.posMagnitude = interpolationMagnitude(h.bary, mag[0], mag[1], mag[2]);
   h.eyeW = ray.origin;
   h.toEyeW = -ray.dir;
 
-  glm::vec3 ng = glm::cross(h.vertexW[1] - h.vertexW[0], h.vertexW[2] - h.vertexW[0]);
-  float ngLen = glm::length(ng);
+  // The plane's normal in double: a needle triangle's edge vectors are nearly parallel and their float
+  // cross product can point anywhere, sending offsets and the inside/outside test the wrong way.
+  glm::dvec3 ngD = glm::cross(glm::dvec3(h.vertexW[1]) - glm::dvec3(h.vertexW[0]),
+                              glm::dvec3(h.vertexW[2]) - glm::dvec3(h.vertexW[0]));
+  double ngLen = glm::length(ngD);
   // A zero-area triangle has no plane: face the ray so shading and offsets stay finite.
-  h.geomNormalW = ngLen > 0.0f && std::isfinite(ngLen) ? ng / ngLen : h.toEyeW;
+  h.geomNormalW = ngLen > 0.0 && std::isfinite(ngLen) ? glm::vec3(ngD / ngLen) : h.toEyeW;
   h.normalW = h.geomNormalW;
   if (!mesh.normals.empty()) {
     glm::vec3 n = transform.normalWorldFromObject * interpolate(mesh.normals, h);

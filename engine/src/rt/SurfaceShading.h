@@ -10,17 +10,28 @@
 #include <glm/glm.hpp>
 
 #include "core/Shading.h"
+#include "rt/RayMath.h"
 #include "tandem/Camera.h"
 #include "tandem/Scene.h"
 
 namespace tandem::rt {
 
-/// An instance's transforms as the ray pass uses them (the same copy Embree was given).
+/// Camera-relative rendering (docs/numerics.md): the ray pass works in "render space", world space
+/// translated by −anchor (the camera position when the Embree scene was built), as Unity HDRP does. Far
+/// from the world origin a float world position carries an error of ulp(|p|) (1/16 at 1e6), so offsets
+/// sized for it would be metres; relative to the camera the coordinates stay small and precise. Every
+/// position the ray pass handles (instance transforms, lights, ray origins, hits) is in render space;
+/// directions, distances and outputs are the same as in world space. anchor = 0 is plain world space.
+/// The subtraction is done in double, so the only rounding is that of the result.
+glm::vec3 toRenderSpace(glm::vec3 posW, glm::vec3 anchor);
+Camera toRenderSpace(const Camera& camera, glm::vec3 anchor);
+
+/// An instance's transforms as the ray pass uses them (the same copy Embree was given), in render space.
 struct InstanceTransform {
   glm::mat4 worldFromObject{1.0f};
   glm::mat3 normalWorldFromObject{1.0f};  // inverse transpose of the upper 3x3
 };
-InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject);
+InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject, glm::vec3 anchor = glm::vec3(0.0f));
 
 /// Per-frame shading records: lights and materials packed as GL packs them (override applied), toon
 /// ramps baked, Ia. Built once per frame, read by every thread.
@@ -30,7 +41,8 @@ struct FrameShading {
   std::vector<std::array<float, TD_TOON_RAMP_SIZE>> toonRamps;
   glm::vec3 ambient{0.0f};     // Ia
   glm::vec3 background{0.0f};  // radiance of escaped rays
-  FrameShading(const Scene& scene, std::optional<ShadingModel> shadingOverride);
+  /// Light positions in render space (see toRenderSpace).
+  FrameShading(const Scene& scene, std::optional<ShadingModel> shadingOverride, glm::vec3 anchor = glm::vec3(0.0f));
   bool castsShadows(std::size_t light) const { return lights[light].radiance.w > 0.5f; }
 };
 
@@ -42,6 +54,7 @@ struct SurfaceHit {
   glm::vec3 bary{1.0f, 0.0f, 0.0f};  // b0, b1, b2
   glm::vec3 vertexW[3];              // p0, p1, p2 in world space
   glm::vec3 posW{0.0f};              // b0·p0 + b1·p1 + b2·p2
+  glm::vec3 posMagnitude{0.0f};      // bound of the magnitudes behind posW (offsetRayOrigin's error scale)
   glm::vec3 geomNormalW{0.0f, 1.0f, 0.0f};  // Ng, unit, flipped towards the viewer (two-sided lighting)
   glm::vec3 normalW{0.0f, 1.0f, 0.0f};      // N, unit, flipped with Ng
   bool backFace = false;             // the ray arrived against the counter-clockwise front (Ng was flipped)
@@ -56,6 +69,12 @@ struct SurfaceHit {
 /// triangle when the ray grazes past it), the position interpolated from the world-space vertices.
 SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, std::uint32_t instance,
                       std::uint32_t triangle, const Ray& ray);
+
+/// The origin of a ray leaving `hit` towards the side of unit normal `side` (±geomNormalW): offset by the
+/// hit's own rounding error (RayMath.h, the scale-aware offsetRayOrigin).
+inline glm::vec3 spawnOrigin(const SurfaceHit& hit, glm::vec3 side) {
+  return offsetRayOrigin(hit.posW, side, hit.posMagnitude);
+}
 
 /// Local shading (docs/shading.md "Local shading"): emission + ambient + Σj visj·Lj, where visj is bit j
 /// of `visibleLights`; unlit materials give C + emission.
