@@ -12,10 +12,12 @@
 #include <tbb/task_arena.h>
 
 #include "rt/EmbreeScene.h"
+#include "rt/RayCapture.h"
 #include "rt/RayMath.h"
 #include "rt/SurfaceShading.h"
 #include "rt/Whitted.h"
 #include "tandem/Log.h"
+#include "core/Timer.h"
 
 namespace tandem::rt {
 
@@ -64,7 +66,25 @@ struct RayTracer::Impl {
   std::unique_ptr<EmbreeDevice> device;
   std::unique_ptr<EmbreeScene> scene;
   bool batchedShadows = true;
+  RayCapture* capture = nullptr;  // bench hook (setRayCapture)
 };
+
+namespace {
+int tileCount(int n) { return (n + kTile - 1) / kTile; }
+/// Row-major tile index of the tile starting at (x0, y0): the RayCapture tile order.
+std::size_t tileIndex(int x0, int y0, int width) {
+  return static_cast<std::size_t>(y0 / kTile) * static_cast<std::size_t>(tileCount(width)) +
+         static_cast<std::size_t>(x0 / kTile);
+}
+void resetCapture(RayCapture* capture, int width, int height, bool primaryTraced) {
+  if (!capture) return;
+  capture->clear();
+  capture->width = width;
+  capture->height = height;
+  capture->primaryTraced = primaryTraced;
+  capture->tiles.resize(static_cast<std::size_t>(tileCount(width)) * static_cast<std::size_t>(tileCount(height)));
+}
+}  // namespace
 
 Result<std::unique_ptr<RayTracer>> RayTracer::create(int threads) {
   auto device = EmbreeDevice::create();
@@ -85,6 +105,7 @@ RayTracer::~RayTracer() {
 int RayTracer::threads() const { return impl_->threads; }
 void RayTracer::setBatchedShadowRays(bool batched) { impl_->batchedShadows = batched; }
 void RayTracer::setEmbreeMemoryLimit(std::size_t bytes) { impl_->device->setMemoryLimit(bytes); }
+void RayTracer::setRayCapture(RayCapture* capture) { impl_->capture = capture; }
 
 Result<void> RayTracer::setScene(const Scene& scene) {
   Result<std::unique_ptr<EmbreeScene>> built = Error{};
@@ -127,18 +148,24 @@ void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSetti
   }
 
   const EmbreeScene& embree = *impl_->scene;
-  FrameShading frame(scene, settings.shadingOverride);
+  // Camera-relative rendering (docs/numerics.md): rays and lights in the Embree scene's render space.
+  const Camera cam = toRenderSpace(camera, embree.anchor());
+  FrameShading frame(scene, settings.shadingOverride, embree.anchor());
   Whitted whitted(scene, embree, frame, TraceModes::hybrid(settings));
   const TraceModes& modes = whitted.modes();
   const bool batched = impl_->batchedShadows;
   AtomicCounts total;
+  RayCapture* const capturing = impl_->capture;
+  resetCapture(capturing, gw, gh, false);
 
   impl_->arena.execute([&] {
     forEachTile(gw, gh, [&](int x0, int y0, int x1, int y1) {
+      capture::TileScope captureScope(capturing, tileIndex(x0, y0, gw));
       RayCounts counts;
       // Batched shadow rays of this tile: the ray and the (pixel, light bit) it answers.
       std::vector<RTCRay> rays;
       std::vector<std::pair<std::size_t, std::uint32_t>> owners;
+      std::vector<std::size_t> captured;  // bench hook: capture index of each batched ray
       for (int gy = y0; gy < y1; ++gy)
         for (int gx = x0; gx < x1; ++gx) {
           std::size_t g = static_cast<std::size_t>(gy) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(gx);
@@ -149,9 +176,12 @@ void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSetti
           // Ids come from the rasterizer of the same scene; a stale one is a bug, skipped in release.
           assert(embree.hasTriangle(instance, id.y) && "trace: visibility id not in the scene");
           if (!embree.hasTriangle(instance, id.y)) continue;
-          Ray ray = camera.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
+          Ray ray = cam.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
           SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, id.y, ray);
           ++counts.primary;
+          // Bench hook: counted, but intersected on the CPU against the known triangle, not by Embree.
+          capture::record(RayKind::Primary, ray.origin, ray.dir, 0.0f, std::numeric_limits<float>::infinity());
+          capture::resolvePending(true, false);
           if (modes.primaryShadowRays) {
             if (!batched) {
               out.lightMask[g] = whitted.lightMask(hit, counts);
@@ -163,6 +193,8 @@ void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSetti
                   rays.emplace_back();
                   makeEmbreeRay(rays.back(), s.originW, s.dirW, 0.0f, s.tFar);
                   owners.emplace_back(g, 1u << j);
+                  if (capturing)
+                    captured.push_back(capture::recordDeferred(RayKind::Shadow, s.originW, s.dirW, 0.0f, s.tFar));
                 } else if (s.visibleWithoutRay) {
                   mask |= 1u << j;
                 }
@@ -185,6 +217,8 @@ void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSetti
         counts.shadow += rays.size();
         for (std::size_t i = 0; i < rays.size(); ++i)
           if (rays[i].tfar >= 0.0f) out.lightMask[owners[i].first] |= owners[i].second;  // occluded: -inf
+        if (capturing)
+          for (std::size_t i = 0; i < rays.size(); ++i) capture::setHit(RayKind::Shadow, captured[i], rays[i].tfar < 0.0f);
       }
       total.add(counts);
     });
@@ -207,13 +241,17 @@ void RayTracer::renderReference(const Scene& scene, const Camera& camera, const 
   counts = {};
   if (!impl_->scene) return;
   const EmbreeScene& embree = *impl_->scene;
-  FrameShading frame(scene, settings.shadingOverride);
+  const Camera cam = toRenderSpace(camera, embree.anchor());  // camera-relative, as in trace()
+  FrameShading frame(scene, settings.shadingOverride, embree.anchor());
   Whitted whitted(scene, embree, frame, TraceModes::reference(settings));
   const int spp = std::max(1, settings.referenceSpp);
   AtomicCounts total;
+  RayCapture* const capturing = impl_->capture;
+  resetCapture(capturing, width, height, true);
 
   impl_->arena.execute([&] {
     forEachTile(width, height, [&](int x0, int y0, int x1, int y1) {
+      capture::TileScope captureScope(capturing, tileIndex(x0, y0, width));
       RayCounts c;
       for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
@@ -229,10 +267,11 @@ void RayTracer::renderReference(const Scene& scene, const Camera& camera, const 
                 offset = (glm::vec2(sx, sy) + glm::vec2(random01(ux, uy, sample, 0), random01(ux, uy, sample, 1))) /
                          static_cast<float>(spp);
               }
-              Ray ray = camera.rayThroughPixel(glm::vec2(x, y) + offset, {width, height});
+              Ray ray = cam.rayThroughPixel(glm::vec2(x, y) + offset, {width, height});
               float tNear, tFar;
-              cameraSpan(camera, ray, tNear, tFar);
+              cameraSpan(cam, ray, tNear, tFar);
               ++c.primary;
+              capture::record(RayKind::Primary, ray.origin, ray.dir, tNear, tFar);  // answered by intersect()
               std::uint32_t instance, triangle;
               if (!whitted.intersect(ray.origin, ray.dir, tNear, tFar, instance, triangle)) {
                 sum += frame.background;
@@ -256,13 +295,14 @@ void RayTracer::castVisibility(const Camera& camera, int width, int height, Visi
   out.ids.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), glm::uvec2(0));
   if (!impl_->scene) return;
   RTCScene top = impl_->scene->top();
+  const Camera cam = toRenderSpace(camera, impl_->scene->anchor());  // camera-relative, as in trace()
   impl_->arena.execute([&] {
     forEachTile(width, height, [&](int x0, int y0, int x1, int y1) {
       for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
-          Ray ray = camera.rayThroughPixel(glm::vec2(x, y) + 0.5f, {width, height});
+          Ray ray = cam.rayThroughPixel(glm::vec2(x, y) + 0.5f, {width, height});
           float tNear, tFar;
-          cameraSpan(camera, ray, tNear, tFar);
+          cameraSpan(cam, ray, tNear, tFar);
           RTCRayHit rh;
           if (!makeEmbreeRay(rh.ray, ray.origin, ray.dir, tNear, tFar)) continue;
           rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -276,6 +316,104 @@ void RayTracer::castVisibility(const Camera& camera, int width, int height, Visi
         }
     });
   });
+}
+
+}  // namespace tandem::rt
+
+namespace tandem::rt {
+
+namespace {
+constexpr unsigned kInvalid = RTC_INVALID_GEOMETRY_ID;
+
+bool toEmbree(const CapturedRay& c, RTCRay& r) { return makeEmbreeRay(r, c.origin, c.dir, c.tnear, c.tfar); }
+bool toEmbree(const CapturedRay& c, RTCRayHit& rh) {
+  rh.hit.geomID = kInvalid;
+  rh.hit.instID[0] = kInvalid;
+  return makeEmbreeRay(rh.ray, c.origin, c.dir, c.tnear, c.tfar);
+}
+bool answered(const RTCRay& r) { return r.tfar < 0.0f; }  // occluded: Embree sets tfar = -inf
+bool answered(const RTCRayHit& rh) { return rh.hit.geomID != kInvalid && rh.hit.instID[0] != kInvalid; }
+void traceOne(RTCScene scene, RTCIntersectContext& ctx, RTCRay& r) { rtcOccluded1(scene, &ctx, &r); }
+void traceOne(RTCScene scene, RTCIntersectContext& ctx, RTCRayHit& rh) { rtcIntersect1(scene, &ctx, &rh); }
+void traceMany(RTCScene scene, RTCIntersectContext& ctx, RTCRay* r, unsigned n) {
+  rtcOccluded1M(scene, &ctx, r, n, sizeof(RTCRay));
+}
+void traceMany(RTCScene scene, RTCIntersectContext& ctx, RTCRayHit* rh, unsigned n) {
+  rtcIntersect1M(scene, &ctx, rh, n, sizeof(RTCRayHit));
+}
+
+/// One tile's rays of one kind through Embree; returns the answers that differ from the capture. The
+/// conversion to Embree's layout is part of the floor: any caller of Embree pays it.
+template <class EmbreeRay>
+std::uint64_t retraceTile(RTCScene scene, const std::vector<CapturedRay>& rays, RetraceApi api,
+                          std::uint64_t& traced) {
+  std::uint64_t mismatches = 0;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  if (api == RetraceApi::Single) {
+    for (const CapturedRay& c : rays) {
+      if (!c.traced) continue;
+      EmbreeRay r;
+      if (!toEmbree(c, r)) continue;
+      traceOne(scene, ctx, r);
+      ++traced;
+      mismatches += answered(r) != c.hit;
+    }
+    return mismatches;
+  }
+  // Stream: one call per tile, from a per-thread buffer so no tile allocates. Incoherent flag, as in
+  // the ray pass (the coherent flag hangs Debian's Embree 3.13.5, see RayTracer::trace).
+  thread_local std::vector<EmbreeRay> buffer;
+  thread_local std::vector<const CapturedRay*> source;
+  buffer.clear();
+  source.clear();
+  for (const CapturedRay& c : rays) {
+    if (!c.traced) continue;
+    buffer.emplace_back();
+    if (!toEmbree(c, buffer.back())) {
+      buffer.pop_back();
+      continue;
+    }
+    source.push_back(&c);
+  }
+  if (buffer.empty()) return 0;
+  traceMany(scene, ctx, buffer.data(), static_cast<unsigned>(buffer.size()));
+  traced += buffer.size();
+  for (std::size_t i = 0; i < buffer.size(); ++i) mismatches += answered(buffer[i]) != source[i]->hit;
+  return mismatches;
+}
+}  // namespace
+
+RetraceStats RayTracer::retrace(const RayCapture& capture, const RetraceOptions& options) {
+  assert(impl_->scene && "retrace before a successful setScene");
+  RetraceStats stats;
+  if (!impl_->scene) return stats;
+  RTCScene top = impl_->scene->top();
+  for (std::size_t k = 0; k < kRayKinds; ++k) {
+    auto kind = static_cast<RayKind>(k);
+    if (!options.kinds[k] || (kind == RayKind::Primary && !capture.primaryTraced)) continue;
+    if (capture.count(kind) == 0) continue;
+    std::atomic<std::uint64_t> traced{0}, mismatches{0};
+    Timer timer;
+    impl_->arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, capture.tiles.size(), 1),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          std::uint64_t t = 0, m = 0;
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                            const std::vector<CapturedRay>& rays = capture.tiles[i].rays[k];
+                            if (rays.empty()) continue;
+                            m += kind == RayKind::Shadow ? retraceTile<RTCRay>(top, rays, options.api[k], t)
+                                                         : retraceTile<RTCRayHit>(top, rays, options.api[k], t);
+                          }
+                          traced += t;
+                          mismatches += m;
+                        });
+    });
+    stats.ms[k] = timer.ms();
+    stats.rays[k] = traced.load();
+    stats.mismatches[k] = mismatches.load();
+  }
+  return stats;
 }
 
 }  // namespace tandem::rt

@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include "rt/RayCapture.h"
 #include "tandem/FrameStats.h"
 #include "tandem/Image.h"
 #include "tandem/Result.h"
@@ -80,6 +81,13 @@ class RayTracer {
   /// Primary shadow rays per tile through one rtcOccluded1M call (true, the default: measured faster
   /// here) or one rtcOccluded1 per ray. Both give identical masks.
   void setBatchedShadowRays(bool batched);
+  /// Bench hook: while set (non-null), trace() and renderReference() record every ray they trace into
+  /// `capture` (cleared at the start of each call). The caller owns it and keeps it alive while set.
+  void setRayCapture(RayCapture* capture);
+  /// Re-traces a capture through raw Embree, no shading, on this tracer's threads and scene (which must
+  /// be the scene the capture was taken on): each kind a parallel pass over the capture's tiles with
+  /// the API the options name. Reports time, rays and answers that differ from the capture's.
+  RetraceStats retrace(const RayCapture& capture, const RetraceOptions& options = {});
   /// Limit on Embree's memory (bytes, 0 = none): setScene fails with an out-of-memory error beyond it.
   void setEmbreeMemoryLimit(std::size_t bytes);
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "rt/RayCapture.h"
+
 namespace tandem::rt {
 
 using namespace tandem::shading;
@@ -67,7 +69,7 @@ ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light) const {
   tdLightIncident(l, hit.posW, toLight, dist);
   // Leave from the side of the geometric surface the ray goes to (W&B offset, never a fixed epsilon).
   glm::vec3 side = glm::dot(toLight, hit.geomNormalW) >= 0.0f ? hit.geomNormalW : -hit.geomNormalW;
-  r.originW = offsetRayOrigin(hit.posW, side);
+  r.originW = spawnOrigin(hit, side);
   if (dist < 0.0f) {  // directional
     r.dirW = toLight;
     r.tFar = std::numeric_limits<float>::infinity();
@@ -98,10 +100,12 @@ std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts) const
     makeEmbreeRay(ray, s.originW, s.dirW, 0.0f, s.tFar);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
+    capture::record(RayKind::Shadow, s.originW, s.dirW, 0.0f, s.tFar);  // bench hook, no-op by default
     rtcOccluded1(embree_.top(), &ctx, &ray);
     ++counts.shadow;
     // Embree marks an occluded ray by tfar = -inf.
     if (ray.tfar >= 0.0f) mask |= 1u << j;
+    capture::resolvePending(ray.tfar < 0.0f);
   }
   return mask;
 }
@@ -139,16 +143,21 @@ void Whitted::secondary(const SurfaceHit& hit, int depth, float throughput, glm:
     glm::vec3 dir = glm::reflect(-hit.toEyeW, hit.normalW);
     glm::vec3 side = glm::dot(dir, hit.geomNormalW) >= 0.0f ? hit.geomNormalW : -hit.geomNormalW;
     ++counts.reflection;
+    // Bench hook: the ray radiance() traces next (intersect() stores its answer).
+    capture::record(RayKind::Reflection, spawnOrigin(hit, side), dir, 0.0f,
+                    std::numeric_limits<float>::infinity());
     tracedReflection = true;
-    reflected = w.reflect * radiance(offsetRayOrigin(hit.posW, side), dir, depth + 1, throughput * w.reflect, counts);
+    reflected = w.reflect * radiance(spawnOrigin(hit, side), dir, depth + 1, throughput * w.reflect, counts);
   }
   if (modes_.refraction && w.transmit > 0.0f && throughput * w.transmit >= modes_.minContribution) {
     glm::vec3 dir = w.refraction.dirW;
     glm::vec3 side = glm::dot(dir, hit.geomNormalW) >= 0.0f ? hit.geomNormalW : -hit.geomNormalW;
     ++counts.refraction;
+    capture::record(RayKind::Refraction, spawnOrigin(hit, side), dir, 0.0f,
+                    std::numeric_limits<float>::infinity());
     tracedRefraction = true;
     transmitted =
-        w.transmit * radiance(offsetRayOrigin(hit.posW, side), dir, depth + 1, throughput * w.transmit, counts);
+        w.transmit * radiance(spawnOrigin(hit, side), dir, depth + 1, throughput * w.transmit, counts);
   }
 }
 
@@ -165,13 +174,18 @@ glm::vec3 Whitted::shade(const SurfaceHit& hit, int depth, float throughput, Ray
 bool Whitted::intersect(glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, std::uint32_t& instance,
                         std::uint32_t& triangle) const {
   RTCRayHit rh;
-  if (!makeEmbreeRay(rh.ray, originW, dirW, tNear, tFar)) return false;
+  if (!makeEmbreeRay(rh.ray, originW, dirW, tNear, tFar)) {
+    capture::resolvePending(false, false);
+    return false;
+  }
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   rtcIntersect1(embree_.top(), &ctx, &rh);
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID) return false;
+  bool missed = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID;
+  capture::resolvePending(!missed);  // bench hook: Embree's answer for the recorded ray
+  if (missed) return false;
   instance = rh.hit.instID[0];
   triangle = rh.hit.primID;
   return embree_.hasTriangle(instance, triangle);

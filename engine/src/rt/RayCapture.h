@@ -1,0 +1,103 @@
+#pragma once
+// Ray capture: the exact rays one frame of the ray pass traced, per kind and per tile, in trace order,
+// with what Embree answered. The bench re-traces them with no shading (RayTracer::retrace) to measure
+// the floor of the ray pass: how fast the same rays go through Embree alone (docs/bench.md, "Ceiling").
+//
+//   RayCapture capture;
+//   tracer->setRayCapture(&capture);   // the next trace()/renderReference() records into it
+//   tracer->trace(scene, camera, settings, visibility, out);
+//   tracer->setRayCapture(nullptr);
+//   RetraceStats floor = tracer->retrace(capture, RetraceOptions{});
+//
+// Capturing costs a vector append per ray; without a capture the hooks are one thread-local load.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "tandem/FrameStats.h"
+
+namespace tandem::rt {
+
+enum class RayKind : std::uint8_t { Primary = 0, Shadow = 1, Reflection = 2, Refraction = 3 };
+inline constexpr std::size_t kRayKinds = 4;
+const char* toString(RayKind kind);
+
+/// One ray as the pass handed it to Embree, and the answer it got.
+struct CapturedRay {
+  glm::vec3 origin{0.0f};
+  float tnear = 0.0f;
+  glm::vec3 dir{0.0f};
+  float tfar = 0.0f;
+  /// Occlusion rays (shadow): occluded. Intersection rays: hit a triangle of the scene.
+  bool hit = false;
+  /// False when the pass counted the ray but Embree was not called (a non-finite origin or direction,
+  /// which makeEmbreeRay refuses): re-tracing skips it too.
+  bool traced = true;
+};
+
+struct RayCaptureTile {
+  std::array<std::vector<CapturedRay>, kRayKinds> rays;  // index = RayKind
+};
+
+struct RayCapture {
+  /// Tiles of the grid the pass ran on, row-major (tile t covers 16×16 pixels starting at
+  /// ((t % tilesX)·16, (t / tilesX)·16)), so the order does not depend on the thread schedule.
+  std::vector<RayCaptureTile> tiles;
+  int width = 0;   // grid the pass ran on
+  int height = 0;
+  /// True when primary rays went through Embree (reference mode). In the hybrid pass the primary hit
+  /// is the rasterized triangle intersected on the CPU: the ray is recorded (it is counted in
+  /// RayCounts::primary) but was not traced by Embree.
+  bool primaryTraced = false;
+
+  void clear();
+  std::size_t count(RayKind kind) const;
+  RayCounts counts() const;
+};
+
+/// How a kind is re-traced: one rtc*1 call per ray, or one rtc*1M call per tile (Embree's stream API).
+enum class RetraceApi : std::uint8_t { Single = 0, Stream = 1 };
+
+struct RetraceOptions {
+  std::array<RetraceApi, kRayKinds> api{RetraceApi::Single, RetraceApi::Stream, RetraceApi::Single,
+                                        RetraceApi::Single};
+  /// Which kinds to re-trace. Primary rays are skipped when the capture says they were not traced.
+  std::array<bool, kRayKinds> kinds{true, true, true, true};
+};
+
+struct RetraceStats {
+  std::array<double, kRayKinds> ms{};              // wall time per kind (each kind is its own parallel pass)
+  std::array<std::uint64_t, kRayKinds> rays{};     // rays sent to Embree
+  std::array<std::uint64_t, kRayKinds> mismatches{};  // hit/miss answers that differ from the capture
+  double totalMs() const { return ms[0] + ms[1] + ms[2] + ms[3]; }
+};
+
+/// Hooks the ray pass calls; they do nothing unless the calling thread is inside a capturing tile.
+namespace capture {
+/// Sets the thread's current tile for the lifetime of the scope (nullptr capture: no capture).
+class TileScope {
+ public:
+  TileScope(RayCapture* capture, std::size_t tile);
+  ~TileScope();
+  TileScope(const TileScope&) = delete;
+  TileScope& operator=(const TileScope&) = delete;
+
+ private:
+  RayCaptureTile* previous_;
+};
+bool active();
+/// Appends a ray of `kind` to the current tile; returns its index there (0 when inactive). The ray
+/// becomes the pending one: the next resolvePending() stores its answer.
+std::size_t record(RayKind kind, glm::vec3 origin, glm::vec3 dir, float tnear, float tfar);
+/// Appends a ray whose answer comes later through setHit (batched rays); it does not become pending.
+std::size_t recordDeferred(RayKind kind, glm::vec3 origin, glm::vec3 dir, float tnear, float tfar);
+/// Answer of the pending ray (the one recorded last), for rays traced after the call that records them.
+void resolvePending(bool hit, bool traced = true);
+/// Answer of a ray recorded earlier by index (batched rays).
+void setHit(RayKind kind, std::size_t index, bool hit);
+}  // namespace capture
+
+}  // namespace tandem::rt

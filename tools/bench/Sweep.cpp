@@ -1,0 +1,592 @@
+#include "Sweep.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "BenchCommon.h"
+#include "Plots.h"
+#include "core/Timer.h"
+#include "rt/RayCapture.h"
+#include "rt/RayTracer.h"
+#include "tandem/Context.h"
+#include "tandem/HeavyScene.h"
+#include "tandem/ImageMetrics.h"
+#include "tandem/Renderer.h"
+
+namespace fs = std::filesystem;
+
+namespace tandem::bench {
+
+namespace {
+
+// The stages of FrameStats in the order of the frame; present is left out (headless: a no-op).
+struct StageField {
+  const char* name;
+  double FrameStats::*field;
+};
+constexpr StageField kStages[] = {
+    {"prepare", &FrameStats::prepareMs}, {"raster", &FrameStats::rasterMs},     {"readback", &FrameStats::readbackMs},
+    {"rays", &FrameStats::raysMs},       {"upload", &FrameStats::uploadMs},     {"composite", &FrameStats::compositeMs},
+};
+constexpr std::size_t kStageCount = std::size(kStages);
+
+struct Combo {
+  std::string name;
+  std::string group;   // "preset" or "effect"
+  FrameSettings settings;
+};
+
+std::string modes(const FrameSettings& s) {
+  std::string m = std::string(toString(s.shadows)) + "/" + std::string(toString(s.reflections)) + "/" +
+                  std::string(toString(s.refraction));
+  if (s.reference) m = "primary by rays, " + m;
+  m += " d" + std::to_string(s.maxDepth);
+  if (s.rayScale > 1) m += " 1/" + std::to_string(s.rayScale);
+  return m;
+}
+
+/// The combinations: every preset (reference at 1 spp: the speed competitor, primary visibility by
+/// rays), and per effect the two isolating pairs — only that effect ray traced over the raster preset,
+/// and only that effect rasterized under hybrid-full — plus everything off and hybrid-full at half
+/// resolution. 12 in all: enough to draw a front, few enough for 10 minutes on two cores.
+std::vector<Combo> makeCombos(const FrameSettings& base) {
+  std::vector<Combo> c;
+  for (const std::string& p : presetNames()) {
+    FrameSettings s = *presetSettings(p, base);
+    if (s.reference) s.referenceSpp = 1;
+    c.push_back({p, "preset", s});
+  }
+  FrameSettings raster = *presetSettings("raster", base), full = *presetSettings("hybrid-full", base);
+  FrameSettings off = raster;
+  off.shadows = off.reflections = off.refraction = EffectMode::Off;
+  c.push_back({"all-off", "effect", off});
+  struct Effect {
+    const char* name;
+    EffectMode FrameSettings::*mode;
+  };
+  const Effect effects[] = {{"shadows", &FrameSettings::shadows},
+                            {"reflections", &FrameSettings::reflections},
+                            {"refraction", &FrameSettings::refraction}};
+  for (const Effect& e : effects) {
+    FrameSettings only = raster;
+    only.*(e.mode) = EffectMode::Ray;
+    only.maxDepth = full.maxDepth;  // the ray-traced effect gets hybrid-full's recursion
+    only.minContribution = full.minContribution;
+    c.push_back({std::string(e.name) + "-ray-only", "effect", only});
+  }
+  for (const Effect& e : effects) {
+    FrameSettings without = full;
+    without.*(e.mode) = EffectMode::Raster;
+    c.push_back({std::string(e.name) + "-raster", "effect", without});
+  }
+  FrameSettings half = full;
+  half.rayScale = 2;
+  c.push_back({"hybrid-full-half", "effect", half});
+  return c;
+}
+
+struct Row {
+  std::string scene;
+  Size size;
+  Combo combo;
+  int frames = 0;
+  Stat total;
+  Stat stage[kStageCount];
+  RayCounts rays;
+  double mraysPerS = 0;
+  double rssMiB = 0, peakRssMiB = 0;
+  double flipMean = 0, psnrDb = 0, ssim = 0;
+  int threads = 0;
+  bool pareto = false;
+};
+
+struct Ceiling {
+  std::string scene;
+  Size size;
+  RayCounts rays;
+  double passMs = 0;                               // RayTracer::trace, median
+  double rendererRaysMs = 0;                       // FrameStats::raysMs of hybrid-full in the sweep
+  double floorMs = 0;                              // Σ per kind of the faster API
+  double kindMs[2][rt::kRayKinds]{};               // [api][kind] medians
+  double rasterMs = 0, readbackMs = 0;             // Renderer, hybrid-full
+  double castVisibilityMs = 0;                     // primary visibility by Embree rays
+  int threads = 0;
+};
+
+/// Marks the non-dominated rows of one scene × size: no other row is at most as slow and at most as
+/// wrong, and strictly better in one of the two.
+void markPareto(std::vector<Row*>& rows) {
+  for (Row* a : rows) {
+    a->pareto = true;
+    for (Row* b : rows) {
+      if (a == b) continue;
+      bool noWorse = b->total.median <= a->total.median && b->flipMean <= a->flipMean;
+      bool better = b->total.median < a->total.median || b->flipMean < a->flipMean;
+      if (noWorse && better) {
+        a->pareto = false;
+        break;
+      }
+    }
+  }
+}
+
+std::string fileSafe(std::string s) {
+  for (char& ch : s)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_' && ch != '.') ch = '_';
+  return s;
+}
+
+void printHeader(const Machine& m, const GlContext& ctx, int threads, const SweepOptions& o) {
+  std::printf("tandem-bench on %s (%d logical CPUs)\n", m.cpu.c_str(), m.logicalCpus);
+  std::printf("  GL: %s\n", ctx.describe().c_str());
+  std::printf("  threads: ray pass (TBB arena) %d, TBB default %d, LP_NUM_THREADS %s; Embree %s\n", threads,
+              m.tbbThreads, m.lpNumThreads.c_str(), m.embreeVersion.c_str());
+  std::printf("  frames: %d warm-up + %d measured per combination; output %s\n", o.warmup, o.frames, o.out.c_str());
+  std::fflush(stdout);
+}
+
+int truthSppFor(const SweepOptions& o, Size s) {
+  if (o.truthSpp > 0) return o.truthSpp;
+  return static_cast<long>(s.width) * s.height <= 640L * 360L ? 8 : 4;
+}
+
+struct FrameRun {
+  std::vector<FrameStats> stats;
+  Image image;
+};
+
+FrameRun renderFrames(Renderer& r, const Camera& camera, const FrameSettings& s, int warmup, int frames) {
+  FrameRun run;
+  for (int i = 0; i < warmup; ++i) (void)r.render(camera, s);
+  for (int i = 0; i < frames; ++i) run.stats.push_back(r.render(camera, s));
+  run.image = r.readImage();
+  return run;
+}
+
+Stat stageStat(const std::vector<FrameStats>& v, double FrameStats::*field) {
+  std::vector<double> x;
+  for (const FrameStats& f : v) x.push_back(f.*field);
+  return summarize(x);
+}
+
+double medianOf(int n, const std::function<double()>& f) {
+  std::vector<double> v;
+  for (int i = 0; i < n; ++i) v.push_back(f());
+  return summarize(v).median;
+}
+
+Ceiling measureCeiling(const Scene& scene, Size size, const FrameSettings& full, int threads, int frames) {
+  Ceiling c;
+  auto tracer = rt::RayTracer::create(threads);
+  if (!tracer) return c;
+  if (!(*tracer)->setScene(scene)) return c;
+  rt::RayTracer& t = **tracer;
+  c.threads = t.threads();
+  rt::VisibilityBuffer vis;
+  t.castVisibility(scene.camera, size.width, size.height, vis);  // warm
+  c.castVisibilityMs = medianOf(frames, [&] {
+    Timer timer;
+    t.castVisibility(scene.camera, size.width, size.height, vis);
+    return timer.ms();
+  });
+  rt::RayOutputs out;
+  t.trace(scene, scene.camera, full, vis, out);  // warm
+  c.passMs = medianOf(frames, [&] {
+    Timer timer;
+    t.trace(scene, scene.camera, full, vis, out);
+    return timer.ms();
+  });
+  rt::RayCapture capture;
+  t.setRayCapture(&capture);
+  t.trace(scene, scene.camera, full, vis, out);
+  t.setRayCapture(nullptr);
+  c.rays = capture.counts();
+  for (int api = 0; api < 2; ++api) {
+    rt::RetraceOptions opt;
+    opt.api.fill(static_cast<rt::RetraceApi>(api));
+    (void)t.retrace(capture, opt);  // warm
+    std::vector<rt::RetraceStats> runs;
+    for (int i = 0; i < frames; ++i) runs.push_back(t.retrace(capture, opt));
+    for (std::size_t k = 0; k < rt::kRayKinds; ++k) {
+      std::vector<double> v;
+      for (const auto& r : runs) v.push_back(r.ms[k]);
+      c.kindMs[api][k] = summarize(v).median;
+    }
+  }
+  for (std::size_t k = 0; k < rt::kRayKinds; ++k) c.floorMs += std::min(c.kindMs[0][k], c.kindMs[1][k]);
+  return c;
+}
+
+void writeSweepCsv(const std::string& path, const std::vector<Row>& rows) {
+  std::ofstream f(path);
+  f << "scene,width,height,combination,group,shadows,reflections,refraction,max_depth,ray_scale,reference,frames,"
+       "total_ms_median,total_ms_min,total_ms_max";
+  for (const StageField& s : kStages) f << "," << s.name << "_ms_median," << s.name << "_ms_min," << s.name << "_ms_max";
+  f << ",rays_primary,rays_shadow,rays_reflection,rays_refraction,mrays_per_s,rss_mib,peak_rss_mib,threads,"
+       "flip_mean,psnr_db,ssim,pareto\n";
+  for (const Row& r : rows) {
+    const FrameSettings& s = r.combo.settings;
+    f << r.scene << "," << r.size.width << "," << r.size.height << "," << r.combo.name << "," << r.combo.group << ","
+      << toString(s.shadows) << "," << toString(s.reflections) << "," << toString(s.refraction) << "," << s.maxDepth
+      << "," << s.rayScale << "," << (s.reference ? 1 : 0) << "," << r.frames << "," << r.total.median << ","
+      << r.total.min << "," << r.total.max;
+    for (const Stat& st : r.stage) f << "," << st.median << "," << st.min << "," << st.max;
+    f << "," << r.rays.primary << "," << r.rays.shadow << "," << r.rays.reflection << "," << r.rays.refraction << ","
+      << r.mraysPerS << "," << r.rssMiB << "," << r.peakRssMiB << "," << r.threads << "," << r.flipMean << ","
+      << r.psnrDb << "," << r.ssim << "," << (r.pareto ? 1 : 0) << "\n";
+  }
+}
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+void writeSweepMarkdown(const std::string& path, const std::vector<Row>& rows, const std::vector<Ceiling>& ceilings,
+                        const Machine& m, const std::string& gl, int threads, const SweepOptions& o) {
+  std::ofstream f(path);
+  f << "# tandem-bench sweep\n\n";
+  f << "Machine: " << m.cpu << ", " << m.logicalCpus << " logical CPUs; GL: " << gl << "; ray-pass threads "
+    << threads << "; LP_NUM_THREADS " << m.lpNumThreads << "; Embree " << m.embreeVersion << ". "
+    << o.warmup << " warm-up + " << o.frames << " measured frames per combination; times in ms are "
+    << "median [min–max]. Error against the reference at N×N spp (N in the section title). ★ = on the "
+    << "Pareto front (frame time vs FLIP).\n";
+  std::string section;
+  for (const Row& r : rows) {
+    std::string key = r.scene + " " + r.size.label();
+    if (key != section) {
+      section = key;
+      f << "\n## " << r.scene << " " << r.size.label() << " (reference " << truthSppFor(o, r.size) << "×"
+        << truthSppFor(o, r.size) << " spp)\n\n";
+      f << "| combination | shadows/reflections/refraction | frame ms | prepare | raster | readback | rays | upload "
+           "| composite | rays/frame P/S/R/T | Mrays/s | peak RSS MiB | FLIP | PSNR dB | SSIM | front |\n";
+      f << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    }
+    f << "| " << r.combo.name << " | " << modes(r.combo.settings) << " | " << fmt("%.1f", r.total.median) << " ["
+      << fmt("%.1f", r.total.min) << "–" << fmt("%.1f", r.total.max) << "]";
+    for (const Stat& st : r.stage) f << " | " << fmt("%.1f", st.median);
+    f << " | " << r.rays.primary << "/" << r.rays.shadow << "/" << r.rays.reflection << "/" << r.rays.refraction
+      << " | " << fmt("%.2f", r.mraysPerS) << " | " << fmt("%.0f", r.peakRssMiB) << " | " << fmt("%.4f", r.flipMean)
+      << " | " << (std::isinf(r.psnrDb) ? std::string("inf") : fmt("%.2f", r.psnrDb)) << " | "
+      << fmt("%.4f", r.ssim) << " | " << (r.pareto ? "★" : "") << " |\n";
+  }
+  if (!ceilings.empty()) {
+    f << "\n## The ceiling (hybrid-full): ray pass vs raw Embree re-trace of the same captured rays\n\n";
+    f << "| scene | size | rays S/R/T | ray pass ms | floor ms | pass ÷ floor | shadow 1 / 1M ms | reflection 1 / 1M "
+         "ms | refraction 1 / 1M ms | raster+readback ms (llvmpipe) | castVisibility ms (Embree) |\n";
+    f << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const Ceiling& c : ceilings)
+      f << "| " << c.scene << " | " << c.size.label() << " | " << c.rays.shadow << "/" << c.rays.reflection << "/"
+        << c.rays.refraction << " | " << fmt("%.1f", c.passMs) << " | " << fmt("%.1f", c.floorMs) << " | "
+        << (c.floorMs > 0 ? fmt("%.2f×", c.passMs / c.floorMs) : std::string("–")) << " | "
+        << fmt("%.1f", c.kindMs[0][1]) << " / " << fmt("%.1f", c.kindMs[1][1]) << " | " << fmt("%.1f", c.kindMs[0][2])
+        << " / " << fmt("%.1f", c.kindMs[1][2]) << " | " << fmt("%.1f", c.kindMs[0][3]) << " / "
+        << fmt("%.1f", c.kindMs[1][3]) << " | " << fmt("%.1f", c.rasterMs + c.readbackMs) << " | "
+        << fmt("%.1f", c.castVisibilityMs) << " |\n";
+  }
+}
+
+void writeCeilingCsv(const std::string& path, const std::vector<Ceiling>& ceilings) {
+  std::ofstream f(path);
+  f << "scene,width,height,threads,rays_shadow,rays_reflection,rays_refraction,pass_ms,renderer_rays_ms,floor_ms,"
+       "ratio,shadow_1_ms,shadow_1m_ms,reflection_1_ms,reflection_1m_ms,refraction_1_ms,refraction_1m_ms,"
+       "raster_ms,readback_ms,cast_visibility_ms\n";
+  for (const Ceiling& c : ceilings)
+    f << c.scene << "," << c.size.width << "," << c.size.height << "," << c.threads << "," << c.rays.shadow << ","
+      << c.rays.reflection << "," << c.rays.refraction << "," << c.passMs << "," << c.rendererRaysMs << ","
+      << c.floorMs << "," << (c.floorMs > 0 ? c.passMs / c.floorMs : 0.0) << "," << c.kindMs[0][1] << ","
+      << c.kindMs[1][1] << "," << c.kindMs[0][2] << "," << c.kindMs[1][2] << "," << c.kindMs[0][3] << ","
+      << c.kindMs[1][3] << "," << c.rasterMs << "," << c.readbackMs << "," << c.castVisibilityMs << "\n";
+}
+
+struct Setup {
+  Machine machine;
+  std::unique_ptr<GlContext> context;
+  std::unique_ptr<Renderer> renderer;
+  int threads = 0;
+};
+
+int makeSetup(const SweepOptions& o, Setup& s) {
+  s.machine = describeMachine();
+  auto ctx = createGlContext({});
+  if (!ctx) {
+    std::fprintf(stderr, "tandem-bench: no GL context: %s\n", ctx.error().message.c_str());
+    return 1;
+  }
+  s.context = std::move(*ctx);
+  RendererDesc desc;
+  desc.threads = o.threads;
+  auto r = Renderer::create(*s.context, desc);
+  if (!r) {
+    std::fprintf(stderr, "tandem-bench: %s\n", r.error().message.c_str());
+    return 1;
+  }
+  s.renderer = std::move(*r);
+  s.threads = o.threads > 0 ? o.threads : s.machine.logicalCpus;
+  std::error_code ec;
+  fs::create_directories(fs::path(o.out) / "images", ec);
+  fs::create_directories(fs::path(o.out) / "data", ec);
+  if (ec) {
+    std::fprintf(stderr, "tandem-bench: cannot create %s: %s\n", o.out.c_str(), ec.message().c_str());
+    return 1;
+  }
+  printHeader(s.machine, *s.context, s.threads, o);
+  return 0;
+}
+
+}  // namespace
+
+int runSweep(const SweepOptions& o) {
+  Setup setup;
+  if (int rc = makeSetup(o, setup)) return rc;
+  Renderer& renderer = *setup.renderer;
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+
+  struct Loaded {
+    std::string spec, label;
+    Scene scene;
+  };
+  std::vector<Loaded> scenes;
+  for (const std::string& spec : o.scenes) {
+    auto s = loadBenchScene(spec);
+    if (!s) {
+      std::printf("  skipping %s: %s\n", spec.c_str(), s.error().message.c_str());
+      continue;
+    }
+    scenes.push_back({spec, sceneLabel(spec), std::move(*s)});
+  }
+  if (scenes.empty()) {
+    std::fprintf(stderr, "tandem-bench: no scene could be loaded\n");
+    return 1;
+  }
+  const std::size_t combosPer = makeCombos(FrameSettings{}).size();
+  const std::size_t totalSteps = scenes.size() * o.sizes.size() * (combosPer + 2);  // + truth + ceiling
+  std::size_t done = 0;
+  auto progress = [&](const std::string& what) {
+    ++done;
+    double t = elapsed();
+    double eta = t / static_cast<double>(done) * static_cast<double>(totalSteps - done);
+    std::printf("[%3zu/%zu %s, ETA %s] %s\n", done, totalSteps, formatDuration(t).c_str(), formatDuration(eta).c_str(),
+                what.c_str());
+    std::fflush(stdout);
+  };
+
+  std::vector<Row> rows;
+  std::vector<Ceiling> ceilings;
+  std::vector<HeatPanel> heat;
+  for (Loaded& l : scenes) {
+    std::printf("scene %s: %zu triangles, %zu instances, %zu lights\n", l.label.c_str(), l.scene.triangleCount(),
+                l.scene.instances.size(), l.scene.directLights().size());
+    if (auto r = renderer.setScene(l.scene); !r) {
+      std::printf("  skipping %s: %s\n", l.label.c_str(), r.error().message.c_str());
+      done += o.sizes.size() * (combosPer + 2);
+      continue;
+    }
+    const Camera camera = l.scene.camera;
+    for (Size size : o.sizes) {
+      FrameSettings base;
+      base.width = size.width;
+      base.height = size.height;
+      // Ground truth: the reference preset, N×N jittered spp, rendered once.
+      FrameSettings truthSettings = *presetSettings("reference", base);
+      truthSettings.referenceSpp = truthSppFor(o, size);
+      Timer truthTimer;
+      FrameRun truth = renderFrames(renderer, camera, truthSettings, 0, 1);
+      std::string prefix = fileSafe(l.label) + "-" + size.label();
+      (void)writePng((fs::path(o.out) / "images" / (prefix + "-truth.png")).string(), truth.image);
+      progress(l.label + " " + size.label() + " reference " + std::to_string(truthSettings.referenceSpp) + "x" +
+               std::to_string(truthSettings.referenceSpp) + " spp (ground truth): " + fmt("%.0f ms", truthTimer.ms()));
+
+      std::map<std::string, Image> images;
+      std::vector<std::size_t> mine;
+      for (const Combo& combo : makeCombos(base)) {
+        FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup, o.frames);
+        Row row;
+        row.scene = l.label;
+        row.size = size;
+        row.combo = combo;
+        row.frames = o.frames;
+        row.total = stageStat(run.stats, &FrameStats::totalMs);
+        for (std::size_t i = 0; i < kStageCount; ++i) row.stage[i] = stageStat(run.stats, kStages[i].field);
+        row.rays = run.stats.back().rays;
+        row.threads = run.stats.back().threads;
+        row.mraysPerS = row.stage[3].median > 0
+                            ? static_cast<double>(row.rays.total()) / (row.stage[3].median * 1e3)
+                            : 0.0;
+        row.rssMiB = currentRssMiB();
+        row.peakRssMiB = peakRssMiB();
+        if (auto e = compare(run.image, truth.image)) {
+          row.flipMean = e->flipMean;
+          row.psnrDb = e->psnr;
+          row.ssim = e->ssim;
+        }
+        (void)writePng((fs::path(o.out) / "images" / (prefix + "-" + combo.name + ".png")).string(), run.image);
+        images[combo.name] = std::move(run.image);
+        progress(l.label + " " + size.label() + " " + combo.name + ": " + fmt("%.1f ms", row.total.median) +
+                 fmt(", FLIP %.4f", row.flipMean) + fmt(", %.2f Mrays/s", row.mraysPerS));
+        mine.push_back(rows.size());
+        rows.push_back(std::move(row));
+      }
+      std::vector<Row*> group;
+      for (std::size_t i : mine) group.push_back(&rows[i]);
+      markPareto(group);
+
+      // Per effect: where raster and ray traced disagree, the effect alone over the raster preset.
+      for (const char* effect : {"shadows", "reflections", "refraction"}) {
+        auto f = flip(images[std::string(effect) + "-ray-only"], images["raster"]);
+        if (!f) continue;
+        HeatPanel p;
+        p.effect = effect;
+        p.scene = l.label;
+        p.size = size.label();
+        p.width = f->width;
+        p.height = f->height;
+        p.mean = f->mean;
+        p.dataPath = (fs::path(o.out) / "data" / ("heat-" + prefix + "-" + effect + ".f32")).string();
+        std::ofstream bin(p.dataPath, std::ios::binary);
+        bin.write(reinterpret_cast<const char*>(f->map.data()),
+                  static_cast<std::streamsize>(f->map.size() * sizeof(float)));
+        (void)writePng((fs::path(o.out) / "images" / (prefix + "-heat-" + effect + ".png")).string(), heatmap(*f));
+        heat.push_back(p);
+      }
+
+      Timer ceilingTimer;
+      Ceiling c = measureCeiling(l.scene, size, *presetSettings("hybrid-full", base), o.threads, o.frames);
+      c.scene = l.label;
+      c.size = size;
+      for (const Row& r : rows)
+        if (r.scene == l.label && r.size.label() == size.label() && r.combo.name == "hybrid-full") {
+          c.rasterMs = r.stage[1].median;
+          c.readbackMs = r.stage[2].median;
+          c.rendererRaysMs = r.stage[3].median;
+        }
+      progress(l.label + " " + size.label() + " ceiling: ray pass " + fmt("%.1f ms", c.passMs) + ", floor " +
+               fmt("%.1f ms", c.floorMs) + fmt(" (%.2fx)", c.floorMs > 0 ? c.passMs / c.floorMs : 0.0) +
+               ", castVisibility " + fmt("%.1f ms", c.castVisibilityMs) + " vs raster+readback " +
+               fmt("%.1f ms", c.rasterMs + c.readbackMs));
+      ceilings.push_back(c);
+    }
+  }
+
+  const std::string gl = setup.context->describe();
+  writeSweepCsv((fs::path(o.out) / "sweep.csv").string(), rows);
+  writeCeilingCsv((fs::path(o.out) / "ceiling.csv").string(), ceilings);
+  writeSweepMarkdown((fs::path(o.out) / "sweep.md").string(), rows, ceilings, setup.machine, gl, setup.threads, o);
+
+  if (o.plots) {
+    std::vector<ParetoPanel> pareto;
+    std::vector<StagePanel> stages;
+    std::map<std::string, std::size_t> panelOf;
+    for (const Row& r : rows) {
+      std::string key = r.scene + " " + r.size.label();
+      if (!panelOf.count(key)) {
+        panelOf[key] = pareto.size();
+        pareto.push_back({r.scene, r.size.label(), {}});
+        stages.push_back({r.scene, r.size.label(), {}});
+      }
+      std::size_t i = panelOf[key];
+      pareto[i].points.push_back({r.combo.name, r.combo.group == "preset", r.pareto, r.total.median, r.flipMean});
+      if (r.combo.group == "preset") {
+        StageBar bar;
+        bar.name = r.combo.name;
+        for (std::size_t k = 0; k < kStageCount; ++k) bar.ms.push_back(r.stage[k].median);
+        stages[i].bars.push_back(bar);
+      }
+    }
+    std::vector<std::string> stageNames;
+    for (const StageField& s : kStages) stageNames.push_back(s.name);
+    PlotContext pc{o.out, static_cast<int>(o.sizes.size()), gl, setup.machine.cpu, setup.threads};
+    plotPareto(pc, pareto);
+    plotStages(pc, stages, stageNames);
+    plotHeat(pc, heat);
+  }
+  std::printf("wrote %s/sweep.csv, sweep.md, ceiling.csv%s in %s\n", o.out.c_str(),
+              o.plots ? ", pareto.png, stages.png, heat-*.png" : "", formatDuration(elapsed()).c_str());
+  return 0;
+}
+
+int runHeavy(const SweepOptions& o) {
+  Setup setup;
+  if (int rc = makeSetup(o, setup)) return rc;
+  Renderer& renderer = *setup.renderer;
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+
+  std::vector<HeavyRow> rows;
+  const std::size_t steps = o.heavyCounts.size() * o.heavySizes.size();
+  std::size_t done = 0;
+  for (std::size_t count : o.heavyCounts) {
+    Timer genTimer;
+    Scene scene = makeHeavyScene(count);
+    double genMs = genTimer.ms();
+    Timer setTimer;
+    if (auto r = renderer.setScene(scene); !r) {
+      std::printf("  heavy %zu: %s\n", count, r.error().message.c_str());
+      continue;
+    }
+    double setMs = setTimer.ms();
+    auto tracer = rt::RayTracer::create(o.threads);
+    Timer buildTimer;
+    bool rtOk = tracer && (*tracer)->setScene(scene).ok();
+    double buildMs = buildTimer.ms();
+    for (Size size : o.heavySizes) {
+      FrameSettings base;
+      base.width = size.width;
+      base.height = size.height;
+      HeavyRow h;
+      h.triangles = scene.triangleCount();
+      h.size = size.label();
+      h.generateMs = genMs;
+      h.setSceneMs = setMs;
+      h.embreeBuildMs = buildMs;
+      FrameRun run = renderFrames(renderer, scene.camera, *presetSettings("hybrid-full", base), o.warmup, o.frames);
+      for (std::size_t i = 0; i < kStageCount; ++i) h.stageMs.push_back(stageStat(run.stats, kStages[i].field).median);
+      h.totalMs = stageStat(run.stats, &FrameStats::totalMs).median;
+      h.rays = run.stats.back().rays;
+      FrameRun rasterRun = renderFrames(renderer, scene.camera, *presetSettings("raster", base), o.warmup, o.frames);
+      h.rasterPresetMs = stageStat(rasterRun.stats, &FrameStats::totalMs).median;
+      if (rtOk) {
+        rt::VisibilityBuffer vis;
+        (*tracer)->castVisibility(scene.camera, size.width, size.height, vis);
+        h.castVisibilityMs = medianOf(o.frames, [&] {
+          Timer t;
+          (*tracer)->castVisibility(scene.camera, size.width, size.height, vis);
+          return t.ms();
+        });
+      }
+      h.peakRssMiB = peakRssMiB();
+      ++done;
+      double t = elapsed();
+      std::printf("[%zu/%zu %s, ETA %s] heavy %zu triangles %s: hybrid-full %.1f ms (raster %.1f, rays %.1f), "
+                  "raster preset %.1f ms, castVisibility %.1f ms\n",
+                  done, steps, formatDuration(t).c_str(),
+                  formatDuration(t / static_cast<double>(done) * static_cast<double>(steps - done)).c_str(),
+                  h.triangles, h.size.c_str(), h.totalMs, h.stageMs[1], h.stageMs[3], h.rasterPresetMs,
+                  h.castVisibilityMs);
+      std::fflush(stdout);
+      rows.push_back(std::move(h));
+    }
+  }
+  std::vector<std::string> stageNames;
+  for (const StageField& s : kStages) stageNames.push_back(s.name);
+  writeHeavyTables(o.out, rows, stageNames, setup.machine.cpu, setup.context->describe(), setup.threads);
+  PlotContext pc{o.out, static_cast<int>(o.heavySizes.size()), setup.context->describe(), setup.machine.cpu,
+                 setup.threads};
+  if (o.plots) plotHeavy(pc, rows, stageNames);
+  std::printf("wrote %s/heavy.csv, heavy.md%s in %s\n", o.out.c_str(), o.plots ? ", heavy.png" : "",
+              formatDuration(elapsed()).c_str());
+  return 0;
+}
+
+}  // namespace tandem::bench

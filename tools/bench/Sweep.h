@@ -1,0 +1,32 @@
+#pragma once
+// tandem-bench --sweep / --heavy: the speed-for-accuracy table, the ceiling, the heavy-scene table and
+// their plots (docs/bench.md).
+#include <string>
+#include <vector>
+
+namespace tandem::bench {
+
+struct Size {
+  int width = 0, height = 0;
+  std::string label() const { return std::to_string(width) + "x" + std::to_string(height); }
+};
+
+struct SweepOptions {
+  std::vector<std::string> scenes;  // paths or heavy:N
+  std::vector<Size> sizes;
+  int frames = 3;
+  int warmup = 1;
+  int truthSpp = 0;  // 0: 8×8 up to 640×360 pixels, 4×4 above
+  int threads = 0;   // ray-pass threads, 0 = all
+  std::string out = "out/bench";
+  bool plots = true;
+  // --heavy
+  std::vector<std::size_t> heavyCounts;
+  std::vector<Size> heavySizes;
+};
+
+/// Both return the process exit code.
+int runSweep(const SweepOptions& options);
+int runHeavy(const SweepOptions& options);
+
+}  // namespace tandem::bench

@@ -1,0 +1,106 @@
+// tandem-bench: what each render setting costs and buys (docs/bench.md).
+//   tandem-bench --sweep [--scenes a.json,b.gltf] [--sizes 640x360,1280x720] [--frames N] [--warmup W] [--out DIR]
+//   tandem-bench --heavy [--heavy-counts 10000,100000,500000,2000000] [--heavy-sizes 640x360,1280x720]
+//   tandem-bench [--benchmark_filter=REGEX ...]     (Google Benchmark micro-benchmarks, the default)
+#include <cstdio>
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <benchmark/benchmark.h>
+
+#include "BenchCommon.h"
+#include "Micro.h"
+#include "Sweep.h"
+
+using namespace tandem::bench;
+
+namespace {
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> v;
+  std::stringstream in(s);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) v.push_back(item);
+  return v;
+}
+
+bool parseSizes(const std::string& s, std::vector<Size>& out, std::string& error) {
+  out.clear();
+  for (const std::string& item : split(s)) {
+    Size z;
+    char x = 0;
+    std::istringstream in(item);
+    if (!(in >> z.width >> x >> z.height) || x != 'x' || z.width < 1 || z.height < 1 || !in.eof()) {
+      error = "bad size '" + item + "' (WxH)";
+      return false;
+    }
+    out.push_back(z);
+  }
+  if (out.empty()) error = "no size given";
+  return !out.empty();
+}
+
+int sweepMain(int argc, char** argv) {
+  CLI::App app{"tandem-bench: the speed-for-accuracy sweep, the ceiling and the heavy-scene table"};
+  bool sweep = false, heavy = false, noPlots = false;
+  std::string scenes, sizes = "640x360,1280x720", heavyCounts = "10000,100000,500000,2000000",
+                      heavySizes = "640x360,1280x720";
+  SweepOptions o;
+  const std::string shared = sourceDir() + "/../shared/assets/gltf-sample-assets/";
+  scenes = sourceDir() + "/assets/scenes/whitted.json," + shared + "LightsPunctualLamp/glTF/LightsPunctualLamp.gltf," +
+           shared + "TransmissionTest/glTF/TransmissionTest.gltf";
+  app.add_flag("--sweep", sweep, "Every preset and effect combination on each scene × size");
+  app.add_flag("--heavy", heavy, "The heavy-scene table: stage cost against triangle count");
+  app.add_option("--scenes", scenes, "Comma-separated scenes (.json, .gltf, .glb, heavy:N); missing ones are skipped")
+      ->capture_default_str();
+  app.add_option("--sizes", sizes, "Comma-separated WxH")->capture_default_str();
+  app.add_option("--frames", o.frames, "Measured frames per combination")->check(CLI::Range(1, 1000))->capture_default_str();
+  app.add_option("--warmup", o.warmup, "Warm-up frames per combination")->check(CLI::Range(0, 1000))->capture_default_str();
+  app.add_option("--truth-spp", o.truthSpp, "Reference N (N×N spp); 0 = 8 up to 640×360, else 4")
+      ->check(CLI::Range(0, 64))->capture_default_str();
+  app.add_option("--threads", o.threads, "Ray-pass threads (0 = all)")->check(CLI::Range(0, 1024))->capture_default_str();
+  app.add_option("--out", o.out, "Output folder")->capture_default_str();
+  app.add_option("--heavy-counts", heavyCounts, "Triangle counts for --heavy")->capture_default_str();
+  app.add_option("--heavy-sizes", heavySizes, "Sizes for --heavy")->capture_default_str();
+  app.add_flag("--no-plots", noPlots, "Skip gnuplot");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  o.plots = !noPlots;
+  o.scenes = split(scenes);
+  std::string error;
+  if (!parseSizes(sizes, o.sizes, error) || !parseSizes(heavySizes, o.heavySizes, error)) {
+    std::fprintf(stderr, "tandem-bench: %s\n", error.c_str());
+    return 1;
+  }
+  for (const std::string& c : split(heavyCounts)) {
+    try {
+      o.heavyCounts.push_back(static_cast<std::size_t>(std::stoull(c)));
+    } catch (const std::exception&) {
+      std::fprintf(stderr, "tandem-bench: bad triangle count '%s'\n", c.c_str());
+      return 1;
+    }
+  }
+  int rc = 0;
+  if (sweep) rc = runSweep(o);
+  if (rc == 0 && heavy) rc = runHeavy(o);
+  return rc;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (!std::strcmp(argv[i], "--sweep") || !std::strcmp(argv[i], "--heavy")) return sweepMain(argc, argv);
+  registerMicroBenchmarks();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
