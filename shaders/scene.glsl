@@ -8,7 +8,7 @@
 struct GpuInstance {
   mat4 worldFromObject;
   mat4 normalFromObject;  // inverse transpose of worldFromObject (upper 3×3 used)
-  uvec4 meshMaterial;     // x mesh, y material
+  uvec4 meshMaterial;     // x mesh, y material, z reflection-probe slot + 1 (0 = none)
 };
 
 struct GpuMesh {

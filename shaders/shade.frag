@@ -7,9 +7,68 @@
 #include "shading.glsl"
 #include "scene.glsl"
 
+// Per-pixel gathers go through buffer-texture views of scene.glsl's SSBOs (engine/src/gl/GpuScene.h):
+// llvmpipe turns an SSBO read into a bounds-checked loop over the 8 lanes, a texelFetch into one
+// vectorized gather. Lights and materials come from uniform blocks: the light loop reads the same
+// record in every lane (one scalar load), and materials gather without the per-lane loop.
+layout(binding = 7) uniform samplerBuffer positionsBuf;       // RGB32F: object-space position per vertex
+layout(binding = 8) uniform samplerBuffer normalsBuf;         // RGB32F
+layout(binding = 9) uniform samplerBuffer uvsBuf;             // RG32F
+layout(binding = 10) uniform samplerBuffer colorsBuf;         // RGBA32F
+layout(binding = 11) uniform usamplerBuffer indicesBuf;       // R32UI, absolute vertex numbers
+layout(binding = 12) uniform usamplerBuffer meshesBuf;        // RGBA32UI: GpuMesh
+layout(binding = 13) uniform samplerBuffer instancesBuf;      // RGBA32F: GpuInstance = 9 texels
+layout(binding = 14) uniform usamplerBuffer instanceIdsBuf;   // RGBA32UI view of the same: texel 9i + 8
+layout(binding = 15) uniform samplerBuffer uvTransformsBuf;   // RGBA32F: Material::uvTransform, 4 texels
+
+#ifndef TD_LIGHT_COUNT
+#define TD_LIGHT_COUNT TD_MAX_LIGHTS  // direct lights: a compile-time bound, so the loop unrolls
+#endif
+#ifndef TD_UNIFORM_MATERIALS
+#define TD_UNIFORM_MATERIALS 0        // material count when they are in a uniform block, 0: SSBO
+#endif
+layout(std140, binding = 0) uniform LightBlock { GpuLight lights[TD_MAX_LIGHTS]; };
+#if TD_UNIFORM_MATERIALS > 0
+layout(std140, binding = 1) uniform MaterialBlock { GpuMaterial materials[TD_UNIFORM_MATERIALS]; };
+#else
 layout(std430, binding = 7) readonly buffer Materials { GpuMaterial materials[]; };
-layout(std430, binding = 8) readonly buffer Lights { GpuLight lights[]; };
-layout(std430, binding = 9) readonly buffer UvTransforms { mat4 uvTransforms[]; };  // Material::uvTransform in the upper 3×3
+#endif
+
+#ifndef TD_SHADOW_MAPS
+#define TD_SHADOW_MAPS 1       // shadows = Raster: per-light visibility from the shadow maps
+#endif
+#ifndef TD_PROBES
+#define TD_PROBES 3            // reflections (1) / refraction (2) = Raster: reflection-probe lookups
+#endif
+#ifndef TD_FRESNEL_SCHLICK
+#define TD_FRESNEL_SCHLICK 0   // FresnelMode::Schlick instead of the exact dielectric formula
+#endif
+#ifndef TD_FRESNEL_WEIGHTED
+#define TD_FRESNEL_WEIGHTED 1  // wR = kr + kt·F, wT = kt·(1 − F); else wR = kr, wT = kt
+#endif
+
+#if TD_SHADOW_MAPS
+// engine/src/gl/RasterEffects.h: GpuShadow, one per direct light, and the maps (reversed-Z depth,
+// hardware compare GL_GEQUAL: 1 where the receiver is at least as near the light as the stored occluder).
+#define TD_SHADOW_NONE 0
+#define TD_SHADOW_ORTHO 1
+#define TD_SHADOW_PERSPECTIVE 2
+#define TD_SHADOW_CUBE 3
+struct GpuShadow {
+  mat4 clipFromWorldRelative;  // 2D maps: light clip space of (posW − origin)
+  vec4 originKind;             // xyz origin, w kind (TD_SHADOW_*)
+  vec4 params;                 // x layer / cube index, y near, z far, w texel size (world, or per unit distance)
+};
+layout(std140, binding = 2) uniform ShadowBlock { GpuShadow shadows[TD_MAX_LIGHTS]; };
+layout(binding = 16) uniform sampler2DArrayShadow shadowMaps;
+layout(binding = 17) uniform samplerCubeArrayShadow shadowCubes;
+#endif
+#if TD_PROBES != 0
+layout(binding = 18) uniform samplerCubeArray probes;  // RGBA16F linear radiance, layer = probe slot
+#endif
+
+vec3 positionO(uint v) { return texelFetch(positionsBuf, int(v)).xyz; }
+vec3 objectNormal(uint v) { return texelFetch(normalsBuf, int(v)).xyz; }
 
 layout(binding = 0) uniform usampler2D idsTex;        // GL rows: bottom first
 layout(binding = 1) uniform sampler2D depthTex;
@@ -27,7 +86,6 @@ layout(location = 4) uniform int orthographic;
 layout(location = 5) uniform ivec2 frameSize;
 layout(location = 6) uniform vec3 background;
 layout(location = 7) uniform vec3 ambientIa;
-layout(location = 8) uniform int lightCount;
 layout(location = 11) uniform int rayScale;
 
 // Variant flags, set by CompositePass for each frame's scene and settings. llvmpipe runs both sides of a
@@ -97,23 +155,29 @@ struct Triangle {
   vec3 p0, p1, p2;  // world space
   uint flags;
   uint material;
+  uint probe;  // reflection-probe slot + 1, 0 = none
   mat3 normalFromObject;
 };
 
 Triangle loadTriangle(uint instance, uint primitive) {
   Triangle t;
-  GpuInstance inst = instances[instance];
-  uvec4 mesh = meshes[inst.meshMaterial.x].firstIndexFlags;
-  uint i = mesh.y + 3u * primitive;
-  t.v0 = indices[i];
-  t.v1 = indices[i + 1u];
-  t.v2 = indices[i + 2u];
-  t.p0 = (inst.worldFromObject * vec4(tdPositionO(t.v0), 1.0)).xyz;
-  t.p1 = (inst.worldFromObject * vec4(tdPositionO(t.v1), 1.0)).xyz;
-  t.p2 = (inst.worldFromObject * vec4(tdPositionO(t.v2), 1.0)).xyz;
+  int base = 9 * int(instance);
+  mat4 worldFromObject = mat4(texelFetch(instancesBuf, base), texelFetch(instancesBuf, base + 1),
+                              texelFetch(instancesBuf, base + 2), texelFetch(instancesBuf, base + 3));
+  uvec4 meshMaterial = texelFetch(instanceIdsBuf, base + 8);
+  uvec4 mesh = texelFetch(meshesBuf, int(meshMaterial.x));
+  int i = int(mesh.y + 3u * primitive);
+  t.v0 = texelFetch(indicesBuf, i).x;
+  t.v1 = texelFetch(indicesBuf, i + 1).x;
+  t.v2 = texelFetch(indicesBuf, i + 2).x;
+  t.p0 = (worldFromObject * vec4(positionO(t.v0), 1.0)).xyz;
+  t.p1 = (worldFromObject * vec4(positionO(t.v1), 1.0)).xyz;
+  t.p2 = (worldFromObject * vec4(positionO(t.v2), 1.0)).xyz;
   t.flags = mesh.z;
-  t.material = inst.meshMaterial.y;
-  t.normalFromObject = mat3(inst.normalFromObject);
+  t.material = meshMaterial.y;
+  t.probe = meshMaterial.z;
+  t.normalFromObject = mat3(texelFetch(instancesBuf, base + 4).xyz, texelFetch(instancesBuf, base + 5).xyz,
+                            texelFetch(instancesBuf, base + 6).xyz);
   return t;
 }
 
@@ -148,7 +212,6 @@ vec3 hitBarycentrics(vec3 origin, vec3 dir, Triangle t) {
   return sum > 0.0 ? b / sum : vec3(1.0 / 3.0);
 }
 
-vec3 objectNormal(uint v) { return tdNormalO(v); }
 
 // ---- the toon ramp: the same texel as shading::toonRampIndex picks in C++ ----
 int tdToonRampIndex(float nl) {
@@ -229,6 +292,50 @@ RaySample gatherRays(ivec2 pTop, uint instance) {
   return acc;
 }
 
+#if TD_SHADOW_MAPS
+// Visibility of direct light j at posW from its shadow map: the point is first moved 1.5 map texels along
+// the (viewer-facing) geometric normal — a normal offset, which removes acne at grazing angles without a
+// depth bias that would detach shadows from their casters — then 4 bilinear depth-compare taps half a
+// texel apart (a 3×3-texel PCF) soften the one-texel staircase.
+float shadowVisibility(int j, vec3 posW, vec3 Ng) {
+  GpuShadow s = shadows[j];
+  int kind = int(s.originKind.w + 0.5);
+  if (kind == TD_SHADOW_NONE) return 1.0;
+  vec3 rel = posW - s.originKind.xyz;
+  float texel = s.params.w * (kind == TD_SHADOW_ORTHO ? 1.0 : length(rel));
+  rel += Ng * (1.5 * texel);
+  float layer = s.params.x;
+  if (kind == TD_SHADOW_CUBE) {
+    // The face's depth is that of the major axis: n(f − d) / (d(f − n)) in reversed-Z (Camera::clipFromView).
+    vec3 a = abs(rel);
+    float d = max(a.x, max(a.y, a.z));
+    float n = s.params.y, f = s.params.z;
+    float ref = max(n * (f - d) / (d * (f - n)), 0.0);
+    vec3 u = normalize(cross(rel, abs(rel.y) < 0.99 * length(rel) ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
+    vec3 v = normalize(cross(rel, u));
+    float h = 0.5 * s.params.w * d;  // half a texel at distance d on the face
+    float sum = texture(shadowCubes, vec4(rel + h * (u + v), layer), ref) +
+                texture(shadowCubes, vec4(rel + h * (u - v), layer), ref) +
+                texture(shadowCubes, vec4(rel - h * (u + v), layer), ref) +
+                texture(shadowCubes, vec4(rel - h * (u - v), layer), ref);
+    return 0.25 * sum;
+  }
+  vec4 clip = s.clipFromWorldRelative * vec4(rel, 1.0);
+  if (clip.w <= 0.0) return 1.0;  // behind a spot: outside its cone anyway
+  vec3 ndc = clip.xyz / clip.w;
+  // Outside the map is outside the spot's cone (zero light) or outside the scene's bounds (no caster).
+  if (abs(ndc.x) > 1.0 || abs(ndc.y) > 1.0) return 1.0;
+  vec2 uv = ndc.xy * 0.5 + 0.5;
+  float ref = max(ndc.z, 0.0);  // beyond far: nothing stored there (cleared to 0) shadows it
+  vec2 h = 0.5 / vec2(textureSize(shadowMaps, 0).xy);
+  float sum = texture(shadowMaps, vec4(uv + vec2(h.x, h.y), layer, ref)) +
+              texture(shadowMaps, vec4(uv + vec2(-h.x, h.y), layer, ref)) +
+              texture(shadowMaps, vec4(uv + vec2(h.x, -h.y), layer, ref)) +
+              texture(shadowMaps, vec4(uv + vec2(-h.x, -h.y), layer, ref));
+  return 0.25 * sum;
+}
+#endif
+
 // ---- debug colours ----
 vec3 hashColor(uint x) {
   x = x * 747796405u + 2891336453u;
@@ -308,12 +415,47 @@ void main() {
   N *= side;
 
   RaySample rays = gatherRays(pTop, id.x);
+  GpuMaterial m = materials[tri.material];
+#if TD_SHADOW_MAPS
+  // Raster shadows stand where the ray pass's light mask would (the two are never both on).
+  for (int j = 0; j < TD_LIGHT_COUNT; ++j)
+    rays.vis[j] = lights[j].radiance.w > 0.5 ? shadowVisibility(j, posW, Ng) : 1.0;
+#endif
+#if TD_PROBES != 0
+  if (tri.probe != 0u) {
+    // Environment-mapped reflection and refraction through this object's probe, weighted like the ray
+    // pass's Whitted::weights (docs/shading.md): Fresnel from the shared formulas, inside/outside from
+    // the geometric normal, refraction by Snell at this surface only (no exit through the far side).
+    float kr = m.krKtIorModel.x, kt = m.krKtIorModel.y, ior = m.krKtIorModel.z;
+    bool backFace = side < 0.0;
+    float etaI = backFace ? ior : 1.0, etaT = backFace ? 1.0 : ior;
+    float cosI = clamp(dot(N, V), 0.0, 1.0);
+    float eta = etaI / etaT;
+    float cos2T = tdCos2T(cosI, eta);
+    float F = 0.0;
+    if (kt > 0.0 && etaI != etaT)
+      F = cos2T <= 0.0 ? 1.0 : (TD_FRESNEL_SCHLICK != 0 ? tdFresnelSchlick(cosI, etaI, etaT) : tdFresnelExact(cosI, etaI, etaT));
+    float wR = TD_FRESNEL_WEIGHTED != 0 ? kr + kt * F : kr;
+    float wT = TD_FRESNEL_WEIGHTED != 0 ? kt * (1.0 - F) : kt;
+    if (kt <= 0.0 || (etaI != etaT && cos2T <= 0.0)) wT = 0.0;  // T is absent on total internal reflection
+    float layer = float(tri.probe - 1u);
+#if (TD_PROBES & 1) != 0
+    if (wR > 0.0) rays.reflected += wR * textureLod(probes, vec4(reflect(-V, N), layer), 0.0).rgb;
+#endif
+#if (TD_PROBES & 2) != 0
+    if (wT > 0.0) {
+      vec3 T = etaI == etaT ? -V : eta * -V + (eta * cosI - sqrt(max(cos2T, 0.0))) * N;
+      rays.transmitted += wT * textureLod(probes, vec4(T, layer), 0.0).rgb;
+    }
+#endif
+  }
+#endif
   if (debugView == TD_VIEW_LIGHT_MASK) {
     float visible = 1.0;
-    if ((rayInputs & TD_RAY_LIGHT_MASK) != 0 && lightCount > 0) {
+    if (((rayInputs & TD_RAY_LIGHT_MASK) != 0 || TD_SHADOW_MAPS != 0) && TD_LIGHT_COUNT > 0) {
       visible = 0.0;
-      for (int j = 0; j < lightCount; ++j) visible += rays.vis[j];
-      visible /= float(lightCount);
+      for (int j = 0; j < TD_LIGHT_COUNT; ++j) visible += rays.vis[j];
+      visible /= float(TD_LIGHT_COUNT);
     }
     outColor = vec4(vec3(visible), 1.0);
     return;
@@ -324,12 +466,14 @@ void main() {
   }
 
   // ---- surface inputs ----
-  GpuMaterial m = materials[tri.material];
   vec2 uv = vec2(0.0);
   vec3 tint = vec3(1.0);
   if (TD_USE_UVS != 0 && (tri.flags & TD_MESH_HAS_UVS) != 0u) {
-    vec2 uv0 = uvs[tri.v0], uv1 = uvs[tri.v1], uv2 = uvs[tri.v2];
-    mat3 uvFromMesh = mat3(uvTransforms[tri.material]);
+    vec2 uv0 = texelFetch(uvsBuf, int(tri.v0)).xy, uv1 = texelFetch(uvsBuf, int(tri.v1)).xy,
+         uv2 = texelFetch(uvsBuf, int(tri.v2)).xy;
+    int ut = 4 * int(tri.material);  // Material::uvTransform, its upper 3×3
+    mat3 uvFromMesh = mat3(texelFetch(uvTransformsBuf, ut).xyz, texelFetch(uvTransformsBuf, ut + 1).xyz,
+                           texelFetch(uvTransformsBuf, ut + 2).xyz);
     uv = (uvFromMesh * vec3(b.x * uv0 + b.y * uv1 + b.z * uv2, 1.0)).xy;
     int layer = int(m.kdTex.w + 0.5);
     if (TD_USE_KD_TEXTURES != 0 && m.kdTex.w >= 0.0) {
@@ -346,7 +490,8 @@ void main() {
     }
   }
   if (TD_USE_COLORS != 0 && (tri.flags & TD_MESH_HAS_COLORS) != 0u)
-    tint *= (b.x * colors[tri.v0] + b.y * colors[tri.v1] + b.z * colors[tri.v2]).rgb;
+    tint *= (b.x * texelFetch(colorsBuf, int(tri.v0)) + b.y * texelFetch(colorsBuf, int(tri.v1)) +
+             b.z * texelFetch(colorsBuf, int(tri.v2))).rgb;
 
   // ---- local shading ----
   vec3 C = tdSurfaceColor(m, uv, tint);
@@ -369,9 +514,9 @@ void main() {
       N1 = dot(n1, n1) > 0.0 ? side * normalize(n1) : Ng;
       N2 = dot(n2, n2) > 0.0 ? side * normalize(n2) : Ng;
     }
-    for (int j = 0; j < lightCount; ++j) {
+    for (int j = 0; j < TD_LIGHT_COUNT; ++j) {
       GpuLight L = lights[j];
-      float vis = (rayInputs & TD_RAY_LIGHT_MASK) != 0 && L.radiance.w > 0.5 ? rays.vis[j] : 1.0;
+      float vis = ((rayInputs & TD_RAY_LIGHT_MASK) != 0 || TD_SHADOW_MAPS != 0) && L.radiance.w > 0.5 ? rays.vis[j] : 1.0;
       if (vis <= 0.0) continue;
       vec3 Lj;
       vec3 toLight;
@@ -394,8 +539,8 @@ void main() {
   }
 
   vec3 I = local;
-  if ((rayInputs & TD_RAY_REFLECTED) != 0) I += rays.reflected;
-  if ((rayInputs & TD_RAY_TRANSMITTED) != 0) I += rays.transmitted;
+  if ((rayInputs & TD_RAY_REFLECTED) != 0 || (TD_PROBES & 1) != 0) I += rays.reflected;
+  if ((rayInputs & TD_RAY_TRANSMITTED) != 0 || (TD_PROBES & 2) != 0) I += rays.transmitted;
 #if TD_USE_TOON
   if (model == TD_MODEL_TOON && m.emissionFlags.w < 0.5 && isEdge(pix, id, ngRaw)) I = vec3(0.0);
 #endif

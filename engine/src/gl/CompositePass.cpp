@@ -98,7 +98,13 @@ const Program& CompositePass::shadeVariant(const SceneFeatures& f, const ShadeIn
                         "\n#define TD_USE_TOON " + std::to_string(f.toon) +
                         "\n#define TD_USE_UVS " + std::to_string(f.uvs) +
                         "\n#define TD_USE_KD_TEXTURES " + std::to_string(f.kdTextures) +
-                        "\n#define TD_USE_COLORS " + std::to_string(f.colors) + "\n";
+                        "\n#define TD_USE_COLORS " + std::to_string(f.colors) +
+                        "\n#define TD_LIGHT_COUNT " + std::to_string(f.lightCount) +
+                        "\n#define TD_UNIFORM_MATERIALS " + std::to_string(f.uniformMaterials) +
+                        "\n#define TD_SHADOW_MAPS " + std::to_string(in.shadowMaps ? 1 : 0) +
+                        "\n#define TD_PROBES " + std::to_string(in.probes ? in.probeEffects : 0) +
+                        "\n#define TD_FRESNEL_SCHLICK " + std::to_string(in.fresnel == FresnelMode::Schlick ? 1 : 0) +
+                        "\n#define TD_FRESNEL_WEIGHTED " + std::to_string(in.fresnelWeighted ? 1 : 0) + "\n";
   auto found = shadeVariants_.find(defines);
   if (found != shadeVariants_.end()) return found->second;
   auto built = buildProgram("shade", {{GL_VERTEX_SHADER, "shaders/fullscreen.vert"},
@@ -115,14 +121,29 @@ const Program& CompositePass::shadeVariant(const SceneFeatures& f, const ShadeIn
 void CompositePass::shade(const GpuScene& scene, const VisibilityPass& visibility, const Camera& camera,
                           const ShadeInputs& in) {
   assert(visibility.width() == width_ && visibility.height() == height_);
-  glBindFramebuffer(GL_FRAMEBUFFER, linearFbo_.id());
-  glViewport(0, 0, width_, height_);
-  glDisable(GL_DEPTH_TEST);
+  shadeInto(linearFbo_.id(), width_, height_, scene, visibility.ids(), visibility.depth(), camera, in);
+}
+
+void CompositePass::shadeInto(GLuint framebuffer, int width, int height, const GpuScene& scene, const Texture& ids,
+                              const Texture& depth, const Camera& camera, const ShadeInputs& in) {
+  // Background pixels never run the shader: the visibility depth is attached (read-only) and the
+  // full-screen triangle at depth 0 passes only where something was drawn (reversed-Z: cleared = 0), so
+  // llvmpipe's early depth test skips whole sky blocks; the clear gives them their colour. Attached
+  // every call: a resized visibility pass may get its old texture name back for a new texture.
+  glNamedFramebufferTexture(framebuffer, GL_DEPTH_ATTACHMENT, depth.id(), 0);
+  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);  // fullscreen.vert's z = 0 must land on depth 0
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glViewport(0, 0, width, height);
+  glm::vec4 clear(in.debugView == DebugView::Final ? in.background : glm::vec3(0.0f), 1.0f);
+  glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, glm::value_ptr(clear));
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_FALSE);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
 
   GLuint p = shadeVariant(scene.features(), in).id();
-  float aspect = float(width_) / float(height_);
+  float aspect = float(width) / float(height);
   glm::vec3 forward = glm::normalize(camera.targetW - camera.posW);
   glm::vec3 right = glm::normalize(glm::cross(forward, camera.upW));
   glm::vec3 up = glm::cross(right, forward);
@@ -134,16 +155,18 @@ void CompositePass::shade(const GpuScene& scene, const VisibilityPass& visibilit
   glProgramUniform3fv(p, 2, 1, glm::value_ptr(rightScaled));
   glProgramUniform3fv(p, 3, 1, glm::value_ptr(upScaled));
   glProgramUniform1i(p, 4, camera.orthographic ? 1 : 0);
-  glProgramUniform2i(p, 5, width_, height_);
+  glProgramUniform2i(p, 5, width, height);
   glProgramUniform3fv(p, 6, 1, glm::value_ptr(in.background));
   glProgramUniform3fv(p, 7, 1, glm::value_ptr(in.ambient));
-  glProgramUniform1i(p, 8, scene.lightCount());
   glProgramUniform1i(p, 11, in.rayScale);
   glProgramUniform2i(p, 12, std::max(in.rayWidth, 1), std::max(in.rayHeight, 1));
 
   scene.bind(kUnitKd, kUnitRamps);
-  glBindTextureUnit(kUnitIds, visibility.ids().id());
-  glBindTextureUnit(kUnitDepth, visibility.depth().id());
+  scene.bindShading();
+  glBindTextureUnit(kUnitIds, ids.id());
+  glBindTextureUnit(kUnitDepth, depth.id());
+  if (in.shadowMaps) in.shadowMaps->bind();
+  if (in.probes && in.probeEffects != 0) in.probes->bind();
   glBindTextureUnit(kUnitLightMask, (in.rayInputs & kRayLightMask) ? lightMask_.id() : 0);
   glBindTextureUnit(kUnitReflected, (in.rayInputs & kRayReflected) ? reflected_.id() : 0);
   glBindTextureUnit(kUnitTransmitted, (in.rayInputs & kRayTransmitted) ? transmitted_.id() : 0);
@@ -153,6 +176,8 @@ void CompositePass::shade(const GpuScene& scene, const VisibilityPass& visibilit
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glUseProgram(0);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_DEPTH_TEST);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 

@@ -11,6 +11,7 @@
 
 #include "gl/GlObjects.h"
 #include "gl/GpuScene.h"
+#include "gl/RasterEffects.h"
 #include "gl/VisibilityPass.h"
 #include "tandem/Camera.h"
 #include "tandem/Image.h"
@@ -21,6 +22,8 @@ namespace tandem::gl {
 
 /// Which ray results the shade pass reads (bits of its `rayInputs` uniform).
 enum RayInput : int { kRayLightMask = 1, kRayReflected = 2, kRayTransmitted = 4 };
+/// Which terms the shade pass takes from the reflection probes (EffectMode::Raster).
+enum ProbeEffect : int { kProbeReflect = 1, kProbeRefract = 2 };
 
 struct ShadeInputs {
   glm::vec3 background{0.0f};
@@ -29,6 +32,11 @@ struct ShadeInputs {
   int rayScale = 1;
   int rayWidth = 0, rayHeight = 0;
   DebugView debugView = DebugView::Final;
+  const ShadowMaps* shadowMaps = nullptr;  // raster shadows: per-light visibility from these maps
+  const ReflectionProbes* probes = nullptr;
+  int probeEffects = 0;                    // ProbeEffect bits (with `probes`)
+  FresnelMode fresnel = FresnelMode::Exact;
+  bool fresnelWeighted = true;             // wR = kr + kt·F, wT = kt·(1 − F); else wR = kr, wT = kt
 };
 
 class CompositePass {
@@ -44,6 +52,10 @@ class CompositePass {
   void uploadLinear(const ImageF& image);
 
   void shade(const GpuScene& scene, const VisibilityPass& visibility, const Camera& camera, const ShadeInputs& in);
+  /// The same shade pass into another colour target of width × height (a reflection probe's face) from
+  /// that view's ids and depth (which it attaches to `framebuffer` as its read-only depth).
+  void shadeInto(GLuint framebuffer, int width, int height, const GpuScene& scene, const Texture& ids,
+                 const Texture& depth, const Camera& camera, const ShadeInputs& in);
   /// Exposure, tone map and sRGB encoding into the RGBA8 target; debug views that are already display
   /// values (depth, ids, normals, light mask) pass through.
   void output(float exposure, ToneMap toneMap, DebugView view);

@@ -47,6 +47,25 @@ Texture createTexture2DArray(std::string_view name, GLenum internalFormat, int w
   return Texture(id);
 }
 
+Texture createTextureCube(std::string_view name, GLenum internalFormat, int size, int layers) {
+  assert(size > 0 && layers >= 0 && "createTextureCube: empty texture");
+  GLuint id = 0;
+  glCreateTextures(layers > 0 ? GL_TEXTURE_CUBE_MAP_ARRAY : GL_TEXTURE_CUBE_MAP, 1, &id);
+  label(GL_TEXTURE, id, name);
+  if (layers > 0) glTextureStorage3D(id, 1, internalFormat, size, size, 6 * layers);
+  else glTextureStorage2D(id, 1, internalFormat, size, size);
+  return Texture(id);
+}
+
+Texture createBufferTexture(std::string_view name, GLenum internalFormat, const Buffer& buffer) {
+  assert(buffer && "createBufferTexture: no buffer");
+  GLuint id = 0;
+  glCreateTextures(GL_TEXTURE_BUFFER, 1, &id);
+  label(GL_TEXTURE, id, name);
+  glTextureBuffer(id, internalFormat, buffer.id());
+  return Texture(id);
+}
+
 Framebuffer createFramebuffer(std::string_view name) {
   GLuint id = 0;
   glCreateFramebuffers(1, &id);

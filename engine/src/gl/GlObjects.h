@@ -59,6 +59,11 @@ Buffer createBuffer(std::string_view label, std::size_t bytes, const void* data)
 Texture createTexture2D(std::string_view label, GLenum internalFormat, int width, int height, int levels = 1);
 Texture createTexture2DArray(std::string_view label, GLenum internalFormat, int width, int height, int layers,
                              int levels);
+/// Cube map (or cube map array of `layers` cubes when layers > 0) with immutable storage.
+Texture createTextureCube(std::string_view label, GLenum internalFormat, int size, int layers = 0);
+/// A buffer texture viewing all of `buffer` as texels of `internalFormat` (no copy): shaders gather
+/// from it with texelFetch, which llvmpipe vectorizes, where an SSBO read becomes a per-lane loop.
+Texture createBufferTexture(std::string_view label, GLenum internalFormat, const Buffer& buffer);
 Framebuffer createFramebuffer(std::string_view label);
 VertexArray createVertexArray(std::string_view label);
 Shader createShader(std::string_view label, GLenum stage);

@@ -9,6 +9,15 @@
 
 namespace tandem::gl {
 
+std::vector<std::uint32_t> probeInstances(const Scene& scene) {
+  std::vector<std::uint32_t> out;
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const Material& m = scene.materials[scene.instances[i].material];
+    if (m.kr > 0.0f || m.kt > 0.0f) out.push_back(static_cast<std::uint32_t>(i));
+  }
+  return out;
+}
+
 namespace {
 
 struct GpuInstance {
@@ -45,6 +54,9 @@ std::vector<GpuInstance> packInstances(const Scene& scene) {
     g.meshMaterial = glm::uvec4(inst.mesh, inst.material, 0, 0);
     out.push_back(g);
   }
+  // z = reflection-probe slot + 1 (0 = none), in the order probeInstances lists them.
+  std::vector<std::uint32_t> probes = probeInstances(scene);
+  for (std::size_t slot = 0; slot < probes.size(); ++slot) out[probes[slot]].meshMaterial.z = static_cast<std::uint32_t>(slot + 1);
   return out;
 }
 
@@ -124,12 +136,23 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
   colors_ = bufferOf("colors", colors);
   indices_ = bufferOf("indices", indices);
   meshes_ = bufferOf("meshes", meshes);
+  // Empty channels keep a 16-byte stand-in buffer: the views are over whole buffers either way.
+  positionsTex_ = createBufferTexture("positions view", GL_RGB32F, positions_);
+  normalsTex_ = createBufferTexture("normals view", GL_RGB32F, normals_);
+  uvsTex_ = createBufferTexture("uvs view", GL_RG32F, uvs_);
+  colorsTex_ = createBufferTexture("colors view", GL_RGBA32F, colors_);
+  indicesTex_ = createBufferTexture("indices view", GL_R32UI, indices_);
+  meshesTex_ = createBufferTexture("meshes view", GL_RGBA32UI, meshes_);
   bytes_ = (positions.size() + normals.size()) * sizeof(float) + uvs.size() * sizeof(glm::vec2) +
            colors.size() * sizeof(glm::vec4) + indices.size() * sizeof(std::uint32_t);
 
   // ---- instances and the draw commands (one per instance, baseInstance = instance index) ----
   instanceCount_ = static_cast<int>(scene.instances.size());
   instances_ = bufferOf("instances", packInstances(scene));
+  // Two views of one record: the matrices as floats, meshMaterial as integers (reading integer bits
+  // through a float view would meet llvmpipe's denormal flushing).
+  instancesTex_ = createBufferTexture("instances view", GL_RGBA32F, instances_);
+  instanceIdsTex_ = createBufferTexture("instance ids view", GL_RGBA32UI, instances_);
   std::vector<DrawCommand> commands;
   std::vector<std::uint32_t> ids;
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {
@@ -209,9 +232,12 @@ void GpuScene::updateInstances(const Scene& scene) {
 void GpuScene::updateLights(const Scene& scene) {
   std::vector<shading::GpuLight> packed;
   for (const Light* l : scene.directLights()) packed.push_back(shading::packLight(*l));
-  // A light turned ambient (or back) changes the count: only then is the buffer reallocated.
-  if (!lights_ || packed.empty() || static_cast<int>(packed.size()) != lightCount_) {
-    lightCount_ = static_cast<int>(packed.size());
+  lightCount_ = static_cast<int>(packed.size());
+  features_.lightCount = lightCount_;
+  // Always TD_MAX_LIGHTS records: the uniform block declares that many, so a light turned ambient (or
+  // back) only rewrites the contents.
+  packed.resize(TD_MAX_LIGHTS, shading::GpuLight{});
+  if (!lights_) {
     lights_ = bufferOf("lights", packed);
     return;
   }
@@ -227,6 +253,13 @@ void GpuScene::updateMaterials(const Scene& scene, std::optional<ShadingModel> s
   std::vector<glm::mat4> uvTransforms;
   for (const Material& m : scene.materials) uvTransforms.emplace_back(m.uvTransform);
   uvTransforms_ = bufferOf("uv transforms", uvTransforms);
+  uvTransformsTex_ = createBufferTexture("uv transforms view", GL_RGBA32F, uvTransforms_);
+  // Materials are indexed per pixel; from a uniform block llvmpipe gathers them with plain loads, from an
+  // SSBO with a bounds-checked loop per lane. Scenes with more than fit keep the SSBO (a variant).
+  GLint maxBlock = 0;
+  glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &maxBlock);
+  std::size_t bytes = packed.size() * sizeof(shading::GpuMaterial);
+  features_.uniformMaterials = !packed.empty() && bytes <= static_cast<std::size_t>(maxBlock) ? static_cast<int>(packed.size()) : 0;
   bool anyToon = shadingOverride == ShadingModel::Toon ||
                  (!shadingOverride && std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
                    return m.shading == ShadingModel::Toon;
@@ -247,6 +280,14 @@ void GpuScene::bind(GLuint kdUnit, GLuint rampUnit) const {
     if (*buffers[b]) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, buffers[b]->id());
   glBindTextureUnit(kdUnit, kdTextures_.id());
   glBindTextureUnit(rampUnit, toonRamps_.id());
+}
+
+void GpuScene::bindShading() const {
+  const Texture* views[] = {&positionsTex_, &normalsTex_, &uvsTex_, &colorsTex_, &indicesTex_,
+                            &meshesTex_, &instancesTex_, &instanceIdsTex_, &uvTransformsTex_};
+  for (GLuint i = 0; i < std::size(views); ++i) glBindTextureUnit(kUnitPositionsTex + i, views[i]->id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, kBlockLights, lights_.id());
+  if (features_.uniformMaterials > 0) glBindBufferBase(GL_UNIFORM_BUFFER, kBlockMaterials, materials_.id());
 }
 
 void GpuScene::drawAll() const {

@@ -5,6 +5,7 @@
 // of truth. Only channels the scene uses are allocated (absent ones get a 16-byte stand-in binding).
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "gl/GlObjects.h"
 #include "tandem/Scene.h"
@@ -15,11 +16,24 @@ namespace tandem::gl {
 inline constexpr GLuint kBindPositions = 0, kBindNormals = 1, kBindUvs = 2, kBindColors = 3, kBindIndices = 4,
                         kBindMeshes = 5, kBindInstances = 6, kBindMaterials = 7, kBindLights = 8, kBindUvTransforms = 9;
 
+// Texture units of the buffer-texture views the shade pass gathers through (shade.frag declares the same).
+inline constexpr GLuint kUnitPositionsTex = 7, kUnitNormalsTex = 8, kUnitUvsTex = 9, kUnitColorsTex = 10,
+                        kUnitIndicesTex = 11, kUnitMeshesTex = 12, kUnitInstancesTex = 13,
+                        kUnitInstanceIdsTex = 14, kUnitUvTransformsTex = 15;
+// Uniform-block binding points: lights (always TD_MAX_LIGHTS records) and materials (when they fit).
+inline constexpr GLuint kBlockLights = 0, kBlockMaterials = 1;
+
 /// What the scene uses, for choosing the shade pass's variant.
 struct SceneFeatures {
   bool uvs = false, colors = false, kdTextures = false;
   bool gouraud = false, toon = false;  // after the shading override
+  int lightCount = 0;          // direct lights: the shade loop's compile-time bound
+  int uniformMaterials = 0;    // material count when they fit a uniform block, else 0 (SSBO)
 };
+
+/// Instances that get a reflection probe (their material has kr > 0 or kt > 0), in slot order; the shade
+/// pass finds an instance's slot in GpuInstance.meshMaterial.z (slot + 1, 0 = none).
+std::vector<std::uint32_t> probeInstances(const Scene& scene);
 
 class GpuScene {
  public:
@@ -32,6 +46,8 @@ class GpuScene {
 
   /// Binds the SSBOs and textures (kd array on unit `kdUnit`, ramps on `rampUnit`).
   void bind(GLuint kdUnit, GLuint rampUnit) const;
+  /// What the shade pass reads besides bind(): buffer-texture views (kUnit*Tex) and uniform blocks.
+  void bindShading() const;
   /// All instances in one glMultiDrawElementsIndirect; the visibility shader reads the instance from a
   /// per-instance attribute offset by each command's baseInstance.
   void drawAll() const;
@@ -48,6 +64,9 @@ class GpuScene {
 
   Buffer positions_, normals_, uvs_, colors_, indices_, meshes_, instances_, materials_, lights_, uvTransforms_;
   Buffer indirect_, instanceIds_;
+  // Views of the buffers above for the shade pass (see createBufferTexture).
+  Texture positionsTex_, normalsTex_, uvsTex_, colorsTex_, indicesTex_, meshesTex_, instancesTex_, instanceIdsTex_,
+      uvTransformsTex_;
   VertexArray vao_;
   Texture kdTextures_, toonRamps_;
   int instanceCount_ = 0;

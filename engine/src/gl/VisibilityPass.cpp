@@ -37,8 +37,13 @@ void VisibilityPass::resize(int width, int height) {
 
 void VisibilityPass::render(const GpuScene& scene, const Camera& camera) {
   assert(width_ > 0 && "VisibilityPass::render before resize");
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  glViewport(0, 0, width_, height_);
+  renderInto(fbo_.id(), width_, height_, scene, camera);
+}
+
+void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const GpuScene& scene,
+                                const Camera& camera, std::optional<std::uint32_t> excluded) const {
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glViewport(0, 0, width, height);
   // Reversed-Z: near → 1, far → 0 with [0, 1] clip depth, so float depth keeps its precision far away.
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
   glEnable(GL_DEPTH_TEST);
@@ -48,10 +53,10 @@ void VisibilityPass::render(const GpuScene& scene, const Camera& camera) {
   glDisable(GL_BLEND);
   const GLuint zeroIds[4] = {0, 0, 0, 0};
   const GLfloat farDepth = 0.0f;
-  glClearNamedFramebufferuiv(fbo_.id(), GL_COLOR, 0, zeroIds);
-  glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &farDepth);
+  glClearNamedFramebufferuiv(framebuffer, GL_COLOR, 0, zeroIds);  // no effect on a depth-only target
+  glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &farDepth);
 
-  float aspect = float(width_) / float(height_);
+  float aspect = float(width) / float(height);
   glm::mat4 viewFromWorld = camera.viewFromWorld();
   // The rotation part of viewFromWorld applied to camera-relative positions equals viewFromWorld.
   glm::mat4 viewRotation = glm::mat4(glm::mat3(viewFromWorld));
@@ -59,6 +64,7 @@ void VisibilityPass::render(const GpuScene& scene, const Camera& camera) {
   glUseProgram(program_.id());
   glProgramUniformMatrix4fv(program_.id(), 0, 1, GL_FALSE, glm::value_ptr(clipFromWorldRelative));
   glProgramUniform3fv(program_.id(), 1, 1, glm::value_ptr(camera.posW));
+  glProgramUniform1ui(program_.id(), 2, excluded ? *excluded + 1u : 0u);
   scene.bind(2, 3);
   scene.drawAll();
   glUseProgram(0);

@@ -1,6 +1,8 @@
 #pragma once
 // The raster pass: the visibility G-buffer (instance + 1, triangle) over reversed-Z float depth, and its
 // read-back for the ray pass. Channel table: docs/gbuffer.md.
+#include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -19,6 +21,11 @@ class VisibilityPass {
   /// Reallocates the targets when the frame size changes.
   void resize(int width, int height);
   void render(const GpuScene& scene, const Camera& camera);
+  /// The same raster into another target (a shadow map's depth, a probe face's ids + depth) of
+  /// width × height pixels, seen from `camera` (aspect width / height); `excluded` (an instance index)
+  /// is left out when given. Clears the target's depth to far (0) and its colour 0 (if any) to 0.
+  void renderInto(GLuint framebuffer, int width, int height, const GpuScene& scene, const Camera& camera,
+                  std::optional<std::uint32_t> excluded = std::nullopt) const;
   /// The ids channel, row 0 = top (the ray pass's convention); `ids` is resized to width × height.
   void readIds(std::vector<glm::uvec2>& ids) const;
 

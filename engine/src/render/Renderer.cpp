@@ -10,6 +10,7 @@
 #include "gl/CompositePass.h"
 #include "gl/Gl.h"
 #include "gl/GpuScene.h"
+#include "gl/RasterEffects.h"
 #include "gl/VisibilityPass.h"
 #include "rt/RayTracer.h"
 #include "tandem/Log.h"
@@ -22,6 +23,9 @@ struct Renderer::Impl {
   gl::VisibilityPass visibilityPass;
   gl::CompositePass compositePass;
   gl::GpuScene gpu;
+  gl::ShadowMaps shadowMaps;
+  gl::ReflectionProbes probes;
+  std::vector<gl::Bounds> meshBounds;  // object space, per mesh: recomputed with each upload
   Scene scene;
 
   // What the caches are missing. The GL copy is synced every frame; the Embree scene only on frames
@@ -32,6 +36,11 @@ struct Renderer::Impl {
   bool rtSceneStale = true;
   bool rtTransformsStale = false;
   bool rtBroken = false;  // Embree refused this scene (logged once); ray effects are off until the next one
+  // Raster effects are re-rendered only when the GL copy changed since they were made (gpuVersion counts
+  // its changes) or, for probes, when the shading they were made with differs.
+  std::uint64_t gpuVersion = 1;
+  std::uint64_t shadowVersion = 0, probeVersion = 0;
+  bool probesShadowed = false;
 
   rt::VisibilityBuffer visibility;
   rt::RayOutputs rays;
@@ -49,8 +58,8 @@ bool finiteMatrix(const glm::mat4& m) {
 
 bool finiteVec(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-// Raster effects (shadow maps, cube maps, blending) are not built yet: they render as Off.
-EffectMode effective(EffectMode m) { return m == EffectMode::Ray ? EffectMode::Ray : EffectMode::Off; }
+// What the ray pass does for an effect: Raster effects are the GL passes' (shadow maps, probes), not its.
+EffectMode rayOnly(EffectMode m) { return m == EffectMode::Ray ? EffectMode::Ray : EffectMode::Off; }
 
 }  // namespace
 
@@ -131,9 +140,9 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   // ---------------------------------------------------------------------------------------------
   const FrameSettings s = requested.resolved();
   FrameSettings raySettings = s;
-  raySettings.shadows = effective(s.shadows);
-  raySettings.reflections = effective(s.reflections);
-  raySettings.refraction = effective(s.refraction);
+  raySettings.shadows = rayOnly(s.shadows);
+  raySettings.reflections = rayOnly(s.reflections);
+  raySettings.refraction = rayOnly(s.refraction);
   bool anyShadowLight = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
     return l.type != LightType::Ambient && l.castShadows;
   });
@@ -145,14 +154,23 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   const bool wantsRays = raySettings.shadows == EffectMode::Ray || raySettings.reflections == EffectMode::Ray ||
                          raySettings.refraction == EffectMode::Ray;
   const bool wantsReference = s.reference && s.debugView == DebugView::Final;
+  // Raster effects: only what the scene can show (a glass object reflects through its Fresnel term).
+  const bool rasterShadows = s.shadows == EffectMode::Raster && anyShadowLight && !wantsReference;
+  int probeEffects = 0;
+  if (s.maxDepth > 0 && !wantsReference) {
+    if (s.reflections == EffectMode::Raster && (anyMirror || anyGlass)) probeEffects |= gl::kProbeReflect;
+    if (s.refraction == EffectMode::Raster && anyGlass) probeEffects |= gl::kProbeRefract;
+  }
 
   if (r.gpuStale) {
     r.gpu.upload(scene, s.shadingOverride);
+    r.meshBounds = gl::meshBounds(scene);
     r.gpuStale = r.gpuInstancesStale = r.gpuLightsStale = false;
+    ++r.gpuVersion;
   }
-  if (r.gpuInstancesStale) r.gpu.updateInstances(scene);
-  if (r.gpuLightsStale) r.gpu.updateLights(scene);
-  if (r.gpu.shadingOverride() != s.shadingOverride) r.gpu.updateMaterials(scene, s.shadingOverride);
+  if (r.gpuInstancesStale) r.gpu.updateInstances(scene), ++r.gpuVersion;
+  if (r.gpuLightsStale) r.gpu.updateLights(scene), ++r.gpuVersion;
+  if (r.gpu.shadingOverride() != s.shadingOverride) r.gpu.updateMaterials(scene, s.shadingOverride), ++r.gpuVersion;
   r.gpuInstancesStale = r.gpuLightsStale = false;
 
   if ((wantsRays || wantsReference) && !r.rtBroken) {
@@ -175,9 +193,46 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   stats.prepareMs = clock.ms();
 
   // ---------------------------------------------------------------------------------------------
-  // raster: the visibility G-buffer (instance + 1, triangle) over reversed-Z depth.
+  // raster: the raster effects' maps when the scene changed (shadow maps, then the probes, which are
+  // shaded with them), then the visibility G-buffer (instance + 1, triangle) over reversed-Z depth.
   // ---------------------------------------------------------------------------------------------
   clock.reset();
+  gl::ShadeInputs shadeIn;
+  shadeIn.background = scene.background;
+  shadeIn.ambient = scene.ambientIntensity();
+  shadeIn.fresnel = s.fresnel;
+  shadeIn.fresnelWeighted = s.fresnelWeighted;
+  std::vector<gl::Bounds> instanceBounds;
+  if (rasterShadows || probeEffects != 0) instanceBounds = gl::instanceBounds(scene, r.meshBounds);
+  if (rasterShadows) {
+    if (r.shadowVersion != r.gpuVersion) {
+      gl::Bounds world;
+      for (const gl::Bounds& b : instanceBounds) world.add(b);
+      r.shadowMaps.update(scene, r.gpu, r.visibilityPass, world);
+      r.shadowVersion = r.gpuVersion;
+    }
+    if (r.shadowMaps.mapCount() + r.shadowMaps.cubeCount() > 0) shadeIn.shadowMaps = &r.shadowMaps;
+  } else if (r.shadowVersion != 0) {
+    r.shadowMaps.release();  // cost follows the settings: no maps held while shadows are not raster
+    r.shadowVersion = 0;
+  }
+  if (probeEffects != 0) {
+    bool shadowed = shadeIn.shadowMaps != nullptr;
+    if (r.probeVersion != r.gpuVersion || r.probesShadowed != shadowed) {
+      // The probes see local shading only (no ray results, no probes): one bounce.
+      gl::ShadeInputs local = shadeIn;
+      r.probes.update(scene, r.gpu, r.visibilityPass, r.compositePass, local, instanceBounds);
+      r.probeVersion = r.gpuVersion;
+      r.probesShadowed = shadowed;
+    }
+    if (r.probes.probeCount() > 0) {
+      shadeIn.probes = &r.probes;
+      shadeIn.probeEffects = probeEffects;
+    }
+  } else if (r.probeVersion != 0) {
+    r.probes.release();
+    r.probeVersion = 0;
+  }
   if (!referenceFrame) {
     r.visibilityPass.render(r.gpu, camera);
     glFinish();
@@ -220,9 +275,6 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   // upload: only the ray results that exist this frame.
   // ---------------------------------------------------------------------------------------------
   clock.reset();
-  gl::ShadeInputs shadeIn;
-  shadeIn.background = scene.background;
-  shadeIn.ambient = scene.ambientIntensity();
   shadeIn.debugView = s.debugView;
   shadeIn.rayScale = s.rayScale;
   if (rayPass) {

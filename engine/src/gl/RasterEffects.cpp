@@ -1,0 +1,280 @@
+#include "gl/RasterEffects.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include "core/Shading.h"
+#include "gl/CompositePass.h"
+
+namespace tandem::gl {
+
+namespace {
+
+// shade.frag's TD_SHADOW_* kinds.
+constexpr float kKindOrtho = 1.0f, kKindPerspective = 2.0f, kKindCube = 3.0f;
+// Spots wider than this get a cube map: a square frustum around a wider cone wastes most of its texels.
+constexpr float kMaxSpotMapDeg = 60.0f;
+
+// Cube-map faces in GL's order (+X, −X, +Y, −Y, +Z, −Z), as cameras: looking along `forward` with `up`,
+// a camera's pixel (x, y) (y up, as framebuffer rows run) lands on the face texel (s, t) that GL's cube
+// sampling (spec table "Selection of cube map images") picks for that direction, so a face rendered by
+// the ordinary raster + shade passes is addressed by direction with no flip.
+struct Face {
+  glm::vec3 forward, up;
+};
+constexpr Face kFaces[6] = {{{1, 0, 0}, {0, -1, 0}},  {{-1, 0, 0}, {0, -1, 0}}, {{0, 1, 0}, {0, 0, 1}},
+                            {{0, -1, 0}, {0, 0, -1}}, {{0, 0, 1}, {0, -1, 0}},  {{0, 0, -1}, {0, -1, 0}}};
+
+Camera faceCamera(glm::vec3 eye, int face, float nearZ, float farZ) {
+  Camera c;
+  c.posW = eye;
+  c.targetW = eye + kFaces[face].forward;
+  c.upW = kFaces[face].up;
+  c.yFovDeg = 90.0f;
+  c.nearZ = nearZ;
+  c.farZ = farZ;
+  return c;
+}
+
+// Any unit vector not parallel to `d`, for an up vector.
+glm::vec3 upFor(glm::vec3 d) { return std::abs(d.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0); }
+
+glm::mat4 clipFromWorldRelative(const Camera& c) {
+  return c.clipFromView(1.0f) * glm::mat4(glm::mat3(c.viewFromWorld()));
+}
+
+// Distances from `p` to the nearest and farthest points of the box.
+float farthest(const Bounds& b, glm::vec3 p) {
+  glm::vec3 d = glm::max(glm::abs(b.lo - p), glm::abs(b.hi - p));
+  return glm::length(d);
+}
+
+void depthCompare(const Texture& t) {
+  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  // Reversed-Z: the stored depth is the nearest occluder's, the largest value; a receiver is lit when
+  // it is at least as near as that (ref >= stored).
+  glTextureParameteri(t.id(), GL_TEXTURE_COMPARE_FUNC, GL_GEQUAL);
+}
+
+}  // namespace
+
+std::vector<Bounds> meshBounds(const Scene& scene) {
+  std::vector<Bounds> out(scene.meshes.size());
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+    for (const glm::vec3& p : scene.meshes[m].positions) out[m].add(p);
+  return out;
+}
+
+std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>& meshes) {
+  std::vector<Bounds> out(scene.instances.size());
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const Bounds& b = meshes[scene.instances[i].mesh];
+    if (b.empty()) continue;
+    const glm::mat4& m = scene.instances[i].worldFromObject;
+    for (int k = 0; k < 8; ++k) {
+      glm::vec3 corner((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z);
+      out[i].add(glm::vec3(m * glm::vec4(corner, 1.0f)));
+    }
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Shadow maps
+// ---------------------------------------------------------------------------------------------------
+
+void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, const Bounds& world) {
+  std::vector<const Light*> lights = scene.directLights();
+  std::array<GpuShadow, TD_MAX_LIGHTS> records{};
+  struct Job {
+    int light;
+    bool cube;
+    int slot;
+  };
+  std::vector<Job> jobs;
+  int layers = 0, cubes = 0;
+  for (std::size_t j = 0; j < lights.size() && j < TD_MAX_LIGHTS; ++j) {
+    const Light& l = *lights[j];
+    if (!l.castShadows) continue;
+    bool cube = l.type == LightType::Point || (l.type == LightType::Spot && l.outerConeDeg > kMaxSpotMapDeg);
+    jobs.push_back({static_cast<int>(j), cube, cube ? cubes++ : layers++});
+  }
+  if (jobs.empty() || world.empty()) {
+    release();
+    return;
+  }
+  if (layers != layers_ || (layers > 0 && !maps_)) {
+    maps_.reset();
+    if (layers > 0) {
+      maps_ = createTexture2DArray("shadow maps", GL_DEPTH_COMPONENT32F, kMapSize, kMapSize, layers, 1);
+      depthCompare(maps_);
+    }
+    layers_ = layers;
+  }
+  if (cubes != cubes_ || (cubes > 0 && !cubeMaps_)) {
+    cubeMaps_.reset();
+    if (cubes > 0) {
+      cubeMaps_ = createTextureCube("shadow cube maps", GL_DEPTH_COMPONENT32F, kCubeSize, cubes);
+      depthCompare(cubeMaps_);
+    }
+    cubes_ = cubes;
+  }
+  if (!fbo_) {
+    fbo_ = createFramebuffer("shadow map");
+    glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
+    glNamedFramebufferReadBuffer(fbo_.id(), GL_NONE);
+  }
+
+  // Slope-scaled bias in the map itself; reversed-Z, so negative moves occluders away from the light.
+  // The shade pass adds a normal offset of 1.5 texels, which handles grazing angles.
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(-1.5f, -4.0f);
+  glm::vec3 centre = world.centre();
+  float radius = std::max(0.5f * glm::length(world.hi - world.lo), 1e-3f);
+  for (const Job& job : jobs) {
+    const Light& l = *lights[static_cast<std::size_t>(job.light)];
+    GpuShadow& rec = records[static_cast<std::size_t>(job.light)];
+    if (l.type == LightType::Directional) {
+      // Orthographic, fitted to the scene's bounds seen along the light.
+      glm::vec3 fwd = glm::normalize(l.dirW);
+      glm::vec3 right = glm::normalize(glm::cross(fwd, upFor(fwd)));
+      glm::vec3 up = glm::cross(right, fwd);
+      glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+      for (int k = 0; k < 8; ++k) {
+        glm::vec3 p((k & 1) ? world.hi.x : world.lo.x, (k & 2) ? world.hi.y : world.lo.y,
+                    (k & 4) ? world.hi.z : world.lo.z);
+        glm::vec3 q(glm::dot(p - centre, right), glm::dot(p - centre, up), glm::dot(p - centre, fwd));
+        lo = glm::min(lo, q);
+        hi = glm::max(hi, q);
+      }
+      float pad = 0.01f * radius;
+      Camera c;
+      c.orthographic = true;
+      c.posW = centre + right * (0.5f * (lo.x + hi.x)) + up * (0.5f * (lo.y + hi.y)) + fwd * (lo.z - 2.0f * pad);
+      c.targetW = c.posW + fwd;
+      c.upW = up;
+      c.orthoHeight = std::max(hi.x - lo.x, hi.y - lo.y) + 2.0f * pad;
+      c.nearZ = pad;
+      c.farZ = (hi.z - lo.z) + 4.0f * pad;
+      glNamedFramebufferTextureLayer(fbo_.id(), GL_DEPTH_ATTACHMENT, maps_.id(), 0, job.slot);
+      raster.renderInto(fbo_.id(), kMapSize, kMapSize, gpu, c);
+      rec.clipFromWorldRelative = clipFromWorldRelative(c);
+      rec.originKind = glm::vec4(c.posW, kKindOrtho);
+      rec.params = glm::vec4(float(job.slot), c.nearZ, c.farZ, c.orthoHeight / float(kMapSize));
+      continue;
+    }
+    // Spot and point: perspective from the light, far enough for the whole scene (or the range).
+    float farZ = farthest(world, l.posW) * 1.01f + 1e-3f;
+    if (l.range > 0.0f) farZ = std::min(farZ, l.range);
+    float nearZ = std::max(farZ * 1e-4f, 1e-5f * radius);
+    if (!job.cube) {
+      glm::vec3 fwd = glm::normalize(l.dirW);
+      Camera c;
+      c.posW = l.posW;
+      c.targetW = l.posW + fwd;
+      c.upW = upFor(fwd);
+      c.yFovDeg = 2.0f * l.outerConeDeg + 2.0f;  // the square frustum holds the cone, plus PCF margin
+      c.nearZ = nearZ;
+      c.farZ = farZ;
+      glNamedFramebufferTextureLayer(fbo_.id(), GL_DEPTH_ATTACHMENT, maps_.id(), 0, job.slot);
+      raster.renderInto(fbo_.id(), kMapSize, kMapSize, gpu, c);
+      rec.clipFromWorldRelative = clipFromWorldRelative(c);
+      rec.originKind = glm::vec4(l.posW, kKindPerspective);
+      rec.params = glm::vec4(float(job.slot), nearZ, farZ,
+                             2.0f * std::tan(glm::radians(c.yFovDeg) * 0.5f) / float(kMapSize));
+    } else {
+      for (int face = 0; face < 6; ++face) {
+        glNamedFramebufferTextureLayer(fbo_.id(), GL_DEPTH_ATTACHMENT, cubeMaps_.id(), 0, 6 * job.slot + face);
+        raster.renderInto(fbo_.id(), kCubeSize, kCubeSize, gpu, faceCamera(l.posW, face, nearZ, farZ));
+      }
+      rec.originKind = glm::vec4(l.posW, kKindCube);
+      rec.params = glm::vec4(float(job.slot), nearZ, farZ, 2.0f / float(kCubeSize));
+    }
+  }
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(0.0f, 0.0f);
+  if (!records_) records_ = createBuffer("shadow records", sizeof(records), records.data());
+  else glNamedBufferSubData(records_.id(), 0, sizeof(records), records.data());
+}
+
+void ShadowMaps::release() {
+  maps_.reset();
+  cubeMaps_.reset();
+  fbo_.reset();
+  records_.reset();
+  layers_ = cubes_ = 0;
+}
+
+void ShadowMaps::bind() const {
+  glBindTextureUnit(kUnitShadowMaps, maps_.id());
+  glBindTextureUnit(kUnitShadowCubes, cubeMaps_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, kBlockShadows, records_.id());
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Reflection probes
+// ---------------------------------------------------------------------------------------------------
+
+void ReflectionProbes::update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster,
+                              CompositePass& composite, const ShadeInputs& local,
+                              const std::vector<Bounds>& instances) {
+  std::vector<std::uint32_t> probes = probeInstances(scene);
+  if (probes.empty()) {
+    release();
+    return;
+  }
+  if (static_cast<int>(probes.size()) != count_ || !cubes_) {
+    count_ = static_cast<int>(probes.size());
+    cubes_ = createTextureCube("reflection probes", GL_RGBA16F, kFaceSize, count_);
+    glTextureParameteri(cubes_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(cubes_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(cubes_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(cubes_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(cubes_.id(), GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  }
+  if (!ids_) {
+    ids_ = createTexture2D("probe ids", GL_RG32UI, kFaceSize, kFaceSize);
+    setSampling(ids_, GL_NEAREST, GL_NEAREST);
+    depth_ = createTexture2D("probe depth", GL_DEPTH_COMPONENT32F, kFaceSize, kFaceSize);
+    setSampling(depth_, GL_NEAREST, GL_NEAREST);
+    rasterFbo_ = createFramebuffer("probe raster");
+    glNamedFramebufferTexture(rasterFbo_.id(), GL_COLOR_ATTACHMENT0, ids_.id(), 0);
+    glNamedFramebufferTexture(rasterFbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
+    glNamedFramebufferDrawBuffer(rasterFbo_.id(), GL_COLOR_ATTACHMENT0);
+    shadeFbo_ = createFramebuffer("probe shade");
+  }
+  // Filtering across face edges, so the seams of a 128² probe do not show in a smooth mirror.
+  glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+  Bounds world;
+  for (const Bounds& b : instances) world.add(b);
+  float nearZ = std::max(1e-5f * glm::length(world.hi - world.lo), 1e-6f);
+  for (std::size_t slot = 0; slot < probes.size(); ++slot) {
+    glm::vec3 eye = instances[probes[slot]].centre();
+    for (int face = 0; face < 6; ++face) {
+      Camera c = faceCamera(eye, face, nearZ, std::numeric_limits<float>::infinity());
+      raster.renderInto(rasterFbo_.id(), kFaceSize, kFaceSize, gpu, c, probes[slot]);
+      glNamedFramebufferTextureLayer(shadeFbo_.id(), GL_COLOR_ATTACHMENT0, cubes_.id(), 0,
+                                     static_cast<GLint>(6 * slot) + face);
+      composite.shadeInto(shadeFbo_.id(), kFaceSize, kFaceSize, gpu, ids_, depth_, c, local);
+    }
+  }
+}
+
+void ReflectionProbes::release() {
+  cubes_.reset();
+  ids_.reset();
+  depth_.reset();
+  rasterFbo_.reset();
+  shadeFbo_.reset();
+  count_ = 0;
+}
+
+void ReflectionProbes::bind() const { glBindTextureUnit(kUnitProbes, cubes_.id()); }
+
+}  // namespace tandem::gl

@@ -1,0 +1,99 @@
+#pragma once
+// The raster stand-ins for the ray pass's effects (EffectMode::Raster): shadow maps for the lights that
+// cast shadows, and a cube-map reflection probe around every reflective or transparent object. Both are
+// caches of the scene: the Renderer re-renders them only when something they depend on changed, and
+// allocates them only when the scene and the settings use them. Formats and limits: docs/gbuffer.md.
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gl/GlObjects.h"
+#include "gl/GpuScene.h"
+#include "gl/VisibilityPass.h"
+#include "tandem/Scene.h"
+
+namespace tandem::gl {
+
+class CompositePass;
+struct ShadeInputs;
+
+// Texture units and the uniform block of the shade pass's raster effects (shade.frag declares the same).
+inline constexpr GLuint kUnitShadowMaps = 16, kUnitShadowCubes = 17, kUnitProbes = 18;
+inline constexpr GLuint kBlockShadows = 2;
+
+struct Bounds {
+  glm::vec3 lo{std::numeric_limits<float>::infinity()};
+  glm::vec3 hi{-std::numeric_limits<float>::infinity()};
+  bool empty() const { return lo.x > hi.x; }
+  void add(glm::vec3 p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  void add(const Bounds& b) {
+    if (!b.empty()) add(b.lo), add(b.hi);
+  }
+  glm::vec3 centre() const { return 0.5f * (lo + hi); }
+};
+
+/// Object-space bounds of every mesh (computed once per scene).
+std::vector<Bounds> meshBounds(const Scene& scene);
+/// World-space bounds of each instance, and of the whole scene.
+std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>& meshes);
+
+/// One record per direct light j, std140 (shade.frag's GpuShadow). Kind 0: no map (lit).
+struct GpuShadow {
+  glm::mat4 clipFromWorldRelative{0.0f};  // 2D maps: light clip space of (posW − origin)
+  glm::vec4 originKind{0.0f};  // xyz origin (light position / orthographic eye), w kind (shade.frag TD_SHADOW_*)
+  glm::vec4 params{0.0f};      // x layer (2D array layer or cube index), y near, z far, w texel size:
+                               // world units (orthographic) or per unit of distance (perspective, cube)
+};
+static_assert(sizeof(GpuShadow) == 96, "GpuShadow must match its std140 layout in shade.frag");
+
+/// Depth maps seen from the lights, reversed-Z like the main view (near → 1, cleared far → 0):
+/// spot lights (cone up to 60°) a perspective 2D map, directional lights an orthographic 2D map fitted
+/// to the scene's bounds, point lights (and wider spots) a cube map. Sampled with hardware depth compare.
+class ShadowMaps {
+ public:
+  static constexpr int kMapSize = 1024;   // 2D maps, texels per side
+  static constexpr int kCubeSize = 512;   // cube faces, texels per side
+
+  /// Renders a map for every direct light with castShadows; frees everything when there is none.
+  void update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, const Bounds& world);
+  void release();
+  /// Binds the maps (kUnitShadowMaps, kUnitShadowCubes) and the per-light records (kBlockShadows).
+  void bind() const;
+  int mapCount() const { return layers_; }
+  int cubeCount() const { return cubes_; }
+
+ private:
+  Texture maps_, cubeMaps_;
+  Framebuffer fbo_;
+  Buffer records_;
+  int layers_ = 0, cubes_ = 0;
+};
+
+/// A cube map of the surroundings of each object whose material has kr > 0 or kt > 0 (GpuScene's
+/// probeInstances order), rendered from the centre of its bounds without the object itself and shaded
+/// by the same shade pass with local shading only. The shade pass looks the reflected (and refracted)
+/// direction up in it.
+class ReflectionProbes {
+ public:
+  static constexpr int kFaceSize = 128;
+
+  /// `local` are the inputs of the probes' shade pass (no ray results, no probes: one bounce).
+  void update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, CompositePass& composite,
+              const ShadeInputs& local, const std::vector<Bounds>& instances);
+  void release();
+  void bind() const;  // the cube-map array on kUnitProbes
+  int probeCount() const { return count_; }
+
+ private:
+  Texture cubes_, ids_, depth_;
+  Framebuffer rasterFbo_, shadeFbo_;
+  int count_ = 0;
+};
+
+}  // namespace tandem::gl

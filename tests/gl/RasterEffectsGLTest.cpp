@@ -1,0 +1,330 @@
+// EffectMode::Raster: shadow maps against the ray-traced light mask, reflection probes against ray-traced
+// reflections, environment-mapped refraction against ray-traced refraction where a single interface is
+// exact (IOR 1), and each against Off.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "GlTestUtil.h"
+#include "core/Shading.h"
+#include "gl/GpuScene.h"
+#include "gl/VisibilityPass.h"
+#include "tandem/SceneFile.h"
+
+namespace tandem {
+namespace {
+
+// A sphere of radius 0.5 floating over a plane, one direct light of the given type, a camera above.
+Scene sphereOverPlane(LightType type) {
+  Scene s = gltest::boxScene();
+  s.meshes = {makePlane(glm::vec2(8.0f), 8), makeSphere(0.5f, 48, 24)};
+  s.materials = {gltest::plainMaterial({0.8f, 0.8f, 0.8f}), gltest::plainMaterial({0.7f, 0.3f, 0.2f})};
+  Instance plane, ball;
+  ball.mesh = 1;
+  ball.material = 1;
+  ball.worldFromObject = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+  s.instances = {plane, ball};
+  Light& l = s.lights[1];
+  l.type = type;
+  l.intensity = 1.0f;
+  if (type == LightType::Spot) {
+    l.posW = {1.0f, 4.0f, 1.5f};
+    l.dirW = glm::normalize(glm::vec3(0.0f) - l.posW);
+    l.innerConeDeg = 30.0f;
+    l.outerConeDeg = 40.0f;
+  } else if (type == LightType::Directional) {
+    l.dirW = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
+  } else {
+    l.posW = {0.8f, 3.0f, 0.6f};
+  }
+  s.camera.posW = {0.0f, 4.0f, 4.5f};
+  s.camera.targetW = {0.0f, 0.0f, -0.3f};
+  return s;
+}
+
+int luma(const Image& image, int x, int y) { return image.at(x, y).g; }
+
+struct MaskComparison {
+  int compared = 0, shadowed = 0, disagree = 0, disagreeAwayFromEdge = 0;
+};
+
+// Plane pixels the light reaches (no mask bit is defined elsewhere): the LightMask views of Raster and
+// Ray, thresholded at one half, and whether each disagreement sits within 2 pixels of the ray-traced
+// shadow's boundary.
+MaskComparison compareMasks(const Scene& scene, const Image& raster, const Image& ray,
+                            const std::vector<glm::uvec2>& ids, int w, int h) {
+  shading::GpuLight light = shading::packLight(scene.lights[1]);
+  MaskComparison c;
+  auto rayLit = [&](int x, int y) { return luma(ray, x, y) > 127; };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (ids[static_cast<std::size_t>(y) * w + x].x != 1) continue;  // the plane only
+      Ray r = scene.camera.rayThroughPixel({float(x) + 0.5f, float(y) + 0.5f}, {w, h});
+      if (r.dir.y >= 0.0f) continue;
+      glm::vec3 p = r.origin + r.dir * (-r.origin.y / r.dir.y);
+      if (!shading::tdLightCanReach(light, p, glm::vec3(0.0f, 1.0f, 0.0f))) continue;
+      ++c.compared;
+      bool lit = rayLit(x, y);
+      c.shadowed += lit ? 0 : 1;
+      if (lit == (luma(raster, x, y) > 127)) continue;
+      ++c.disagree;
+      bool nearEdge = false;
+      for (int dy = -2; dy <= 2 && !nearEdge; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          int xx = std::clamp(x + dx, 0, w - 1), yy = std::clamp(y + dy, 0, h - 1);
+          if (rayLit(xx, yy) != lit) {
+            nearEdge = true;
+            break;
+          }
+        }
+      c.disagreeAwayFromEdge += nearEdge ? 0 : 1;
+    }
+  return c;
+}
+
+void checkShadowMaps(LightType type, const char* name) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene = sphereOverPlane(type);
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(renderer);
+  ASSERT_TRUE(renderer->setScene(scene).ok());
+  const int w = 240, h = 180;
+  FrameSettings s = gltest::rasterOnly(w, h);
+  s.debugView = DebugView::LightMask;
+  s.shadows = EffectMode::Raster;
+  FrameStats stats = renderer->render(scene.camera, s);
+  EXPECT_EQ(stats.rays.total(), 0u);  // raster shadows trace nothing
+  Image raster = renderer->readImage();
+  s.shadows = EffectMode::Ray;
+  renderer->render(scene.camera, s);
+  Image ray = renderer->readImage();
+  gltest::savePng(std::string("shadowmap-") + name + "-raster.png", raster);
+  gltest::savePng(std::string("shadowmap-") + name + "-ray.png", ray);
+
+  gl::GpuScene gpu;
+  gpu.upload(scene, std::nullopt);
+  auto pass = gl::VisibilityPass::create();
+  ASSERT_TRUE(pass.ok());
+  pass->resize(w, h);
+  pass->render(gpu, scene.camera);
+  std::vector<glm::uvec2> ids;
+  pass->readIds(ids);
+
+  MaskComparison c = compareMasks(scene, raster, ray, ids, w, h);
+  EXPECT_GT(c.compared, w * h / 4) << name;
+  EXPECT_GT(c.shadowed, c.compared / 100) << name << ": the sphere must shadow part of the plane";
+  EXPECT_LE(c.disagree, c.compared / 50) << name << ": shadow map vs ray mask on " << c.compared << " plane pixels";
+  EXPECT_EQ(c.disagreeAwayFromEdge, 0) << name << ": disagreement away from the shadow's boundary";
+  ::testing::Test::RecordProperty("disagree", c.disagree);
+
+  // The final frame: raster shadows darken the shadow, brighten nothing.
+  s.debugView = DebugView::Final;
+  s.shadows = EffectMode::Off;
+  renderer->render(scene.camera, s);
+  Image off = renderer->readImage();
+  s.shadows = EffectMode::Raster;
+  renderer->render(scene.camera, s);
+  Image on = renderer->readImage();
+  gltest::savePng(std::string("shadowmap-") + name + "-final.png", on);
+  int darker = 0, brighter = 0;
+  for (std::size_t i = 0; i < off.rgba.size(); i += 4) {
+    darker += on.rgba[i + 1] + 2 < off.rgba[i + 1];
+    brighter += on.rgba[i + 1] > off.rgba[i + 1] + 1;
+  }
+  EXPECT_GT(darker, c.shadowed / 2) << name;
+  EXPECT_EQ(brighter, 0) << name;
+}
+
+TEST(RasterEffectsGLTest, SpotShadowMapMatchesRayMask) { checkShadowMaps(LightType::Spot, "spot"); }
+TEST(RasterEffectsGLTest, DirectionalShadowMapMatchesRayMask) {
+  checkShadowMaps(LightType::Directional, "directional");
+}
+TEST(RasterEffectsGLTest, PointShadowCubeMatchesRayMask) { checkShadowMaps(LightType::Point, "point"); }
+
+// A small object over a checkerboard far larger than it: a probe at its centre sees what the object's
+// surface points see, up to a parallax of its radius.
+Scene smallObjectOverCheckers(const Material& surface) {
+  Scene s = gltest::boxScene();
+  s.meshes = {makePlane(glm::vec2(40.0f), 8), makeSphere(0.2f, 64, 32), makeBox(glm::vec3(0.6f))};
+  Material floor = gltest::plainMaterial({0.8f, 0.1f, 0.1f});
+  floor.kd2 = {0.9f, 0.8f, 0.1f};
+  floor.checkerFrequency = 0.25f;
+  Material block = gltest::plainMaterial({0.1f, 0.3f, 0.9f});
+  s.materials = {floor, surface, block};
+  Instance plane, ball, box;
+  ball.mesh = 1;
+  ball.material = 1;
+  ball.worldFromObject = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 1.5f, 0.0f));
+  box.mesh = 2;
+  box.material = 2;
+  box.worldFromObject = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 1.5f, -6.0f)) *
+                        glm::scale(glm::mat4(1.0f), glm::vec3(4.0f));
+  s.instances = {plane, ball, box};
+  s.lights[1].posW = {3.0f, 8.0f, 5.0f};
+  s.lights[1].castShadows = false;
+  s.camera.posW = {0.0f, 1.7f, 1.07f};
+  s.camera.targetW = {0.0f, 1.5f, 0.0f};
+  s.camera.yFovDeg = 30.0f;
+  s.background = {0.3f, 0.5f, 0.8f};
+  return s;
+}
+
+struct ViewDiff {
+  int compared = 0, close = 0, changedFromOff = 0;
+};
+
+// Pixels of instance 1 (the small object): `view` of Raster against Ray (within 24/255 per channel),
+// and the Final frame of Raster against Off.
+ViewDiff compareEffect(const Scene& scene, DebugView view, EffectMode FrameSettings::*effect, const char* name) {
+  ViewDiff d;
+  std::string contextError_;
+  GlContext* context = gltest::sharedContext(contextError_);
+  if (!context) return d;
+  auto renderer = gltest::makeRenderer(*context);
+  if (!renderer || !renderer->setScene(scene).ok()) return d;
+  const int w = 160, h = 160;
+  FrameSettings s = gltest::rasterOnly(w, h);
+  s.maxDepth = 2;  // rays need a second bounce to leave a closed glass object; probes use one either way
+  s.debugView = view;
+  s.*effect = EffectMode::Raster;
+  renderer->render(scene.camera, s);
+  Image raster = renderer->readImage();
+  s.*effect = EffectMode::Ray;
+  FrameStats rayStats = renderer->render(scene.camera, s);
+  EXPECT_GT(rayStats.rays.reflection + rayStats.rays.refraction, 0u) << name;
+  Image ray = renderer->readImage();
+  s.debugView = DebugView::Final;
+  s.*effect = EffectMode::Raster;
+  renderer->render(scene.camera, s);
+  Image finalRaster = renderer->readImage();
+  s.*effect = EffectMode::Off;
+  renderer->render(scene.camera, s);
+  Image off = renderer->readImage();
+  gltest::savePng(std::string("probe-") + name + "-raster.png", raster);
+  gltest::savePng(std::string("probe-") + name + "-ray.png", ray);
+  gltest::savePng(std::string("probe-") + name + "-final.png", finalRaster);
+
+  gl::GpuScene gpu;
+  gpu.upload(scene, std::nullopt);
+  auto pass = gl::VisibilityPass::create();
+  if (!pass) return d;
+  pass->resize(w, h);
+  pass->render(gpu, scene.camera);
+  std::vector<glm::uvec2> ids;
+  pass->readIds(ids);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (ids[static_cast<std::size_t>(y) * w + x].x != 2) continue;
+      ++d.compared;
+      int worst = 0, changed = 0;
+      for (int c = 0; c < 3; ++c) {
+        worst = std::max(worst, std::abs(int(raster.at(x, y)[c]) - int(ray.at(x, y)[c])));
+        changed = std::max(changed, std::abs(int(finalRaster.at(x, y)[c]) - int(off.at(x, y)[c])));
+      }
+      d.close += worst <= 24 ? 1 : 0;
+      d.changedFromOff += changed > 8 ? 1 : 0;
+    }
+  return d;
+}
+
+TEST(RasterEffectsGLTest, ProbeReflectionMatchesRayTracedMirror) {
+  TD_REQUIRE_GL_CONTEXT();
+  Material mirror = gltest::plainMaterial({0.02f, 0.02f, 0.02f});
+  mirror.ka = glm::vec3(0.0f);
+  mirror.kr = 0.9f;
+  ViewDiff d = compareEffect(smallObjectOverCheckers(mirror), DebugView::Reflection, &FrameSettings::reflections,
+                             "mirror");
+  ASSERT_GT(d.compared, 3000);
+  // Floor, horizon, blue block and sky all appear in the mirror; the probe gets them right except within
+  // a parallax of the sphere's radius of their edges, and where a 128² face's texels are magnified.
+  EXPECT_GE(d.close, d.compared * 85 / 100) << d.close << " of " << d.compared;
+  EXPECT_GE(d.changedFromOff, d.compared * 9 / 10);
+}
+
+TEST(RasterEffectsGLTest, ProbeRefractionWithIorNearOneSeesStraightThrough) {
+  TD_REQUIRE_GL_CONTEXT();
+  // IOR ≈ 1: the refracted ray goes (nearly) straight on and F ≈ 0 but at the very rim, so one interface
+  // is as good as two and the ray-traced transmission (through both sides of the sphere) is the probe's
+  // lookup along −V, up to parallax.
+  Material glass = gltest::plainMaterial({0.0f, 0.0f, 0.0f});
+  glass.ka = glm::vec3(0.0f);
+  glass.kt = 0.9f;
+  glass.ior = 1.001f;
+  ViewDiff d = compareEffect(smallObjectOverCheckers(glass), DebugView::Transmission, &FrameSettings::refraction,
+                             "ior1");
+  ASSERT_GT(d.compared, 3000);
+  EXPECT_GE(d.close, d.compared * 85 / 100) << d.close << " of " << d.compared;
+  EXPECT_GE(d.changedFromOff, d.compared * 9 / 10);
+}
+
+TEST(RasterEffectsGLTest, ProbeRefractionBendsAndWeighsByFresnel) {
+  TD_REQUIRE_GL_CONTEXT();
+  Material glass = gltest::plainMaterial({0.0f, 0.0f, 0.0f});
+  glass.ka = glm::vec3(0.0f);
+  glass.kt = 0.9f;
+  glass.ior = 1.5f;
+  Scene scene = smallObjectOverCheckers(glass);
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(renderer);
+  ASSERT_TRUE(renderer->setScene(scene).ok());
+  FrameSettings s = gltest::rasterOnly(160, 160);
+  s.maxDepth = 1;
+  s.refraction = EffectMode::Raster;
+  s.debugView = DebugView::Transmission;
+  renderer->render(scene.camera, s);
+  ImageF bent = renderer->readLinear();
+  scene.materials[1].ior = 1.0f;
+  ASSERT_TRUE(renderer->setScene(scene).ok());
+  renderer->render(scene.camera, s);
+  ImageF straight = renderer->readLinear();
+  // At the sphere's centre the view is head-on: F = ((1.5 − 1)/(1.5 + 1))² = 0.04, so wT = 0.9·0.96.
+  // Its rim bends the view away from what lies straight behind.
+  int differing = 0, total = 0;
+  for (int y = 0; y < 160; ++y)
+    for (int x = 0; x < 160; ++x) {
+      glm::vec3 a = bent.at(x, y), b = straight.at(x, y);
+      if (b == glm::vec3(0.0f)) continue;
+      ++total;
+      differing += glm::length(a - b) > 0.05f ? 1 : 0;
+    }
+  EXPECT_GT(total, 3000);
+  EXPECT_GT(differing, total / 10) << "IOR 1.5 must bend the refracted view";
+}
+
+TEST(RasterEffectsGLTest, TogglesChangeTheWhittedScene) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto scene = loadDefaultScene();
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  Camera camera = scene->camera;
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(renderer);
+  ASSERT_TRUE(renderer->setScene(std::move(*scene)).ok());
+  FrameSettings off = *presetSettings("raster");
+  off.width = 320;
+  off.height = 180;
+  off.shadows = off.reflections = off.refraction = EffectMode::Off;
+  renderer->render(camera, off);
+  Image base = renderer->readImage();
+  auto changed = [&](EffectMode FrameSettings::*effect) {
+    FrameSettings s = off;
+    s.*effect = EffectMode::Raster;
+    FrameStats stats = renderer->render(camera, s);
+    EXPECT_EQ(stats.rays.total(), 0u);
+    Image image = renderer->readImage();
+    int n = 0;
+    for (std::size_t i = 0; i < base.rgba.size(); i += 4)
+      n += std::abs(int(image.rgba[i]) - int(base.rgba[i])) + std::abs(int(image.rgba[i + 1]) - int(base.rgba[i + 1])) > 16;
+    return n;
+  };
+  EXPECT_GT(changed(&FrameSettings::shadows), 1000);
+  EXPECT_GT(changed(&FrameSettings::reflections), 1000);
+  EXPECT_GT(changed(&FrameSettings::refraction), 1000);
+  FrameSettings all = *presetSettings("raster");
+  all.width = 320;
+  all.height = 180;
+  renderer->render(camera, all);
+  gltest::savePng("whitted-raster-preset.png", renderer->readImage());
+}
+
+}  // namespace
+}  // namespace tandem
