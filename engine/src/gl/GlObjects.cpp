@@ -23,8 +23,14 @@ Buffer createBuffer(std::string_view name, std::size_t bytes, const void* data) 
   GLuint id = 0;
   glCreateBuffers(1, &id);
   label(GL_BUFFER, id, name);
-  glNamedBufferStorage(id, static_cast<GLsizeiptr>(std::max<std::size_t>(bytes, 16)), bytes > 0 ? data : nullptr,
+  // Storage is at least 16 bytes (zero-size buffers cannot be bound, and a vec4 read must stay inside);
+  // GL copies the whole storage size from `data`, so a smaller source goes in through a sub-data upload
+  // (AddressSanitizer caught llvmpipe reading past a 4-byte index vector).
+  std::size_t storage = std::max<std::size_t>(bytes, 16);
+  glNamedBufferStorage(id, static_cast<GLsizeiptr>(storage), storage == bytes ? data : nullptr,
                        GL_DYNAMIC_STORAGE_BIT);
+  if (storage != bytes && bytes > 0 && data)
+    glNamedBufferSubData(id, 0, static_cast<GLsizeiptr>(bytes), data);
   return Buffer(id);
 }
 
