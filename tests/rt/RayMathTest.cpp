@@ -1,7 +1,9 @@
 // The ray pass's numerics held to their numbers: refraction/Fresnel at the critical angle, the IOR-1
 // identity, the exact primary hit (watertight, clamped), origin offsets that never re-hit their surface.
+#include <bit>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <embree3/rtcore.h>
 #include <gtest/gtest.h>
@@ -164,6 +166,26 @@ TEST(OriginOffset, SpawnedRaysNeverReintersectTheirTriangle) {
   rtcReleaseDevice(device);
   EXPECT_GT(rays, 50000);
   EXPECT_EQ(reHits, 0) << "of " << rays << " rays";
+}
+
+// The bit-arithmetic next float used by the origin offsets is std::nextafter, special values included.
+TEST(OriginOffset, NextFloatIsStdNextafter) {
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<float> values = {0.0f, -0.0f, inf, -inf, std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(),
+                               std::numeric_limits<float>::min(), -std::numeric_limits<float>::min(),
+                               std::numeric_limits<float>::denorm_min(), -std::numeric_limits<float>::denorm_min(),
+                               1.0f, -1.0f, 1e-30f, -3.5e12f};
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<std::uint32_t> bits;
+  for (int i = 0; i < 100000; ++i) values.push_back(std::bit_cast<float>(bits(rng)));
+  for (float v : values) {
+    if (std::isnan(v)) {
+      EXPECT_TRUE(std::isnan(nextFloatUp(v)) && std::isnan(nextFloatDown(v)));
+      continue;
+    }
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(nextFloatUp(v)), std::bit_cast<std::uint32_t>(std::nextafter(v, inf))) << v;
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(nextFloatDown(v)), std::bit_cast<std::uint32_t>(std::nextafter(v, -inf))) << v;
+  }
 }
 
 TEST(PixelRandom, IsAFunctionOfPixelAndSampleOnly) {

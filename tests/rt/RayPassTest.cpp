@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include "rt/CpuComposite.h"
+#include "rt/EmbreeScene.h"
 #include "rt/RayMath.h"
 #include "rt/RtTestScenes.h"
+#include "rt/Whitted.h"
 #include "tandem/Log.h"
 
 namespace tandem::rt {
@@ -419,6 +421,73 @@ TEST(RayPassWhitted, ImagesAreIdenticalWithOneAndTwoThreads) {
   EXPECT_EQ(c1.total(), c2.total());
   EXPECT_EQ(c1.primary, static_cast<std::uint64_t>(w * h * 4));
   writeDebugPng(r1, "rt-whitted-reference-spp2.png");
+}
+
+// The hybrid pass traces secondary rays breadth first (Wavefront) and sums them bottom up; its S and T
+// must be the recursion's (Whitted::secondary), bit for bit, with the same ray counts, at the default
+// depth and at a deep one with a contribution cut-off.
+TEST(RayPassWhitted, WavefrontEqualsTheRecursionBitForBit) {
+  Scene scene = makeWhittedScene();
+  const int w = 96, h = 72;
+  auto tracer = makeTracer(scene, 2);
+  ASSERT_TRUE(tracer);
+  auto device = EmbreeDevice::create();
+  ASSERT_TRUE(device.ok());
+  auto embree = EmbreeScene::build(**device, scene);
+  ASSERT_TRUE(embree.ok());
+  VisibilityBuffer vis;
+  tracer->castVisibility(scene.camera, w, h, vis);
+  for (int depth : {3, 8}) {
+    FrameSettings s = settingsFor(w, h);
+    s.maxDepth = depth;
+    s.minContribution = depth == 8 ? 0.05f : s.minContribution;
+    RayOutputs out;
+    tracer->trace(scene, scene.camera, s, vis, out);
+    ASSERT_EQ(out.reflected.size(), static_cast<std::size_t>(w * h));
+    ASSERT_EQ(out.transmitted.size(), static_cast<std::size_t>(w * h));
+    FrameShading frame(scene, s.shadingOverride, (*embree)->anchor());
+    Whitted whitted(scene, **embree, frame, TraceModes::hybrid(s));
+    const Camera cam = toRenderSpace(scene.camera, (*embree)->anchor());
+    RayCounts counts;
+    int differing = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        glm::uvec2 id = vis.ids[at(x, y, w)];
+        if (id.x == 0) continue;
+        Ray ray = cam.rayThroughPixel(glm::vec2(x, y) + 0.5f, {w, h});
+        SurfaceHit hit = resolveHit(scene, (*embree)->transform(id.x - 1), id.x - 1, id.y, ray);
+        glm::vec3 reflected, transmitted;
+        bool tracedR, tracedT;
+        whitted.secondary(hit, 0, 1.0f, reflected, transmitted, tracedR, tracedT, counts);
+        differing += glm::vec4(reflected, 1.0f) != out.reflected[at(x, y, w)] ||
+                     glm::vec4(transmitted, 1.0f) != out.transmitted[at(x, y, w)];
+      }
+    EXPECT_EQ(differing, 0) << "depth " << depth;
+    EXPECT_EQ(counts.reflection, out.counts.reflection) << "depth " << depth;
+    EXPECT_EQ(counts.refraction, out.counts.refraction) << "depth " << depth;
+    EXPECT_GT(counts.reflection, 0u);
+    EXPECT_GT(counts.refraction, 0u);
+  }
+}
+
+// CameraRays does Camera::rayThroughPixel's per-camera work once; the rays must not change by a bit.
+TEST(RayPassWhitted, CameraRaysAreCameraRayThroughPixelBitForBit) {
+  Scene scene = makeWhittedScene();
+  for (bool ortho : {false, true}) {
+    Camera cam = scene.camera;
+    cam.orthographic = ortho;
+    cam.orthoHeight = 7.0f;
+    const glm::ivec2 size(173, 91);
+    CameraRays rays(cam, size);
+    int differing = 0;
+    for (int y = 0; y < size.y; ++y)
+      for (int x = 0; x < size.x; ++x)
+        for (glm::vec2 offset : {glm::vec2(0.5f), glm::vec2(0.125f, 0.875f)}) {
+          Ray a = cam.rayThroughPixel(glm::vec2(x, y) + offset, size), b = rays.through(glm::vec2(x, y) + offset);
+          differing += a.origin != b.origin || a.dir != b.dir;
+        }
+    EXPECT_EQ(differing, 0) << (ortho ? "orthographic" : "perspective");
+  }
 }
 
 TEST(RayPassWhitted, HybridPointEqualsTheReferenceAtOneSample) {

@@ -84,10 +84,13 @@ void resolvePending(bool hit, bool traced) {
   tHasPending = false;
 }
 
-void setHit(RayKind kind, std::size_t index, bool hit) {
+void setHit(RayKind kind, std::size_t index, bool hit, bool traced) {
   if (!tCurrent) return;
   std::vector<CapturedRay>& v = tCurrent->rays[idx(kind)];
-  if (index < v.size()) v[index].hit = hit;
+  if (index < v.size()) {
+    v[index].hit = hit;
+    v[index].traced = traced;
+  }
 }
 
 }  // namespace capture

@@ -96,8 +96,8 @@ std::size_t record(RayKind kind, glm::vec3 origin, glm::vec3 dir, float tnear, f
 std::size_t recordDeferred(RayKind kind, glm::vec3 origin, glm::vec3 dir, float tnear, float tfar);
 /// Answer of the pending ray (the one recorded last), for rays traced after the call that records them.
 void resolvePending(bool hit, bool traced = true);
-/// Answer of a ray recorded earlier by index (batched rays).
-void setHit(RayKind kind, std::size_t index, bool hit);
+/// Answer of a ray recorded earlier by index (batched rays); traced = false: Embree was not called.
+void setHit(RayKind kind, std::size_t index, bool hit, bool traced = true);
 }  // namespace capture
 
 }  // namespace tandem::rt

@@ -35,6 +35,18 @@ inline glm::vec3 offsetRayOrigin(glm::vec3 posW, glm::vec3 normalW) {
   return out;
 }
 
+/// std::nextafter(x, +inf) by integer arithmetic on the bits: the same result for every input (zeros,
+/// infinities and NaN included), without the libm call, which showed in the ray pass's profile (every
+/// spawned ray rounds three components).
+inline float nextFloatUp(float x) {
+  if (!(x < std::numeric_limits<float>::infinity())) return x;         // +inf stays, NaN stays NaN
+  if (x == 0.0f) return std::numeric_limits<float>::denorm_min();     // from either zero
+  auto bits = std::bit_cast<std::int32_t>(x);
+  return std::bit_cast<float>(x > 0.0f ? bits + 1 : bits - 1);        // sign-magnitude: -x moves to 0
+}
+/// std::nextafter(x, -inf), likewise.
+inline float nextFloatDown(float x) { return -nextFloatUp(-x); }
+
 /// Bound on the magnitudes that went into an interpolated hit position, per component (pbrt-v4's
 /// Σ|bj·pj|, with the transform's terms when the vertices were transformed): the rounding error of the
 /// position is a few ULPs of this, not of the position itself, which can be far smaller (a point near
@@ -63,8 +75,8 @@ inline glm::vec3 offsetRayOrigin(glm::vec3 posW, glm::vec3 normalW, glm::vec3 ma
   d = std::max(d, std::numeric_limits<float>::min());
   glm::vec3 out = posW + d * normalW;
   for (int i = 0; i < 3; ++i) {
-    if (normalW[i] > 0.0f) out[i] = std::nextafter(out[i], std::numeric_limits<float>::infinity());
-    else if (normalW[i] < 0.0f) out[i] = std::nextafter(out[i], -std::numeric_limits<float>::infinity());
+    if (normalW[i] > 0.0f) out[i] = nextFloatUp(out[i]);
+    else if (normalW[i] < 0.0f) out[i] = nextFloatDown(out[i]);
   }
   return out;
 }
@@ -107,7 +119,10 @@ inline glm::dvec3 closestPointBarycentrics(glm::dvec3 q, glm::dvec3 a, glm::dvec
 /// passes outside the triangle (a pixel centre grazing past the edge of the triangle the rasterizer
 /// picked) or runs parallel to it, the result is clamped to the triangle's nearest point, so the hit
 /// always lies on the triangle. Sums to 1.
-inline glm::vec3 triangleBarycentrics(glm::vec3 originW, glm::vec3 dirW, glm::vec3 p0, glm::vec3 p1, glm::vec3 p2) {
+// (By reference: passed by value, each vec3 is repacked into registers from the caller's fresh
+// per-component stores, a store-forwarding stall that showed in resolveHit's profile.)
+inline glm::vec3 triangleBarycentrics(const glm::vec3& originW, const glm::vec3& dirW, const glm::vec3& p0,
+                                      const glm::vec3& p1, const glm::vec3& p2) {
   glm::dvec3 o(originW), d(dirW);
   glm::dvec3 ad = glm::abs(d);
   int kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);

@@ -37,16 +37,48 @@ struct AtomicCounts {
   RayCounts get() const { return {primary.load(), shadow.load(), reflection.load(), refraction.load()}; }
 };
 
+// ThreadSanitizer builds (tools/test.sh --tsan) run the parallel loops on plain std::threads: Debian's
+// libtbb is not built with -fsanitize=thread, so TSan never sees the synchronisation inside it and reports
+// every hand-over in TBB's inlined partitioner as a race, burying anything real. std::thread's start and
+// join and the atomic counter below are visible to TSan, so our own code (the tile bodies, the shared
+// outputs and counters) is still checked, on the same number of threads. Normal builds keep TBB.
+#if defined(__SANITIZE_THREAD__)
+#define TANDEM_TSAN_THREADS 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define TANDEM_TSAN_THREADS 1
+#endif
+#endif
+
+/// Runs body(i) for i in [0, n) on `threads` threads (TBB: inside the caller's arena), in any order.
+template <class Body>
+void parallelIndices(int threads, std::size_t n, Body&& body) {
+#ifdef TANDEM_TSAN_THREADS
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t i = next.fetch_add(1); i < n; i = next.fetch_add(1)) body(i);
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+#else
+  (void)threads;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) body(i);
+  });
+#endif
+}
+
 /// Runs body(x0, y0, x1, y1) for every tile of a width × height grid, in parallel. The order tiles run
 /// in does not matter: every pixel depends on nothing but its own inputs.
 template <class Body>
-void forEachTile(int width, int height, Body&& body) {
+void forEachTile(int threads, int width, int height, Body&& body) {
   int tilesX = (width + kTile - 1) / kTile, tilesY = (height + kTile - 1) / kTile;
-  tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<int>& r) {
-    for (int t = r.begin(); t != r.end(); ++t) {
-      int x0 = (t % tilesX) * kTile, y0 = (t / tilesX) * kTile;
-      body(x0, y0, std::min(x0 + kTile, width), std::min(y0 + kTile, height));
-    }
+  parallelIndices(threads, static_cast<std::size_t>(tilesX) * static_cast<std::size_t>(tilesY), [&](std::size_t i) {
+    int t = static_cast<int>(i);
+    int x0 = (t % tilesX) * kTile, y0 = (t / tilesX) * kTile;
+    body(x0, y0, std::min(x0 + kTile, width), std::min(y0 + kTile, height));
   });
 }
 
@@ -91,7 +123,14 @@ Result<std::unique_ptr<RayTracer>> RayTracer::create(int threads) {
   if (!device) return device.error();
   auto impl = std::make_unique<Impl>();
   impl->threads = threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+#ifdef TANDEM_TSAN_THREADS
+  // Embree's BVH builds run as TBB tasks in this arena (setScene, updateTransforms); with one slot they
+  // stay on the calling thread, so TSan is not fed TBB hand-overs it cannot see (see parallelIndices).
+  // The tile loops do not use the arena in this build: they run on impl->threads std::threads.
+  impl->arena.initialize(1);
+#else
   impl->arena.initialize(impl->threads);
+#endif
   impl->device = std::move(*device);
   return std::unique_ptr<RayTracer>(new RayTracer(std::move(impl)));
 }
@@ -137,9 +176,11 @@ void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSetti
   out.threads = impl_->threads;
   out.counts = {};
   const std::size_t n = static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh);
-  out.lightMask.assign(n, 0u);
-  out.reflected.assign(n, glm::vec4(0.0f));
-  out.transmitted.assign(n, glm::vec4(0.0f));
+  // Sized here, filled by the tiles (every grid pixel is written there, in parallel): a serial
+  // assign() of the ~30 MB of a 1280×720 frame would cost more than a few percent of the pass.
+  out.lightMask.resize(n);
+  out.reflected.resize(n);
+  out.transmitted.resize(n);
   if (!impl_->scene || n == 0) {
     out.lightMask.clear();
     out.reflected.clear();
@@ -154,21 +195,25 @@ void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSetti
   Whitted whitted(scene, embree, frame, TraceModes::hybrid(settings));
   const TraceModes& modes = whitted.modes();
   const bool batched = impl_->batchedShadows;
+  const CameraRays cameraRays(cam, {width, height});
   AtomicCounts total;
   RayCapture* const capturing = impl_->capture;
   resetCapture(capturing, gw, gh, false);
 
   impl_->arena.execute([&] {
-    forEachTile(gw, gh, [&](int x0, int y0, int x1, int y1) {
+    forEachTile(impl_->threads, gw, gh, [&](int x0, int y0, int x1, int y1) {
       capture::TileScope captureScope(capturing, tileIndex(x0, y0, gw));
       RayCounts counts;
-      // Batched shadow rays of this tile: the ray and the (pixel, light bit) it answers.
-      std::vector<RTCRay> rays;
-      std::vector<std::pair<std::size_t, std::uint32_t>> owners;
-      std::vector<std::size_t> captured;  // bench hook: capture index of each batched ray
+      // Per-thread scratch, kept from tile to tile so a tile allocates nothing once warm.
+      thread_local ShadowBatch shadows;  // the tile's primary shadow rays, one rtcOccluded1M
+      thread_local Wavefront::Buffers wavefrontBuffers;
+      shadows.clear();
+      Wavefront wavefront(whitted, wavefrontBuffers);
       for (int gy = y0; gy < y1; ++gy)
         for (int gx = x0; gx < x1; ++gx) {
           std::size_t g = static_cast<std::size_t>(gy) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(gx);
+          out.lightMask[g] = 0u;
+          out.reflected[g] = out.transmitted[g] = glm::vec4(0.0f);
           glm::ivec2 p = fullPixelOfGridPixel(gx, gy, scale, width, height);
           glm::uvec2 id = visibility.ids[static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x)];
           if (id.x == 0) continue;  // background: no light, nothing reflected or transmitted
@@ -176,50 +221,20 @@ void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSetti
           // Ids come from the rasterizer of the same scene; a stale one is a bug, skipped in release.
           assert(embree.hasTriangle(instance, id.y) && "trace: visibility id not in the scene");
           if (!embree.hasTriangle(instance, id.y)) continue;
-          Ray ray = cam.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
+          Ray ray = cameraRays.through(glm::vec2(p) + 0.5f);
           SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, id.y, ray);
           ++counts.primary;
           // Bench hook: counted, but intersected on the CPU against the known triangle, not by Embree.
           capture::record(RayKind::Primary, ray.origin, ray.dir, 0.0f, std::numeric_limits<float>::infinity());
           capture::resolvePending(true, false);
-          if (modes.primaryShadowRays) {
-            if (!batched) {
-              out.lightMask[g] = whitted.lightMask(hit, counts);
-            } else {
-              std::uint32_t mask = 0;
-              for (std::size_t j = 0; j < frame.lights.size(); ++j) {
-                ShadowRay s = whitted.shadowRay(hit, j);
-                if (s.needed) {
-                  rays.emplace_back();
-                  makeEmbreeRay(rays.back(), s.originW, s.dirW, 0.0f, s.tFar);
-                  owners.emplace_back(g, 1u << j);
-                  if (capturing)
-                    captured.push_back(capture::recordDeferred(RayKind::Shadow, s.originW, s.dirW, 0.0f, s.tFar));
-                } else if (s.visibleWithoutRay) {
-                  mask |= 1u << j;
-                }
-              }
-              out.lightMask[g] = mask;
-            }
-          }
-          glm::vec3 reflected, transmitted;
-          bool tracedR, tracedT;
-          whitted.secondary(hit, 0, 1.0f, reflected, transmitted, tracedR, tracedT, counts);
-          out.reflected[g] = glm::vec4(reflected, 1.0f);
-          out.transmitted[g] = glm::vec4(transmitted, 1.0f);
+          if (modes.primaryShadowRays)
+            out.lightMask[g] = batched ? shadows.add(whitted, frame.lights.size(), hit, g) : whitted.lightMask(hit, counts);
+          // (wR·S, 1) and (wT·T, 1) of a visible pixel: zero until the wavefront writes a traced one.
+          out.reflected[g] = out.transmitted[g] = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+          wavefront.addPrimary(hit, g, counts);
         }
-      if (!rays.empty()) {
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        // Left incoherent on purpose: with RTC_INTERSECT_CONTEXT_FLAG_COHERENT, Debian's Embree 3.13.5
-        // never returned from one tile's batch (tests/rt GlassSlab after the grazing-light scenes).
-        rtcOccluded1M(embree.top(), &ctx, rays.data(), static_cast<unsigned>(rays.size()), sizeof(RTCRay));
-        counts.shadow += rays.size();
-        for (std::size_t i = 0; i < rays.size(); ++i)
-          if (rays[i].tfar >= 0.0f) out.lightMask[owners[i].first] |= owners[i].second;  // occluded: -inf
-        if (capturing)
-          for (std::size_t i = 0; i < rays.size(); ++i) capture::setHit(RayKind::Shadow, captured[i], rays[i].tfar < 0.0f);
-      }
+      shadows.trace(embree.top(), out.lightMask.data(), counts);
+      wavefront.run(counts, out.reflected.data(), out.transmitted.data());
       total.add(counts);
     });
   });
@@ -245,12 +260,13 @@ void RayTracer::renderReference(const Scene& scene, const Camera& camera, const 
   FrameShading frame(scene, settings.shadingOverride, embree.anchor());
   Whitted whitted(scene, embree, frame, TraceModes::reference(settings));
   const int spp = std::max(1, settings.referenceSpp);
+  const CameraRays cameraRays(cam, {width, height});
   AtomicCounts total;
   RayCapture* const capturing = impl_->capture;
   resetCapture(capturing, width, height, true);
 
   impl_->arena.execute([&] {
-    forEachTile(width, height, [&](int x0, int y0, int x1, int y1) {
+    forEachTile(impl_->threads, width, height, [&](int x0, int y0, int x1, int y1) {
       capture::TileScope captureScope(capturing, tileIndex(x0, y0, width));
       RayCounts c;
       for (int y = y0; y < y1; ++y)
@@ -267,7 +283,7 @@ void RayTracer::renderReference(const Scene& scene, const Camera& camera, const 
                 offset = (glm::vec2(sx, sy) + glm::vec2(random01(ux, uy, sample, 0), random01(ux, uy, sample, 1))) /
                          static_cast<float>(spp);
               }
-              Ray ray = cam.rayThroughPixel(glm::vec2(x, y) + offset, {width, height});
+              Ray ray = cameraRays.through(glm::vec2(x, y) + offset);
               float tNear, tFar;
               cameraSpan(cam, ray, tNear, tFar);
               ++c.primary;
@@ -296,11 +312,12 @@ void RayTracer::castVisibility(const Camera& camera, int width, int height, Visi
   if (!impl_->scene) return;
   RTCScene top = impl_->scene->top();
   const Camera cam = toRenderSpace(camera, impl_->scene->anchor());  // camera-relative, as in trace()
+  const CameraRays cameraRays(cam, {width, height});
   impl_->arena.execute([&] {
-    forEachTile(width, height, [&](int x0, int y0, int x1, int y1) {
+    forEachTile(impl_->threads, width, height, [&](int x0, int y0, int x1, int y1) {
       for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
-          Ray ray = cam.rayThroughPixel(glm::vec2(x, y) + 0.5f, {width, height});
+          Ray ray = cameraRays.through(glm::vec2(x, y) + 0.5f);
           float tNear, tFar;
           cameraSpan(cam, ray, tNear, tFar);
           RTCRayHit rh;
@@ -396,18 +413,15 @@ RetraceStats RayTracer::retrace(const RayCapture& capture, const RetraceOptions&
     std::atomic<std::uint64_t> traced{0}, mismatches{0};
     Timer timer;
     impl_->arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, capture.tiles.size(), 1),
-                        [&](const tbb::blocked_range<std::size_t>& r) {
-                          std::uint64_t t = 0, m = 0;
-                          for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                            const std::vector<CapturedRay>& rays = capture.tiles[i].rays[k];
-                            if (rays.empty()) continue;
-                            m += kind == RayKind::Shadow ? retraceTile<RTCRay>(top, rays, options.api[k], t)
-                                                         : retraceTile<RTCRayHit>(top, rays, options.api[k], t);
-                          }
-                          traced += t;
-                          mismatches += m;
-                        });
+      parallelIndices(impl_->threads, capture.tiles.size(), [&](std::size_t i) {
+        const std::vector<CapturedRay>& rays = capture.tiles[i].rays[k];
+        if (rays.empty()) return;
+        std::uint64_t t = 0;
+        std::uint64_t m = kind == RayKind::Shadow ? retraceTile<RTCRay>(top, rays, options.api[k], t)
+                                                  : retraceTile<RTCRayHit>(top, rays, options.api[k], t);
+        traced += t;
+        mismatches += m;
+      });
     });
     stats.ms[k] = timer.ms();
     stats.rays[k] = traced.load();
