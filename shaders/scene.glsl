@@ -4,6 +4,7 @@
 #define TD_MESH_HAS_NORMALS 1u
 #define TD_MESH_HAS_UVS 2u
 #define TD_MESH_HAS_COLORS 4u
+#define TD_MESH_HAS_TANGENTS 8u  // and drawn with a normal-mapped material
 
 struct GpuInstance {
   mat4 worldFromObject;

@@ -115,6 +115,19 @@ layout(location = 11) uniform int rayScale;
 #ifndef TD_USE_COLORS
 #define TD_USE_COLORS 1      // some mesh has vertex colours
 #endif
+#ifndef TD_USE_NORMAL_MAPS
+#define TD_USE_NORMAL_MAPS 1 // some normal-mapped material is drawn on a mesh with tangents
+#endif
+#ifndef TD_USE_EMISSIVE
+#define TD_USE_EMISSIVE 1    // some material has an emissive texture (in the kd array)
+#endif
+#ifndef TD_USE_ALPHA_BLEND
+#define TD_USE_ALPHA_BLEND 1 // some material is BLEND: coverage scales the surface, the rest passes through
+#endif
+#if TD_USE_NORMAL_MAPS
+layout(binding = 19) uniform samplerBuffer tangentsBuf;   // RGBA32F: object-space tangent, w handedness
+layout(binding = 20) uniform sampler2DArray normalMaps;   // linear RGBA8, layer = Scene::textures index
+#endif
 #define debugView TD_DEBUG_VIEW
 #define rayInputs TD_RAY_INPUTS
 layout(location = 12) uniform ivec2 rayGridSize;
@@ -157,6 +170,7 @@ struct Triangle {
   uint material;
   uint probe;  // reflection-probe slot + 1, 0 = none
   mat3 normalFromObject;
+  mat3 worldLinear;  // upper 3×3 of worldFromObject: tangents transform with it
 };
 
 Triangle loadTriangle(uint instance, uint primitive) {
@@ -178,6 +192,7 @@ Triangle loadTriangle(uint instance, uint primitive) {
   t.probe = meshMaterial.z;
   t.normalFromObject = mat3(texelFetch(instancesBuf, base + 4).xyz, texelFetch(instancesBuf, base + 5).xyz,
                             texelFetch(instancesBuf, base + 6).xyz);
+  t.worldLinear = mat3(worldFromObject);
   return t;
 }
 
@@ -406,6 +421,57 @@ void main() {
     float len = length(n);
     if (len > 0.0) N = n / len;
   }
+  GpuMaterial m = materials[tri.material];
+
+  // ---- surface inputs: uv, texture × vertex colour, coverage, emissive and normal maps ----
+  vec2 uv = vec2(0.0);
+  vec3 tint = vec3(1.0);
+  vec3 emission = vec3(m.emissionFlags);
+  float texA = 1.0;  // kd texture alpha (coverage)
+  if (TD_USE_UVS != 0 && (tri.flags & TD_MESH_HAS_UVS) != 0u) {
+    vec2 uv0 = texelFetch(uvsBuf, int(tri.v0)).xy, uv1 = texelFetch(uvsBuf, int(tri.v1)).xy,
+         uv2 = texelFetch(uvsBuf, int(tri.v2)).xy;
+    int ut = 4 * int(tri.material);  // Material::uvTransform, its upper 3×3
+    mat3 uvFromMesh = mat3(texelFetch(uvTransformsBuf, ut).xyz, texelFetch(uvTransformsBuf, ut + 1).xyz,
+                           texelFetch(uvTransformsBuf, ut + 2).xyz);
+    uv = (uvFromMesh * vec3(b.x * uv0 + b.y * uv1 + b.z * uv2, 1.0)).xy;
+    bool kdTex = TD_USE_KD_TEXTURES != 0 && m.kdTex.w >= 0.0;
+    bool emTex = TD_USE_EMISSIVE != 0 && m.texAlpha.x >= 0.0;
+    bool nmTex = TD_USE_NORMAL_MAPS != 0 && m.texAlpha.y >= 0.0 && (tri.flags & TD_MESH_HAS_TANGENTS) != 0u;
+    if (kdTex || emTex || nmTex) {
+      // Ray differentials: where the neighbouring pixels' rays meet this triangle's plane gives exact
+      // uv derivatives (screen-space dFdx would mix triangles at edges in a full-screen pass).
+      vec3 ox, dx, oy, dy;
+      cameraRay(gl_FragCoord.xy + vec2(1.0, 0.0), ox, dx);
+      cameraRay(gl_FragCoord.xy + vec2(0.0, 1.0), oy, dy);
+      vec3 bx = rayBarycentrics(ox, dx, tri);
+      vec3 by = rayBarycentrics(oy, dy, tri);
+      vec2 duvx = (uvFromMesh * vec3(bx.x * uv0 + bx.y * uv1 + bx.z * uv2, 1.0)).xy - uv;
+      vec2 duvy = (uvFromMesh * vec3(by.x * uv0 + by.y * uv1 + by.z * uv2, 1.0)).xy - uv;
+      if (kdTex) {
+        vec4 texel = textureGrad(kdTextures, vec3(uv, float(int(m.kdTex.w + 0.5))), duvx, duvy);
+        tint = texel.rgb;
+        texA = texel.a;
+      }
+      if (emTex) emission *= textureGrad(kdTextures, vec3(uv, float(int(m.texAlpha.x + 0.5))), duvx, duvy).rgb;
+#if TD_USE_NORMAL_MAPS
+      if (nmTex) {
+        // The CPU twin's frame (rt::resolveHit): interpolated tangent through the upper 3×3, the shared
+        // perturbation, before the two-sided flip.
+        vec4 t4 = b.x * texelFetch(tangentsBuf, int(tri.v0)) + b.y * texelFetch(tangentsBuf, int(tri.v1)) +
+                  b.z * texelFetch(tangentsBuf, int(tri.v2));
+        vec3 tn = textureGrad(normalMaps, vec3(uv, float(int(m.texAlpha.y + 0.5))), duvx, duvy).xyz * 2.0 - 1.0;
+        N = tdPerturbNormal(N, tri.worldLinear * t4.xyz, t4.w, tn, m.texAlpha.z);
+      }
+#endif
+    }
+  }
+  if (TD_USE_COLORS != 0 && (tri.flags & TD_MESH_HAS_COLORS) != 0u)
+    tint *= (b.x * texelFetch(colorsBuf, int(tri.v0)) + b.y * texelFetch(colorsBuf, int(tri.v1)) +
+             b.z * texelFetch(colorsBuf, int(tri.v2))).rgb;
+  // BLEND coverage (MASK was decided by the visibility pass's discard: a pixel here is covered).
+  float coverage = TD_USE_ALPHA_BLEND != 0 && m.texAlpha.w < 0.0 ? tdCoverage(m, texA) : 1.0;
+
   if (debugView == TD_VIEW_NORMAL) {
     outColor = vec4(0.5 + 0.5 * N, 1.0);
     return;
@@ -415,7 +481,6 @@ void main() {
   N *= side;
 
   RaySample rays = gatherRays(pTop, id.x);
-  GpuMaterial m = materials[tri.material];
 #if TD_SHADOW_MAPS
   // Raster shadows stand where the ray pass's light mask would (the two are never both on).
   for (int j = 0; j < TD_LIGHT_COUNT; ++j)
@@ -438,14 +503,19 @@ void main() {
     float wR = TD_FRESNEL_WEIGHTED != 0 ? kr + kt * F : kr;
     float wT = TD_FRESNEL_WEIGHTED != 0 ? kt * (1.0 - F) : kt;
     if (kt <= 0.0 || (etaI != etaT && cos2T <= 0.0)) wT = 0.0;  // T is absent on total internal reflection
+    // Coverage and tint (docs/gltf.md): the covered part reflects and refracts (tinted), the rest passes
+    // straight through; BLEND materials have IOR 1, so both go along the same direction.
+    wR *= coverage;
+    int ut = 4 * int(tri.material) + 3;  // the transmission tint sits in the uv-transform record
+    vec3 wTv = tdTransmitWeight(coverage, wT, texelFetch(uvTransformsBuf, ut).rgb);
     float layer = float(tri.probe - 1u);
 #if (TD_PROBES & 1) != 0
     if (wR > 0.0) rays.reflected += wR * textureLod(probes, vec4(reflect(-V, N), layer), 0.0).rgb;
 #endif
 #if (TD_PROBES & 2) != 0
-    if (wT > 0.0) {
+    if (wTv.x > 0.0 || wTv.y > 0.0 || wTv.z > 0.0) {
       vec3 T = etaI == etaT ? -V : eta * -V + (eta * cosI - sqrt(max(cos2T, 0.0))) * N;
-      rays.transmitted += wT * textureLod(probes, vec4(T, layer), 0.0).rgb;
+      rays.transmitted += wTv * textureLod(probes, vec4(T, layer), 0.0).rgb;
     }
 #endif
   }
@@ -465,37 +535,8 @@ void main() {
     return;
   }
 
-  // ---- surface inputs ----
-  vec2 uv = vec2(0.0);
-  vec3 tint = vec3(1.0);
-  if (TD_USE_UVS != 0 && (tri.flags & TD_MESH_HAS_UVS) != 0u) {
-    vec2 uv0 = texelFetch(uvsBuf, int(tri.v0)).xy, uv1 = texelFetch(uvsBuf, int(tri.v1)).xy,
-         uv2 = texelFetch(uvsBuf, int(tri.v2)).xy;
-    int ut = 4 * int(tri.material);  // Material::uvTransform, its upper 3×3
-    mat3 uvFromMesh = mat3(texelFetch(uvTransformsBuf, ut).xyz, texelFetch(uvTransformsBuf, ut + 1).xyz,
-                           texelFetch(uvTransformsBuf, ut + 2).xyz);
-    uv = (uvFromMesh * vec3(b.x * uv0 + b.y * uv1 + b.z * uv2, 1.0)).xy;
-    int layer = int(m.kdTex.w + 0.5);
-    if (TD_USE_KD_TEXTURES != 0 && m.kdTex.w >= 0.0) {
-      // Ray differentials: where the neighbouring pixels' rays meet this triangle's plane gives exact
-      // uv derivatives (screen-space dFdx would mix triangles at edges in a full-screen pass).
-      vec3 ox, dx, oy, dy;
-      cameraRay(gl_FragCoord.xy + vec2(1.0, 0.0), ox, dx);
-      cameraRay(gl_FragCoord.xy + vec2(0.0, 1.0), oy, dy);
-      vec3 bx = rayBarycentrics(ox, dx, tri);
-      vec3 by = rayBarycentrics(oy, dy, tri);
-      vec2 uvx = (uvFromMesh * vec3(bx.x * uv0 + bx.y * uv1 + bx.z * uv2, 1.0)).xy;
-      vec2 uvy = (uvFromMesh * vec3(by.x * uv0 + by.y * uv1 + by.z * uv2, 1.0)).xy;
-      tint = textureGrad(kdTextures, vec3(uv, float(layer)), uvx - uv, uvy - uv).rgb;
-    }
-  }
-  if (TD_USE_COLORS != 0 && (tri.flags & TD_MESH_HAS_COLORS) != 0u)
-    tint *= (b.x * texelFetch(colorsBuf, int(tri.v0)) + b.y * texelFetch(colorsBuf, int(tri.v1)) +
-             b.z * texelFetch(colorsBuf, int(tri.v2))).rgb;
-
   // ---- local shading ----
   vec3 C = tdSurfaceColor(m, uv, tint);
-  vec3 emission = vec3(m.emissionFlags);
   int model = int(m.krKtIorModel.w + 0.5);
   vec3 local;
   if (m.emissionFlags.w > 0.5) {
@@ -538,7 +579,7 @@ void main() {
     }
   }
 
-  vec3 I = local;
+  vec3 I = coverage * local;
   if ((rayInputs & TD_RAY_REFLECTED) != 0 || (TD_PROBES & 1) != 0) I += rays.reflected;
   if ((rayInputs & TD_RAY_TRANSMITTED) != 0 || (TD_PROBES & 2) != 0) I += rays.transmitted;
 #if TD_USE_TOON

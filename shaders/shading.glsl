@@ -41,6 +41,8 @@ struct GpuMaterial {
   vec4 krKtIorModel; // x kr, y kt, z ior, w shading model (TD_MODEL_*)
   vec4 kd2Checker;   // rgb second checker colour, w checker frequency (0 = off)
   vec4 emissionFlags;// rgb emission, w unlit (1) or lit (0)
+  vec4 texAlpha;     // x emissive texture layer (-1 none), y normal-map layer (-1 none), z normal scale,
+                     // w alpha code (tdCoverage): 0 opaque, > 0 MASK, < 0 BLEND
 };
 
 // ---- Lights ----
@@ -123,6 +125,41 @@ TD_FN vec3 tdAmbient(GpuMaterial m, vec3 Ia, vec2 uv, vec3 tint) {
   vec3 c = tdCheckerKd(m, uv);
   vec3 ratio = vec3(kd.x > 0.0f ? c.x / kd.x : 1.0f, kd.y > 0.0f ? c.y / kd.y : 1.0f, kd.z > 0.0f ? c.z / kd.z : 1.0f);
   return vec3(m.kaToon) * Ia * tint * ratio;
+}
+
+// ---- glTF surface extras: alpha coverage, normal maps, transmission ----
+// Coverage of a surface point from its kd texture's alpha `texA` (1 without a texture). The alpha code
+// folds glTF's alphaMode, alphaCutoff and baseColorFactor.a (`opacity`) into one float (packMaterial):
+//   0            OPAQUE (also MASK with cutoff 0, which keeps everything): coverage 1;
+//   c > 0        MASK: coverage 1 where opacity·texA >= cutoff, i.e. texA >= c = cutoff / opacity, else 0
+//                (opacity 0 is stored as c = 2: nothing passes);
+//   -1 - opacity BLEND: coverage = opacity·texA, in [0, 1].
+TD_FN float tdCoverage(GpuMaterial m, float texA) {
+  float code = m.texAlpha.w;
+  if (code > 0.0f) return texA >= code ? 1.0f : 0.0f;
+  if (code < 0.0f) return clamp((-code - 1.0f) * texA, 0.0f, 1.0f);
+  return 1.0f;
+}
+
+// Tangent-space normal map (glTF): the map's texel `tn` (already × 2 − 1, linear) bends the shading normal
+// N in the frame (T, B, N). T is the interpolated world tangent, re-orthogonalised against N; B = N × T
+// times the tangent's handedness w. Returns N unchanged when the frame is degenerate.
+TD_FN vec3 tdPerturbNormal(vec3 N, vec3 tangentW, float handedness, vec3 tn, float scale) {
+  vec3 t = tangentW - dot(tangentW, N) * N;
+  float tLen = sqrt(dot(t, t));
+  if (!(tLen > 0.0f)) return N;
+  t = t / tLen;
+  vec3 b = cross(N, t) * (handedness < 0.0f ? -1.0f : 1.0f);
+  vec3 n = t * (tn.x * scale) + b * (tn.y * scale) + N * tn.z;
+  float len = sqrt(dot(n, n));
+  return len > 0.0f ? n / len : N;
+}
+
+// Weight of the transmitted radiance T at a surface point with coverage `a` (docs/gltf.md): the covered
+// part transmits wT·tint (the material's refraction, tinted by its transmission tint), the uncovered part
+// 1 − a passes straight through (BLEND as thin transmission with IOR 1). wR and local shading scale by a.
+TD_FN vec3 tdTransmitWeight(float a, float wT, vec3 transmissionTint) {
+  return a * wT * transmissionTint + vec3(1.0f - a);
 }
 
 // ---- Fresnel (dielectric, outside IOR 1) ----

@@ -1,7 +1,30 @@
 #version 450 core
 // Visibility buffer (Burns & Hunt 2013): the identity of the visible triangle, nothing else. The shade
 // pass and the CPU ray pass rebuild the exact hit from it. See docs/gbuffer.md.
+#ifndef TD_ALPHA_MASK
+#define TD_ALPHA_MASK 0
+#endif
+#if TD_ALPHA_MASK
+// glTF alphaMode MASK: texels under the cutoff are holes, so the raster sees what is behind them. A
+// variant, because a shader that may discard loses llvmpipe's early depth test for every scene.
+#define TD_OUT(T) out T
+#include "shading.glsl"
+layout(binding = 2) uniform sampler2DArray kdTextures;  // GpuScene::bind's kd unit
+in vec2 vUv;
+flat in float vAlphaCode;
+flat in float vLayer;
+#endif
 flat in uint vInstance;
 layout(location = 0) out uvec2 outIds;  // x instance + 1 (0 = background), y triangle within the mesh
 
-void main() { outIds = uvec2(vInstance + 1u, uint(gl_PrimitiveID)); }
+void main() {
+#if TD_ALPHA_MASK
+  if (vAlphaCode > 0.0) {
+    GpuMaterial m;  // tdCoverage reads only the alpha code
+    m.texAlpha = vec4(0.0, 0.0, 0.0, vAlphaCode);
+    float a = vLayer >= 0.0 ? texture(kdTextures, vec3(vUv, vLayer)).a : 1.0;
+    if (tdCoverage(m, a) <= 0.0) discard;
+  }
+#endif
+  outIds = uvec2(vInstance + 1u, uint(gl_PrimitiveID));
+}

@@ -184,6 +184,10 @@ TEST(GltfImport, MaterialMapping) {
   EXPECT_NEAR(mats[2].kd.x, 0.5f, 1e-6f);
   EXPECT_TRUE(mats[3].unlit);
   EXPECT_NEAR(mats[3].kd.x, 1.0f, 1e-6f);
+  // Transmission is tinted by the base colour; BLEND passes light straight through (IOR 1).
+  EXPECT_EQ(mats[0].transmissionTint, glm::vec3(1, 0, 0));
+  EXPECT_EQ(mats[1].transmissionTint, glm::vec3(1.0f));
+  EXPECT_FLOAT_EQ(mats[2].ior, 1.0f);
 }
 
 TEST(GltfImport, ThinWalledTransmissionDoesNotBend) {
@@ -237,6 +241,10 @@ TEST(GltfImport, LightsCameraAndInstancing) {
   EXPECT_EQ(s.lights[0].type, LightType::Point);
   EXPECT_EQ(s.lights[0].posW, glm::vec3(1, 2, 3));
   EXPECT_EQ(s.lights[0].attenuation, glm::vec3(0, 0, 1));
+  // Candela / π: glTF's Lambertian BRDF is albedo/π, the engine's diffuse term has no 1/π.
+  EXPECT_NEAR(s.lights[0].intensity, 5.0 / 3.14159265358979, 1e-5);
+  EXPECT_NEAR(s.lights[2].intensity, 3.0 / 3.14159265358979, 1e-5);
+  EXPECT_EQ(s.background, glm::vec3(0.05f));  // glTF has none: the documented dark grey
   EXPECT_FLOAT_EQ(s.lights[0].range, 3.0f);
   EXPECT_EQ(s.lights[1].type, LightType::Spot);
   EXPECT_NEAR(s.lights[1].dirW.y, -1.0f, 1e-5f);  // −Z rotated −90° about X points down
@@ -293,7 +301,8 @@ TEST(GltfImport, NormalMapGetsTangents) {
   d["images"] = {{{"uri", "n.png"}}, {{"uri", "missing.png"}}};
   d["textures"] = {{{"source", 0}}, {{"source", 1}}};
   // The second material's image is missing on disk: its base colour falls back with a warning.
-  d["materials"] = {{{"normalTexture", {{"index", 0}}}}, {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 1}}}}}}};
+  d["materials"] = {{{"normalTexture", {{"index", 0}}}, {"emissiveTexture", {{"index", 0}}}},
+                    {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 1}}}}}}};
   d["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
   d["meshes"][0]["primitives"][0]["material"] = 0;
   auto l = load(writeText(dir / "tangents.gltf", d.dump()));
@@ -303,6 +312,9 @@ TEST(GltfImport, NormalMapGetsTangents) {
   EXPECT_NEAR(m.tangents[0].x, 1.0f, 1e-5f);
   EXPECT_FLOAT_EQ(m.tangents[0].w, 1.0f);
   EXPECT_FALSE(l.asset->scene.textures[std::size_t(l.asset->scene.materials[0].normalTexture)].srgb);
+  // The same image as an emissive texture is a second, sRGB-decoded texture.
+  ASSERT_GE(l.asset->scene.materials[0].emissiveTexture, 0);
+  EXPECT_TRUE(l.asset->scene.textures[std::size_t(l.asset->scene.materials[0].emissiveTexture)].srgb);
   EXPECT_TRUE(contains(l.warnings, "missing.png"));
   EXPECT_EQ(l.asset->scene.textures[std::size_t(l.asset->scene.materials[1].kdTexture)].name, "fallback");
 }

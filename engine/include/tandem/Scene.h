@@ -57,6 +57,10 @@ struct Material {
   bool unlit = false;           // KHR_materials_unlit: colour = kd, no lights
   bool doubleSided = false;
   glm::mat3 uvTransform{1.0f};  // KHR_texture_transform applied to uv before sampling
+  int emissiveTexture = -1;     // sRGB, multiplies `emission` (glTF emissiveTexture); -1 for none
+  // Colour filter on the transmitted ray T (glTF: transmission is tinted by the base colour). Applied to
+  // the material's kt·T part only, not to light passing uncovered parts of a BLEND surface.
+  glm::vec3 transmissionTint{1.0f};
 };
 
 struct Texture {

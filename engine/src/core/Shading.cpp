@@ -26,6 +26,14 @@ GpuMaterial packMaterial(const Material& m, int index, std::optional<ShadingMode
   g.krKtIorModel = vec4(m.kr, m.kt, m.ior, float(static_cast<int>(model)));
   g.kd2Checker = vec4(m.kd2, m.checkerFrequency);
   g.emissionFlags = vec4(m.emission, m.unlit ? 1.0f : 0.0f);
+  // Alpha code of tdCoverage (shaders/shading.glsl): one float for mode, cutoff and base alpha.
+  float opacity = std::clamp(m.opacity, 0.0f, 1.0f);
+  float alphaCode = 0.0f;
+  if (m.alphaMode == AlphaMode::Mask && m.alphaCutoff > 0.0f)
+    alphaCode = opacity > 0.0f ? std::min(m.alphaCutoff / opacity, 2.0f) : 2.0f;
+  else if (m.alphaMode == AlphaMode::Blend)
+    alphaCode = -1.0f - opacity;
+  g.texAlpha = vec4(float(m.emissiveTexture), float(m.normalTexture), m.normalScale, alphaCode);
   return g;
 }
 

@@ -12,6 +12,7 @@
 namespace tandem::shading {
 
 using glm::clamp;
+using glm::cross;
 using glm::dot;
 using glm::floor;
 using glm::max;
@@ -32,7 +33,7 @@ using std::pow;
 #undef TD_OUT
 
 static_assert(sizeof(GpuLight) == 5 * 16, "GpuLight must match its std430 layout");
-static_assert(sizeof(GpuMaterial) == 6 * 16, "GpuMaterial must match its std430 layout");
+static_assert(sizeof(GpuMaterial) == 7 * 16, "GpuMaterial must match its std430 layout");
 
 /// Packs the scene's records the same way for GL (SSBO upload) and the CPU twin.
 GpuLight packLight(const Light& light);

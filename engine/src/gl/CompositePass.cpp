@@ -99,6 +99,9 @@ const Program& CompositePass::shadeVariant(const SceneFeatures& f, const ShadeIn
                         "\n#define TD_USE_UVS " + std::to_string(f.uvs) +
                         "\n#define TD_USE_KD_TEXTURES " + std::to_string(f.kdTextures) +
                         "\n#define TD_USE_COLORS " + std::to_string(f.colors) +
+                        "\n#define TD_USE_NORMAL_MAPS " + std::to_string(f.normalMaps) +
+                        "\n#define TD_USE_EMISSIVE " + std::to_string(f.emissiveTextures) +
+                        "\n#define TD_USE_ALPHA_BLEND " + std::to_string(f.alphaBlend) +
                         "\n#define TD_LIGHT_COUNT " + std::to_string(f.lightCount) +
                         "\n#define TD_UNIFORM_MATERIALS " + std::to_string(f.uniformMaterials) +
                         "\n#define TD_SHADOW_MAPS " + std::to_string(in.shadowMaps ? 1 : 0) +

@@ -13,7 +13,8 @@ std::vector<std::uint32_t> probeInstances(const Scene& scene) {
   std::vector<std::uint32_t> out;
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {
     const Material& m = scene.materials[scene.instances[i].material];
-    if (m.kr > 0.0f || m.kt > 0.0f) out.push_back(static_cast<std::uint32_t>(i));
+    // BLEND surfaces show what is behind them through their uncovered part: the probe's refraction term.
+    if (m.kr > 0.0f || m.kt > 0.0f || m.alphaMode == AlphaMode::Blend) out.push_back(static_cast<std::uint32_t>(i));
   }
   return out;
 }
@@ -33,7 +34,7 @@ struct DrawCommand {
   GLuint baseInstance;
 };
 
-constexpr std::uint32_t kHasNormals = 1, kHasUvs = 2, kHasColors = 4;
+constexpr std::uint32_t kHasNormals = 1, kHasUvs = 2, kHasColors = 4, kHasTangents = 8;
 constexpr int kMaxTextureSize = 2048;
 
 template <class T>
@@ -86,7 +87,17 @@ std::vector<std::uint8_t> resizeRgba8(const tandem::Texture& t, int w, int h) {
 void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOverride) {
   // ---- geometry: one shared set of buffers, indices made absolute so no base vertex is needed ----
   std::size_t vertexCount = 0, indexCount = 0;
-  bool anyNormals = false, anyUvs = false, anyColors = false;
+  bool anyNormals = false, anyUvs = false, anyColors = false, anyTangents = false;
+  // Tangents are uploaded only for meshes drawn with a normal-mapped material (the only readers).
+  std::vector<bool> meshNormalMapped(scene.meshes.size(), false);
+  for (const Instance& inst : scene.instances)
+    if (inst.mesh < scene.meshes.size() && scene.materials[inst.material].normalTexture >= 0)
+      meshNormalMapped[inst.mesh] = true;
+  for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+    const Mesh& m = scene.meshes[i];
+    meshNormalMapped[i] = meshNormalMapped[i] && m.tangents.size() == m.positions.size() && !m.uvs.empty();
+    anyTangents |= meshNormalMapped[i];
+  }
   for (const Mesh& m : scene.meshes) {
     vertexCount += m.positions.size();
     indexCount += m.indices.size();
@@ -96,7 +107,7 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
   }
   std::vector<float> positions, normals;
   std::vector<glm::vec2> uvs;
-  std::vector<glm::vec4> colors;
+  std::vector<glm::vec4> colors, tangents;
   std::vector<std::uint32_t> indices;
   std::vector<glm::uvec4> meshes;
   positions.reserve(vertexCount * 3);
@@ -104,7 +115,9 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
   if (anyNormals) normals.reserve(vertexCount * 3);
   if (anyUvs) uvs.reserve(vertexCount);
   if (anyColors) colors.reserve(vertexCount);
-  for (const Mesh& m : scene.meshes) {
+  if (anyTangents) tangents.reserve(vertexCount);
+  for (std::size_t mi = 0; mi < scene.meshes.size(); ++mi) {
+    const Mesh& m = scene.meshes[mi];
     auto first = static_cast<std::uint32_t>(positions.size() / 3);
     std::uint32_t flags = 0;
     for (const glm::vec3& p : m.positions) positions.insert(positions.end(), {p.x, p.y, p.z});
@@ -124,6 +137,11 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
       if (has) flags |= kHasColors;
       for (std::size_t i = 0; i < m.positions.size(); ++i) colors.push_back(has ? m.colors[i] : glm::vec4(1.0f));
     }
+    if (anyTangents) {
+      if (meshNormalMapped[mi]) flags |= kHasTangents;
+      for (std::size_t i = 0; i < m.positions.size(); ++i)
+        tangents.push_back(meshNormalMapped[mi] ? m.tangents[i] : glm::vec4(0.0f));
+    }
     meshes.emplace_back(first, static_cast<std::uint32_t>(indices.size()), flags,
                         static_cast<std::uint32_t>(m.triangleCount()));
     for (std::uint32_t i : m.indices) indices.push_back(first + i);
@@ -136,6 +154,7 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
   colors_ = bufferOf("colors", colors);
   indices_ = bufferOf("indices", indices);
   meshes_ = bufferOf("meshes", meshes);
+  tangents_ = bufferOf("tangents", tangents);
   // Empty channels keep a 16-byte stand-in buffer: the views are over whole buffers either way.
   positionsTex_ = createBufferTexture("positions view", GL_RGB32F, positions_);
   normalsTex_ = createBufferTexture("normals view", GL_RGB32F, normals_);
@@ -143,8 +162,9 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
   colorsTex_ = createBufferTexture("colors view", GL_RGBA32F, colors_);
   indicesTex_ = createBufferTexture("indices view", GL_R32UI, indices_);
   meshesTex_ = createBufferTexture("meshes view", GL_RGBA32UI, meshes_);
+  tangentsTex_ = createBufferTexture("tangents view", GL_RGBA32F, tangents_);
   bytes_ = (positions.size() + normals.size()) * sizeof(float) + uvs.size() * sizeof(glm::vec2) +
-           colors.size() * sizeof(glm::vec4) + indices.size() * sizeof(std::uint32_t);
+           (colors.size() + tangents.size()) * sizeof(glm::vec4) + indices.size() * sizeof(std::uint32_t);
 
   // ---- instances and the draw commands (one per instance, baseInstance = instance index) ----
   instanceCount_ = static_cast<int>(scene.instances.size());
@@ -174,41 +194,58 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
   toonRamps_.reset();
   updateMaterials(scene, shadingOverride);
 
-  // ---- kd textures: one sRGB array, layer = scene texture index (what packMaterial stores) ----
+  // ---- textures: the sRGB array (base colour, emissive) and the linear one (normal maps), layer = scene
+  // texture index (what packMaterial stores) in both; a layer the other array's materials use stays empty.
   kdTextures_.reset();
-  bool anyKd = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
-    return m.kdTexture >= 0;
-  });
-  if (anyKd && !scene.textures.empty()) {
-    int w = 1, h = 1;
-    for (const tandem::Texture& t : scene.textures) {
-      w = std::max(w, t.width);
-      h = std::max(h, t.height);
-    }
-    w = std::min(w, kMaxTextureSize);
-    h = std::min(h, kMaxTextureSize);
-    int levels = 1 + static_cast<int>(std::floor(std::log2(static_cast<float>(std::max(w, h)))));
-    kdTextures_ = createTexture2DArray("kd textures", GL_SRGB8_ALPHA8, w, h, static_cast<int>(scene.textures.size()),
-                                       levels);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    for (std::size_t i = 0; i < scene.textures.size(); ++i) {
-      const tandem::Texture& t = scene.textures[i];
-      if (t.width <= 0 || t.height <= 0 ||
-          t.rgba8.size() < static_cast<std::size_t>(t.width) * static_cast<std::size_t>(t.height) * 4)
-        continue;  // an empty layer samples as black; validateScene does not look inside textures
-      std::vector<std::uint8_t> pixels = resizeRgba8(t, w, h);
-      glTextureSubImage3D(kdTextures_.id(), 0, 0, 0, static_cast<GLint>(i), w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                          pixels.data());
-    }
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glGenerateTextureMipmap(kdTextures_.id());
-    glTextureParameteri(kdTextures_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(kdTextures_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(kdTextures_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(kdTextures_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
-    bytes_ += static_cast<std::size_t>(w) * h * 4 * scene.textures.size() * 4 / 3;
+  normalMaps_.reset();
+  std::vector<bool> srgbLayer(scene.textures.size(), false), linearLayer(scene.textures.size(), false);
+  auto mark = [&](std::vector<bool>& layers, int t) {
+    if (t >= 0 && static_cast<std::size_t>(t) < layers.size()) layers[static_cast<std::size_t>(t)] = true;
+  };
+  bool anyEmissive = false;
+  for (const Material& m : scene.materials) {
+    mark(srgbLayer, m.kdTexture);
+    mark(srgbLayer, m.emissiveTexture);
+    mark(linearLayer, m.normalTexture);
+    anyEmissive |= m.emissiveTexture >= 0;
   }
+  kdTextures_ = uploadTextureArray(scene, srgbLayer, GL_SRGB8_ALPHA8, "kd textures");
+  if (anyTangents) normalMaps_ = uploadTextureArray(scene, linearLayer, GL_RGBA8, "normal maps");
   features_.kdTextures = static_cast<bool>(kdTextures_);
+  features_.emissiveTextures = anyEmissive && features_.kdTextures;
+  features_.normalMaps = static_cast<bool>(normalMaps_);
+}
+
+Texture GpuScene::uploadTextureArray(const Scene& scene, const std::vector<bool>& layers, GLenum format,
+                                     const char* label) {
+  if (std::none_of(layers.begin(), layers.end(), [](bool b) { return b; })) return Texture();
+  int w = 1, h = 1;
+  for (std::size_t i = 0; i < scene.textures.size(); ++i)
+    if (layers[i]) {
+      w = std::max(w, scene.textures[i].width);
+      h = std::max(h, scene.textures[i].height);
+    }
+  w = std::min(w, kMaxTextureSize);
+  h = std::min(h, kMaxTextureSize);
+  int levels = 1 + static_cast<int>(std::floor(std::log2(static_cast<float>(std::max(w, h)))));
+  Texture array = createTexture2DArray(label, format, w, h, static_cast<int>(scene.textures.size()), levels);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+    const tandem::Texture& t = scene.textures[i];
+    if (!layers[i] || t.width <= 0 || t.height <= 0 ||
+        t.rgba8.size() < static_cast<std::size_t>(t.width) * static_cast<std::size_t>(t.height) * 4)
+      continue;  // an empty layer samples as black; validateScene does not look inside textures
+    std::vector<std::uint8_t> pixels = resizeRgba8(t, w, h);
+    glTextureSubImage3D(array.id(), 0, 0, 0, static_cast<GLint>(i), w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+  }
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glGenerateTextureMipmap(array.id());
+  glTextureParameteri(array.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTextureParameteri(array.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(array.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTextureParameteri(array.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+  bytes_ += static_cast<std::size_t>(w) * h * 4 * scene.textures.size() * 4 / 3;
+  return array;
 }
 
 // One row of TD_TOON_RAMP_SIZE texels per material, fetched by texel index (the C++ toonRampIndex).
@@ -251,7 +288,13 @@ void GpuScene::updateMaterials(const Scene& scene, std::optional<ShadingModel> s
     packed.push_back(shading::packMaterial(scene.materials[m], static_cast<int>(m), shadingOverride));
   materials_ = bufferOf("materials", packed);
   std::vector<glm::mat4> uvTransforms;
-  for (const Material& m : scene.materials) uvTransforms.emplace_back(m.uvTransform);
+  // Per-material record of 4 texels: the uv transform's columns (xyz) and, in the otherwise unused
+  // fourth column, the transmission tint (rgb): GpuMaterial stays at 7 vec4s for the uniform block.
+  for (const Material& m : scene.materials) {
+    glm::mat4 record(m.uvTransform);
+    record[3] = glm::vec4(m.transmissionTint, 1.0f);
+    uvTransforms.push_back(record);
+  }
   uvTransforms_ = bufferOf("uv transforms", uvTransforms);
   uvTransformsTex_ = createBufferTexture("uv transforms view", GL_RGBA32F, uvTransforms_);
   // Materials are indexed per pixel; from a uniform block llvmpipe gathers them with plain loads, from an
@@ -271,6 +314,12 @@ void GpuScene::updateMaterials(const Scene& scene, std::optional<ShadingModel> s
                         return m.shading == ShadingModel::Gouraud;
                       }));
   override_ = shadingOverride;
+  features_.alphaMask = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
+    return m.alphaMode == AlphaMode::Mask && m.alphaCutoff > 0.0f;
+  });
+  features_.alphaBlend = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
+    return m.alphaMode == AlphaMode::Blend;
+  });
 }
 
 void GpuScene::bind(GLuint kdUnit, GLuint rampUnit) const {
@@ -280,12 +329,14 @@ void GpuScene::bind(GLuint kdUnit, GLuint rampUnit) const {
     if (*buffers[b]) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, buffers[b]->id());
   glBindTextureUnit(kdUnit, kdTextures_.id());
   glBindTextureUnit(rampUnit, toonRamps_.id());
+  glBindTextureUnit(kUnitNormalMaps, normalMaps_.id());
 }
 
 void GpuScene::bindShading() const {
   const Texture* views[] = {&positionsTex_, &normalsTex_, &uvsTex_, &colorsTex_, &indicesTex_,
                             &meshesTex_, &instancesTex_, &instanceIdsTex_, &uvTransformsTex_};
   for (GLuint i = 0; i < std::size(views); ++i) glBindTextureUnit(kUnitPositionsTex + i, views[i]->id());
+  glBindTextureUnit(kUnitTangentsTex, tangentsTex_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, kBlockLights, lights_.id());
   if (features_.uniformMaterials > 0) glBindBufferBase(GL_UNIFORM_BUFFER, kBlockMaterials, materials_.id());
 }

@@ -20,12 +20,19 @@ inline constexpr GLuint kBindPositions = 0, kBindNormals = 1, kBindUvs = 2, kBin
 inline constexpr GLuint kUnitPositionsTex = 7, kUnitNormalsTex = 8, kUnitUvsTex = 9, kUnitColorsTex = 10,
                         kUnitIndicesTex = 11, kUnitMeshesTex = 12, kUnitInstancesTex = 13,
                         kUnitInstanceIdsTex = 14, kUnitUvTransformsTex = 15;
+// Normal maps: the tangents view (RGBA32F, per vertex) and the linear normal-map array (units 16–18 are
+// the raster effects' maps, shade.frag).
+inline constexpr GLuint kUnitTangentsTex = 19, kUnitNormalMaps = 20;
 // Uniform-block binding points: lights (always TD_MAX_LIGHTS records) and materials (when they fit).
 inline constexpr GLuint kBlockLights = 0, kBlockMaterials = 1;
 
 /// What the scene uses, for choosing the shade pass's variant.
 struct SceneFeatures {
   bool uvs = false, colors = false, kdTextures = false;
+  bool normalMaps = false;     // some material has a normal map and a mesh using it has tangents
+  bool emissiveTextures = false;
+  bool alphaMask = false;      // some material is MASK with a cutoff: the visibility pass discards
+  bool alphaBlend = false;     // some material is BLEND: coverage scales local shading
   bool gouraud = false, toon = false;  // after the shading override
   int lightCount = 0;          // direct lights: the shade loop's compile-time bound
   int uniformMaterials = 0;    // material count when they fit a uniform block, else 0 (SSBO)
@@ -44,7 +51,8 @@ class GpuScene {
   /// Re-packs materials when the shading override changes.
   void updateMaterials(const Scene& scene, std::optional<ShadingModel> shadingOverride);
 
-  /// Binds the SSBOs and textures (kd array on unit `kdUnit`, ramps on `rampUnit`).
+  /// Binds the SSBOs and textures (kd array on unit `kdUnit`, ramps on `rampUnit`). The kd array holds
+  /// every sRGB texture (base colour and emissive), layer = Scene::textures index.
   void bind(GLuint kdUnit, GLuint rampUnit) const;
   /// What the shade pass reads besides bind(): buffer-texture views (kUnit*Tex) and uniform blocks.
   void bindShading() const;
@@ -61,14 +69,18 @@ class GpuScene {
 
  private:
   void bakeRamps(const Scene& scene);
+  /// A mipmapped RGBA8 array (`format` sRGB or linear) with scene.textures[i] in layer i where layers[i];
+  /// empty when no layer is wanted.
+  Texture uploadTextureArray(const Scene& scene, const std::vector<bool>& layers, GLenum format, const char* label);
 
-  Buffer positions_, normals_, uvs_, colors_, indices_, meshes_, instances_, materials_, lights_, uvTransforms_;
+  Buffer positions_, normals_, uvs_, colors_, indices_, meshes_, instances_, materials_, lights_, uvTransforms_,
+      tangents_;
   Buffer indirect_, instanceIds_;
   // Views of the buffers above for the shade pass (see createBufferTexture).
   Texture positionsTex_, normalsTex_, uvsTex_, colorsTex_, indicesTex_, meshesTex_, instancesTex_, instanceIdsTex_,
-      uvTransformsTex_;
+      uvTransformsTex_, tangentsTex_;
   VertexArray vao_;
-  Texture kdTextures_, toonRamps_;
+  Texture kdTextures_, toonRamps_, normalMaps_;
   int instanceCount_ = 0;
   int lightCount_ = 0;
   std::optional<ShadingModel> override_;

@@ -13,8 +13,13 @@ Result<VisibilityPass> VisibilityPass::create() {
   auto program = buildProgram("visibility", {{GL_VERTEX_SHADER, "shaders/visibility.vert"},
                                              {GL_FRAGMENT_SHADER, "shaders/visibility.frag"}});
   if (!program) return program.error();
+  auto masked = buildProgram("visibility (alpha mask)", {{GL_VERTEX_SHADER, "shaders/visibility.vert"},
+                                                         {GL_FRAGMENT_SHADER, "shaders/visibility.frag"}},
+                             "#define TD_ALPHA_MASK 1\n");
+  if (!masked) return masked.error();
   VisibilityPass pass;
   pass.program_ = std::move(*program);
+  pass.maskProgram_ = std::move(*masked);
   return pass;
 }
 
@@ -61,10 +66,12 @@ void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const
   // The rotation part of viewFromWorld applied to camera-relative positions equals viewFromWorld.
   glm::mat4 viewRotation = glm::mat4(glm::mat3(viewFromWorld));
   glm::mat4 clipFromWorldRelative = camera.clipFromView(aspect) * viewRotation;
-  glUseProgram(program_.id());
-  glProgramUniformMatrix4fv(program_.id(), 0, 1, GL_FALSE, glm::value_ptr(clipFromWorldRelative));
-  glProgramUniform3fv(program_.id(), 1, 1, glm::value_ptr(camera.posW));
-  glProgramUniform1ui(program_.id(), 2, excluded ? *excluded + 1u : 0u);
+  // Scenes with MASK materials get the variant that discards; others keep early depth testing.
+  GLuint program = scene.features().alphaMask ? maskProgram_.id() : program_.id();
+  glUseProgram(program);
+  glProgramUniformMatrix4fv(program, 0, 1, GL_FALSE, glm::value_ptr(clipFromWorldRelative));
+  glProgramUniform3fv(program, 1, 1, glm::value_ptr(camera.posW));
+  glProgramUniform1ui(program, 2, excluded ? *excluded + 1u : 0u);
   scene.bind(2, 3);
   scene.drawAll();
   glUseProgram(0);

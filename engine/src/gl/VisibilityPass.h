@@ -36,6 +36,7 @@ class VisibilityPass {
 
  private:
   Program program_;
+  Program maskProgram_;  // TD_ALPHA_MASK: discards texels of MASK materials under their cutoff
   Texture ids_, depth_;
   Framebuffer fbo_;
   int width_ = 0, height_ = 0;

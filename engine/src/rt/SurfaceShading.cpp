@@ -23,6 +23,19 @@ Camera toRenderSpace(const Camera& camera, glm::vec3 anchor) {
   return c;
 }
 
+CameraRays::CameraRays(const Camera& camera, glm::ivec2 size)
+    : pos_(camera.posW),
+      sizeX_(float(size.x)),
+      sizeY_(float(size.y)),
+      aspect_(float(size.x) / float(size.y)),
+      tanHalf_(std::tan(glm::radians(camera.yFovDeg) * 0.5f)),
+      halfH_(camera.orthoHeight * 0.5f),
+      orthographic_(camera.orthographic) {
+  forward_ = glm::normalize(camera.targetW - camera.posW);
+  right_ = glm::normalize(glm::cross(forward_, camera.upW));
+  up_ = glm::cross(right_, forward_);
+}
+
 InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject, glm::vec3 anchor) {
   InstanceTransform t;
   t.worldFromObject = worldFromObject;
@@ -31,6 +44,8 @@ InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject, glm::v
   // A singular transform (scale 0 on an axis) has no inverse; its normals fall back to Ng per hit.
   float det = glm::determinant(m);
   t.normalWorldFromObject = std::isfinite(det) && det != 0.0f ? glm::transpose(glm::inverse(m)) : glm::mat3(0.0f);
+  t.absLinear = glm::mat3(glm::abs(t.worldFromObject[0]), glm::abs(t.worldFromObject[1]), glm::abs(t.worldFromObject[2]));
+  t.absTranslation = glm::abs(glm::vec3(t.worldFromObject[3]));
   return t;
 }
 
@@ -118,11 +133,9 @@ SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, st
   h.posW = h.bary.x * h.vertexW[0] + h.bary.y * h.vertexW[1] + h.bary.z * h.vertexW[2];
   // Error scale of posW: the interpolation's terms and, before them, the transform's (|M|·|p| + |t|,
   // larger than |vertexW| when the transform cancels a large object-space coordinate).
-  glm::mat3 absLinear(glm::abs(transform.worldFromObject[0]), glm::abs(transform.worldFromObject[1]),
-                      glm::abs(transform.worldFromObject[2]));
-  glm::vec3 absT = glm::abs(glm::vec3(transform.worldFromObject[3]));
   glm::vec3 mag[3];
-  for (int i = 0; i < 3; ++i) mag[i] = absLinear * glm::abs(mesh.positions[h.vertex[i]]) + absT;
+  for (int i = 0; i < 3; ++i)
+    mag[i] = transform.absLinear * glm::abs(mesh.positions[h.vertex[i]]) + transform.absTranslation;
   h.posMagnitude = interpolationMagnitude(h.bary, mag[0], mag[1], mag[2]);
   h.eyeW = ray.origin;
   h.toEyeW = -ray.dir;
@@ -148,20 +161,12 @@ SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, st
   const Material& m = scene.materials[h.material];
   if (m.normalTexture >= 0 && !mesh.tangents.empty() && !mesh.uvs.empty()) {
     // Tangent-space normal map (glTF): perturb N in the frame (T, B, N), T re-orthogonalised against N.
+    // The formula is shading.glsl's tdPerturbNormal, which GL's shade pass calls too.
     glm::vec4 t4 = interpolate(mesh.tangents, h);
     glm::vec3 t = glm::mat3(transform.worldFromObject) * glm::vec3(t4);
-    t -= glm::dot(t, h.normalW) * h.normalW;
-    float tLen = glm::length(t);
-    if (tLen > 0.0f && std::isfinite(tLen)) {
-      t /= tLen;
-      glm::vec3 b = glm::cross(h.normalW, t) * (t4.w < 0.0f ? -1.0f : 1.0f);
-      glm::vec3 tn = glm::vec3(sampleBilinear(scene.textures[static_cast<std::size_t>(m.normalTexture)], h.uv)) * 2.0f - 1.0f;
-      tn.x *= m.normalScale;
-      tn.y *= m.normalScale;
-      glm::vec3 n = t * tn.x + b * tn.y + h.normalW * tn.z;
-      float len = glm::length(n);
-      if (len > 0.0f && std::isfinite(len)) h.normalW = n / len;
-    }
+    glm::vec3 tn = glm::vec3(sampleBilinear(scene.textures[static_cast<std::size_t>(m.normalTexture)], h.uv)) * 2.0f - 1.0f;
+    glm::vec3 n = tdPerturbNormal(h.normalW, t, t4.w, tn, m.normalScale);
+    if (isFinite(n)) h.normalW = n;
   }
   // Two-sided lighting: back faces are lit like fronts.
   if (glm::dot(h.geomNormalW, h.toEyeW) < 0.0f) {
@@ -169,7 +174,17 @@ SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, st
     h.geomNormalW = -h.geomNormalW;
     h.normalW = -h.normalW;
   }
-  if (m.kdTexture >= 0) h.tint = glm::vec3(sampleBilinear(scene.textures[static_cast<std::size_t>(m.kdTexture)], h.uv));
+  float texA = 1.0f;
+  if (m.kdTexture >= 0) {
+    glm::vec4 kd = sampleBilinear(scene.textures[static_cast<std::size_t>(m.kdTexture)], h.uv);
+    h.tint = glm::vec3(kd);
+    texA = kd.a;
+  }
+  // BLEND coverage only: MASK holes are decided by the visibility pass (and Embree's filter).
+  if (m.alphaMode == AlphaMode::Blend) h.coverage = tdCoverage(packMaterial(m, 0, std::nullopt), texA);
+  // Emissive texture, only with uvs, like GL's shade pass; the index is checked (validateScene does not).
+  if (m.emissiveTexture >= 0 && static_cast<std::size_t>(m.emissiveTexture) < scene.textures.size() && !mesh.uvs.empty())
+    h.emissionTint = glm::vec3(sampleBilinear(scene.textures[static_cast<std::size_t>(m.emissiveTexture)], h.uv));
   if (!mesh.colors.empty()) h.tint *= glm::vec3(interpolate(mesh.colors, h));
   return h;
 }
@@ -177,9 +192,10 @@ SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, st
 glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const InstanceTransform& transform,
                      const SurfaceHit& hit, std::uint32_t visibleLights) {
   const GpuMaterial& m = frame.materials[hit.material];
-  glm::vec3 emission(m.emissionFlags);
+  glm::vec3 emission = glm::vec3(m.emissionFlags) * hit.emissionTint;
   glm::vec3 c = tdSurfaceColor(m, hit.uv, hit.tint);
-  if (m.emissionFlags.w > 0.5f) return c + emission;
+  // BLEND: the covered fraction of the surface shades; the rest is the ray pass's straight-through T.
+  if (m.emissionFlags.w > 0.5f) return hit.coverage * (c + emission);
   glm::vec3 color = emission + tdAmbient(m, frame.ambient, hit.uv, hit.tint);
   glm::vec3 ks(m.ksNs);
   float ns = m.ksNs.w;
@@ -225,7 +241,7 @@ glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const Instan
     float toon = model == TD_MODEL_TOON ? ramp[static_cast<std::size_t>(toonRampIndex(glm::dot(n, toLight)))] : 0.0f;
     color += tdShadeLight(c, ks, ns, model, n, hit.toEyeW, e, toLight, toon);
   }
-  return color;
+  return hit.coverage * color;
 }
 
 }  // namespace tandem::rt

@@ -26,10 +26,40 @@ namespace tandem::rt {
 glm::vec3 toRenderSpace(glm::vec3 posW, glm::vec3 anchor);
 Camera toRenderSpace(const Camera& camera, glm::vec3 anchor);
 
+/// Camera::rayThroughPixel with its per-camera work (the basis, tan of the half field of view, the
+/// aspect) done once instead of per pixel; the per-pixel arithmetic is the same expression, so the rays
+/// are bit-identical to Camera::rayThroughPixel's (tests/rt hold it to that).
+class CameraRays {
+ public:
+  CameraRays(const Camera& camera, glm::ivec2 size);
+  Ray through(glm::vec2 pixel) const {
+    float nx = pixel.x / sizeX_ * 2.0f - 1.0f;
+    float ny = 1.0f - pixel.y / sizeY_ * 2.0f;
+    Ray r;
+    if (orthographic_) {
+      r.origin = pos_ + right_ * (nx * halfH_ * aspect_) + up_ * (ny * halfH_);
+      r.dir = forward_;
+      return r;
+    }
+    r.origin = pos_;
+    r.dir = glm::normalize(forward_ + right_ * (nx * tanHalf_ * aspect_) + up_ * (ny * tanHalf_));
+    return r;
+  }
+
+ private:
+  glm::vec3 pos_, forward_, right_, up_;
+  float sizeX_, sizeY_, aspect_, tanHalf_, halfH_;
+  bool orthographic_;
+};
+
 /// An instance's transforms as the ray pass uses them (the same copy Embree was given), in render space.
 struct InstanceTransform {
   glm::mat4 worldFromObject{1.0f};
   glm::mat3 normalWorldFromObject{1.0f};  // inverse transpose of the upper 3x3
+  // |upper 3x3| and |translation| of worldFromObject: every hit's error bound (resolveHit) needs them,
+  // so they are made once per transform rather than once per hit.
+  glm::mat3 absLinear{1.0f};
+  glm::vec3 absTranslation{0.0f};
 };
 InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject, glm::vec3 anchor = glm::vec3(0.0f));
 
@@ -62,6 +92,8 @@ struct SurfaceHit {
   glm::vec3 eyeW{0.0f};              // the ray origin (Gouraud's per-vertex V)
   glm::vec2 uv{0.0f};                // after uvTransform
   glm::vec3 tint{1.0f};              // texture × vertex colour
+  glm::vec3 emissionTint{1.0f};      // emissive texture (sRGB-decoded), multiplies the emission
+  float coverage = 1.0f;             // BLEND: tdCoverage of the kd texture's alpha; 1 otherwise
   std::uint32_t material = 0;
 };
 

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <map>
 #include <new>
+#include <numbers>
 #include <tuple>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -217,7 +218,26 @@ Result<void> Importer::buildMaterials() {
     Material mat;
     mat.name = g.name;
     const glm::vec3 base(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]), float(pbr.baseColorFactor[2]));
-    const float metallic = float(pbr.metallicFactor), rough = float(pbr.roughnessFactor);
+    float metallic = float(pbr.metallicFactor), rough = float(pbr.roughnessFactor);
+    // The metallic-roughness texture is not sampled per pixel (one Phong lobe per material): its mean
+    // blue (metal) and green (roughness) channels scale the factors, so a mostly dielectric surface
+    // with a few metal parts is not shaded as solid metal (glTF's default metallicFactor is 1).
+    if (pbr.metallicRoughnessTexture.index >= 0) {
+      const int mr = texture(pbr.metallicRoughnessTexture.index, false, id + " metallic-roughness");
+      if (mr >= 0) {
+        const Texture& t = out_.scene.textures[std::size_t(mr)];
+        double green = 0.0, blue = 0.0;
+        const std::size_t texels = t.rgba8.size() / 4;
+        for (std::size_t k = 0; k < texels; ++k) {
+          green += t.rgba8[4 * k + 1];
+          blue += t.rgba8[4 * k + 2];
+        }
+        if (texels > 0) {
+          rough *= float(green / (255.0 * double(texels)));
+          metallic *= float(blue / (255.0 * double(texels)));
+        }
+      }
+    }
     float ior = 1.5f;
     if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_ior")) {
       const double v = num(*e, "ior", 1.5);
@@ -258,12 +278,17 @@ Result<void> Importer::buildMaterials() {
     mat.kt = transmission * (1.0f - metallic);
     // Without KHR_materials_volume a transmissive surface is thin-walled: light passes without bending.
     mat.ior = (mat.kt > 0.0f && !thick) ? 1.0f : ior;
+    // glTF tints transmitted light by the base colour (KHR_materials_transmission); texture not included.
+    mat.transmissionTint = base;
     if (g.emissiveFactor.size() == 3)
       mat.emission = glm::vec3(float(g.emissiveFactor[0]), float(g.emissiveFactor[1]), float(g.emissiveFactor[2])) *
                      emissiveStrength;
     mat.opacity = float(pbr.baseColorFactor[3]);
     mat.alphaMode = g.alphaMode == "MASK" ? AlphaMode::Mask : g.alphaMode == "BLEND" ? AlphaMode::Blend : AlphaMode::Opaque;
     mat.alphaCutoff = float(g.alphaCutoff);
+    // BLEND is thin transmission: the uncovered fraction passes straight through (IOR 1). A refracting
+    // BLEND material would need two transmitted rays (bent and straight); it keeps one, unbent.
+    if (mat.alphaMode == AlphaMode::Blend && mat.ior != 1.0f) mat.ior = 1.0f;
     mat.doubleSided = g.doubleSided;
     if (ext(g.extensions, "KHR_materials_unlit")) {
       mat.unlit = true;
@@ -289,8 +314,13 @@ Result<void> Importer::buildMaterials() {
       if (texCoordOf(g.normalTexture.extensions, g.normalTexture.texCoord) != 0)
         warn_(id + ": normal map uses a TEXCOORD other than 0; TEXCOORD_0 is used");
     }
-    if (pbr.metallicRoughnessTexture.index >= 0 || g.occlusionTexture.index >= 0 || g.emissiveTexture.index >= 0)
-      warnOnce("unusedTextures", "metallic-roughness, occlusion and emissive textures are not used (their factors are)");
+    if (g.emissiveTexture.index >= 0) {
+      mat.emissiveTexture = texture(g.emissiveTexture.index, true, id + " emissive");
+      if (texCoordOf(g.emissiveTexture.extensions, g.emissiveTexture.texCoord) != 0)
+        warn_(id + ": emissive texture uses a TEXCOORD other than 0; TEXCOORD_0 is used");
+    }
+    if (g.occlusionTexture.index >= 0)
+      warnOnce("unusedTextures", "occlusion textures are not used; metallic-roughness textures only through their mean");
     wantsTangents_.push_back(mat.normalTexture >= 0);
     materialOf_.push_back(int(out_.scene.materials.size()));
     out_.scene.materials.push_back(std::move(mat));
@@ -639,9 +669,10 @@ void Importer::addLight(const tinygltf::Node& n, std::size_t nodeIndex, const gl
     warn_(lid + ": negative or non-finite colour, intensity or range; light skipped");
     return;
   }
-  // Units (docs/gltf.md): point/spot intensity in candela with inverse-square falloff, directional in lux;
-  // both taken as the engine's intensity unchanged.
-  l.intensity = float(g.intensity);
+  // Units (docs/gltf.md): point/spot intensity in candela with inverse-square falloff, directional in lux.
+  // glTF's diffuse BRDF is albedo/π, the engine's Phong term kd·E·(N·L) has no 1/π: dividing the
+  // intensity by π makes a Lambertian surface as bright as in glTF viewers at exposure 1.
+  l.intensity = float(g.intensity / std::numbers::pi);
   l.range = float(g.range);
   l.attenuation = l.type == LightType::Directional ? glm::vec3(1, 0, 0) : glm::vec3(0, 0, 1);
   if (l.type == LightType::Spot) {
@@ -777,6 +808,10 @@ void Importer::addDefaults() {
     }
     s.camera = cam;
   }
+  // glTF has no background: escaped rays see a dark neutral grey (ACES-mapped to about sRGB 59): light
+  // models (most sample models are white or pastel) keep their contrast, as on the screenshots' dark
+  // backdrops, and black silhouettes still stand out from it.
+  s.background = glm::vec3(0.05f);
   if (s.lights.empty() && opt_.addDefaultLights) {
     // A headlight along the view direction (every visible surface facing the camera is lit) plus a
     // dim ambient so faces turned away are not black.
