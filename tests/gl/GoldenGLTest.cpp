@@ -1,0 +1,98 @@
+// Golden images of the default (Whitted) scene: one per shading model with every effect off, and one per
+// preset. Tolerances (tests/golden/README.md):
+//   raster-only frames: every channel within 2/255 on at least 99.9 % of pixels (as Filament's CI does on
+//   Mesa software rasterizers);
+//   frames with ray-traced effects: additionally LDR-FLIP mean under 0.01 (Embree's SIMD paths may differ
+//   in the last bits between CPUs, which moves a few silhouette pixels of secondary rays).
+// Regenerate: TANDEM_UPDATE_GOLDENS=1 build/bin/tandem-gl-tests --gtest_filter='Golden*'
+#include <cstdlib>
+#include <filesystem>
+
+#include "gl/GlTestUtil.h"
+#include "tandem/ImageMetrics.h"
+#include "tandem/SceneFile.h"
+
+namespace tandem {
+namespace {
+
+constexpr int kWidth = 320;
+constexpr int kHeight = 180;
+
+struct PixelDiff {
+  double fractionOver = 0.0;  // pixels with some channel differing by more than the tolerance
+  int maxDiff = 0;
+};
+
+PixelDiff compareChannels(const Image& a, const Image& b, int tolerance) {
+  PixelDiff d;
+  std::size_t over = 0;
+  for (std::size_t i = 0; i < a.rgba.size(); i += 4) {
+    int worst = 0;
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c])));
+    d.maxDiff = std::max(d.maxDiff, worst);
+    if (worst > tolerance) ++over;
+  }
+  d.fractionOver = double(over) / double(a.rgba.size() / 4);
+  return d;
+}
+
+void checkGolden(const std::string& name, const FrameSettings& settings, bool rayTraced) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto scene = loadDefaultScene();
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  Camera camera = scene->camera;
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_NE(renderer, nullptr);
+  ASSERT_TRUE(renderer->setScene(std::move(*scene)).ok());
+  renderer->render(camera, settings);
+  Image image = renderer->readImage();
+  gltest::savePng("golden-" + name + ".png", image);
+
+  std::string path = test::sourceDir() + "/tests/golden/" + name + ".png";
+  const char* update = std::getenv("TANDEM_UPDATE_GOLDENS");
+  if (update && std::string(update) == "1") {
+    ASSERT_TRUE(writePng(path, image).ok());
+    GTEST_SKIP() << "golden updated: " << path;
+  }
+  auto golden = readPng(path);
+  ASSERT_TRUE(golden.ok()) << golden.error().message << " (regenerate with TANDEM_UPDATE_GOLDENS=1)";
+  ASSERT_EQ(golden->width, image.width);
+  ASSERT_EQ(golden->height, image.height);
+
+  PixelDiff diff = compareChannels(image, *golden, 2);
+  if (rayTraced) {
+    auto f = flip(image, *golden);
+    ASSERT_TRUE(f.ok());
+    EXPECT_LT(f->mean, 0.01) << name << ": FLIP mean against the golden";
+    EXPECT_LT(diff.fractionOver, 0.01) << name << ": pixels over 2/255";
+  } else {
+    EXPECT_LE(diff.fractionOver, 0.001) << name << ": pixels over 2/255 (max difference " << diff.maxDiff << ")";
+  }
+}
+
+FrameSettings effectsOff(ShadingModel model) {
+  FrameSettings s;
+  s.width = kWidth;
+  s.height = kHeight;
+  s.shadows = s.reflections = s.refraction = EffectMode::Off;
+  s.shadingOverride = model;
+  return s;
+}
+
+FrameSettings preset(const char* name) {
+  FrameSettings base;
+  base.width = kWidth;
+  base.height = kHeight;
+  return *presetSettings(name, base);
+}
+
+TEST(Golden, WhittedFlat) { checkGolden("whitted-flat", effectsOff(ShadingModel::Flat), false); }
+TEST(Golden, WhittedGouraud) { checkGolden("whitted-gouraud", effectsOff(ShadingModel::Gouraud), false); }
+TEST(Golden, WhittedPhong) { checkGolden("whitted-phong", effectsOff(ShadingModel::Phong), false); }
+TEST(Golden, WhittedToon) { checkGolden("whitted-toon", effectsOff(ShadingModel::Toon), false); }
+TEST(Golden, WhittedPresetRaster) { checkGolden("whitted-preset-raster", preset("raster"), false); }
+TEST(Golden, WhittedPresetHybridFast) { checkGolden("whitted-preset-hybrid-fast", preset("hybrid-fast"), true); }
+TEST(Golden, WhittedPresetHybridFull) { checkGolden("whitted-preset-hybrid-full", preset("hybrid-full"), true); }
+
+}  // namespace
+}  // namespace tandem
