@@ -428,6 +428,22 @@ TEST(RayPassWhitted, ImagesAreIdenticalWithOneAndTwoThreads) {
 // depth and at a deep one with a contribution cut-off.
 TEST(RayPassWhitted, WavefrontEqualsTheRecursionBitForBit) {
   Scene scene = makeWhittedScene();
+  // glTF extras on the secondary rays' vec3 weights: a tinted glass sphere (tdTransmitWeight with a = 1)
+  // and a BLEND quad without kt (its 1 − a passes straight through), both in view.
+  Material tinted = diffuse(glm::vec3(0.0f));
+  tinted.ka = glm::vec3(0.0f);
+  tinted.ks = glm::vec3(0.9f);
+  tinted.ns = 128.0f;
+  tinted.kt = 0.9f;
+  tinted.ior = 1.5f;
+  tinted.transmissionTint = {0.9f, 0.5f, 0.3f};
+  Material blend = diffuse({0.8f, 0.3f, 0.3f});
+  blend.alphaMode = AlphaMode::Blend;
+  blend.opacity = 0.4f;
+  blend.kr = 0.2f;
+  addInstance(scene, addMesh(scene, makeSphere(0.5f, 32, 16)), addMaterial(scene, tinted), translate({-0.4f, 0.5f, 2.0f}));
+  addInstance(scene, addMesh(scene, makePlane({1.2f, 1.2f}, 1)), addMaterial(scene, blend),
+              translate({-1.8f, 1.0f, 2.2f}) * glm::rotate(glm::mat4(1.0f), 1.4f, glm::vec3(1, 0, 0)));
   const int w = 96, h = 72;
   auto tracer = makeTracer(scene, 2);
   ASSERT_TRUE(tracer);
@@ -468,6 +484,93 @@ TEST(RayPassWhitted, WavefrontEqualsTheRecursionBitForBit) {
     EXPECT_GT(counts.reflection, 0u);
     EXPECT_GT(counts.refraction, 0u);
   }
+}
+
+// BLEND (docs/gltf.md "Alpha modes"): a quad of coverage a with no kt in front of nothing transmits
+// (1 − a) of the background straight through, and reflects a·kr.
+TEST(RayPassWhitted, BlendSurfacePassesOneMinusCoverageStraightThrough) {
+  Scene scene;
+  Material blend = diffuse({0.8f, 0.3f, 0.3f});
+  blend.alphaMode = AlphaMode::Blend;
+  blend.opacity = 0.25f;
+  std::uint32_t mat = addMaterial(scene, blend);
+  addInstance(scene, addMesh(scene, makePlane({4.0f, 4.0f}, 1)), mat, glm::rotate(glm::mat4(1.0f), 1.5707964f, glm::vec3(1, 0, 0)));
+  scene.background = {0.2f, 0.4f, 0.8f};
+  scene.lights.push_back(directional({0.0f, 0.0f, -1.0f}));
+  scene.camera.posW = {0.0f, 0.0f, 5.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  auto rt = makeTracer(scene);
+  ASSERT_TRUE(rt);
+  const int w = 32, h = 32;
+  VisibilityBuffer vis;
+  rt->castVisibility(scene.camera, w, h, vis);
+  ASSERT_EQ(vis.ids[at(w / 2, h / 2, w)].x, 1u);
+  FrameSettings s = settingsFor(w, h);
+  s.maxDepth = 2;
+  RayOutputs out;
+  rt->trace(scene, scene.camera, s, vis, out);
+  ASSERT_EQ(out.transmitted.size(), static_cast<std::size_t>(w * h));
+  EXPECT_GT(out.counts.refraction, 0u);
+  glm::vec4 t = out.transmitted[at(w / 2, h / 2, w)];
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(t[c], 0.75f * scene.background[c], 1e-6f);
+}
+
+// MASK cut-outs (docs/gltf.md): Embree's filter lets rays through the holes, so the shadow of a quad whose
+// texture is transparent on one half falls only under the other half, and a ray through a hole hits the floor.
+TEST(RayPassShadows, ShadowThroughAMaskCutOutReachesTheFloor) {
+  Scene scene;
+  Texture tex;  // 4×4: columns 0-1 alpha 0 (holes), columns 2-3 alpha 255
+  tex.width = tex.height = 4;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) tex.rgba8.insert(tex.rgba8.end(), {200, 200, 200, static_cast<std::uint8_t>(x < 2 ? 0 : 255)});
+  scene.textures.push_back(tex);
+  Material cutout = diffuse(glm::vec3(0.8f));
+  cutout.kdTexture = 0;
+  cutout.alphaMode = AlphaMode::Mask;
+  cutout.alphaCutoff = 0.5f;
+  std::uint32_t floorMat = addMaterial(scene, diffuse(glm::vec3(0.7f)));
+  std::uint32_t cutMat = addMaterial(scene, cutout);
+  std::uint32_t floor = addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 1)), floorMat, glm::mat4(1.0f));
+  // A 2×2 quad at height 1: uv = (x + 1) / 2, so x < 0 is the holes' half.
+  Mesh quad = makePlane({2.0f, 2.0f}, 1);
+  for (glm::vec2& uv : quad.uvs) uv /= 2.0f;
+  std::uint32_t cut = addInstance(scene, addMesh(scene, quad), cutMat, translate({0.0f, 1.0f, 0.0f}));
+  scene.lights.push_back(directional({0.0f, -1.0f, 0.0f}));
+  scene.camera.posW = {0.0f, 6.0f, 6.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  auto device = EmbreeDevice::create();
+  ASSERT_TRUE(device.ok());
+  auto embree = EmbreeScene::build(**device, scene);
+  ASSERT_TRUE(embree.ok());
+  EXPECT_TRUE((*embree)->hasAlphaMaskFilter());
+  FrameSettings s = settingsFor(16, 16);
+  FrameShading frame(scene, s.shadingOverride, (*embree)->anchor());
+  Whitted whitted(scene, **embree, frame, TraceModes::reference(s));
+  auto floorHit = [&](float x) {  // on the floor's triangle 0 (x + z < 0)
+    Ray ray{toRenderSpace(glm::vec3(x, 5.0f, -0.9f), (*embree)->anchor()), glm::vec3(0.0f, -1.0f, 0.0f)};
+    return resolveHit(scene, (*embree)->transform(floor), floor, 0, ray);
+  };
+  RayCounts counts;
+  for (float x : {-0.8f, -0.7f, -0.6f}) {
+    EXPECT_EQ(whitted.lightMask(floorHit(x), counts), 1u) << x;  // through the holes
+    ShadowBatch batch;  // and batched (rtcOccluded1M)
+    std::uint32_t mask = 0;
+    mask |= batch.add(whitted, 1, floorHit(x), 0);
+    batch.trace((*embree)->top(), &mask, counts);
+    EXPECT_EQ(mask, 1u) << x;
+  }
+  for (float x : {0.3f, 0.5f, 0.7f}) EXPECT_EQ(whitted.lightMask(floorHit(x), counts), 0u) << x;
+  std::uint32_t instance = 0, triangle = 0;
+  glm::vec3 from = toRenderSpace(glm::vec3(-0.7f, 5.0f, -0.9f), (*embree)->anchor());
+  ASSERT_TRUE(whitted.intersect(from, glm::vec3(0, -1, 0), 0.0f, 100.0f, instance, triangle));
+  EXPECT_EQ(instance, floor);
+  from = toRenderSpace(glm::vec3(0.6f, 5.0f, -0.9f), (*embree)->anchor());
+  ASSERT_TRUE(whitted.intersect(from, glm::vec3(0, -1, 0), 0.0f, 100.0f, instance, triangle));
+  EXPECT_EQ(instance, cut);
+  // Scenes without MASK materials get no filter.
+  auto plain = EmbreeScene::build(**device, makeWhittedScene());
+  ASSERT_TRUE(plain.ok());
+  EXPECT_FALSE((*plain)->hasAlphaMaskFilter());
 }
 
 // CameraRays does Camera::rayThroughPixel's per-camera work once; the rays must not change by a bit.

@@ -77,7 +77,8 @@ Result<void> validateScene(const Scene& scene) {
       return Error{id + ": a value is NaN or infinite"};
     if (mat.ior <= 0.0f) return Error{id + ": ior must be > 0"};
     if (mat.ns < 0.0f) return Error{id + ": ns must be >= 0"};
-    if (mat.kdTexture >= int(scene.textures.size()) || mat.normalTexture >= int(scene.textures.size()))
+    if (mat.kdTexture >= int(scene.textures.size()) || mat.normalTexture >= int(scene.textures.size()) ||
+        mat.emissiveTexture >= int(scene.textures.size()))
       return Error{id + ": texture index out of range"};
   }
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {

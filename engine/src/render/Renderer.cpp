@@ -12,6 +12,7 @@
 #include "gl/GpuScene.h"
 #include "gl/RasterEffects.h"
 #include "gl/VisibilityPass.h"
+#include "gl/GlObjects.h"
 #include "rt/RayTracer.h"
 #include "tandem/Log.h"
 

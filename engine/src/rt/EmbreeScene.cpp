@@ -27,6 +27,33 @@ const char* errorName(RTCError code) {
 
 }  // namespace
 
+bool EmbreeScene::maskCovers(std::uint32_t instance, std::uint32_t mesh, std::uint32_t triangle, float u, float v) const {
+  if (instance >= instanceMask_.size() || instanceMask_[instance] < 0 || mesh >= meshMask_.size() || meshMask_[mesh] < 0)
+    return true;  // this instance's material has no cut-outs (another instance of the mesh may)
+  const MaskMaterial& mat = maskMaterials_[static_cast<std::size_t>(instanceMask_[instance])];
+  const MaskMesh& mm = maskMeshes_[static_cast<std::size_t>(meshMask_[mesh])];
+  std::size_t t = 3 * static_cast<std::size_t>(triangle);
+  if (t + 2 >= mm.indices.size()) return true;
+  // Embree's barycentrics: p = (1 − u − v)·p0 + u·p1 + v·p2; the uv interpolated as resolveHit does.
+  glm::vec2 uv = (1.0f - u - v) * mm.uvs[mm.indices[t]] + u * mm.uvs[mm.indices[t + 1]] + v * mm.uvs[mm.indices[t + 2]];
+  uv = glm::vec2(mat.uvTransform * glm::vec3(uv, 1.0f));
+  float texA = sampleBilinear(mat.kdTexture, uv).a;
+  return shading::tdCoverage(mat.packed, texA) > 0.0f;
+}
+
+// Intersection and occlusion filter of geometries with MASK cut-outs: a hit on a hole is rejected, so
+// the ray goes on through it (shadow, reflection and refraction rays see the holes the raster discards).
+void EmbreeScene::alphaMaskFilter(const RTCFilterFunctionNArguments* args) {
+  const auto* user = static_cast<const MaskFilterUser*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    std::uint32_t instance = RTCHitN_instID(args->hit, args->N, i, 0);
+    std::uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+    float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    if (!user->owner->maskCovers(instance, user->mesh, prim, u, v)) args->valid[i] = 0;
+  }
+}
+
 Result<std::unique_ptr<EmbreeDevice>> EmbreeDevice::create() {
   auto d = std::unique_ptr<EmbreeDevice>(new EmbreeDevice());
   d->device_.reset(rtcNewDevice(nullptr));
@@ -112,6 +139,46 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, co
     return Error{where + ": " + what + ": " + (e.empty() ? std::string("Embree failed") : e)};
   };
 
+  // MASK cut-outs: which instances test a texture's alpha, and which meshes therefore need the filter.
+  // Cost follows the scene: geometries with no MASK instance get no filter at all.
+  out->instanceMask_.assign(scene.instances.size(), -1);
+  out->meshMask_.assign(scene.meshes.size(), -1);
+  {
+    std::vector<std::int32_t> materialMask(scene.materials.size(), -1);
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+      const Instance& inst = scene.instances[i];
+      const Material& mat = scene.materials[inst.material];
+      const Mesh& mesh = scene.meshes[inst.mesh];
+      shading::GpuMaterial packed = shading::packMaterial(mat, static_cast<int>(inst.material), std::nullopt);
+      bool masked = mat.alphaMode == AlphaMode::Mask && packed.texAlpha.w > 0.0f;
+      // Without a texture (or uvs) the coverage is uniform: opacity ≥ cutoff keeps all, else nothing passes.
+      if (!masked) continue;
+      bool textured = mat.kdTexture >= 0 && static_cast<std::size_t>(mat.kdTexture) < scene.textures.size() &&
+                      !mesh.uvs.empty() && mesh.uvs.size() == mesh.positions.size();
+      if (!textured && shading::tdCoverage(packed, 1.0f) > 0.0f) continue;
+      if (materialMask[inst.material] < 0) {
+        MaskMaterial mm;
+        mm.packed = packed;
+        mm.uvTransform = mat.uvTransform;
+        if (textured) mm.kdTexture = scene.textures[static_cast<std::size_t>(mat.kdTexture)];
+        else {
+          mm.kdTexture.width = mm.kdTexture.height = 1;  // uniform: one white texel, alpha 1
+          mm.kdTexture.rgba8 = {255, 255, 255, 255};
+        }
+        materialMask[inst.material] = static_cast<std::int32_t>(out->maskMaterials_.size());
+        out->maskMaterials_.push_back(std::move(mm));
+      }
+      out->instanceMask_[i] = materialMask[inst.material];
+      if (out->meshMask_[inst.mesh] < 0) {
+        MaskMesh mm;
+        mm.indices = mesh.indices;
+        mm.uvs = textured ? mesh.uvs : std::vector<glm::vec2>(mesh.positions.size(), glm::vec2(0.0f));
+        out->meshMask_[inst.mesh] = static_cast<std::int32_t>(out->maskMeshes_.size());
+        out->maskMeshes_.push_back(std::move(mm));
+      }
+    }
+  }
+
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     SceneHandle blas(rtcNewScene(dev));
@@ -137,6 +204,14 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, co
       // Every triangle keeps its slot, degenerate ones included, so primID = the mesh's triangle index
       // (the rasterizer's gl_PrimitiveID); Embree itself never reports a zero-area triangle as hit.
       std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t));
+      if (out->meshMask_[m] >= 0) {
+        auto& user = out->maskUsers_.emplace_back(std::make_unique<MaskFilterUser>());
+        user->owner = out.get();
+        user->mesh = static_cast<std::uint32_t>(m);
+        rtcSetGeometryUserData(geom, user.get());
+        rtcSetGeometryIntersectFilterFunction(geom, &alphaMaskFilter);
+        rtcSetGeometryOccludedFilterFunction(geom, &alphaMaskFilter);
+      }
       rtcCommitGeometry(geom);
       rtcAttachGeometryByID(blas.get(), geom, 0);
       rtcReleaseGeometry(geom);

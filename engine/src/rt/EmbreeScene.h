@@ -71,8 +71,34 @@ class EmbreeScene {
   bool hasTriangle(std::size_t instance, std::uint32_t triangle) const {
     return instance < triangleCounts_.size() && triangle < triangleCounts_[instance];
   }
+  /// Whether any geometry carries the alpha-mask filter (a MASK material with a kd texture and uvs).
+  bool hasAlphaMaskFilter() const { return !maskMaterials_.empty(); }
+  /// Alpha MASK test at a hit with Embree's barycentrics (u, v): false where the point is a cut-out hole
+  /// (tdCoverage of the kd texture's alpha, sampled as shading samples it, below the cutoff).
+  bool maskCovers(std::uint32_t instance, std::uint32_t mesh, std::uint32_t triangle, float u, float v) const;
 
  private:
+  // MASK cut-outs (docs/gltf.md "Alpha modes"): the data the Embree filter reads, copied at build so it
+  // does not depend on the Scene outliving this object. Only materials and meshes that need it are kept.
+  struct MaskMaterial {
+    shading::GpuMaterial packed;  // the alpha code tdCoverage reads
+    glm::mat3 uvTransform{1.0f};
+    Texture kdTexture;
+  };
+  struct MaskMesh {
+    std::vector<std::uint32_t> indices;
+    std::vector<glm::vec2> uvs;
+  };
+  struct MaskFilterUser {  // the filter's geometry user data: one per filtered BLAS geometry
+    const EmbreeScene* owner = nullptr;
+    std::uint32_t mesh = 0;
+  };
+  static void alphaMaskFilter(const RTCFilterFunctionNArguments* args);
+  std::vector<MaskMaterial> maskMaterials_;
+  std::vector<std::int32_t> instanceMask_;  // per instance: index into maskMaterials_, or -1
+  std::vector<std::int32_t> meshMask_;      // per mesh: index into maskMeshes_, or -1
+  std::vector<MaskMesh> maskMeshes_;
+  std::vector<std::unique_ptr<MaskFilterUser>> maskUsers_;
   std::vector<SceneHandle> meshScenes_;  // one BLAS per mesh
   SceneHandle top_;
   glm::vec3 anchor_{0.0f};

@@ -122,14 +122,24 @@ WhittedWeights Whitted::weights(const SurfaceHit& hit) const {
     w.refraction = refractDielectric(hit.toEyeW, hit.normalW, etaI, etaT, modes_.fresnel);
   }
   float f = w.refraction.fresnel;
+  float wR, wT;
   if (modes_.fresnelWeighted) {
-    w.reflect = kr + (kt > 0.0f ? kt * f : 0.0f);
-    w.transmit = kt > 0.0f ? kt * (1.0f - f) : 0.0f;
+    wR = kr + (kt > 0.0f ? kt * f : 0.0f);
+    wT = kt > 0.0f ? kt * (1.0f - f) : 0.0f;
   } else {
-    w.reflect = kr;
-    w.transmit = kt;
+    wR = kr;
+    wT = kt;
   }
-  if (kt <= 0.0f || w.refraction.totalInternal) w.transmit = 0.0f;  // T is absent
+  if (kt <= 0.0f || w.refraction.totalInternal) wT = 0.0f;  // T is absent
+  // Coverage (docs/shading.md, BLEND): the covered fraction a shades and reflects, the rest 1 − a passes
+  // straight through. Without a refracted ray of its own (kt = 0 or TIR) that part is T along −V, IOR 1.
+  const float a = hit.coverage;
+  if (a < 1.0f && (kt <= 0.0f || w.refraction.totalInternal)) {
+    w.refraction.dirW = -hit.toEyeW;
+    w.refraction.totalInternal = false;
+  }
+  w.reflect = a * wR;
+  w.transmit = tdTransmitWeight(a, wT, scene_.materials[hit.material].transmissionTint);
   return w;
 }
 
@@ -150,15 +160,15 @@ void Whitted::secondary(const SurfaceHit& hit, int depth, float throughput, glm:
     tracedReflection = true;
     reflected = w.reflect * radiance(spawnOrigin(hit, side), dir, depth + 1, throughput * w.reflect, counts);
   }
-  if (modes_.refraction && w.transmit > 0.0f && throughput * w.transmit >= modes_.minContribution) {
+  const float wT = w.transmitMax();
+  if (modes_.refraction && wT > 0.0f && throughput * wT >= modes_.minContribution) {
     glm::vec3 dir = w.refraction.dirW;
     glm::vec3 side = glm::dot(dir, hit.geomNormalW) >= 0.0f ? hit.geomNormalW : -hit.geomNormalW;
     ++counts.refraction;
     capture::record(RayKind::Refraction, spawnOrigin(hit, side), dir, 0.0f,
                     std::numeric_limits<float>::infinity());
     tracedRefraction = true;
-    transmitted =
-        w.transmit * radiance(spawnOrigin(hit, side), dir, depth + 1, throughput * w.transmit, counts);
+    transmitted = w.transmit * radiance(spawnOrigin(hit, side), dir, depth + 1, throughput * wT, counts);
   }
 }
 
@@ -253,13 +263,13 @@ void Wavefront::spawn(const SurfaceHit& hit, int depth, float throughput, std::i
   const TraceModes& modes = whitted_.modes();
   if (depth >= modes.maxDepth || (!modes.reflections && !modes.refraction)) return;
   WhittedWeights w = whitted_.weights(hit);
-  auto queue = [&](RayKind kind, glm::vec3 dir, float weight) {
+  auto queue = [&](RayKind kind, glm::vec3 dir, glm::vec3 weight, float weightMax) {
     glm::vec3 side = glm::dot(dir, hit.geomNormalW) >= 0.0f ? hit.geomNormalW : -hit.geomNormalW;
     Buffers::Node& n = b_.nodes.emplace_back();
     n.origin = spawnOrigin(hit, side);
     n.dir = dir;
     n.weight = weight;
-    n.throughput = throughput * weight;
+    n.throughput = throughput * weightMax;
     n.parent = parent;
     n.pixel = pixel;
     n.refraction = kind == RayKind::Refraction;
@@ -268,11 +278,12 @@ void Wavefront::spawn(const SurfaceHit& hit, int depth, float throughput, std::i
   };
   if (modes.reflections && w.reflect > 0.0f && throughput * w.reflect >= modes.minContribution) {
     ++counts.reflection;
-    queue(RayKind::Reflection, glm::reflect(-hit.toEyeW, hit.normalW), w.reflect);
+    queue(RayKind::Reflection, glm::reflect(-hit.toEyeW, hit.normalW), glm::vec3(w.reflect), w.reflect);
   }
-  if (modes.refraction && w.transmit > 0.0f && throughput * w.transmit >= modes.minContribution) {
+  const float wT = w.transmitMax();
+  if (modes.refraction && wT > 0.0f && throughput * wT >= modes.minContribution) {
     ++counts.refraction;
-    queue(RayKind::Refraction, w.refraction.dirW, w.transmit);
+    queue(RayKind::Refraction, w.refraction.dirW, w.transmit, wT);
   }
 }
 

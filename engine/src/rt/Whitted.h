@@ -1,6 +1,7 @@
 #pragma once
 // Whitted recursion on Embree for one frame: shadow rays, mirror reflection, refraction with Fresnel.
 // Read-only after construction, so any number of tiles trace through one instance concurrently.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -30,10 +31,15 @@ struct TraceModes {
 };
 
 /// The weights of the Whitted sum at a hit (docs/shading.md).
+/// With coverage a (SurfaceHit::coverage, < 1 only for BLEND): reflect = a·wR and transmit =
+/// tdTransmitWeight(a, wT, transmissionTint) = a·wT·tint + (1 − a).
 struct WhittedWeights {
-  float reflect = 0.0f;   // wR
-  float transmit = 0.0f;  // wT (0 on total internal reflection)
-  Refraction refraction;
+  float reflect = 0.0f;          // a·wR
+  glm::vec3 transmit{0.0f};      // tdTransmitWeight(a, wT, tint); wT = 0 on total internal reflection
+  Refraction refraction;         // dirW: the refracted direction, or straight through (−V) for a BLEND
+                                 // surface that has no refracted ray of its own
+  /// The largest component of transmit: what the minContribution test and the throughput use.
+  float transmitMax() const { return std::max(transmit.x, std::max(transmit.y, transmit.z)); }
 };
 
 /// A shadow ray ready for Embree, or none needed.
@@ -110,8 +116,8 @@ class Wavefront {
     struct Node {
       glm::vec3 origin{0.0f};
       glm::vec3 dir{0.0f};
-      float weight = 0.0f;      // wR or wT of the parent's Whitted sum
-      float throughput = 0.0f;  // product of the weights from the primary hit through this one
+      glm::vec3 weight{0.0f};   // wR or wT of the parent's Whitted sum (WhittedWeights)
+      float throughput = 0.0f;  // product of the weights (largest component) from the primary hit
       std::int64_t parent = -1;  // node index; -1: a primary hit's ray, whose S or T goes to `pixel`
       std::size_t pixel = 0;
       std::size_t captured = 0;  // bench hook: capture index

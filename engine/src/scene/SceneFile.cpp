@@ -777,6 +777,7 @@ class Builder {
         m.name = prefix + gm.name;
         if (m.kdTexture >= 0) m.kdTexture += textureBase;
         if (m.normalTexture >= 0) m.normalTexture += textureBase;
+        if (m.emissiveTexture >= 0) m.emissiveTexture += textureBase;
         materialMap[i] = static_cast<std::uint32_t>(scene_.materials.size());
         scene_.materials.push_back(std::move(m));
       }
