@@ -21,6 +21,12 @@
 
 namespace tandem {
 
+/// What the renderer holds right now: the soak test checks these stay flat across scene reloads.
+struct ResourceStats {
+  std::size_t glObjects = 0;    // live GL objects (buffers, textures, framebuffers, programs, ...)
+  std::size_t embreeBytes = 0;  // bytes Embree reports in use (device memory monitor)
+};
+
 struct RendererDesc {
   int threads = 0;  // ray-pass worker threads; 0 = all hardware threads
 };
@@ -47,6 +53,7 @@ class Renderer {
   Image readImage();
   /// The last frame in linear radiance before the tone map.
   ImageF readLinear();
+  ResourceStats resources() const;
 
   struct Impl;
 

@@ -1,3 +1,5 @@
+#include <atomic>
+#include <algorithm>
 #include "gl/GlObjects.h"
 
 #include <algorithm>
@@ -5,6 +7,12 @@
 #include <string>
 
 namespace tandem::gl {
+
+namespace {
+std::atomic<long long> gLiveObjects{0};
+}
+void detail::countObject(int delta) { gLiveObjects += delta; }
+std::size_t liveObjectCount() { return static_cast<std::size_t>(std::max<long long>(0, gLiveObjects.load())); }
 
 void BufferTraits::destroy(GLuint id) { glDeleteBuffers(1, &id); }
 void TextureTraits::destroy(GLuint id) { glDeleteTextures(1, &id); }

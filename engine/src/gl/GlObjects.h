@@ -10,11 +10,19 @@
 
 namespace tandem::gl {
 
+/// GL objects alive now, across all kinds: the soak test checks it stays flat over scene reloads.
+std::size_t liveObjectCount();
+namespace detail {
+void countObject(int delta);
+}
+
 template <class Traits>
 class Object {
  public:
   Object() = default;
-  explicit Object(GLuint id) : id_(id) {}
+  explicit Object(GLuint id) : id_(id) {
+    if (id_ != 0) detail::countObject(+1);
+  }
   ~Object() { reset(); }
   Object(const Object&) = delete;
   Object& operator=(const Object&) = delete;
@@ -29,7 +37,10 @@ class Object {
   GLuint id() const { return id_; }
   explicit operator bool() const { return id_ != 0; }
   void reset() {
-    if (id_ != 0) Traits::destroy(id_);
+    if (id_ != 0) {
+      Traits::destroy(id_);
+      detail::countObject(-1);
+    }
     id_ = 0;
   }
 

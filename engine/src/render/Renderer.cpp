@@ -148,7 +148,9 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
     return l.type != LightType::Ambient && l.castShadows;
   });
   bool anyMirror = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.kr > 0.0f; });
-  bool anyGlass = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.kt > 0.0f; });
+  // BLEND surfaces transmit too: their uncovered fraction 1 − a is a straight-through refraction ray.
+  bool anyGlass = std::any_of(scene.materials.begin(), scene.materials.end(),
+                              [](const Material& m) { return m.kt > 0.0f || m.alphaMode == AlphaMode::Blend; });
   if (!anyShadowLight) raySettings.shadows = EffectMode::Off;
   if (!anyMirror || s.maxDepth == 0) raySettings.reflections = EffectMode::Off;
   if (!anyGlass || s.maxDepth == 0) raySettings.refraction = EffectMode::Off;
@@ -331,5 +333,12 @@ void Renderer::present(int framebufferWidth, int framebufferHeight) {
 Image Renderer::readImage() { return impl_->compositePass.readImage(); }
 
 ImageF Renderer::readLinear() { return impl_->compositePass.readLinear(); }
+
+ResourceStats Renderer::resources() const {
+  ResourceStats r;
+  r.glObjects = gl::liveObjectCount();
+  r.embreeBytes = impl_->tracer ? impl_->tracer->embreeBytes() : 0;
+  return r;
+}
 
 }  // namespace tandem

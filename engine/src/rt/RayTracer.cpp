@@ -142,6 +142,8 @@ RayTracer::~RayTracer() {
 }
 
 int RayTracer::threads() const { return impl_->threads; }
+
+std::size_t RayTracer::embreeBytes() const { return impl_->device ? impl_->device->bytesInUse() : 0; }
 void RayTracer::setBatchedShadowRays(bool batched) { impl_->batchedShadows = batched; }
 void RayTracer::setEmbreeMemoryLimit(std::size_t bytes) { impl_->device->setMemoryLimit(bytes); }
 void RayTracer::setRayCapture(RayCapture* capture) { impl_->capture = capture; }

@@ -77,6 +77,8 @@ class RayTracer {
   void castVisibility(const Camera& camera, int width, int height, VisibilityBuffer& out);
 
   int threads() const;
+  /// Bytes Embree reports in use on this tracer's device.
+  std::size_t embreeBytes() const;
 
   /// Primary shadow rays per tile through one rtcOccluded1M call (true, the default: measured faster
   /// here) or one rtcOccluded1 per ray. Both give identical masks.
