@@ -509,6 +509,24 @@ Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, c
   return {};
 }
 
+
+namespace {
+/// Where a sparse accessor's index and value arrays start (ranges already validated).
+struct SparseData {
+  const std::uint8_t* indices;
+  const std::uint8_t* values;
+  std::size_t indexSize;
+};
+SparseData sparseOf(const tinygltf::Model& m, const tinygltf::Accessor& a) {
+  const auto& s = a.sparse;  // an unnamed struct in tinygltf 2.7
+  const tinygltf::BufferView& iv = m.bufferViews[std::size_t(s.indices.bufferView)];
+  const tinygltf::BufferView& vv = m.bufferViews[std::size_t(s.values.bufferView)];
+  return {m.buffers[std::size_t(iv.buffer)].data.data() + iv.byteOffset + std::size_t(s.indices.byteOffset),
+          m.buffers[std::size_t(vv.buffer)].data.data() + vv.byteOffset + std::size_t(s.values.byteOffset),
+          std::size_t(componentSize(s.indices.componentType))};
+}
+}  // namespace
+
 Result<std::vector<float>> readFloats(const tinygltf::Model& m, int accessor, const std::string& file) {
   const tinygltf::Accessor& a = m.accessors[std::size_t(accessor)];
   if (a.type >= TINYGLTF_TYPE_MAT2 && a.type <= TINYGLTF_TYPE_MAT4)
@@ -523,11 +541,10 @@ Result<std::vector<float>> readFloats(const tinygltf::Model& m, int accessor, co
         out[i * nc + c] = static_cast<float>(readComponent(l.base + i * l.stride + c * cs, a.componentType, a.normalized));
   if (a.sparse.isSparse) {
     const auto& s = a.sparse;
-    const tinygltf::BufferView& iv = m.bufferViews[std::size_t(s.indices.bufferView)];
-    const tinygltf::BufferView& vv = m.bufferViews[std::size_t(s.values.bufferView)];
-    const std::uint8_t* ip = m.buffers[std::size_t(iv.buffer)].data.data() + iv.byteOffset + std::size_t(s.indices.byteOffset);
-    const std::uint8_t* vp = m.buffers[std::size_t(vv.buffer)].data.data() + vv.byteOffset + std::size_t(s.values.byteOffset);
-    const std::size_t ics = std::size_t(componentSize(s.indices.componentType));
+    const SparseData sd = sparseOf(m, a);
+    const std::uint8_t* ip = sd.indices;
+    const std::uint8_t* vp = sd.values;
+    const std::size_t ics = sd.indexSize;
     for (std::size_t k = 0; k < std::size_t(s.count); ++k) {
       const std::size_t idx = std::size_t(readUnsigned(ip + k * ics, s.indices.componentType));  // < count: validated
       for (std::size_t c = 0; c < nc; ++c)
@@ -550,11 +567,10 @@ Result<std::vector<std::uint32_t>> readIndices(const tinygltf::Model& m, int acc
       out[i] = static_cast<std::uint32_t>(readUnsigned(l.base + i * l.stride, a.componentType));
   if (a.sparse.isSparse) {
     const auto& s = a.sparse;
-    const tinygltf::BufferView& iv = m.bufferViews[std::size_t(s.indices.bufferView)];
-    const tinygltf::BufferView& vv = m.bufferViews[std::size_t(s.values.bufferView)];
-    const std::uint8_t* ip = m.buffers[std::size_t(iv.buffer)].data.data() + iv.byteOffset + std::size_t(s.indices.byteOffset);
-    const std::uint8_t* vp = m.buffers[std::size_t(vv.buffer)].data.data() + vv.byteOffset + std::size_t(s.values.byteOffset);
-    const std::size_t ics = std::size_t(componentSize(s.indices.componentType));
+    const SparseData sd = sparseOf(m, a);
+    const std::uint8_t* ip = sd.indices;
+    const std::uint8_t* vp = sd.values;
+    const std::size_t ics = sd.indexSize;
     const std::size_t cs = std::size_t(componentSize(a.componentType));
     for (std::size_t k = 0; k < std::size_t(s.count); ++k)
       out[std::size_t(readUnsigned(ip + k * ics, s.indices.componentType))] =
