@@ -25,6 +25,7 @@ namespace tandem {
 struct ResourceStats {
   std::size_t glObjects = 0;    // live GL objects (buffers, textures, framebuffers, programs, ...)
   std::size_t embreeBytes = 0;  // bytes Embree reports in use (device memory monitor)
+  std::size_t embreeHandles = 0;  // Embree devices and scenes alive in the process (one per BLAS, top level, device)
 };
 
 struct RendererDesc {

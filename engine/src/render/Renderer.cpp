@@ -13,6 +13,7 @@
 #include "gl/RasterEffects.h"
 #include "gl/VisibilityPass.h"
 #include "gl/GlObjects.h"
+#include "rt/EmbreeScene.h"
 #include "rt/RayTracer.h"
 #include "tandem/Log.h"
 
@@ -338,6 +339,7 @@ ResourceStats Renderer::resources() const {
   ResourceStats r;
   r.glObjects = gl::liveObjectCount();
   r.embreeBytes = impl_->tracer ? impl_->tracer->embreeBytes() : 0;
+  r.embreeHandles = rt::liveEmbreeHandles();
   return r;
 }
 

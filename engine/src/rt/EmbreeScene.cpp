@@ -25,7 +25,27 @@ const char* errorName(RTCError code) {
   return "unrecognised error";
 }
 
+std::atomic<long long> gLiveHandles{0};
+
 }  // namespace
+
+namespace detail {
+void countHandle(int delta) { gLiveHandles.fetch_add(delta, std::memory_order_relaxed); }
+}  // namespace detail
+
+std::size_t liveEmbreeHandles() { return static_cast<std::size_t>(std::max<long long>(0, gLiveHandles.load())); }
+
+DeviceHandle newDevice(const char* config) {
+  RTCDevice d = rtcNewDevice(config);
+  if (d) detail::countHandle(+1);
+  return DeviceHandle(d);
+}
+
+SceneHandle newScene(RTCDevice device) {
+  RTCScene s = rtcNewScene(device);
+  if (s) detail::countHandle(+1);
+  return SceneHandle(s);
+}
 
 bool EmbreeScene::maskCovers(std::uint32_t instance, std::uint32_t mesh, std::uint32_t triangle, float u, float v) const {
   if (instance >= instanceMask_.size() || instanceMask_[instance] < 0 || mesh >= meshMask_.size() || meshMask_[mesh] < 0)
@@ -56,7 +76,7 @@ void EmbreeScene::alphaMaskFilter(const RTCFilterFunctionNArguments* args) {
 
 Result<std::unique_ptr<EmbreeDevice>> EmbreeDevice::create() {
   auto d = std::unique_ptr<EmbreeDevice>(new EmbreeDevice());
-  d->device_.reset(rtcNewDevice(nullptr));
+  d->device_ = newDevice(nullptr);
   if (!d->device_) {
     RTCError code = rtcGetDeviceError(nullptr);
     std::string message = std::string("Embree: cannot create a device (") + errorName(code) + ")";
@@ -181,7 +201,7 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, co
 
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
-    SceneHandle blas(rtcNewScene(dev));
+    SceneHandle blas = newScene(dev);
     if (!blas) return failed("mesh " + std::to_string(m));
     // Static geometry traced for many frames: spend build time for traversal speed. ROBUST makes
     // traversal watertight, so shared edges never leak a ray (shadows and refraction through meshes).
@@ -221,7 +241,7 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, co
     out->meshScenes_.push_back(std::move(blas));
   }
 
-  out->top_.reset(rtcNewScene(dev));
+  out->top_ = newScene(dev);
   if (!out->top_) return failed("top level");
   // The top level is rebuilt whenever a dynamic instance moves: a fast build beats a better tree there.
   rtcSetSceneFlags(out->top_.get(), RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_ROBUST);

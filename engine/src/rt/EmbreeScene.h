@@ -19,14 +19,31 @@
 
 namespace tandem::rt {
 
+/// Embree devices and scenes this process holds (every one is owned by exactly one handle below), so
+/// leak checks can ask for an exact count rather than infer it from memory.
+std::size_t liveEmbreeHandles();
+
+namespace detail {
+void countHandle(int delta);
+}
+
 struct DeviceDeleter {
-  void operator()(RTCDeviceTy* d) const { rtcReleaseDevice(d); }
+  void operator()(RTCDeviceTy* d) const {
+    rtcReleaseDevice(d);
+    detail::countHandle(-1);
+  }
 };
 struct SceneDeleter {
-  void operator()(RTCSceneTy* s) const { rtcReleaseScene(s); }
+  void operator()(RTCSceneTy* s) const {
+    rtcReleaseScene(s);
+    detail::countHandle(-1);
+  }
 };
 using DeviceHandle = std::unique_ptr<RTCDeviceTy, DeviceDeleter>;
 using SceneHandle = std::unique_ptr<RTCSceneTy, SceneDeleter>;
+/// The only ways handles are made, so the count stays exact.
+DeviceHandle newDevice(const char* config);
+SceneHandle newScene(RTCDevice device);
 
 /// The device with its error and memory callbacks. Errors go to tandem::log and are remembered so the
 /// operation that caused them can return an error value.
