@@ -72,12 +72,18 @@ TD_FN vec3 tdLightIncident(GpuLight L, vec3 posW, TD_OUT(vec3) toLight, TD_OUT(f
   return vec3(L.radiance) * falloff;
 }
 
-// Whether a light can reach posW at all: the ray pass traces no shadow ray when it cannot.
+// Whether light arriving with radiance E from direction toLight (tdLightIncident's results) can light
+// a surface with normal N: the ray pass traces no shadow ray when it cannot.
+TD_FN bool tdLightReaches(vec3 E, vec3 toLight, vec3 N) {
+  return dot(N, toLight) > 0.0f && (E.x > 0.0f || E.y > 0.0f || E.z > 0.0f);
+}
+
+// Whether a light can reach posW at all (tdLightReaches of tdLightIncident).
 TD_FN bool tdLightCanReach(GpuLight L, vec3 posW, vec3 N) {
   vec3 toLight;
   float dist;
   vec3 E = tdLightIncident(L, posW, toLight, dist);
-  return dot(N, toLight) > 0.0f && (E.x > 0.0f || E.y > 0.0f || E.z > 0.0f);
+  return tdLightReaches(E, toLight, N);
 }
 
 // ---- Phong terms ----

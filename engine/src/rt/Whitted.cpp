@@ -55,22 +55,30 @@ bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, 
 }
 
 ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light) const {
+  SpawnOrigins origins;
+  return shadowRay(hit, light, origins);
+}
+
+ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins) const {
   ShadowRay r;
   const GpuLight& l = frame_.lights[light];
+  if (!frame_.castsShadows(light)) {
+    r.visibleWithoutRay = true;
+    return r;
+  }
   const GpuMaterial& m = frame_.materials[hit.material];
   bool flat = static_cast<int>(m.krKtIorModel.w + 0.5f) == TD_MODEL_FLAT;
   // The light is tested against the normal the model shades with, as in the shading formula.
   glm::vec3 n = flat ? hit.geomNormalW : hit.normalW;
-  if (!tdLightCanReach(l, hit.posW, n) || !frame_.castsShadows(light)) {
+  glm::vec3 toLight;
+  float dist;
+  glm::vec3 e = tdLightIncident(l, hit.posW, toLight, dist);
+  if (!tdLightReaches(e, toLight, n)) {
     r.visibleWithoutRay = true;
     return r;
   }
-  glm::vec3 toLight;
-  float dist;
-  tdLightIncident(l, hit.posW, toLight, dist);
   // Leave from the side of the geometric surface the ray goes to (W&B offset, never a fixed epsilon).
-  glm::vec3 side = glm::dot(toLight, hit.geomNormalW) >= 0.0f ? hit.geomNormalW : -hit.geomNormalW;
-  r.originW = spawnOrigin(hit, side);
+  r.originW = origins.towards(hit, glm::dot(toLight, hit.geomNormalW) >= 0.0f);
   if (dist < 0.0f) {  // directional
     r.dirW = toLight;
     r.tFar = std::numeric_limits<float>::infinity();
@@ -91,8 +99,9 @@ ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light) const {
 
 std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts) const {
   std::uint32_t mask = 0;
+  SpawnOrigins origins;
   for (std::size_t j = 0; j < frame_.lights.size(); ++j) {
-    ShadowRay s = shadowRay(hit, j);
+    ShadowRay s = shadowRay(hit, j, origins);
     if (!s.needed) {
       if (s.visibleWithoutRay) mask |= 1u << j;
       continue;
@@ -220,8 +229,9 @@ void ShadowBatch::clear() {
 
 std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot) {
   std::uint32_t visible = 0;
+  SpawnOrigins origins;
   for (std::size_t j = 0; j < lights; ++j) {
-    ShadowRay s = whitted.shadowRay(hit, j);
+    ShadowRay s = whitted.shadowRay(hit, j, origins);
     if (!s.needed) {
       if (s.visibleWithoutRay) visible |= 1u << j;
       continue;

@@ -51,6 +51,24 @@ struct ShadowRay {
   float tFar = 0.0f;
 };
 
+/// A hit's two possible ray origins (offset to the front or the back of its geometric normal), each
+/// computed the first time a ray needs it: a hit's shadow rays mostly leave from the same side.
+class SpawnOrigins {
+ public:
+  glm::vec3 towards(const SurfaceHit& hit, bool front) {
+    int i = front ? 0 : 1;
+    if (!made_[i]) {
+      origin_[i] = spawnOrigin(hit, front ? hit.geomNormalW : -hit.geomNormalW);
+      made_[i] = true;
+    }
+    return origin_[i];
+  }
+
+ private:
+  glm::vec3 origin_[2];
+  bool made_[2] = {false, false};
+};
+
 class Whitted {
  public:
   Whitted(const Scene& scene, const EmbreeScene& embree, const FrameShading& frame, TraceModes modes)
@@ -58,6 +76,8 @@ class Whitted {
 
   /// The shadow ray from hit towards direct light j (or why none is needed).
   ShadowRay shadowRay(const SurfaceHit& hit, std::size_t light) const;
+  /// The same, sharing the hit's ray origins between its lights.
+  ShadowRay shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins) const;
   /// All direct lights' visibility bits at hit, one rtcOccluded1 per needed ray.
   std::uint32_t lightMask(const SurfaceHit& hit, RayCounts& counts) const;
   WhittedWeights weights(const SurfaceHit& hit) const;
