@@ -54,11 +54,6 @@ bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, 
   return true;
 }
 
-ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light) const {
-  SpawnOrigins origins;
-  return shadowRay(hit, light, origins);
-}
-
 ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins) const {
   ShadowRay r;
   const GpuLight& l = frame_.lights[light];

@@ -74,9 +74,8 @@ class Whitted {
   Whitted(const Scene& scene, const EmbreeScene& embree, const FrameShading& frame, TraceModes modes)
       : scene_(scene), embree_(embree), frame_(frame), modes_(modes) {}
 
-  /// The shadow ray from hit towards direct light j (or why none is needed).
-  ShadowRay shadowRay(const SurfaceHit& hit, std::size_t light) const;
-  /// The same, sharing the hit's ray origins between its lights.
+  /// The shadow ray from hit towards direct light j (or why none is needed); `origins` is shared by the
+  /// calls for one hit, so its lights reuse the offset origins.
   ShadowRay shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins) const;
   /// All direct lights' visibility bits at hit, one rtcOccluded1 per needed ray.
   std::uint32_t lightMask(const SurfaceHit& hit, RayCounts& counts) const;
