@@ -78,14 +78,14 @@ ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrig
     r.dirW = toLight;
     r.tFar = std::numeric_limits<float>::infinity();
   } else {
-    glm::vec3 d = glm::vec3(l.posType) - r.originW;
-    float len = glm::length(d);
-    if (!(len > 0.0f) || !std::isfinite(len)) {
+    if (!(dist > 0.0f) || !std::isfinite(dist)) {
       r.visibleWithoutRay = true;  // the light sits on the point: nothing can be between them
       return r;
     }
-    r.dirW = d / len;
-    r.tFar = len * kShadowRayEnd;
+    // The direction and distance from the hit itself (tdLightIncident's): the offset origin is a few
+    // ULPs of the hit away, far inside the 1/4096 of the distance the ray stops short of the light.
+    r.dirW = toLight;
+    r.tFar = dist * kShadowRayEnd;
   }
   r.needed = isFinite(r.originW) && isFinite(r.dirW);
   r.visibleWithoutRay = !r.needed;
