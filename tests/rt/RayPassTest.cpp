@@ -124,6 +124,51 @@ TEST(RayPassShadows, MovingADynamicInstanceMovesTheShadowWithoutSetScene) {
   EXPECT_GT(darkened, 200);
 }
 
+// Shadow rays to a point light run from the hit to just short of the light: a sphere between them
+// shadows the floor where the analytic cone says, and the ceiling the light is mounted on (geometry at
+// the light itself) shadows nothing.
+TEST(RayPassShadows, PointLightRaysStopShortOfTheLight) {
+  Scene scene;
+  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
+  const std::uint32_t floor = addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 4)), mat, glm::mat4(1.0f));
+  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 4)), mat, translate({0.0f, 3.0f, 0.0f}));
+  const glm::vec3 center(1.5f, 1.5f, 0.0f);
+  const float radius = 0.3f;
+  addInstance(scene, addMesh(scene, makeSphere(radius, 128, 64)), mat, translate(center));
+  const glm::vec3 light(0.0f, 3.0f, 0.0f);  // on the ceiling
+  scene.lights.push_back(pointLight(light, 10.0f));
+  scene.camera.posW = {0.0f, 2.5f, 8.0f};
+  scene.camera.targetW = {1.0f, 0.0f, 0.0f};
+  auto rt = makeTracer(scene);
+  ASSERT_TRUE(rt);
+  const int w = 192, h = 128;
+  VisibilityBuffer vis;
+  rt->castVisibility(scene.camera, w, h, vis);
+  RayOutputs out;
+  rt->trace(scene, scene.camera, settingsFor(w, h), vis, out);
+  ASSERT_EQ(out.lightMask.size(), static_cast<std::size_t>(w * h));
+  int lit = 0, shadowed = 0, wrong = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (vis.ids[at(x, y, w)].x != floor + 1) continue;
+      Ray r = scene.camera.rayThroughPixel(glm::vec2(x, y) + 0.5f, {w, h});
+      glm::dvec3 p = glm::dvec3(r.origin) + (-double(r.origin.y) / double(r.dir.y)) * glm::dvec3(r.dir);
+      // Distance from the sphere centre to the segment p → light.
+      glm::dvec3 seg = glm::dvec3(light) - p;
+      double s = glm::clamp(glm::dot(glm::dvec3(center) - p, seg) / glm::dot(seg, seg), 0.0, 1.0);
+      double d = glm::length(glm::dvec3(center) - (p + s * seg));
+      if (std::abs(d - radius) < 0.02) continue;  // the boundary: either answer is right
+      bool expectLit = d > radius;
+      bool isLit = (out.lightMask[at(x, y, w)] & 1u) != 0;
+      lit += isLit;
+      shadowed += !isLit;
+      wrong += isLit != expectLit;
+    }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(lit, w * h / 4);  // the ceiling the light sits on does not occlude it
+  EXPECT_GT(shadowed, 50);    // the sphere's shadow
+}
+
 // Zero acne: a large plane lit at grazing angles, nothing else in the scene: every pixel is lit.
 TEST(RayPassShadows, NoAcneOnALargePlaneAtGrazingLight) {
   for (glm::vec3 offset : {glm::vec3(0.0f), glm::vec3(300.0f, 20.0f, -200.0f), glm::vec3(-2000.0f, -150.0f, 1000.0f)}) {
