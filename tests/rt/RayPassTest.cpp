@@ -55,10 +55,8 @@ TEST(RayPassShadows, SphereShadowOnPlaneMatchesTheAnalyticEllipse) {
   ASSERT_TRUE(rt);
   const int w = 256, h = 256;
   VisibilityBuffer vis;
-  rt->castVisibility(e.scene.camera, w, h, vis);
-  FrameSettings s = settingsFor(w, h);
   RayOutputs out;
-  rt->trace(e.scene, e.scene.camera, s, vis, out);
+  castAndTrace(*rt, e.scene, settingsFor(w, h), vis, out);
   ASSERT_EQ(out.lightMask.size(), static_cast<std::size_t>(w * h));
   int shadowed = 0, checked = 0, mismatches = 0, farMismatches = 0;
   for (int y = 1; y < h - 1; ++y)
@@ -93,9 +91,8 @@ TEST(RayPassShadows, MovingADynamicInstanceMovesTheShadowWithoutSetScene) {
   FrameSettings s = settingsFor(w, h);
   auto shadowPixels = [&](std::vector<bool>& shadow) {
     VisibilityBuffer vis;
-    rt->castVisibility(e.scene.camera, w, h, vis);
     RayOutputs out;
-    rt->trace(e.scene, e.scene.camera, s, vis, out);
+    castAndTrace(*rt, e.scene, s, vis, out);
     shadow.assign(static_cast<std::size_t>(w * h), false);
     for (std::size_t i = 0; i < shadow.size(); ++i)
       shadow[i] = vis.ids[i].x == e.plane + 1 && !(out.lightMask[i] & 1u);
@@ -143,9 +140,8 @@ TEST(RayPassShadows, PointLightRaysStopShortOfTheLight) {
   ASSERT_TRUE(rt);
   const int w = 192, h = 128;
   VisibilityBuffer vis;
-  rt->castVisibility(scene.camera, w, h, vis);
   RayOutputs out;
-  rt->trace(scene, scene.camera, settingsFor(w, h), vis, out);
+  castAndTrace(*rt, scene, settingsFor(w, h), vis, out);
   ASSERT_EQ(out.lightMask.size(), static_cast<std::size_t>(w * h));
   int lit = 0, shadowed = 0, wrong = 0;
   for (int y = 0; y < h; ++y)
@@ -197,9 +193,8 @@ TEST(RayPassShadows, NoAcneOnALargePlaneAtGrazingLight) {
         ASSERT_TRUE(rt);
         const int w = 160, h = 120;
         VisibilityBuffer vis;
-        rt->castVisibility(scene.camera, w, h, vis);
         RayOutputs out;
-        rt->trace(scene, scene.camera, settingsFor(w, h), vis, out);
+        castAndTrace(*rt, scene, settingsFor(w, h), vis, out);
         ASSERT_FALSE(out.lightMask.empty());
         std::uint32_t all = (1u << scene.lights.size()) - 1u;
         int planePixels = 0, acne = 0;
@@ -357,9 +352,8 @@ TEST(RayPassWhitted, MirrorFacingTheCameraShowsWhatIsBehindIt) {
   ASSERT_TRUE(rt);
   const int w = 96, h = 64;
   VisibilityBuffer vis;
-  rt->castVisibility(scene.camera, w, h, vis);
   RayOutputs out;
-  rt->trace(scene, scene.camera, settingsFor(w, h), vis, out);
+  castAndTrace(*rt, scene, settingsFor(w, h), vis, out);
   ASSERT_FALSE(out.reflected.empty());
   int checked = 0;
   for (int y = 0; y < h; ++y)
@@ -650,9 +644,8 @@ TEST(RayPassWhitted, HybridPointEqualsTheReferenceAtOneSample) {
     auto rt = makeTracer(scene);
     ASSERT_TRUE(rt);
     VisibilityBuffer vis;
-    rt->castVisibility(scene.camera, w, h, vis);
     RayOutputs out;
-    rt->trace(scene, scene.camera, s, vis, out);
+    castAndTrace(*rt, scene, s, vis, out);
     ImageF hybrid, reference;
     compositeOnCpu(scene, scene.camera, s, vis, out, hybrid);
     RayCounts counts;

@@ -77,6 +77,13 @@ inline std::unique_ptr<RayTracer> makeTracer(const Scene& scene, int threads = 2
   return std::move(*rt);
 }
 
+/// One hybrid frame without GL: visibility by Embree camera rays at the settings' size, then the ray pass.
+inline void castAndTrace(RayTracer& rt, const Scene& scene, const FrameSettings& s, VisibilityBuffer& vis,
+                         RayOutputs& out) {
+  rt.castVisibility(scene.camera, s.width, s.height, vis);
+  rt.trace(scene, scene.camera, s, vis, out);
+}
+
 /// The Whitted scene in miniature: checkerboard floor, a mirror sphere, a glass sphere, a diffuse box,
 /// two lights (one point, one directional), Phong/Gouraud/toon materials, a textured quad.
 Scene makeWhittedScene();
