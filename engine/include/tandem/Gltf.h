@@ -23,6 +23,20 @@ struct GltfLimits {
   std::uint64_t maxNodes = 1'000'000;
   std::uint64_t maxTotalPixels = 64ull << 20;   // all decoded images together
   std::uint64_t maxObjects = 4'000'000;         // accessors, views, meshes, materials… each
+  // The resource contract (docs/gltf.md, "Resources"): the parsed model (estimated before tinygltf builds
+  // it) and everything decoded from it — accessor reads, texels, meshes, instances, repeated file reads —
+  // each stay within budgetBaseBytes + budgetBytesPerInputByte × (bytes of the main file and of every
+  // distinct file it reads). A file asking for more is refused with a message naming what and the budget.
+  std::uint64_t budgetBaseBytes = 64ull << 20;
+  std::uint64_t budgetBytesPerInputByte = 32;
+};
+
+/// What one load read and produced (for tests and tools; see GltfLimits' budget).
+struct GltfLoadStats {
+  std::uint64_t inputBytes = 0;     // main file + each distinct file read, once
+  std::uint64_t modelEstimate = 0;  // bytes the parsed model was estimated at before parsing
+  std::uint64_t decodedBytes = 0;   // bytes charged to the budget while converting
+  std::uint64_t budgetBytes = 0;    // the budget for this input
 };
 
 struct GltfOptions {
@@ -41,6 +55,7 @@ struct GltfOptions {
 struct GltfAsset {
   Scene scene;
   SceneAnimation animation;
+  GltfLoadStats stats;
 };
 
 /// Loads a glTF file into a Scene. Warnings (skipped primitives, missing images) go to the log.

@@ -82,6 +82,12 @@ struct Mesh {
   std::vector<glm::vec4> colors;    // linear vertex colours
   std::vector<std::uint32_t> indices;
   std::size_t triangleCount() const { return indices.size() / 3; }
+  /// Bytes its arrays hold (what the loaders charge to their budget).
+  std::size_t bytes() const {
+    return name.size() + positions.size() * sizeof(glm::vec3) + normals.size() * sizeof(glm::vec3) +
+           uvs.size() * sizeof(glm::vec2) + tangents.size() * sizeof(glm::vec4) + colors.size() * sizeof(glm::vec4) +
+           indices.size() * sizeof(std::uint32_t);
+  }
 };
 
 enum class LightType : std::uint8_t { Ambient = 0, Point = 1, Spot = 2, Directional = 3 };

@@ -116,8 +116,8 @@ glm::mat4 nodeLocalMatrix(const tinygltf::Node& n) {
   return m;
 }
 
-void buildAnimationClips(const tinygltf::Model& m, const std::vector<int>& animIndexOfNode, SceneAnimation& anim,
-                         Warn& warn, const std::string&) {
+Result<void> buildAnimationClips(const tinygltf::Model& m, const std::vector<int>& animIndexOfNode, SceneAnimation& anim,
+                                 Warn& warn, const std::string& file, LoadBudget& budget) {
   for (std::size_t ai = 0; ai < m.animations.size(); ++ai) {
     const tinygltf::Animation& a = m.animations[ai];
     AnimClip clip;
@@ -166,9 +166,14 @@ void buildAnimationClips(const tinygltf::Model& m, const std::vector<int>& animI
              " keys; channel skipped");
         continue;
       }
-      auto times = readFloats(m, s.input, "");
-      auto values = readFloats(m, s.output, "");
-      if (!times || !values) continue;
+      // Many channels may share one sampler's accessors: each read is charged, so a small file cannot
+      // make the keyframes a product of two counts.
+      auto times = readFloats(m, s.input, file, &budget);
+      if (!times) return times.error();
+      auto values = readFloats(m, s.output, file, &budget);
+      if (!values) return values.error();
+      if (!budget.charge(ou.count * sizeof(glm::vec4)))
+        return Error{file + ": " + budget.refusal(id + " keyframes", ou.count * sizeof(glm::vec4))};
       bool ok = true;
       for (std::size_t k = 0; k < times->size() && ok; ++k)
         ok = std::isfinite((*times)[k]) && (k == 0 || (*times)[k] > (*times)[k - 1]);
@@ -194,6 +199,7 @@ void buildAnimationClips(const tinygltf::Model& m, const std::vector<int>& animI
     }
     if (!clip.channels.empty()) anim.clips.push_back(std::move(clip));
   }
+  return {};
 }
 
 }  // namespace gltf

@@ -121,6 +121,19 @@ bool fsRead(std::vector<unsigned char>* out, std::string* err, const std::string
     if (err) *err += "refused";
     return false;
   }
+  if (c.budget) {
+    std::error_code ec;
+    const std::uint64_t size = fs::file_size(p, ec);
+    if (ec) return false;
+    if (c.filesRead.insert(p.string()).second) {
+      c.budget->addInput(size);
+    } else if (!c.budget->charge(size)) {
+      const std::string why = c.budget->refusal("reading it once more", size);
+      c.refusals.push_back("file '" + p.string() + "': " + why);
+      if (err) *err += why;
+      return false;
+    }
+  }
   auto r = readFileCapped(p, c.maxFileBytes, c.onFileOpened);
   if (!r) {
     c.refusals.push_back("file '" + p.string() + "': " + r.error().message);
@@ -194,52 +207,173 @@ bool validIndexNumber(const nlohmann::json& v) {
 
 }  // namespace
 
-Result<void> checkJsonTypes(const std::uint8_t* data, std::size_t size) {
-  nlohmann::json doc;
+namespace {
+
+using json = nlohmann::json;
+
+// What tinygltf's Model costs per JSON element, for the estimate made before it parses (the structs are
+// tinygltf's own; 48 bytes cover the allocation and container slot around each).
+constexpr std::uint64_t kSlot = 48;
+constexpr std::uint64_t kValueCost = sizeof(tinygltf::Value) + kSlot;  // any value under extras/extensions
+constexpr std::uint64_t kStringCost = 32;                               // a std::string beside its bytes
+
+std::uint64_t topLevelCost(std::string_view key) {
+  struct Entry {
+    const char* key;
+    std::uint64_t bytes;
+  };
+  static const Entry table[] = {
+      {"accessors", sizeof(tinygltf::Accessor)}, {"animations", sizeof(tinygltf::Animation)},
+      {"buffers", sizeof(tinygltf::Buffer)},     {"bufferViews", sizeof(tinygltf::BufferView)},
+      {"cameras", sizeof(tinygltf::Camera)},     {"images", sizeof(tinygltf::Image)},
+      {"materials", sizeof(tinygltf::Material)}, {"meshes", sizeof(tinygltf::Mesh)},
+      {"nodes", sizeof(tinygltf::Node)},         {"samplers", sizeof(tinygltf::Sampler)},
+      {"scenes", sizeof(tinygltf::Scene)},       {"skins", sizeof(tinygltf::Skin)},
+      {"textures", sizeof(tinygltf::Texture)},
+  };
+  for (const Entry& e : table)
+    if (key == e.key) return e.bytes + kSlot;
+  return 0;
+}
+
+// For messages: a key shortened to 64 bytes, control characters shown as '?'.
+std::string shortKey(std::string_view k) {
+  std::string r(k.substr(0, 64));
+  if (k.size() > 64) r += "…";
+  for (char& ch : r)
+    if (static_cast<unsigned char>(ch) < 0x20) ch = '?';
+  return r;
+}
+
+// One container being walked. The path to the current item is the stack itself, so nothing is copied per
+// item (a copy of the path per item made memory quadratic in the file size: one long key over many arrays).
+struct Frame {
+  const json* v = nullptr;
+  json::const_iterator member;  // objects: the next member
+  std::size_t next = 0;         // arrays: the next element
+  std::string_view key;         // the parent's name for this container (objects' members)
+  std::size_t index = 0;        // the parent's index for this container (array elements)
+  bool inArray = false;         // whether the parent is an array
+  bool freeForm = false;        // under "extras": application data, no type rules
+  bool valueTree = false;       // under "extras" or "extensions": tinygltf keeps it as a Value tree
+  bool attributeMap = false;    // an "attributes" object or a morph target: every member is an accessor index
+  bool inTargets = false;       // the "targets" array: its elements are attribute maps
+  std::uint64_t elementCost = 0;  // tinygltf struct bytes per element (typed arrays)
+};
+
+std::string pathOf(const std::vector<Frame>& stack, std::string_view leafKey, std::size_t leafIndex, bool leafInArray) {
+  std::string p;
+  auto append = [&p](bool inArray, std::size_t index, std::string_view key) {
+    p.push_back('/');
+    p.append(inArray ? std::to_string(index) : shortKey(key));
+  };
+  for (std::size_t i = 1; i < stack.size(); ++i) append(stack[i].inArray, stack[i].index, stack[i].key);
+  append(leafInArray, leafIndex, leafKey);
+  return p;
+}
+
+}  // namespace
+
+Result<JsonScan> prescanJson(const std::uint8_t* data, std::size_t size, bool glb) {
+  json doc;
   try {
-    doc = nlohmann::json::parse(data, data + size);
+    doc = json::parse(data, data + size);
   } catch (const std::exception& e) {
     return Error{std::string("JSON parse error: ") + e.what()};
   }
   if (!doc.is_object()) return Error{"the JSON root is not an object"};
-  struct Item {
-    const nlohmann::json* v;
-    std::string pointer;
-  };
-  std::vector<Item> stack{{&doc, ""}};
+  JsonScan scan;
+  std::uint64_t& est = scan.modelEstimate;
+  std::vector<Frame> stack;
+  Frame top;
+  top.v = &doc;
+  top.member = doc.begin();
+  stack.push_back(top);
   while (!stack.empty()) {
-    Item it = std::move(stack.back());
-    stack.pop_back();
-    if (it.v->is_object()) {
-      const bool attributeMap =
-          it.pointer.ends_with("/attributes") || it.pointer.find("/targets/") != std::string::npos;
-      for (auto e = it.v->begin(); e != it.v->end(); ++e) {
-        const std::string& key = e.key();
-        const std::string ptr = it.pointer + "/" + key;
-        if (key == "extras") continue;  // free-form application data
-        const nlohmann::json& v = e.value();
-        if (attributeMap || isIntegerKey(key)) {
-          if (v.is_number() && !validIndexNumber(v))
-            return Error{ptr + ": " + v.dump() + " is not an integer in [0, 2^31)"};
-          if (attributeMap && !v.is_number()) return Error{ptr + ": attribute must be an accessor index"};
-          // Objects are legitimate under some of these names (channel "target", sparse "indices") and are
-          // walked below; strings, booleans and null never are.
-          if (!v.is_number() && !v.is_object() && !v.is_array()) return Error{ptr + ": expected an integer"};
-        } else if (isIndexArrayKey(key) && v.is_array() && !it.pointer.empty()) {  // top-level "nodes" holds objects
-          for (std::size_t i = 0; i < v.size(); ++i)
-            if (!validIndexNumber(v[i]))
-              return Error{ptr + "/" + std::to_string(i) + ": " + v[i].dump() + " is not an integer in [0, 2^31)"};
-        }
-        if (v.is_object() || v.is_array()) stack.push_back({&v, ptr});
-      }
-    } else if (it.v->is_array()) {
-      for (std::size_t i = 0; i < it.v->size(); ++i) {
-        const nlohmann::json& v = (*it.v)[i];
-        if (v.is_object() || v.is_array()) stack.push_back({&v, it.pointer + "/" + std::to_string(i)});
+    Frame& f = stack.back();
+    const bool isObject = f.v->is_object();
+    if (isObject ? f.member == f.v->end() : f.next >= f.v->size()) {
+      stack.pop_back();
+      continue;
+    }
+    // The current item: an object member (key, value) or an array element (index, value).
+    std::string_view key;
+    std::size_t index = 0;
+    const json* vp = nullptr;
+    if (isObject) {
+      key = f.member.key();
+      vp = &f.member.value();
+      ++f.member;
+    } else {
+      index = f.next++;
+      vp = &(*f.v)[index];
+    }
+    const json& v = *vp;
+    const bool root = stack.size() == 1;
+    Frame child;
+    child.v = &v;
+    child.key = key;
+    child.index = index;
+    child.inArray = !isObject;
+    child.freeForm = f.freeForm || (isObject && key == "extras");
+    child.valueTree = f.valueTree || (isObject && (key == "extras" || key == "extensions"));
+    child.attributeMap = (isObject && !f.freeForm && key == "attributes") || (!isObject && f.inTargets);
+    child.inTargets = isObject && !f.freeForm && key == "targets";
+
+    // ---- the estimate of tinygltf's model ----
+    if (child.valueTree) {
+      est += kValueCost + (isObject ? kStringCost + key.size() : 0);
+    } else if (!isObject) {
+      est += f.elementCost != 0 ? f.elementCost : 8;  // a struct, or a number/index in a plain array
+    } else if (f.attributeMap) {
+      est += kSlot + kStringCost + key.size() + 8;  // std::map<std::string, int> entry
+    }
+    if (v.is_string()) {
+      const std::string& str = v.get_ref<const std::string&>();
+      est += kStringCost + str.size();
+      if (str.rfind("data:", 0) == 0) est += str.size() / 4 * 3;  // the decoded bytes beside the URI
+    }
+    if (v.is_array() && !child.freeForm && !child.valueTree) {
+      if (root) child.elementCost = topLevelCost(key);
+      else if (isObject && key == "primitives") child.elementCost = sizeof(tinygltf::Primitive) + kSlot;
+      else if (isObject && key == "channels") child.elementCost = sizeof(tinygltf::AnimationChannel) + kSlot;
+      else if (isObject && key == "samplers") child.elementCost = sizeof(tinygltf::AnimationSampler) + kSlot;
+    }
+
+    // ---- the type rules ----
+    if (!f.freeForm && isObject && key != "extras") {
+      const std::string k(key.size() <= 32 ? key : std::string_view{});  // every rule key is short
+      if (f.attributeMap || isIntegerKey(k)) {
+        if (v.is_number() && !validIndexNumber(v))
+          return Error{pathOf(stack, key, index, false) + ": " + v.dump() + " is not an integer in [0, 2^31)"};
+        if (f.attributeMap && !v.is_number())
+          return Error{pathOf(stack, key, index, false) + ": attribute must be an accessor index"};
+        // Objects are legitimate under some of these names (channel "target", sparse "indices") and are
+        // walked; strings, booleans and null never are.
+        if (!v.is_number() && !v.is_object() && !v.is_array())
+          return Error{pathOf(stack, key, index, false) + ": expected an integer"};
+      } else if (isIndexArrayKey(k) && v.is_array() && !root) {  // top-level "nodes" holds objects
+        for (std::size_t i = 0; i < v.size(); ++i)
+          if (!validIndexNumber(v[i]))
+            return Error{pathOf(stack, key, index, false) + "/" + std::to_string(i) + ": " + v[i].dump() +
+                         " is not an integer in [0, 2^31)"};
       }
     }
+    // glTF 2.0, GLB-stored buffer: only buffers[0] may omit its uri. tinygltf would copy the whole BIN
+    // chunk into every buffer without one, a product of two counts.
+    if (glb && stack.size() == 2 && f.key == "buffers" && !f.inArray && !isObject && index > 0 && v.is_object() &&
+        !v.contains("uri"))
+      return Error{"/buffers/" + std::to_string(index) +
+                   ": has no uri, but only buffers[0] may refer to the GLB's BIN chunk"};
+
+    if (v.is_object()) {
+      child.member = v.begin();
+      stack.push_back(child);
+    } else if (v.is_array()) {
+      stack.push_back(child);
+    }
   }
-  return {};
+  return scan;
 }
 
 namespace {
@@ -298,7 +432,22 @@ bool recordImage(tinygltf::Image* image, int index, std::string*, std::string*, 
   if (image->bufferView >= 0) return true;
   if (bytes == nullptr || size <= 0) return true;
   auto* d = static_cast<DeferredImages*>(user);
-  d->bytes[index].assign(bytes, bytes + size);
+  // FNV-1a: equal bytes are found by hash, then compared, so each distinct image is kept (and later
+  // decoded) once however many images name it.
+  std::uint64_t h = 1469598103934665603ull;
+  for (int i = 0; i < size; ++i) h = (h ^ bytes[i]) * 1099511628211ull;
+  auto [lo, hi] = d->byHash.equal_range(h);
+  for (auto it = lo; it != hi; ++it) {
+    const std::vector<std::uint8_t>& u = d->unique[std::size_t(it->second)];
+    if (u.size() == std::size_t(size) && std::memcmp(u.data(), bytes, u.size()) == 0) {
+      d->sourceOf[index] = it->second;
+      return true;
+    }
+  }
+  const int id = int(d->unique.size());
+  d->unique.emplace_back(bytes, bytes + size);
+  d->byHash.emplace(h, id);
+  d->sourceOf[index] = id;
   return true;
 }
 

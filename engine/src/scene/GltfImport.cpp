@@ -5,14 +5,19 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <array>
 #include <map>
+#include <memory>
 #include <new>
+#include <optional>
 #include <numbers>
 #include <tuple>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/StbGuard.h"
 #include "scene/GltfInternal.h"
+#include "tandem/Image.h"
 #include "tandem/Log.h"
 
 namespace tandem {
@@ -23,7 +28,10 @@ namespace fs = std::filesystem;
 void gltf::Warn::operator()(const std::string& message) {
   ++count;
   const std::string full = file + ": " + message;
-  logWarning(full);
+  // A hostile file can ask for a warning per object; the log shows the first ones (the callback sees all).
+  constexpr int kLogged = 100;
+  if (count <= kLogged) logWarning(full);
+  else if (count == kLogged + 1) logWarning(file + ": further warnings are not logged");
   if (options && options->onWarning) options->onWarning(full);
 }
 
@@ -75,13 +83,19 @@ bool isJpeg(const std::uint8_t* p, std::size_t n) { return n >= 3 && p[0] == 0xF
 
 class Importer {
  public:
-  Importer(const tinygltf::Model& m, const GltfOptions& o, std::string file, Warn& w, DeferredImages& img)
-      : m_(m), opt_(o), file_(std::move(file)), warn_(w), images_(img) {}
+  Importer(const tinygltf::Model& m, const GltfOptions& o, std::string file, Warn& w, DeferredImages& img,
+           LoadBudget& budget)
+      : m_(m), opt_(o), file_(std::move(file)), warn_(w), images_(img), budget_(budget) {}
 
   Result<GltfAsset> run();
 
  private:
   Error err(const std::string& msg) const { return Error{file_ + ": " + msg}; }
+  Result<void> charge(const std::string& what, u64 bytes) {
+    if (budget_.charge(bytes)) return {};
+    return err(budget_.refusal(what, bytes));
+  }
+  Result<std::shared_ptr<const std::vector<float>>> attribute(int accessor);
   Result<void> buildMaterials();
   int texture(int gltfTexture, bool srgb, const std::string& usage);
   int fallbackTexture();
@@ -101,13 +115,24 @@ class Importer {
   std::string file_;
   Warn& warn_;
   DeferredImages& images_;
+  LoadBudget& budget_;
+  std::optional<Error> budgetRefusal_;  // set by texture(), which answers an index, and checked by its callers
   GltfAsset out_;
   std::vector<int> materialOf_;   // glTF material → scene material
   std::vector<bool> wantsTangents_;  // per glTF material: has a normal map
   int defaultMaterial_ = -1;
   int fallbackTexture_ = -1;
-  std::map<std::pair<int, bool>, int> textureCache_;  // (image, srgb) → scene texture or -1
+  // (source kind, id, srgb) → scene texture or -1. Kinds: 0 a bufferView, 1 distinct bytes read by URI
+  // (images_.unique), 2 an image whose file could not be read.
+  std::map<std::tuple<int, int, bool>, int> textureCache_;
+  std::map<int, glm::dvec2> textureMeans_;            // scene texture → mean green, blue in [0, 1]
   std::map<std::tuple<int, int, bool>, int> meshCache_;  // (mesh, primitive, flipped) → scene mesh or -1
+  // Primitives that read the same accessors the same way share one scene mesh, whichever glTF mesh holds
+  // them: (POSITION, NORMAL, TEXCOORD_0, COLOR_0, TANGENT, indices, mode, tangents wanted, flipped).
+  std::map<std::array<int, 9>, int> contentCache_;
+  // Attribute arrays read recently: primitives of one mesh often share a vertex array, which is then read
+  // (and charged to the budget) once rather than once per primitive.
+  std::vector<std::pair<int, std::shared_ptr<const std::vector<float>>>> readCache_;
   std::map<std::string, bool> warned_;
   u64 totalPixels_ = 0;
   u64 triangles_ = 0;
@@ -140,7 +165,12 @@ int Importer::texture(int gltfTexture, bool srgb, const std::string& usage) {
     warn_(id + ": no image source (or only an unsupported extension source); fallback texture used");
     return srgb ? fallbackTexture() : -1;
   }
-  auto key = std::make_pair(t.source, srgb);
+  const tinygltf::Image& img = m_.images[std::size_t(t.source)];
+  // Decoded once per distinct source (a bufferView, or distinct bytes read by URI), however many images and
+  // textures name it.
+  std::tuple<int, int, bool> key{2, t.source, srgb};
+  if (img.bufferView >= 0) key = {0, img.bufferView, srgb};
+  else if (auto it = images_.sourceOf.find(t.source); it != images_.sourceOf.end()) key = {1, it->second, srgb};
   if (auto it = textureCache_.find(key); it != textureCache_.end()) return it->second;
   auto fail = [&](const std::string& why) {
     warn_("images[" + std::to_string(t.source) + "]: " + why + "; " + (srgb ? "fallback texture used" : "map dropped"));
@@ -148,18 +178,17 @@ int Importer::texture(int gltfTexture, bool srgb, const std::string& usage) {
     textureCache_[key] = r;
     return r;
   };
-  const tinygltf::Image& img = m_.images[std::size_t(t.source)];
+  if (std::get<0>(key) == 2) return fail("'" + img.uri.substr(0, 200) + "' could not be read (missing file?)");
   const std::uint8_t* bytes = nullptr;
   std::size_t size = 0;
   if (img.bufferView >= 0) {
     const tinygltf::BufferView& v = m_.bufferViews[std::size_t(img.bufferView)];  // range validated
     bytes = m_.buffers[std::size_t(v.buffer)].data.data() + v.byteOffset;
     size = v.byteLength;
-  } else if (auto it = images_.bytes.find(t.source); it != images_.bytes.end()) {
-    bytes = it->second.data();
-    size = it->second.size();
   } else {
-    return fail("'" + img.uri.substr(0, 200) + "' could not be read (missing file?)");
+    const std::vector<std::uint8_t>& u = images_.unique[std::size_t(std::get<1>(key))];
+    bytes = u.data();
+    size = u.size();
   }
   if (!isPng(bytes, size) && !isJpeg(bytes, size)) return fail("not PNG or JPEG data (only those are decoded)");
   if (size > std::size_t(INT32_MAX)) return fail("encoded image too large");
@@ -172,7 +201,19 @@ int Importer::texture(int gltfTexture, bool srgb, const std::string& usage) {
                 std::to_string(opt_.limits.maxImagePixels));
   if (totalPixels_ + pixels > opt_.limits.maxTotalPixels)
     return fail("decoding it would exceed the cap maxTotalPixels = " + std::to_string(opt_.limits.maxTotalPixels));
-  stbi_uc* px = stbi_load_from_memory(bytes, int(size), &w, &h, &comp, 4);
+  // The texels are charged before decoding; a file refused here fails the load (it is a resource refusal,
+  // not a broken image).
+  if (!budget_.charge(pixels * 4)) {
+    budgetRefusal_ = err(budget_.refusal("decoding images[" + std::to_string(t.source) + "]", pixels * 4));
+    return -1;
+  }
+  stbi_uc* px = nullptr;
+  {
+    // The decoder's own memory: a stream that inflates past the declared rows is cut off.
+    StbMemoryCap cap(imageDecodeBytes(pixels, size));
+    px = stbi_load_from_memory(bytes, int(size), &w, &h, &comp, 4);
+    if (!px && cap.refused()) return fail("decoding needs more memory than its declared size allows");
+  }
   if (!px) return fail(std::string("decoding failed (") + (stbi_failure_reason() ? stbi_failure_reason() : "?") + ")");
   Texture tex;
   tex.name = !img.name.empty() ? img.name : img.uri.substr(0, 200);
@@ -224,18 +265,22 @@ Result<void> Importer::buildMaterials() {
     // with a few metal parts is not shaded as solid metal (glTF's default metallicFactor is 1).
     if (pbr.metallicRoughnessTexture.index >= 0) {
       const int mr = texture(pbr.metallicRoughnessTexture.index, false, id + " metallic-roughness");
+      if (budgetRefusal_) return *budgetRefusal_;
       if (mr >= 0) {
+        // Once per texture, not per material: many materials may share one large map.
+        auto [it, fresh] = textureMeans_.try_emplace(mr, glm::dvec2(1.0));
         const Texture& t = out_.scene.textures[std::size_t(mr)];
-        double green = 0.0, blue = 0.0;
         const std::size_t texels = t.rgba8.size() / 4;
-        for (std::size_t k = 0; k < texels; ++k) {
-          green += t.rgba8[4 * k + 1];
-          blue += t.rgba8[4 * k + 2];
+        if (fresh && texels > 0) {
+          double green = 0.0, blue = 0.0;
+          for (std::size_t k = 0; k < texels; ++k) {
+            green += t.rgba8[4 * k + 1];
+            blue += t.rgba8[4 * k + 2];
+          }
+          it->second = glm::dvec2(green, blue) / (255.0 * double(texels));
         }
-        if (texels > 0) {
-          rough *= float(green / (255.0 * double(texels)));
-          metallic *= float(blue / (255.0 * double(texels)));
-        }
+        rough *= float(it->second.x);
+        metallic *= float(it->second.y);
       }
     }
     float ior = 1.5f;
@@ -303,12 +348,14 @@ Result<void> Importer::buildMaterials() {
     };
     if (pbr.baseColorTexture.index >= 0) {
       mat.kdTexture = texture(pbr.baseColorTexture.index, true, id + " base colour");
+      if (budgetRefusal_) return *budgetRefusal_;
       mat.uvTransform = textureTransform(pbr.baseColorTexture.extensions);
       if (texCoordOf(pbr.baseColorTexture.extensions, pbr.baseColorTexture.texCoord) != 0)
         warn_(id + ": base colour texture uses a TEXCOORD other than 0; TEXCOORD_0 is used");
     }
     if (g.normalTexture.index >= 0) {
       mat.normalTexture = texture(g.normalTexture.index, false, id + " normal map");
+      if (budgetRefusal_) return *budgetRefusal_;
       mat.normalScale = float(g.normalTexture.scale);
       if (pbr.baseColorTexture.index < 0) mat.uvTransform = textureTransform(g.normalTexture.extensions);
       if (texCoordOf(g.normalTexture.extensions, g.normalTexture.texCoord) != 0)
@@ -316,6 +363,7 @@ Result<void> Importer::buildMaterials() {
     }
     if (g.emissiveTexture.index >= 0) {
       mat.emissiveTexture = texture(g.emissiveTexture.index, true, id + " emissive");
+      if (budgetRefusal_) return *budgetRefusal_;
       if (texCoordOf(g.emissiveTexture.extensions, g.emissiveTexture.texCoord) != 0)
         warn_(id + ": emissive texture uses a TEXCOORD other than 0; TEXCOORD_0 is used");
     }
@@ -383,6 +431,23 @@ void generateTangents(Mesh& mesh) {
   }
 }
 
+Result<std::shared_ptr<const std::vector<float>>> Importer::attribute(int accessor) {
+  for (auto it = readCache_.begin(); it != readCache_.end(); ++it)
+    if (it->first == accessor) {
+      auto hit = *it;  // move to the back: most recently used
+      readCache_.erase(it);
+      readCache_.push_back(hit);
+      return hit.second;
+    }
+  auto r = readFloats(m_, accessor, file_, &budget_);
+  if (!r) return r.error();
+  auto data = std::make_shared<const std::vector<float>>(std::move(*r));
+  constexpr std::size_t kEntries = 8;
+  if (readCache_.size() == kEntries) readCache_.erase(readCache_.begin());
+  readCache_.emplace_back(accessor, data);
+  return data;
+}
+
 Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
   const tinygltf::Primitive& p = m_.meshes[std::size_t(meshIndex)].primitives[std::size_t(primIndex)];
   const std::string id = "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(primIndex) + "]";
@@ -394,20 +459,14 @@ Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
     return it == p.attributes.end() ? -1 : it->second;
   };
   const int posAcc = attr("POSITION");
-  auto pos = readFloats(m_, posAcc, file_);
+  auto pos = attribute(posAcc);
   if (!pos) return pos.error();
-  const std::size_t vertexCount = pos->size() / 3;
+  const std::size_t vertexCount = (*pos)->size() / 3;
   if (vertexCount > std::size_t(UINT32_MAX)) return err(id + ": too many vertices");
-  mesh.positions.resize(vertexCount);
-  for (std::size_t i = 0; i < vertexCount; ++i) {
-    mesh.positions[i] = glm::vec3((*pos)[3 * i], (*pos)[3 * i + 1], (*pos)[3 * i + 2]);
-    if (!finite3(mesh.positions[i]))
-      return err(id + ": POSITION " + std::to_string(i) + " is NaN or infinite (accessors[" + std::to_string(posAcc) + "])");
-  }
   // Indices: read, range-check, then expand the topology into a triangle list.
   std::vector<std::uint32_t> idx;
   if (p.indices >= 0) {
-    auto r = readIndices(m_, p.indices, file_);
+    auto r = readIndices(m_, p.indices, file_, &budget_);
     if (!r) return r.error();
     idx = std::move(*r);
     const int ct = m_.accessors[std::size_t(p.indices)].componentType;
@@ -423,6 +482,7 @@ Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
                    std::to_string(vertexCount) + " (accessors[" + std::to_string(p.indices) + "])");
     }
   } else {
+    if (auto c = charge(id + " indices", u64(vertexCount) * sizeof(std::uint32_t)); !c) return c.error();
     idx.resize(vertexCount);
     for (std::size_t i = 0; i < vertexCount; ++i) idx[i] = std::uint32_t(i);
   }
@@ -432,6 +492,7 @@ Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
       return err(id + ": " + std::to_string(idx.size()) + " indices for a triangle list, not a multiple of 3");
     mesh.indices = std::move(idx);
   } else if (idx.size() >= 3) {
+    if (auto c = charge(id + " triangle list", u64(idx.size() - 2) * 3 * sizeof(std::uint32_t)); !c) return c.error();
     mesh.indices.reserve((idx.size() - 2) * 3);
     for (std::size_t i = 0; i + 2 < idx.size(); ++i) {
       if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
@@ -445,57 +506,96 @@ Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
   }
   if (mesh.indices.empty()) return mesh;  // caller skips it with a warning
 
+  // The vertices this primitive uses. Primitives often index a vertex array shared with others; keeping
+  // only the used vertices makes a mesh cost what it draws, and the work below independent of the shared
+  // array's size. When every vertex is used (the usual case) the order is kept as it is.
+  std::vector<std::uint32_t> used;
+  {
+    if (auto c = charge(id + " vertex list", u64(mesh.indices.size()) * sizeof(std::uint32_t)); !c) return c.error();
+    used = mesh.indices;
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    if (used.size() < vertexCount) {
+      for (std::uint32_t& i : mesh.indices)
+        i = std::uint32_t(std::lower_bound(used.begin(), used.end(), i) - used.begin());
+    } else {
+      used.clear();
+      used.shrink_to_fit();
+    }
+  }
+  const std::size_t n = used.empty() ? vertexCount : used.size();
+  auto source = [&](std::size_t i) -> std::size_t { return used.empty() ? i : used[i]; };
+  if (auto c = charge(id + " vertices", u64(n) * sizeof(glm::vec3)); !c) return c.error();
+  mesh.positions.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float* v = (*pos)->data() + 3 * source(i);
+    mesh.positions[i] = glm::vec3(v[0], v[1], v[2]);
+    if (!finite3(mesh.positions[i]))
+      return err(id + ": POSITION " + std::to_string(source(i)) + " is NaN or infinite (accessors[" + std::to_string(posAcc) + "])");
+  }
+
   if (int a = attr("NORMAL"); a >= 0) {
-    auto r = readFloats(m_, a, file_);
+    auto r = attribute(a);
     if (!r) return r.error();
-    mesh.normals.resize(vertexCount);
+    if (auto c = charge(id + " normals", u64(n) * sizeof(glm::vec3)); !c) return c.error();
+    mesh.normals.resize(n);
     bool zero = false;
-    for (std::size_t i = 0; i < vertexCount; ++i) {
-      glm::vec3 n((*r)[3 * i], (*r)[3 * i + 1], (*r)[3 * i + 2]);
-      if (!finite3(n)) return err(id + ": NORMAL " + std::to_string(i) + " is NaN or infinite");
-      const float len = glm::length(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const float* v = (*r)->data() + 3 * source(i);
+      glm::vec3 nv(v[0], v[1], v[2]);
+      if (!finite3(nv)) return err(id + ": NORMAL " + std::to_string(source(i)) + " is NaN or infinite");
+      const float len = glm::length(nv);
       if (!(len > 1e-20f)) {
         zero = true;
-        n = glm::vec3(0, 0, 1);
+        nv = glm::vec3(0, 0, 1);
       } else {
-        n /= len;
+        nv /= len;
       }
-      mesh.normals[i] = n;
+      mesh.normals[i] = nv;
     }
     if (zero) warn_(id + ": zero-length normals replaced");
   } else {
+    if (auto c = charge(id + " normals", u64(n) * sizeof(glm::vec3)); !c) return c.error();
     generateNormals(mesh);
   }
   if (int a = attr("TEXCOORD_0"); a >= 0) {
-    auto r = readFloats(m_, a, file_);
+    auto r = attribute(a);
     if (!r) return r.error();
-    mesh.uvs.resize(vertexCount);
-    for (std::size_t i = 0; i < vertexCount; ++i) {
-      mesh.uvs[i] = glm::vec2((*r)[2 * i], (*r)[2 * i + 1]);
+    if (auto c = charge(id + " uvs", u64(n) * sizeof(glm::vec2)); !c) return c.error();
+    mesh.uvs.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const float* v = (*r)->data() + 2 * source(i);
+      mesh.uvs[i] = glm::vec2(v[0], v[1]);
       if (!std::isfinite(mesh.uvs[i].x) || !std::isfinite(mesh.uvs[i].y))
-        return err(id + ": TEXCOORD_0 " + std::to_string(i) + " is NaN or infinite");
+        return err(id + ": TEXCOORD_0 " + std::to_string(source(i)) + " is NaN or infinite");
     }
   }
   if (int a = attr("COLOR_0"); a >= 0) {
-    auto r = readFloats(m_, a, file_);
+    auto r = attribute(a);
     if (!r) return r.error();
     const std::size_t nc = std::size_t(componentCount(m_.accessors[std::size_t(a)].type));
-    mesh.colors.resize(vertexCount);
-    for (std::size_t i = 0; i < vertexCount; ++i) {
+    if (auto c = charge(id + " colours", u64(n) * sizeof(glm::vec4)); !c) return c.error();
+    mesh.colors.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
       glm::vec4 c(1.0f);
-      for (std::size_t k = 0; k < nc; ++k) c[int(k)] = (*r)[nc * i + k];
-      if (!finite3(glm::vec3(c)) || !std::isfinite(c.w)) return err(id + ": COLOR_0 " + std::to_string(i) + " is NaN or infinite");
+      for (std::size_t k = 0; k < nc; ++k) c[int(k)] = (**r)[nc * source(i) + k];
+      if (!finite3(glm::vec3(c)) || !std::isfinite(c.w))
+        return err(id + ": COLOR_0 " + std::to_string(source(i)) + " is NaN or infinite");
       mesh.colors[i] = glm::clamp(c, 0.0f, 1.0f);
     }
   }
   const bool normalMap = p.material >= 0 && wantsTangents_[std::size_t(p.material)];
+  if (normalMap)
+    if (auto c = charge(id + " tangents", u64(n) * (sizeof(glm::vec4) + sizeof(glm::vec2))); !c) return c.error();
   if (int a = attr("TANGENT"); a >= 0 && normalMap) {
-    auto r = readFloats(m_, a, file_);
+    auto r = attribute(a);
     if (!r) return r.error();
-    mesh.tangents.resize(vertexCount);
-    for (std::size_t i = 0; i < vertexCount; ++i) {
-      glm::vec4 t((*r)[4 * i], (*r)[4 * i + 1], (*r)[4 * i + 2], (*r)[4 * i + 3]);
-      if (!finite3(glm::vec3(t)) || !std::isfinite(t.w)) return err(id + ": TANGENT " + std::to_string(i) + " is NaN or infinite");
+    mesh.tangents.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const float* v = (*r)->data() + 4 * source(i);
+      glm::vec4 t(v[0], v[1], v[2], v[3]);
+      if (!finite3(glm::vec3(t)) || !std::isfinite(t.w))
+        return err(id + ": TANGENT " + std::to_string(source(i)) + " is NaN or infinite");
       const float len = glm::length(glm::vec3(t));
       mesh.tangents[i] = len > 1e-20f ? glm::vec4(glm::vec3(t) / len, t.w < 0 ? -1.0f : 1.0f) : glm::vec4(1, 0, 0, 1);
     }
@@ -503,7 +603,7 @@ Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
     if (mesh.uvs.empty()) warn_(id + ": normal map without TEXCOORD_0; tangents are arbitrary");
     else generateTangents(mesh);
     if (mesh.uvs.empty()) {
-      mesh.uvs.assign(vertexCount, glm::vec2(0.0f));
+      mesh.uvs.assign(n, glm::vec2(0.0f));
       generateTangents(mesh);
     }
   }
@@ -524,12 +624,26 @@ Result<int> Importer::meshFor(int meshIndex, int primIndex, bool flip) {
   if (mode <= TINYGLTF_MODE_LINE_STRIP) return skip(mode == 0 ? "points are not rendered" : "lines are not rendered");
   if (p.attributes.find("POSITION") == p.attributes.end()) return skip("no POSITION attribute");
   if (!p.targets.empty()) warnOnce("morph", "morph targets are ignored; the base shape is used");
+  auto attr = [&](const char* name) {
+    auto it = p.attributes.find(name);
+    return it == p.attributes.end() ? -1 : it->second;
+  };
+  const bool normalMap = p.material >= 0 && wantsTangents_[std::size_t(p.material)];
+  const std::array<int, 9> content{attr("POSITION"), attr("NORMAL"),   attr("TEXCOORD_0"),
+                                   attr("COLOR_0"),  normalMap ? attr("TANGENT") : -1,
+                                   p.indices,        mode,             int(normalMap), int(flip)};
+  if (auto it = contentCache_.find(content); it != contentCache_.end()) {
+    meshCache_[key] = it->second;
+    return it->second;
+  }
   // The twin of the other handedness may exist already: copy it and reverse it instead of converting twice.
   Mesh mesh;
   bool reverse = flip;
   if (auto twin = meshCache_.find(std::make_tuple(meshIndex, primIndex, !flip));
       twin != meshCache_.end() && twin->second >= 0) {
-    mesh = out_.scene.meshes[std::size_t(twin->second)];
+    const Mesh& original = out_.scene.meshes[std::size_t(twin->second)];
+    if (auto c = charge(id + " (mirrored copy)", original.bytes()); !c) return c.error();
+    mesh = original;
     reverse = true;
   } else {
     auto r = convertPrimitive(meshIndex, primIndex);
@@ -549,6 +663,7 @@ Result<int> Importer::meshFor(int meshIndex, int primIndex, bool flip) {
   const int index = int(out_.scene.meshes.size());
   out_.scene.meshes.push_back(std::move(mesh));
   meshCache_[key] = index;
+  contentCache_[content] = index;
   return index;
 }
 
@@ -573,13 +688,14 @@ Result<std::vector<glm::mat4>> Importer::gpuInstances(const tinygltf::Node& n, s
     if (acc.type != types[k]) return err(id + ": " + names[k] + " accessor has the wrong type");
     if (count != 0 && acc.count != count) return err(id + ": attribute counts differ");
     count = acc.count;
-    auto r = readFloats(m_, a, file_);
+    auto r = readFloats(m_, a, file_, &budget_);
     if (!r) return r.error();
     for (float v : *r)
       if (!std::isfinite(v)) return err(id + ": " + names[k] + " contains NaN or infinity");
     data[k] = std::move(*r);
   }
   if (count == 0) return err(id + ": no TRANSLATION, ROTATION or SCALE attribute");
+  if (auto c = charge(id + " transforms", u64(count) * sizeof(glm::mat4)); !c) return c.error();
   std::vector<glm::mat4> out(count);
   for (std::size_t i = 0; i < count; ++i) {
     glm::mat4 t(1.0f);
@@ -707,6 +823,32 @@ Result<void> Importer::traverse(const std::vector<int>& roots) {
   };
   const bool animating = !m_.animations.empty();
   animIndexOfNode_.assign(m_.nodes.size(), -1);
+  // Instances are a product (nodes × primitives × GPU instances). Counted first, charged and reserved at
+  // once, so the vector never doubles past what the budget allowed.
+  {
+    u64 planned = 0;
+    std::vector<int> walk(roots.begin(), roots.end());
+    while (!walk.empty()) {
+      const tinygltf::Node& n = m_.nodes[std::size_t(walk.back())];
+      walk.pop_back();
+      if (n.mesh >= 0) {
+        u64 copies = 1;
+        if (const tinygltf::Value* e = ext(n.extensions, "EXT_mesh_gpu_instancing"); e && e->Has("attributes"))
+          for (const char* a : {"TRANSLATION", "ROTATION", "SCALE"}) {
+            const int ai = intOf(e->Get("attributes"), a, -1);
+            if (ai >= 0 && ai < int(m_.accessors.size())) copies = std::max<u64>(copies, m_.accessors[std::size_t(ai)].count);
+          }
+        planned += copies * m_.meshes[std::size_t(n.mesh)].primitives.size();
+      }
+      walk.insert(walk.end(), n.children.begin(), n.children.end());
+    }
+    const u64 each = sizeof(Instance) + (animating ? sizeof(AnimBinding) : 0);
+    if (planned > (~u64(0)) / each) return err("the scene's instances overflow a 64-bit count");
+    if (auto c = charge(std::to_string(planned) + " instances (nodes × primitives × GPU instances)", planned * each); !c)
+      return c.error();
+    out_.scene.instances.reserve(std::size_t(planned));
+    if (animating) out_.animation.bindings.reserve(std::size_t(planned));
+  }
   std::vector<Item> stack;
   for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.push_back({*it, -1, false, glm::mat4(1.0f)});
   // Iterative depth-first walk (validateModel proved the graph a forest), so a 100 000-deep chain needs
@@ -771,6 +913,9 @@ Result<void> Importer::traverse(const std::vector<int>& roots) {
           }
           Instance inst;
           inst.name = n.name.empty() ? "node " + std::to_string(ni) : n.name;
+          // The instance itself was charged above; a name too long for the string's own storage is extra.
+          if (inst.name.size() > 15)
+            if (auto c = charge("nodes[" + std::to_string(ni) + "] instance names", inst.name.size()); !c) return c.error();
           inst.mesh = std::uint32_t(*mi);
           inst.material = std::uint32_t(gm < 0 ? defaultMaterial_ : materialOf_[std::size_t(gm)]);
           inst.worldFromObject = w;
@@ -856,7 +1001,8 @@ Result<GltfAsset> Importer::run() {
         animated_[std::size_t(c.target_node)] = true;
   if (auto r = buildMaterials(); !r) return r.error();
   if (auto r = traverse(roots); !r) return r.error();
-  if (!m_.animations.empty()) buildAnimationClips(m_, animIndexOfNode_, out_.animation, warn_, file_);
+  if (!m_.animations.empty())
+    if (auto r = buildAnimationClips(m_, animIndexOfNode_, out_.animation, warn_, file_, budget_); !r) return r.error();
   if (out_.animation.clips.empty()) out_.animation = SceneAnimation{};
   if (out_.scene.instances.empty()) warn_("the scene has nothing to draw");
   addDefaults();
@@ -890,7 +1036,15 @@ Result<GltfAsset> loadImpl(const std::string& path, const GltfOptions& opt) {
     if (auto r = checkGlb(*bytes, &jsonOffset, &jsonSize); !r) return Error{file + ": " + r.error().message};
   if (auto r = checkJsonDepth(bytes->data() + jsonOffset, jsonSize, opt.limits.maxJsonDepth); !r)
     return Error{file + ": " + r.error().message};
-  if (auto r = checkJsonTypes(bytes->data() + jsonOffset, jsonSize); !r) return Error{file + ": " + r.error().message};
+  LoadBudget budget(opt.limits.budgetBaseBytes, opt.limits.budgetBytesPerInputByte);
+  budget.addInput(bytes->size());
+  auto scan = prescanJson(bytes->data() + jsonOffset, jsonSize, glb);
+  if (!scan) return Error{file + ": " + scan.error().message};
+  // The model tinygltf will build is charged before it is built: a file of many tiny objects ("{}" is a
+  // 2 KB tinygltf::Material) is refused here instead of after the parser has allocated them.
+  if (!budget.charge(scan->modelEstimate))
+    return Error{file + ": " + budget.refusal("the parsed model (estimated before parsing)", scan->modelEstimate)};
+  conf.budget = &budget;
 
   tinygltf::Model model;
   DeferredImages images;
@@ -925,8 +1079,14 @@ Result<GltfAsset> loadImpl(const std::string& path, const GltfOptions& opt) {
   Warn w{file, &opt, 0};
   if (!warn.empty()) w(trim(warn));
   if (auto r = validateModel(model, opt.limits, file); !r) return r.error();
-  Importer imp(model, opt, file, w, images);
-  return imp.run();
+  Importer imp(model, opt, file, w, images, budget);
+  auto asset = imp.run();
+  if (!asset) return asset.error();
+  asset->stats.inputBytes = budget.inputBytes();
+  asset->stats.modelEstimate = scan->modelEstimate;
+  asset->stats.decodedBytes = budget.used() - scan->modelEstimate;
+  asset->stats.budgetBytes = budget.limit();
+  return asset;
 }
 
 }  // namespace

@@ -14,12 +14,15 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "tandem/Animation.h"
 #include "tandem/Gltf.h"
 #include "tandem/Result.h"
+#include "scene/LoadBudget.h"
 
 namespace tandem::gltf {
 
@@ -32,6 +35,10 @@ struct Confinement {
   std::uint64_t maxFileBytes = 0;
   const std::function<void(const std::string&)>* onFileOpened = nullptr;
   std::vector<std::string> refusals;  // "uri 'x': reason"
+  // A file read for the first time joins the budget's input; reading it again (several buffers or images
+  // naming one file) is charged to the budget, since tinygltf keeps a copy per buffer.
+  LoadBudget* budget = nullptr;
+  std::set<std::string> filesRead;
 };
 
 /// Outcome of resolving one path handed to us by tinygltf.
@@ -46,9 +53,15 @@ tinygltf::FsCallbacks makeFsCallbacks(Confinement* c);
 
 /// Rejects JSON nested deeper than maxDepth, scanning bytes iteratively (tinygltf and nlohmann recurse).
 Result<void> checkJsonDepth(const std::uint8_t* data, std::size_t size, int maxDepth);
-/// Rejects indices given as floats, negatives or values past 2^31 (tinygltf casts them modulo 2^32).
+/// What the pre-scan learnt about a file before tinygltf parses it.
+struct JsonScan {
+  std::uint64_t modelEstimate = 0;  // bytes tinygltf's Model will hold for it (an over-estimate)
+};
+/// One iterative walk over the parsed JSON, in memory bounded by the nesting depth: rejects indices given
+/// as floats, negatives or values past 2^31 (tinygltf casts them modulo 2^32), a GLB buffer other than
+/// buffers[0] without a uri, and estimates the model tinygltf will build (GltfLimits' budget).
 /// Call after checkJsonDepth (the walk is iterative, but the parse tree's destructor recurses).
-Result<void> checkJsonTypes(const std::uint8_t* data, std::size_t size);
+Result<JsonScan> prescanJson(const std::uint8_t* data, std::size_t size, bool glb);
 
 /// Checks a GLB container; on success `json` points at the JSON chunk.
 Result<void> checkGlb(const std::vector<std::uint8_t>& bytes, std::size_t* jsonOffset, std::size_t* jsonSize);
@@ -56,8 +69,12 @@ Result<void> checkGlb(const std::vector<std::uint8_t>& bytes, std::size_t* jsonO
 /// Encoded bytes of images given by URI or data URI, captured by our image-loader callback.
 /// Images stored in bufferViews are *not* captured there: tinygltf hands the callback a pointer computed
 /// from an unchecked view; we read those bytes later from the validated view instead.
+/// Identical bytes are kept once (many images naming one file): `sourceOf` maps a glTF image to the
+/// index of its bytes in `unique`, which is also what textures are decoded and cached by.
 struct DeferredImages {
-  std::map<int, std::vector<std::uint8_t>> bytes;
+  std::vector<std::vector<std::uint8_t>> unique;
+  std::map<int, int> sourceOf;
+  std::multimap<std::uint64_t, int> byHash;
 };
 bool recordImage(tinygltf::Image* image, int index, std::string* err, std::string* warn, int reqW, int reqH,
                  const unsigned char* bytes, int size, void* user);
@@ -78,10 +95,13 @@ Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, c
 // ---- accessor reading from validated models (GltfValidate.cpp) ----
 
 /// Reads `count × components` values as floats, applying `normalized` and sparse substitution.
-/// Only for accessors that validateModel accepted; refuses matrix types.
-Result<std::vector<float>> readFloats(const tinygltf::Model& m, int accessor, const std::string& file);
-/// Reads an unsigned scalar accessor (indices).
-Result<std::vector<std::uint32_t>> readIndices(const tinygltf::Model& m, int accessor, const std::string& file);
+/// Only for accessors that validateModel accepted; refuses matrix types. The result's bytes are charged
+/// to `budget` (when given) before they are allocated.
+Result<std::vector<float>> readFloats(const tinygltf::Model& m, int accessor, const std::string& file,
+                                      LoadBudget* budget);
+/// Reads an unsigned scalar accessor (indices), charged to `budget` likewise.
+Result<std::vector<std::uint32_t>> readIndices(const tinygltf::Model& m, int accessor, const std::string& file,
+                                               LoadBudget* budget);
 
 // ---- import (GltfImport.cpp) and animation (GltfAnimation.cpp) ----
 
@@ -100,8 +120,8 @@ struct NodeInfo {
 
 /// Builds clips from the model's animations for nodes listed in `animIndexOfNode` (glTF node →
 /// index into SceneAnimation::nodes, −1 when not in the scene). Bad channels are skipped with a warning.
-void buildAnimationClips(const tinygltf::Model& m, const std::vector<int>& animIndexOfNode, SceneAnimation& anim,
-                         Warn& warn, const std::string& file);
+Result<void> buildAnimationClips(const tinygltf::Model& m, const std::vector<int>& animIndexOfNode, SceneAnimation& anim,
+                                 Warn& warn, const std::string& file, LoadBudget& budget);
 
 /// Local TRS of a glTF node (matrix when given).
 glm::mat4 nodeLocalMatrix(const tinygltf::Node& n);

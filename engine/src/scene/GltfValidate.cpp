@@ -527,12 +527,17 @@ SparseData sparseOf(const tinygltf::Model& m, const tinygltf::Accessor& a) {
 }
 }  // namespace
 
-Result<std::vector<float>> readFloats(const tinygltf::Model& m, int accessor, const std::string& file) {
+Result<std::vector<float>> readFloats(const tinygltf::Model& m, int accessor, const std::string& file,
+                                      LoadBudget* budget) {
   const tinygltf::Accessor& a = m.accessors[std::size_t(accessor)];
   if (a.type >= TINYGLTF_TYPE_MAT2 && a.type <= TINYGLTF_TYPE_MAT4)
     return Error{file + ": " + at("accessors", std::size_t(accessor)) + ": matrix accessors are not read"};
   const std::size_t nc = std::size_t(componentCount(a.type));
   const std::size_t cs = std::size_t(componentSize(a.componentType));
+  // count·nc fits: validateModel bounded count·elementSize by the view (or maxFileBytes for view-less ones).
+  if (budget && !budget->charge(u64(a.count) * nc * sizeof(float)))
+    return Error{file + ": " + budget->refusal("reading " + at("accessors", std::size_t(accessor)),
+                                               u64(a.count) * nc * sizeof(float))};
   std::vector<float> out(a.count * nc, 0.0f);
   const Layout l = layoutOf(m, a);
   if (l.base)
@@ -554,11 +559,15 @@ Result<std::vector<float>> readFloats(const tinygltf::Model& m, int accessor, co
   return out;
 }
 
-Result<std::vector<std::uint32_t>> readIndices(const tinygltf::Model& m, int accessor, const std::string& file) {
+Result<std::vector<std::uint32_t>> readIndices(const tinygltf::Model& m, int accessor, const std::string& file,
+                                               LoadBudget* budget) {
   const tinygltf::Accessor& a = m.accessors[std::size_t(accessor)];
   if (a.type != TINYGLTF_TYPE_SCALAR || componentSize(a.componentType) == 0 ||
       a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
     return Error{file + ": " + at("accessors", std::size_t(accessor)) + ": not an index accessor"};
+  if (budget && !budget->charge(u64(a.count) * sizeof(std::uint32_t)))
+    return Error{file + ": " + budget->refusal("reading " + at("accessors", std::size_t(accessor)),
+                                               u64(a.count) * sizeof(std::uint32_t))};
   // Read as integers, not through readFloats: a float holds integers exactly only up to 2^24.
   std::vector<std::uint32_t> out(a.count, 0);
   const Layout l = layoutOf(m, a);
