@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/Embedded.h"
+#include "scene/LoadBudget.h"
 #include "tandem/Gltf.h"
 #include "tandem/Primitives.h"
 #include "tandem/Settings.h"
@@ -47,6 +48,9 @@ constexpr std::uint64_t kMaxSceneTriangles = 20'000'000;     // all meshes toget
 constexpr std::size_t kMaxToonSteps = 64;
 constexpr int kMaxImageSide = 16384;
 constexpr int kMaxDepthLimit = 64;
+// The resource contract (docs/scene-format.md, "Resources"), the glTF loader's defaults.
+constexpr std::uint64_t kBudgetBaseBytes = GltfLimits{}.budgetBaseBytes;
+constexpr std::uint64_t kBudgetBytesPerInputByte = GltfLimits{}.budgetBytesPerInputByte;
 
 struct SceneFileError {
   std::string message;
@@ -100,88 +104,135 @@ std::pair<std::size_t, std::size_t> lineColumn(std::string_view text, std::size_
   return {line, column};
 }
 
-// Tracks where the parser is so a duplicate key can be reported by its JSON pointer. nlohmann keeps the
-// last of duplicate keys silently, which would hide a copy-paste mistake (two "kd" in one material).
-class KeyTracker {
+// Builds the document from nlohmann's SAX events, in time linear in the text: nlohmann's own DOM parser
+// inserts each key into an ordered_map (a vector) with a linear search, which made an object of n keys
+// cost n² (a 4 MB file of mesh names took seconds). Keys are appended in file order instead, and
+// duplicates are found with a set per open object and reported by their JSON pointer (nlohmann keeps the
+// last of duplicate keys silently, which would hide a copy-paste mistake: two "kd" in one material).
+class JsonBuilder {
  public:
-  explicit KeyTracker(const std::string& file) : file_(file) {}
+  using number_integer_t = Json::number_integer_t;
+  using number_unsigned_t = Json::number_unsigned_t;
+  using number_float_t = Json::number_float_t;
+  using string_t = Json::string_t;
+  using binary_t = Json::binary_t;
 
-  bool operator()(int depth, Json::parse_event_t event, Json& parsed) {
-    using E = Json::parse_event_t;
-    switch (event) {
-      case E::object_start:
-      case E::array_start:
-        beginValue();
-        if (depth >= kMaxJsonDepth)
-          throw SceneFileError{file_ + ": " + currentPath() + ": nesting deeper than " + std::to_string(kMaxJsonDepth) + " levels"};
-        frames_.push_back(Frame{event == E::array_start, 0, {}, {}});
-        break;
-      case E::key: {
-        Frame& f = frames_.back();
-        f.key = parsed.get<std::string>();
-        if (!f.keys.insert(f.key).second)
-          throw SceneFileError{file_ + ": " + currentPath() + ": duplicate key '" + f.key + "'"};
-        break;
-      }
-      case E::value:
-        beginValue();
-        break;
-      case E::object_end:
-      case E::array_end:
-        frames_.pop_back();
-        break;
+  explicit JsonBuilder(const std::string& file) : file_(file) {}
+
+  bool null() { return add(Json(nullptr)) != nullptr; }
+  bool boolean(bool v) { return add(Json(v)) != nullptr; }
+  bool number_integer(number_integer_t v) { return add(Json(v)) != nullptr; }
+  bool number_unsigned(number_unsigned_t v) { return add(Json(v)) != nullptr; }
+  bool number_float(number_float_t v, const string_t& literal) {
+    if (!std::isfinite(v)) {
+      overflow_ = literal;
+      return false;
     }
+    return add(Json(v)) != nullptr;
+  }
+  bool string(string_t& v) { return add(Json(std::move(v))) != nullptr; }
+  bool binary(binary_t&) { return false; }  // JSON text has no binary values
+  bool start_object(std::size_t) { return open(Json::object(), false); }
+  bool start_array(std::size_t) { return open(Json::array(), true); }
+  bool key(string_t& k) {
+    Frame& f = frames_.back();
+    f.key = k;
+    if (!f.keys.insert(k).second) throw SceneFileError{file_ + ": " + currentPath() + ": duplicate key '" + k + "'"};
     return true;
   }
+  bool end_object() {
+    frames_.pop_back();
+    return true;
+  }
+  bool end_array() {
+    frames_.pop_back();
+    return true;
+  }
+  bool parse_error(std::size_t byte, const std::string& lastToken, const nlohmann::detail::exception& e) {
+    if (e.id == 406) {  // a number literal beyond double range: reported at its start, not after it
+      overflow_ = lastToken;
+      return false;
+    }
+    errorByte_ = byte;
+    error_ = e.what();
+    return false;
+  }
+
+  Json root;
+  std::optional<std::string> overflow_;  // a number literal that overflows a double
+  std::optional<std::string> error_;     // nlohmann's parse error
+  std::size_t errorByte_ = 0;
 
  private:
   struct Frame {
+    Json* value;
     bool array;
-    std::size_t count;  // elements begun so far (arrays)
-    std::string key;    // the current key (objects)
+    std::size_t count = 0;  // elements so far (arrays)
+    std::string key;        // the current key (objects)
     std::set<std::string> keys;
   };
-  void beginValue() {
-    if (!frames_.empty() && frames_.back().array) ++frames_.back().count;
+
+  Json* add(Json v) {
+    if (frames_.empty()) {
+      root = std::move(v);
+      return &root;
+    }
+    Frame& f = frames_.back();
+    if (f.array) {
+      ++f.count;
+      f.value->push_back(std::move(v));
+      return &f.value->back();
+    }
+    // Appended to the ordered map's vector directly: the key is known to be new (checked in key()).
+    auto& members = static_cast<Json::object_t::Container&>(f.value->get_ref<Json::object_t&>());
+    members.emplace_back(f.key, std::move(v));
+    return &members.back().second;
+  }
+  bool open(Json v, bool array) {
+    if (frames_.size() >= std::size_t(kMaxJsonDepth)) {
+      // The path of the container being opened, for the message.
+      if (!frames_.empty() && frames_.back().array) ++frames_.back().count;
+      throw SceneFileError{file_ + ": " + currentPath() + ": nesting deeper than " + std::to_string(kMaxJsonDepth) + " levels"};
+    }
+    Json* j = add(std::move(v));
+    frames_.push_back(Frame{j, array, 0, {}, {}});
+    return true;
   }
   std::string currentPath() const {
     std::string p;
     for (const Frame& f : frames_) p = f.array ? child(p, f.count - 1) : child(p, f.key);
     return p.empty() ? "/" : p;
   }
+
   std::string file_;
   std::vector<Frame> frames_;
 };
 
 Json parseText(std::string_view text, const std::string& file) {
-  KeyTracker tracker(file);
-  try {
-    return Json::parse(text.begin(), text.end(), std::ref(tracker), /*allow_exceptions=*/true,
-                       /*ignore_comments=*/true);
-  } catch (const Json::parse_error& e) {
-    auto [line, column] = lineColumn(text, e.byte == 0 ? 0 : e.byte - 1);
+  JsonBuilder builder(file);
+  Json::sax_parse(text.begin(), text.end(), &builder, nlohmann::detail::input_format_t::json, /*strict=*/true,
+                  /*ignore_comments=*/true);
+  if (builder.error_) {
+    auto [line, column] = lineColumn(text, builder.errorByte_ == 0 ? 0 : builder.errorByte_ - 1);
     // nlohmann's text is "[json.exception.parse_error.101] parse error at line L, column C: reason";
     // keep the reason, and give the position in the same form as the rest of our messages.
-    std::string what = e.what();
+    const std::string& what = *builder.error_;
     std::size_t colon = what.find(": ");
     std::string reason = colon == std::string::npos ? what : what.substr(colon + 2);
     throw SceneFileError{file + ": line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + reason};
-  } catch (const Json::out_of_range& e) {
-    // Number overflow (1e400): nlohmann gives no position, so find the literal in the text.
-    std::string what = e.what();
-    std::string where;
-    std::size_t q1 = what.find('\''), q2 = what.rfind('\'');
-    if (q1 != std::string::npos && q2 > q1 + 1) {
-      std::size_t at = text.find(what.substr(q1 + 1, q2 - q1 - 1));
-      if (at != std::string_view::npos) {
-        auto [line, column] = lineColumn(text, at);
-        where = "line " + std::to_string(line) + ", column " + std::to_string(column) + ": ";
-      }
-    }
-    std::size_t bracket = what.find("] ");
-    throw SceneFileError{file + ": " + where + (bracket == std::string::npos ? what : what.substr(bracket + 2)) +
-                         " (not representable as a number)"};
   }
+  if (builder.overflow_) {
+    // The SAX interface gives no position for a value, so find the literal in the text.
+    std::string where;
+    std::size_t at = builder.overflow_->empty() ? std::string_view::npos : text.find(*builder.overflow_);
+    if (at != std::string_view::npos) {
+      auto [line, column] = lineColumn(text, at);
+      where = "line " + std::to_string(line) + ", column " + std::to_string(column) + ": ";
+    }
+    throw SceneFileError{file + ": " + where + "number overflow parsing '" + *builder.overflow_ +
+                         "' (not representable as a number)"};
+  }
+  return std::move(builder.root);
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -348,9 +399,23 @@ void appendTransformed(Mesh& dst, const Mesh& src, const glm::mat4& m, const Mer
 // ---------------------------------------------------------------------------------------------------
 // The builder: JSON → Scene.
 
+// A glTF file loaded for this scene, and where its data went the first time it was placed: every placement
+// of one file shares its meshes, textures and material copies, so placing a file N times costs N instances,
+// not N copies of the file.
+struct Placed {
+  Scene scene;
+  bool placed = false;
+  std::uint32_t meshBase = 0;
+  int textureBase = 0;
+  std::vector<std::int64_t> materialCopy;  // glTF material → this scene's copy, −1 until one is needed
+};
+
 class Builder {
  public:
-  Builder(Reader reader, std::optional<std::string> baseDir) : r_(std::move(reader)), baseDir_(std::move(baseDir)) {}
+  Builder(Reader reader, std::optional<std::string> baseDir, std::size_t textBytes)
+      : r_(std::move(reader)), baseDir_(std::move(baseDir)) {
+    budget_.addInput(textBytes);
+  }
 
   Scene build(const Json& root, const std::string& defaultName) {
     r_.object(root, "");
@@ -400,6 +465,7 @@ class Builder {
       if (const Json* v = Reader::find(j, "rings")) rings = r_.integer(*v, child(path, "rings"), 2, kMaxTessellation);
       // The two pole rows have one triangle per segment, the others two.
       checkPrimitiveTriangles(std::uint64_t(segments) * std::uint64_t(2 * rings - 2), path);
+      chargeMesh(path, std::uint64_t(segments + 1) * std::uint64_t(rings + 1), std::uint64_t(segments) * std::uint64_t(2 * rings));
       return makeSphere(radius, segments, rings);
     }
     if (type == "box") {
@@ -423,9 +489,21 @@ class Builder {
       }
       if (const Json* v = Reader::find(j, "divisions")) divisions = r_.integer(*v, child(path, "divisions"), 1, kMaxTessellation);
       checkPrimitiveTriangles(2ull * std::uint64_t(divisions) * std::uint64_t(divisions), path);
+      chargeMesh(path, std::uint64_t(divisions + 1) * std::uint64_t(divisions + 1), 2ull * std::uint64_t(divisions) * std::uint64_t(divisions));
       return makePlane(size, divisions);
     }
     r_.fail(child(path, "primitive"), "unknown primitive '" + type + "' (known: sphere, box, plane)");
+  }
+
+  // Everything the file makes is charged to the load's budget before it is made (LoadBudget.h): a few
+  // bytes of JSON can ask for millions of triangles, and a file placed many times for its copies.
+  void charge(const std::string& path, const std::string& what, std::uint64_t bytes) {
+    if (!budget_.charge(bytes)) r_.fail(path, budget_.refusal(what, bytes));
+  }
+  void chargeMesh(const std::string& path, std::uint64_t vertices, std::uint64_t triangles) {
+    // Positions, normals, uvs, tangents and colours at most, and three indices per triangle.
+    constexpr std::uint64_t kVertexBytes = 2 * sizeof(glm::vec3) + sizeof(glm::vec2) + 2 * sizeof(glm::vec4);
+    charge(path, "the mesh", vertices * kVertexBytes + triangles * 3 * sizeof(std::uint32_t));
   }
 
   void checkPrimitiveTriangles(std::uint64_t n, const std::string& path) const {
@@ -436,7 +514,7 @@ class Builder {
 
   Mesh gltfMesh(const Json& j, const std::string& path) {
     r_.checkKeys(j, path, {"gltf", "mesh"}, "a glTF mesh");
-    const Scene& g = loadGltfCached(j.at("gltf"), child(path, "gltf"));
+    const Scene& g = loadGltfCached(j.at("gltf"), child(path, "gltf")).scene;
     std::vector<std::pair<const Mesh*, glm::mat4>> parts;
     if (const Json* sel = Reader::find(j, "mesh")) {
       // One named (or numbered) mesh of the file, in its own object space.
@@ -473,6 +551,7 @@ class Builder {
     }
     if (vertices >= std::numeric_limits<std::uint32_t>::max() || triangles > kMaxSceneTriangles)
       r_.fail(path, "the merged glTF mesh is too large (" + std::to_string(triangles) + " triangles)");
+    chargeMesh(path, vertices, triangles);
     Mesh out;
     for (const auto& [m, xf] : parts) appendTransformed(out, *m, xf, keep);
     return out;
@@ -488,7 +567,7 @@ class Builder {
     return (fs::path(*baseDir_) / p).lexically_normal().string();
   }
 
-  const Scene& loadGltfCached(const Json& j, const std::string& path) {
+  Placed& loadGltfCached(const Json& j, const std::string& path) {
     const std::string file = resolve(j, path);
     auto it = gltfCache_.find(file);
     if (it != gltfCache_.end()) return it->second;
@@ -496,9 +575,13 @@ class Builder {
     // The scene file decides lights and camera; the glTF loader's stand-ins would only get in the way.
     options.addDefaultLights = false;
     options.addDefaultCamera = false;
-    Result<Scene> g = loadGltf(file, options);
+    Result<GltfAsset> g = loadGltfAsset(file, options);
     if (!g) r_.fail(path, "cannot load glTF '" + file + "': " + g.error().message);
-    return gltfCache_.emplace(file, std::move(*g)).first->second;
+    // The glTF file and what it read join this load's input; its own load kept to its own budget.
+    budget_.addInput(g->stats.inputBytes);
+    Placed placed;
+    placed.scene = std::move(g->scene);
+    return gltfCache_.emplace(file, std::move(placed)).first->second;
   }
 
   // ---- materials ----
@@ -702,6 +785,7 @@ class Builder {
     if (const Json* v = Reader::find(j, "transform")) inst.worldFromObject = transform(*v, child(path, "transform"));
     if (const Json* v = Reader::find(j, "dynamic")) inst.dynamic = r_.boolean(*v, child(path, "dynamic"));
     inst.name = name.empty() ? meshName : std::move(name);
+    charge(path, "the instance", sizeof(Instance) + inst.name.size());
     scene_.instances.push_back(std::move(inst));
   }
 
@@ -727,7 +811,8 @@ class Builder {
       if (s != "keep" && s != "drop") r_.fail(p, "expected 'keep' or 'drop', got '" + s + "'");
       keepLights = s == "keep";
     }
-    const Scene& g = loadGltfCached(j.at("gltf"), gltfPath);
+    Placed& placed = loadGltfCached(j.at("gltf"), gltfPath);
+    const Scene& g = placed.scene;
 
     // materialOverrides: glTF material name (or "*" for all) → material of this file.
     std::optional<std::uint32_t> overrideAll;
@@ -735,35 +820,47 @@ class Builder {
     if (const Json* v = Reader::find(j, "materialOverrides")) {
       const std::string p = child(path, "materialOverrides");
       r_.object(*v, p);
-      std::vector<std::string> known;
-      for (const Material& m : g.materials)
-        if (std::find(known.begin(), known.end(), m.name) == known.end()) known.push_back(m.name);
+      std::set<std::string> known;
+      for (const Material& m : g.materials) known.insert(m.name);
       for (const auto& [key, value] : v->items()) {
         const std::string kp = child(p, key);
         const std::uint32_t target = materialByName(value, kp);
         if (key == "*") {
           overrideAll = target;
         } else {
-          if (std::find(known.begin(), known.end(), key) == known.end())
-            r_.fail(kp, "no material named '" + key + "' in the glTF file (known: " + joinNames(known) + ")");
+          if (!known.count(key)) {
+            std::vector<std::string> names;
+            for (const Material& m : g.materials)
+              if (std::find(names.begin(), names.end(), m.name) == names.end()) names.push_back(m.name);
+            r_.fail(kp, "no material named '" + key + "' in the glTF file (known: " + joinNames(names) + ")");
+          }
           overrides[key] = target;
         }
       }
     }
 
-    const auto meshBase = static_cast<std::uint32_t>(scene_.meshes.size());
-    const int textureBase = static_cast<int>(scene_.textures.size());
     const std::string prefix = name + "/";
-    for (const Mesh& m : g.meshes) {
-      scene_.meshes.push_back(m);
-      scene_.meshes.back().name = prefix + m.name;
+    if (!placed.placed) {
+      // The file's meshes and textures join the scene once, named after its first placement.
+      std::uint64_t bytes = 0;
+      for (const Mesh& m : g.meshes) bytes += m.bytes() + prefix.size();
+      for (const Texture& t : g.textures) bytes += t.rgba8.size() + prefix.size();
+      charge(gltfPath, "the glTF file's meshes and textures", bytes);
+      placed.placed = true;
+      placed.meshBase = static_cast<std::uint32_t>(scene_.meshes.size());
+      placed.textureBase = static_cast<int>(scene_.textures.size());
+      placed.materialCopy.assign(g.materials.size(), -1);
+      for (const Mesh& m : g.meshes) {
+        scene_.meshes.push_back(m);
+        scene_.meshes.back().name = prefix + m.name;
+      }
+      for (const Texture& t : g.textures) {
+        scene_.textures.push_back(t);
+        scene_.textures.back().name = prefix + t.name;
+      }
     }
-    for (const Texture& t : g.textures) {
-      scene_.textures.push_back(t);
-      scene_.textures.back().name = prefix + t.name;
-    }
-    // Non-overridden materials are appended with their texture indices shifted; overridden ones map to
-    // the scene's material and are not copied.
+    // Overridden materials map to the scene's material; the others to one shared copy with the texture
+    // indices shifted, made when a placement first needs it.
     std::vector<std::uint32_t> materialMap(g.materials.size());
     for (std::size_t i = 0; i < g.materials.size(); ++i) {
       const Material& gm = g.materials[i];
@@ -773,21 +870,26 @@ class Builder {
       } else if (overrideAll) {
         materialMap[i] = *overrideAll;
       } else {
-        Material m = gm;
-        m.name = prefix + gm.name;
-        if (m.kdTexture >= 0) m.kdTexture += textureBase;
-        if (m.normalTexture >= 0) m.normalTexture += textureBase;
-        if (m.emissiveTexture >= 0) m.emissiveTexture += textureBase;
-        materialMap[i] = static_cast<std::uint32_t>(scene_.materials.size());
-        scene_.materials.push_back(std::move(m));
+        if (placed.materialCopy[i] < 0) {
+          charge(gltfPath, "a copy of the glTF file's material", sizeof(Material) + prefix.size() + gm.name.size());
+          Material m = gm;
+          m.name = prefix + gm.name;
+          if (m.kdTexture >= 0) m.kdTexture += placed.textureBase;
+          if (m.normalTexture >= 0) m.normalTexture += placed.textureBase;
+          if (m.emissiveTexture >= 0) m.emissiveTexture += placed.textureBase;
+          placed.materialCopy[i] = static_cast<std::int64_t>(scene_.materials.size());
+          scene_.materials.push_back(std::move(m));
+        }
+        materialMap[i] = static_cast<std::uint32_t>(placed.materialCopy[i]);
       }
     }
     for (const Instance& gi : g.instances) {
       if (gi.mesh >= g.meshes.size() || gi.material >= g.materials.size())
         r_.fail(gltfPath, "the glTF loader returned an instance with an out-of-range index");
+      charge(gltfPath, "the placement's instances", sizeof(Instance) + prefix.size() + gi.name.size());
       Instance inst = gi;
       inst.name = prefix + gi.name;
-      inst.mesh = meshBase + gi.mesh;
+      inst.mesh = placed.meshBase + gi.mesh;
       inst.material = materialMap[gi.material];
       inst.worldFromObject = xf * gi.worldFromObject;
       inst.dynamic = gi.dynamic || dynamic;
@@ -911,13 +1013,14 @@ class Builder {
   std::unordered_map<std::string, std::uint32_t> meshIndex_, materialIndex_;
   std::vector<std::string> meshNames_, materialNames_;  // in file order, for "known: ..." lists
   std::vector<std::string> lightSources_;               // JSON pointer each light came from
-  std::map<std::string, Scene> gltfCache_;              // one load per file, shared by meshes and placements
+  std::map<std::string, Placed> gltfCache_;             // one load per file, shared by meshes and placements
+  LoadBudget budget_{kBudgetBaseBytes, kBudgetBytesPerInputByte};
 };
 
 Result<Scene> parseImpl(std::string_view text, const std::string& name, std::optional<std::string> baseDir) {
   try {
     Json root = parseText(text, name);
-    Builder builder{Reader(name), std::move(baseDir)};
+    Builder builder{Reader(name), std::move(baseDir), text.size()};
     Scene scene = builder.build(root, fs::path(name).stem().string());
     // The builder checks everything it reads; validateScene is the contract the Renderer relies on,
     // so it is the last word (it also covers what glTF placements bring in).
