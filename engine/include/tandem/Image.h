@@ -28,7 +28,13 @@ struct ImageF {
 };
 
 Result<void> writePng(const std::string& path, const Image& image);
-/// Reads a PNG (or any 8-bit image stb_image decodes) from a trusted path, such as a golden image.
-Result<Image> readPng(const std::string& path);
+/// Files larger than this are refused by readPng before reading.
+constexpr std::uint64_t kMaxImageFileBytes = 256ull << 20;
+/// Reads a PNG (or any 8-bit image stb_image decodes: JPEG, BMP, TGA...). The file may be hostile: its size,
+/// its declared dimensions (at most maxPixels) and the decoder's memory (imageDecodeBytes) are bounded, so
+/// peak memory is at most the file plus 16 bytes per declared pixel plus 1 MiB (docs/scene-format.md).
+Result<Image> readPng(const std::string& path, std::uint64_t maxPixels = 16384ull * 16384ull);
+/// The memory cap for decoding an image of `pixels` declared pixels from `encodedBytes` bytes.
+std::uint64_t imageDecodeBytes(std::uint64_t pixels, std::uint64_t encodedBytes);
 
 }  // namespace tandem

@@ -1,11 +1,20 @@
 #include "tandem/Image.h"
 
 #include <cstring>
+#include <filesystem>
 
 #include <stb_image.h>
 #include <stb_image_write.h>
 
+#include "core/StbGuard.h"
+
 namespace tandem {
+
+std::uint64_t imageDecodeBytes(std::uint64_t pixels, std::uint64_t encodedBytes) {
+  // The RGBA8 result (4/pixel), PNG's inflated rows (up to 8/pixel for 16-bit RGBA, plus a filter byte per
+  // row) or a progressive JPEG's coefficients (6/pixel), the encoded bytes, and 1 MiB of tables.
+  return 16 * pixels + encodedBytes + (1u << 20);
+}
 
 glm::u8vec4 Image::at(int x, int y) const {
   const std::uint8_t* p = &rgba[(static_cast<std::size_t>(y) * width + x) * 4];
@@ -28,10 +37,29 @@ Result<void> writePng(const std::string& path, const Image& image) {
   return {};
 }
 
-Result<Image> readPng(const std::string& path) {
+Result<Image> readPng(const std::string& path, std::uint64_t maxPixels) {
+  // Untrusted files: the size and the declared dimensions are checked before anything is decoded, and the
+  // decoder's memory is capped (a zlib stream can inflate far past its rows).
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return Error{"cannot read " + path + ": not a regular file"};
+  const std::uintmax_t fileBytes = std::filesystem::file_size(path, ec);
+  if (ec) return Error{"cannot read " + path + ": " + ec.message()};
+  if (fileBytes > kMaxImageFileBytes)
+    return Error{"cannot read " + path + ": " + std::to_string(fileBytes) + " bytes, more than the limit of " +
+                 std::to_string(kMaxImageFileBytes)};
   int w = 0, h = 0, n = 0;
+  if (!stbi_info(path.c_str(), &w, &h, &n))
+    return Error{"cannot read " + path + ": " + (stbi_failure_reason() ? stbi_failure_reason() : "unknown")};
+  const std::uint64_t pixels = std::uint64_t(w) * std::uint64_t(h);
+  if (w <= 0 || h <= 0 || pixels > maxPixels)
+    return Error{"cannot read " + path + ": " + std::to_string(w) + "x" + std::to_string(h) +
+                 " pixels, more than the limit of " + std::to_string(maxPixels)};
+  StbMemoryCap cap(imageDecodeBytes(pixels, fileBytes));
   stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 4);
-  if (!data) return Error{"cannot read " + path + ": " + (stbi_failure_reason() ? stbi_failure_reason() : "unknown")};
+  if (!data)
+    return Error{"cannot read " + path + ": " +
+                 (cap.refused() ? std::string("decoding needs more memory than the image's size allows")
+                                : std::string(stbi_failure_reason() ? stbi_failure_reason() : "unknown"))};
   Image img;
   img.width = w;
   img.height = h;
