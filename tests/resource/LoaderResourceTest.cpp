@@ -17,7 +17,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "resource/AdversarialFiles.h"
+#include "support/AdversarialFiles.h"
 #include "support/TestSupport.h"
 #include "tandem/Gltf.h"
 

@@ -1,4 +1,4 @@
-#include "resource/AdversarialFiles.h"
+#include "support/AdversarialFiles.h"
 
 #include <array>
 #include <cstring>
