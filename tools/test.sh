@@ -5,6 +5,7 @@
 #   tools/test.sh --asan          the suite under AddressSanitizer + UBSan, built with clang (build-asan), with
 #                                 the libFuzzer smoke run of the glTF loader
 #   tools/test.sh --tsan          the ray pass (rt + numerics tests) under ThreadSanitizer (build-tsan)
+#   tools/test.sh --fuzz          the timed fuzz runs of the glTF and scene-file harnesses (build-asan, label fuzz)
 # Other arguments go to ctest (e.g. -R Scene, -L rt).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -18,14 +19,15 @@ for a in "$@"; do
     --all) mode=all ;;
     --asan) mode=asan ;;
     --tsan) mode=tsan ;;
+    --fuzz) mode=fuzz ;;
     *) args+=("$a") ;;
   esac
 done
 
 jobs="$(nproc 2>/dev/null || echo 2)"
 case "$mode" in
-  asan)
-    # clang so the same tree also builds the libFuzzer target (gcc has no libFuzzer).
+  asan|fuzz)
+    # clang so the same tree also builds the libFuzzer targets (gcc has no libFuzzer).
     cmake -S "$root" -B "$root/build-asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTANDEM_SANITIZE=address,undefined \
       -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 -DTANDEM_BUILD_FUZZ=ON \
       -DTANDEM_BUILD_BENCH=OFF -DTANDEM_BUILD_SAMPLES=OFF >/dev/null
@@ -37,7 +39,11 @@ case "$mode" in
     # pointing at its allocations and LSan calls them leaks, with frames it can no longer name. Keeping the
     # driver mapped (preloaded) makes those allocations reachable again, as they really are.
     dri="$(ls /usr/lib/*/dri/swrast_dri.so 2>/dev/null | head -n 1 || true)"
-    cd "$root/build-asan" && LD_PRELOAD="${dri}" ctest --output-on-failure -LE long "${args[@]}"
+    if [ "$mode" = fuzz ]; then
+      cd "$root/build-asan" && ctest --output-on-failure -L '^fuzz$' "${args[@]}"
+    else
+      cd "$root/build-asan" && LD_PRELOAD="${dri}" ctest --output-on-failure -LE '^(long|fuzz)$' "${args[@]}"
+    fi
     ;;
   tsan)
     cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTANDEM_SANITIZE=thread \

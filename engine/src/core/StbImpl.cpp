@@ -73,7 +73,6 @@ static void tandemStbFree(void* p) { tandem::StbAllocator::release(p); }
 // The allocator macros are ours, so stb's casts around them count as our code: silence what it does.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wold-style-cast"
-#pragma GCC diagnostic ignored "-Wuseless-cast"
 #include <stb_image.h>
 #include <stb_image_write.h>
 #pragma GCC diagnostic pop
