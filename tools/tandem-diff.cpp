@@ -53,11 +53,13 @@ int main(int argc, char** argv) {
   double ppd = tandem::kFlipDefaultPixelsPerDegree;
   app.add_option("A", pathA, "test image (PNG)")->required();
   app.add_option("B", pathB, "reference image (PNG)")->required();
-  app.add_option("--heatmap", heatmapPath, "write the per-pixel FLIP map as a magma heat map PNG");
+  app.add_option("--heatmap", heatmapPath, "write the per-pixel FLIP map as a magma heat map (.png, .jpg or .jpeg)");
   app.add_flag("--json", json, "print the numbers as one JSON object");
   app.add_option("--ppd", ppd, "FLIP observer, pixels per degree (default 67: 0.7 m wide 4K monitor at 0.7 m)")
       ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
+  if (!heatmapPath.empty())
+    if (auto format = tandem::imageFormatForPath(heatmapPath); !format) return fail("--heatmap: " + format.error().message);
 
   tandem::Result<tandem::Image> a = tandem::readPng(pathA);
   if (!a) return fail(a.error().message);
@@ -76,7 +78,7 @@ int main(int argc, char** argv) {
   if (!f) return fail(f.error().message);
 
   if (!heatmapPath.empty()) {
-    if (auto w = tandem::writePng(heatmapPath, tandem::heatmap(*f)); !w) return fail(w.error().message);
+    if (auto w = tandem::writeImage(heatmapPath, tandem::heatmap(*f)); !w) return fail(w.error().message);
   }
 
   if (json) {

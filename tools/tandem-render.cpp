@@ -1,4 +1,4 @@
-// tandem-render: renders a scene headless to a PNG and prints the per-stage times (median over frames).
+// tandem-render: renders a scene headless to a PNG or JPEG and prints the per-stage times (median over frames).
 //   tandem-render [SCENE] -o OUT.png [--size WxH] [--preset NAME] [--shading MODEL] [--frames N] [--stats OUT.json]
 // SCENE is a JSON scene file, a .gltf/.glb, or omitted for the embedded Whitted scene.
 // Exit 0 on success; non-zero with a one-line error on any bad input.
@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   cli::FrameOptions frameOptions;
   app.add_option("scene", scenePath, "Scene: .json, .gltf or .glb (default: the embedded Whitted scene)");
-  app.add_option("-o,--output", outPath, "Output PNG");
+  app.add_option("-o,--output", outPath, "Output image: .png, or .jpg / .jpeg for JPEG")->capture_default_str();
   app.add_option("--frames", frames, "Frames to render; times are medians over them (>= 1)")->check(CLI::Range(1, 100000));
   app.add_option("--stats", statsPath, "Write the per-stage medians and ray counts as JSON");
   app.add_option("--threads", threads, "Ray-pass threads (0 = all)")->check(CLI::Range(0, 1024));
@@ -63,6 +63,8 @@ int main(int argc, char** argv) {
     if (e.get_exit_code() == 0) return app.exit(e);
     return fail(e.what());
   }
+  // Refused before the scene loads and renders: a long render should not end in "unsupported extension".
+  if (auto format = imageFormatForPath(outPath); !format) return fail("-o: " + format.error().message);
 
   Result<Scene> scene = loadAnyScene(scenePath);
   if (!scene) return fail(scene.error().message);
@@ -99,7 +101,7 @@ int main(int argc, char** argv) {
   std::vector<FrameStats> stats;
   for (int i = 0; i < frames; ++i) stats.push_back((*renderer)->render(camera, *settings));
   Image image = (*renderer)->readImage();
-  if (auto r = writePng(outPath, image); !r) return fail(r.error().message);
+  if (auto r = writeImage(outPath, image); !r) return fail(r.error().message);
 
   const FrameStats& last = stats.back();
   std::printf("tandem-render: %s, %dx%d, %d frame(s), ray pass %dx%d on %d thread(s)\n", sceneName.c_str(),

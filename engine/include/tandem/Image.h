@@ -27,6 +27,17 @@ struct ImageF {
   const glm::vec3& at(int x, int y) const { return rgb[static_cast<std::size_t>(y) * width + x]; }
 };
 
+/// Image file formats the writers produce.
+enum class ImageFormat : std::uint8_t { Png, Jpeg };
+
+/// The format a file name asks for, by its extension in any case: .png → PNG, .jpg / .jpeg → JPEG.
+/// Any other extension (or none) is an error naming the path, so a caller can refuse an output name
+/// before spending time on the image, instead of writing bytes its extension misdescribes.
+Result<ImageFormat> imageFormatForPath(const std::string& path);
+/// Writes `image` in the format its path's extension names (imageFormatForPath). JPEG has no alpha
+/// channel (it is dropped) and is written at quality 95.
+Result<void> writeImage(const std::string& path, const Image& image);
+/// Writes PNG bytes whatever the extension (for callers that choose their own names, e.g. goldens).
 Result<void> writePng(const std::string& path, const Image& image);
 /// Files larger than this are refused by readPng before reading.
 constexpr std::uint64_t kMaxImageFileBytes = 256ull << 20;

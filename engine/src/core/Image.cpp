@@ -1,5 +1,6 @@
 #include "tandem/Image.h"
 
+#include <cctype>
 #include <cstring>
 #include <filesystem>
 
@@ -29,9 +30,40 @@ void Image::set(int x, int y, glm::u8vec4 c) {
   p[3] = c.a;
 }
 
-Result<void> writePng(const std::string& path, const Image& image) {
+namespace {
+
+Result<void> checkWritable(const std::string& path, const Image& image) {
   if (image.width <= 0 || image.height <= 0 || image.rgba.size() != std::size_t(image.width) * image.height * 4)
     return Error{"cannot write " + path + ": the image is empty or its size does not match its pixels"};
+  return {};
+}
+
+// Quality 95: visually lossless for renders, which are mostly smooth gradients and hard edges.
+constexpr int kJpegQuality = 95;
+
+}  // namespace
+
+Result<ImageFormat> imageFormatForPath(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".png") return ImageFormat::Png;
+  if (ext == ".jpg" || ext == ".jpeg") return ImageFormat::Jpeg;
+  return Error{path + ": " + (ext.empty() ? std::string("no file extension") : "unsupported extension '" + ext + "'") +
+               " (expected .png, .jpg or .jpeg)"};
+}
+
+Result<void> writeImage(const std::string& path, const Image& image) {
+  auto format = imageFormatForPath(path);
+  if (!format) return Error{"cannot write " + format.error().message};
+  if (*format == ImageFormat::Png) return writePng(path, image);
+  if (auto r = checkWritable(path, image); !r) return r;
+  if (!stbi_write_jpg(path.c_str(), image.width, image.height, 4, image.rgba.data(), kJpegQuality))
+    return Error{"cannot write " + path + ": the file could not be created or written"};
+  return {};
+}
+
+Result<void> writePng(const std::string& path, const Image& image) {
+  if (auto r = checkWritable(path, image); !r) return r;
   if (!stbi_write_png(path.c_str(), image.width, image.height, 4, image.rgba.data(), image.width * 4))
     return Error{"cannot write " + path + ": the file could not be created or written"};
   return {};
