@@ -65,6 +65,12 @@ int main(int argc, char** argv) {
   }
   // Refused before the scene loads and renders: a long render should not end in "unsupported extension".
   if (auto format = imageFormatForPath(outPath); !format) return fail("-o: " + format.error().message);
+  ContextDesc desc;
+  if (contextName == "headless") desc.kind = ContextKind::Headless;
+  else if (contextName == "egl-device") desc.kind = ContextKind::EglDevice;
+  else if (contextName == "surfaceless") desc.kind = ContextKind::EglSurfaceless;
+  else if (contextName == "osmesa") desc.kind = ContextKind::OSMesa;
+  else return fail("--context: expected headless, egl-device, surfaceless or osmesa, got '" + contextName + "'");
 
   Result<Scene> scene = loadAnyScene(scenePath);
   if (!scene) return fail(scene.error().message);
@@ -81,12 +87,6 @@ int main(int argc, char** argv) {
   Result<FrameSettings> settings = cli::resolveFrameOptions(frameOptions, base);
   if (!settings) return fail(settings.error().message);
 
-  ContextDesc desc;
-  if (contextName == "headless") desc.kind = ContextKind::Headless;
-  else if (contextName == "egl-device") desc.kind = ContextKind::EglDevice;
-  else if (contextName == "surfaceless") desc.kind = ContextKind::EglSurfaceless;
-  else if (contextName == "osmesa") desc.kind = ContextKind::OSMesa;
-  else return fail("--context: expected headless, egl-device, surfaceless or osmesa");
   auto context = createGlContext(desc);
   if (!context) return fail(context.error().message);
 

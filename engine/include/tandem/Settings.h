@@ -57,7 +57,9 @@ std::vector<std::string> presetNames();
 std::optional<EffectMode> parseEffectMode(std::string_view s);  // off | raster | ray
 std::optional<ShadingModel> parseShadingModel(std::string_view s);  // flat | gouraud | phong | toon
 std::optional<DebugView> parseDebugView(std::string_view s);
+std::optional<ToneMap> parseToneMap(std::string_view s);  // none | reinhard | aces
 std::string_view toString(EffectMode m);
+std::string_view toString(ToneMap m);
 std::string_view toString(ShadingModel m);
 std::string_view toString(DebugView v);
 

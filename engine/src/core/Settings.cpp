@@ -67,6 +67,22 @@ std::optional<ShadingModel> parseShadingModel(std::string_view s) {
   return std::nullopt;
 }
 
+std::optional<ToneMap> parseToneMap(std::string_view s) {
+  if (s == "none") return ToneMap::None;
+  if (s == "reinhard") return ToneMap::Reinhard;
+  if (s == "aces") return ToneMap::Aces;
+  return std::nullopt;
+}
+
+std::string_view toString(ToneMap m) {
+  switch (m) {
+    case ToneMap::None: return "none";
+    case ToneMap::Reinhard: return "reinhard";
+    case ToneMap::Aces: return "aces";
+  }
+  return "?";
+}
+
 namespace {
 constexpr std::string_view kDebugNames[] = {"final",    "depth",      "instance",   "primitive",
                                             "normal",   "light-mask", "reflection", "transmission"};

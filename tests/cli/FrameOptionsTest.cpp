@@ -1,0 +1,118 @@
+// tandem-render's frame options, parsed from argument lists as the command line gives them: every value
+// out of range, and every flag the chosen mode would ignore, is an error naming the flag (values a
+// sentinel used to mistake for "not given", such as --depth -1, included).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+#include "CliCommon.h"
+
+namespace tandem::cli {
+namespace {
+
+Result<FrameSettings> resolveArgs(std::initializer_list<std::string> args, FrameSettings base = {}) {
+  CLI::App app;
+  FrameOptions o;
+  addFrameOptions(app, o);
+  std::vector<std::string> reversed(args.begin(), args.end());  // CLI11 takes them last first
+  std::reverse(reversed.begin(), reversed.end());
+  try {
+    app.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    return Error{std::string("parse: ") + e.what()};
+  }
+  return resolveFrameOptions(o, base);
+}
+
+/// The error for `args`, or a failure naming the settings they were wrongly accepted as.
+std::string errorOf(std::initializer_list<std::string> args) {
+  auto r = resolveArgs(args);
+  if (r) {
+    ADD_FAILURE() << "accepted: depth " << r->maxDepth << ", scale " << r->rayScale << ", spp " << r->referenceSpp
+                  << ", exposure " << r->exposure;
+    return {};
+  }
+  EXPECT_EQ(r.error().message.find('\n'), std::string::npos) << "not one line: " << r.error().message;
+  return r.error().message;
+}
+
+bool startsWith(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
+
+TEST(FrameOptions, OutOfRangeValuesAreErrorsNamingTheFlagAndValue) {
+  struct Case {
+    std::initializer_list<std::string> args;
+    std::string expected;  // the message's start
+  };
+  const Case cases[] = {
+      {{"--depth", "-1"}, "--depth: must be 0..64, got -1"},
+      {{"--depth", "65"}, "--depth: must be 0..64, got 65"},
+      {{"--scale", "0"}, "--scale: must be 1, 2 or 4, got 0"},
+      {{"--scale", "3"}, "--scale: must be 1, 2 or 4, got 3"},
+      {{"--preset", "reference", "--spp", "0"}, "--spp: must be 1..64, got 0"},
+      {{"--preset", "reference", "--spp", "65"}, "--spp: must be 1..64, got 65"},
+      {{"--exposure", "0"}, "--exposure: must be a finite number > 0, got 0"},
+      {{"--exposure", "-2"}, "--exposure: must be a finite number > 0, got -2"},
+      {{"--exposure", "inf"}, "--exposure: must be a finite number > 0, got inf"},
+      {{"--exposure", "nan"}, "--exposure: must be a finite number > 0"},
+      {{"--size", "0x0"}, "--size: expected WxH"},
+      {{"--preset", ""}, "--preset: unknown preset ''"},
+      {{"--shadows", ""}, "--shadows: expected off, raster or ray, got ''"},
+      {{"--tonemap", "filmic"}, "--tonemap: expected none, reinhard or aces, got 'filmic'"},
+      {{"--debug-view", "albedo"}, "--debug-view: unknown view 'albedo'"},
+  };
+  for (const Case& c : cases) {
+    std::string message = errorOf(c.args);
+    EXPECT_TRUE(startsWith(message, c.expected)) << "got: " << message << "\nexpected: " << c.expected << "...";
+  }
+}
+
+TEST(FrameOptions, UnparsableNumbersAreParseErrorsNamingTheFlag) {
+  for (auto args : {std::initializer_list<std::string>{"--depth", "abc"}, {"--spp", "1.5"}, {"--exposure", "x"}}) {
+    std::string message = errorOf(args);
+    EXPECT_NE(message.find(*args.begin()), std::string::npos) << message;
+  }
+}
+
+TEST(FrameOptions, SppWithoutTheReferencePresetIsAnError) {
+  // It used to be accepted and ignored: only the reference frame takes several samples per pixel.
+  for (auto preset : {"raster", "hybrid-fast", "hybrid-full"})
+    EXPECT_TRUE(startsWith(errorOf({"--preset", preset, "--spp", "4"}), "--spp: only the reference preset")) << preset;
+  auto ok = resolveArgs({"--preset", "reference", "--spp", "4"});
+  ASSERT_TRUE(ok) << ok.error().message;
+  EXPECT_EQ(ok->referenceSpp, 4);
+  // A base that is already a reference frame (a scene's render.preset) takes --spp without --preset.
+  auto fromBase = resolveArgs({"--spp", "3"}, *presetSettings("reference"));
+  ASSERT_TRUE(fromBase) << fromBase.error().message;
+  EXPECT_EQ(fromBase->referenceSpp, 3);
+}
+
+TEST(FrameOptions, ScaleWithTheReferencePresetIsAnError) {
+  EXPECT_TRUE(startsWith(errorOf({"--preset", "reference", "--scale", "2"}), "--scale: the reference preset"));
+  auto ok = resolveArgs({"--preset", "hybrid-full", "--scale", "4"});
+  ASSERT_TRUE(ok) << ok.error().message;
+  EXPECT_EQ(ok->rayScale, 4);
+}
+
+TEST(FrameOptions, ValidValuesAtTheEdgesAreTaken) {
+  auto r = resolveArgs({"--preset", "reference", "--depth", "0", "--spp", "64", "--exposure", "0.125", "--tonemap",
+                        "none", "--size", "3x2", "--shadows", "off", "--schlick", "--classic-whitted"});
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->maxDepth, 0);
+  EXPECT_EQ(r->referenceSpp, 64);
+  EXPECT_FLOAT_EQ(r->exposure, 0.125f);
+  EXPECT_EQ(r->toneMap, ToneMap::None);
+  EXPECT_EQ(r->width, 3);
+  EXPECT_EQ(r->height, 2);
+  EXPECT_EQ(r->shadows, EffectMode::Off);
+  EXPECT_EQ(r->fresnel, FresnelMode::Schlick);
+  EXPECT_FALSE(r->fresnelWeighted);
+  auto deep = resolveArgs({"--depth", "64"});
+  ASSERT_TRUE(deep) << deep.error().message;
+  EXPECT_EQ(deep->maxDepth, 64);
+}
+
+}  // namespace
+}  // namespace tandem::cli

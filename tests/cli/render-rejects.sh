@@ -1,0 +1,55 @@
+#!/bin/sh
+# tandem-render RENDER OUTDIR: every invalid value (including those that used to render with exit 0:
+# --depth -1, --spp 0, --scale 0, --exposure 0 and inf, --spp without the reference preset) exits
+# non-zero before rendering, with exactly one line on stderr naming the flag and nothing on stdout.
+set -u
+render="$1"
+out="$2"
+status=0
+check() {  # FLAG ARGS...: ARGS must be refused with a message naming FLAG
+  flag="$1"
+  shift
+  rm -f "$out/cli-reject.png"
+  if "$render" --size 32x18 -o "$out/cli-reject.png" "$@" >"$out/cli-reject.out" 2>"$out/cli-reject.err"; then
+    echo "accepted with exit 0: $*"
+    status=1
+    return
+  fi
+  lines=$(wc -l <"$out/cli-reject.err")
+  if [ "$lines" -ne 1 ]; then
+    echo "$lines lines on stderr for: $*"
+    cat "$out/cli-reject.err"
+    status=1
+  fi
+  if ! grep -q -- "^tandem-render: .*$flag" "$out/cli-reject.err"; then
+    echo "error does not name $flag for: $*: $(cat "$out/cli-reject.err")"
+    status=1
+  fi
+  if [ -s "$out/cli-reject.out" ] || [ -e "$out/cli-reject.png" ]; then
+    echo "rendered or printed a summary for: $*"
+    status=1
+  fi
+}
+check --depth --depth -1
+check --depth --depth 65
+check --depth --depth abc
+check --spp --preset reference --spp 0
+check --spp --preset reference --spp 65
+check --spp --spp 4
+check --spp --preset hybrid-fast --spp 2
+check --scale --scale 0
+check --scale --scale 3
+check --scale --preset reference --scale 2
+check --exposure --exposure 0
+check --exposure --exposure -1
+check --exposure --exposure inf
+check --exposure --exposure nan
+check --size --size 0x0
+check --preset --preset fast
+check --shadows --shadows on
+check --tonemap --tonemap filmic
+check --frames --frames 0
+check --threads --threads -1
+check --context --context x11
+check -o -o "$out/cli-reject.tga"
+exit $status
