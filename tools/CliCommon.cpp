@@ -7,7 +7,7 @@ namespace tandem::cli {
 
 namespace {
 
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
+std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
 
 std::string number(double v) {
   char buf[32];
@@ -18,27 +18,46 @@ std::string number(double v) {
 }  // namespace
 
 void addFrameOptions(CLI::App& app, FrameOptions& o) {
-  app.add_option("--size", o.size, "Frame size WxH (default: the scene's, else 1280x720)");
-  app.add_option("--preset", o.preset, "raster | hybrid-fast | hybrid-full | reference");
-  app.add_option("--shading", o.shading, "Override every material's model: flat | gouraud | phong | toon");
-  app.add_option("--shadows", o.shadows, "off | raster | ray");
-  app.add_option("--reflections", o.reflections, "off | raster | ray");
-  app.add_option("--refraction", o.refraction, "off | raster | ray");
-  app.add_option("--depth", o.depth, "Maximum reflection/refraction depth, 0..64");
-  app.add_option("--scale", o.scale, "Ray-pass resolution divisor: 1, 2 or 4 (not with the reference preset)");
-  app.add_option("--spp", o.spp, "Reference preset only: N×N jittered samples per pixel, 1..64");
+  // Defaults in the help come from the code (FrameSettings{}, presetSettings), so they cannot go stale.
+  const FrameSettings d;
+  const std::string preset = std::string(" (default: the scene's render.preset, else ") + kDefaultPreset + ")";
+  app.add_option("--size", o.size, "Frame size WxH (default: the scene's render width and height, else " +
+                                       std::to_string(d.width) + "x" + std::to_string(d.height) + ")");
+  app.add_option("--preset", o.preset, "raster | hybrid-fast | hybrid-full | reference" + preset);
+  app.add_option("--shading", o.shading,
+                 "Override every material's model: flat | gouraud | phong | toon (default: each material's own)");
+  app.add_option("--shadows", o.shadows, "off | raster | ray (default: the preset's)");
+  app.add_option("--reflections", o.reflections, "off | raster | ray (default: the preset's)");
+  app.add_option("--refraction", o.refraction, "off | raster | ray (default: the preset's)");
+  app.add_option("--depth", o.depth,
+                 "Maximum reflection/refraction depth, 0..64 (default: the scene's render.maxDepth, else the preset's)");
+  app.add_option("--scale", o.scale,
+                 "Ray-pass resolution divisor: 1, 2 or 4, not with the reference preset (default: the preset's)");
+  app.add_option("--spp", o.spp,
+                 "Reference preset only: N×N jittered samples per pixel, 1..64 (default " +
+                     std::to_string(d.referenceSpp) + ")");
   app.add_option("--debug-view", o.debugView,
-                 "final | depth | instance | primitive | normal | light-mask | reflection | transmission");
-  app.add_option("--tonemap", o.toneMap, "none | reinhard | aces");
-  app.add_option("--exposure", o.exposure, "Linear exposure multiplier (finite, > 0)");
-  app.add_flag("--classic-whitted", o.classicWhitted, "I = local + kr·S + kt·T instead of the Fresnel-weighted sum");
-  app.add_flag("--schlick", o.schlick, "Schlick's Fresnel approximation instead of the exact dielectric form");
+                 "final | depth | instance | primitive | normal | light-mask | reflection | transmission (default " +
+                     std::string(toString(d.debugView)) + ")");
+  app.add_option("--tonemap", o.toneMap, "none | reinhard | aces (default " + std::string(toString(d.toneMap)) + ")");
+  app.add_option("--exposure", o.exposure, "Linear exposure multiplier, finite and > 0 (default " + number(d.exposure) + ")");
+  app.add_flag("--classic-whitted", o.classicWhitted,
+               "I = local + kr·S + kt·T (default: the Fresnel-weighted sum, docs/shading.md)");
+  app.add_flag("--schlick", o.schlick, "Schlick's Fresnel approximation (default: the exact dielectric form)");
+  std::string footer = "Presets (--preset sets these; each flag above then overrides its own):\n";
+  for (const std::string& name : presetNames()) {
+    char line[160];
+    std::snprintf(line, sizeof line, "  %-12s %s%s\n", name.c_str(), describeSettings(*presetSettings(name)).c_str(),
+                  name == kDefaultPreset ? "   <- the default" : "");
+    footer += line;
+  }
+  app.footer(footer);
 }
 
 Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s) {
   if (o.preset) {
     auto p = presetSettings(*o.preset, s);
-    if (!p) return Error{"--preset: unknown preset " + quoted(*o.preset) + " (raster, hybrid-fast, hybrid-full, reference)"};
+    if (!p) return Error{"--preset: unknown preset " + inQuotes(*o.preset) + " (raster, hybrid-fast, hybrid-full, reference)"};
     s = *p;
   }
   if (o.size) {
@@ -46,19 +65,19 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
     char x = 0, extra = 0;
     if (std::sscanf(o.size->c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 ||
         h < 1 || w > 16384 || h > 16384)
-      return Error{"--size: expected WxH with 1 <= W, H <= 16384, got " + quoted(*o.size)};
+      return Error{"--size: expected WxH with 1 <= W, H <= 16384, got " + inQuotes(*o.size)};
     s.width = w;
     s.height = h;
   }
   if (o.shading) {
     auto m = parseShadingModel(*o.shading);
-    if (!m) return Error{"--shading: unknown model " + quoted(*o.shading) + " (flat, gouraud, phong, toon)"};
+    if (!m) return Error{"--shading: unknown model " + inQuotes(*o.shading) + " (flat, gouraud, phong, toon)"};
     s.shadingOverride = *m;
   }
   auto effect = [](const std::string& flag, const std::optional<std::string>& v, EffectMode& out) -> Result<void> {
     if (!v) return {};
     auto m = parseEffectMode(*v);
-    if (!m) return Error{flag + ": expected off, raster or ray, got " + quoted(*v)};
+    if (!m) return Error{flag + ": expected off, raster or ray, got " + inQuotes(*v)};
     out = *m;
     return {};
   };
@@ -81,13 +100,13 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
   if (o.debugView) {
     auto v = parseDebugView(*o.debugView);
     if (!v)
-      return Error{"--debug-view: unknown view " + quoted(*o.debugView) +
+      return Error{"--debug-view: unknown view " + inQuotes(*o.debugView) +
                    " (final, depth, instance, primitive, normal, light-mask, reflection, transmission)"};
     s.debugView = *v;
   }
   if (o.toneMap) {
     auto t = parseToneMap(*o.toneMap);
-    if (!t) return Error{"--tonemap: expected none, reinhard or aces, got " + quoted(*o.toneMap)};
+    if (!t) return Error{"--tonemap: expected none, reinhard or aces, got " + inQuotes(*o.toneMap)};
     s.toneMap = *t;
   }
   if (o.exposure) {
@@ -107,6 +126,47 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
     return Error{"--scale: the reference preset traces every pixel at full resolution, got --scale " +
                  std::to_string(*o.scale)};
   return s.resolved();
+}
+
+Result<ResolvedFrame> resolveFrame(const FrameOptions& o, const SceneRenderDefaults& scene) {
+  ResolvedFrame out;
+  FrameSettings base;
+  base.width = scene.width;
+  base.height = scene.height;
+  if (o.preset) {
+    out.preset = *o.preset;  // resolveFrameOptions applies (or refuses) it
+    out.presetSource = "--preset";
+  } else {
+    out.preset = scene.preset.empty() ? std::string(kDefaultPreset) : scene.preset;
+    out.presetSource = scene.preset.empty() ? "the default" : "the scene's render.preset";
+    auto p = presetSettings(out.preset, base);
+    if (!p) return Error{"scene render.preset: unknown preset " + inQuotes(out.preset)};
+    base = *p;
+    if (scene.maxDepth >= 0 && scene.maxDepth != base.maxDepth) {
+      base.maxDepth = scene.maxDepth;
+      out.changedBy.push_back("the scene's render.maxDepth");
+    }
+  }
+  auto settings = resolveFrameOptions(o, base);
+  if (!settings) return settings.error();
+  out.settings = *settings;
+  const std::pair<const char*, bool> flags[] = {
+      {"--shadows", o.shadows.has_value()}, {"--reflections", o.reflections.has_value()},
+      {"--refraction", o.refraction.has_value()}, {"--depth", o.depth.has_value()},
+      {"--scale", o.scale.has_value()}};
+  for (const auto& [flag, given] : flags)
+    if (given) out.changedBy.push_back(flag);
+  return out;
+}
+
+std::string describeSettings(const FrameSettings& s) {
+  std::string d = "shadows " + std::string(toString(s.shadows)) + ", reflections " +
+                  std::string(toString(s.reflections)) + ", refraction " + std::string(toString(s.refraction)) +
+                  ", depth " + std::to_string(s.maxDepth);
+  if (s.reference)
+    return d + ", primary visibility by rays, " + std::to_string(s.referenceSpp) + "×" +
+           std::to_string(s.referenceSpp) + " samples per pixel";
+  return d + ", scale 1/" + std::to_string(s.rayScale);
 }
 
 }  // namespace tandem::cli

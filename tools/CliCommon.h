@@ -2,10 +2,12 @@
 // Command-line options of tandem-render: frame size, preset and per-effect flags.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "tandem/Result.h"
+#include "tandem/Scene.h"
 #include "tandem/Settings.h"
 
 namespace tandem::cli {
@@ -29,11 +31,31 @@ struct FrameOptions {
   bool schlick = false;
 };
 
-/// Registers the options on `app`.
+/// The preset tandem-render starts from when neither --preset nor the scene's render.preset names one.
+/// Of the named presets it is the closest to the engine's FrameSettings{} (every effect by rays, full
+/// resolution ray pass), which tandem-render rendered before it had a named default.
+inline constexpr const char* kDefaultPreset = "hybrid-full";
+
+/// Registers the options on `app`, each help line with its default, and a footer listing the presets.
 void addFrameOptions(CLI::App& app, FrameOptions& o);
-/// Applies them over `base` (the scene's defaults): preset first, then each explicit flag. Every value
-/// out of range, and every flag the resulting settings would ignore (--spp without the reference preset,
-/// --scale with it), is an error naming the flag and the value.
+/// Applies them over `base`: --preset first, then each explicit flag. Every value out of range, and every
+/// flag the resulting settings would ignore (--spp without the reference preset, --scale with it), is an
+/// error naming the flag and the value.
 Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings base);
+
+/// The settings of one run and where they came from, for the summary tandem-render prints.
+struct ResolvedFrame {
+  FrameSettings settings;
+  std::string preset;        // the named preset the settings start from
+  std::string presetSource;  // "--preset", "the scene's render.preset" or "the default"
+  std::vector<std::string> changedBy;  // what then changed a value the preset sets, e.g. "--depth"
+};
+/// The whole chain: the scene's render block (size, preset, maxDepth), kDefaultPreset where it names no
+/// preset, then the command line (resolveFrameOptions). --preset replaces the scene's preset and maxDepth.
+Result<ResolvedFrame> resolveFrame(const FrameOptions& o, const SceneRenderDefaults& scene);
+
+/// "shadows ray, reflections ray, refraction raster, depth 2, scale 1/2" (reference frames: the samples
+/// per pixel instead of the scale, which they do not have).
+std::string describeSettings(const FrameSettings& s);
 
 }  // namespace tandem::cli

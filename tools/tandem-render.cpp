@@ -1,6 +1,7 @@
 // tandem-render: renders a scene headless to a PNG or JPEG and prints the per-stage times (median over frames).
 //   tandem-render [SCENE] -o OUT.png [--size WxH] [--preset NAME] [--shading MODEL] [--frames N] [--stats OUT.json]
-// SCENE is a JSON scene file, a .gltf/.glb, or omitted for the embedded Whitted scene.
+// SCENE is a JSON scene file, a .gltf/.glb, or omitted for the embedded Whitted scene. With no --preset
+// the scene's render.preset applies, else cli::kDefaultPreset (hybrid-full); the summary names which.
 // Exit 0 on success; non-zero with a one-line error on any bad input.
 #include <algorithm>
 #include <cstdio>
@@ -52,10 +53,12 @@ int main(int argc, char** argv) {
   cli::FrameOptions frameOptions;
   app.add_option("scene", scenePath, "Scene: .json, .gltf or .glb (default: the embedded Whitted scene)");
   app.add_option("-o,--output", outPath, "Output image: .png, or .jpg / .jpeg for JPEG")->capture_default_str();
-  app.add_option("--frames", frames, "Frames to render; times are medians over them (>= 1)")->check(CLI::Range(1, 100000));
-  app.add_option("--stats", statsPath, "Write the per-stage medians and ray counts as JSON");
-  app.add_option("--threads", threads, "Ray-pass threads (0 = all)")->check(CLI::Range(0, 1024));
-  app.add_option("--context", contextName, "headless | egl-device | surfaceless | osmesa");
+  app.add_option("--frames", frames, "Frames to render; times are medians over them (>= 1)")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  app.add_option("--stats", statsPath, "Write the per-stage medians and ray counts as JSON (default: none)");
+  app.add_option("--threads", threads, "Ray-pass threads (0 = all)")->check(CLI::Range(0, 1024))->capture_default_str();
+  app.add_option("--context", contextName, "headless | egl-device | surfaceless | osmesa")->capture_default_str();
   cli::addFrameOptions(app, frameOptions);
   try {
     app.parse(argc, argv);
@@ -75,17 +78,9 @@ int main(int argc, char** argv) {
   Result<Scene> scene = loadAnyScene(scenePath);
   if (!scene) return fail(scene.error().message);
 
-  FrameSettings base;
-  base.width = scene->render.width;
-  base.height = scene->render.height;
-  if (!scene->render.preset.empty()) {
-    auto p = presetSettings(scene->render.preset, base);
-    if (!p) return fail("scene render.preset: unknown preset '" + scene->render.preset + "'");
-    base = *p;
-  }
-  if (scene->render.maxDepth >= 0) base.maxDepth = scene->render.maxDepth;
-  Result<FrameSettings> settings = cli::resolveFrameOptions(frameOptions, base);
-  if (!settings) return fail(settings.error().message);
+  Result<cli::ResolvedFrame> resolved = cli::resolveFrame(frameOptions, scene->render);
+  if (!resolved) return fail(resolved.error().message);
+  const FrameSettings& settings = resolved->settings;
 
   auto context = createGlContext(desc);
   if (!context) return fail(context.error().message);
@@ -99,17 +94,23 @@ int main(int argc, char** argv) {
   if (auto r = (*renderer)->setScene(std::move(*scene)); !r) return fail(r.error().message);
 
   std::vector<FrameStats> stats;
-  for (int i = 0; i < frames; ++i) stats.push_back((*renderer)->render(camera, *settings));
+  for (int i = 0; i < frames; ++i) stats.push_back((*renderer)->render(camera, settings));
   Image image = (*renderer)->readImage();
   if (auto r = writeImage(outPath, image); !r) return fail(r.error().message);
 
   const FrameStats& last = stats.back();
-  std::printf("tandem-render: %s, %dx%d, %d frame(s), ray pass %dx%d on %d thread(s)\n", sceneName.c_str(),
-              settings->width, settings->height, frames, last.rayWidth, last.rayHeight, last.threads);
+  std::string preset = "preset " + resolved->preset + " (" + resolved->presetSource + ")";
+  for (std::size_t i = 0; i < resolved->changedBy.size(); ++i)
+    preset += (i == 0 ? ", changed by " : ", ") + resolved->changedBy[i];
+  // A frame without ray effects runs no ray pass (rayWidth 0): say so rather than "ray pass 0x0".
+  std::string rayPass = last.rayWidth > 0 ? "ray pass " + std::to_string(last.rayWidth) + "x" +
+                                                std::to_string(last.rayHeight) + " on " +
+                                                std::to_string(last.threads) + " thread(s)"
+                                          : std::string("no ray pass");
+  std::printf("tandem-render: %s, %dx%d, %d frame(s), %s\n", sceneName.c_str(), settings.width, settings.height,
+              frames, preset.c_str());
   std::printf("  %s\n", (*context)->describe().c_str());
-  std::printf("  shadows %s, reflections %s, refraction %s, depth %d, scale 1/%d\n",
-              std::string(toString(settings->shadows)).c_str(), std::string(toString(settings->reflections)).c_str(),
-              std::string(toString(settings->refraction)).c_str(), settings->maxDepth, settings->rayScale);
+  std::printf("  %s; %s\n", cli::describeSettings(settings).c_str(), rayPass.c_str());
   std::printf("  %-10s %10s %10s %10s\n", "stage", "median ms", "min ms", "max ms");
   nlohmann::json j;
   for (const Column& c : kColumns) {
@@ -128,16 +129,19 @@ int main(int argc, char** argv) {
               static_cast<unsigned long long>(last.rays.refraction));
   if (!statsPath.empty()) {
     j["scene"] = sceneName;
-    j["width"] = settings->width;
-    j["height"] = settings->height;
+    j["width"] = settings.width;
+    j["height"] = settings.height;
+    j["preset"] = resolved->preset;
     j["frames"] = frames;
     j["threads"] = last.threads;
     j["context"] = (*context)->describe();
-    j["settings"] = {{"shadows", toString(settings->shadows)},
-                     {"reflections", toString(settings->reflections)},
-                     {"refraction", toString(settings->refraction)},
-                     {"maxDepth", settings->maxDepth},
-                     {"rayScale", settings->rayScale}};
+    j["settings"] = {{"shadows", toString(settings.shadows)},
+                     {"reflections", toString(settings.reflections)},
+                     {"refraction", toString(settings.refraction)},
+                     {"maxDepth", settings.maxDepth},
+                     {"rayScale", settings.rayScale},
+                     {"reference", settings.reference},
+                     {"referenceSpp", settings.referenceSpp}};
     j["rays"] = {{"primary", last.rays.primary},
                  {"shadow", last.rays.shadow},
                  {"reflection", last.rays.reflection},

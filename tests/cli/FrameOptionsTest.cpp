@@ -114,5 +114,95 @@ TEST(FrameOptions, ValidValuesAtTheEdgesAreTaken) {
   EXPECT_EQ(deep->maxDepth, 64);
 }
 
+Result<ResolvedFrame> resolveScene(std::initializer_list<std::string> args, const SceneRenderDefaults& scene) {
+  CLI::App app;
+  FrameOptions o;
+  addFrameOptions(app, o);
+  std::vector<std::string> reversed(args.begin(), args.end());
+  std::reverse(reversed.begin(), reversed.end());
+  app.parse(reversed);
+  return resolveFrame(o, scene);
+}
+
+/// The fields a preset sets, compared one by one so a failure names the field.
+void expectPresetFields(const FrameSettings& got, const FrameSettings& want) {
+  EXPECT_EQ(got.shadows, want.shadows);
+  EXPECT_EQ(got.reflections, want.reflections);
+  EXPECT_EQ(got.refraction, want.refraction);
+  EXPECT_EQ(got.maxDepth, want.maxDepth);
+  EXPECT_EQ(got.minContribution, want.minContribution);
+  EXPECT_EQ(got.rayScale, want.rayScale);
+  EXPECT_EQ(got.reference, want.reference);
+}
+
+TEST(ResolveFrame, NoPresetAnywhereIsTheNamedDefault) {
+  // It used to be FrameSettings{} (every effect by rays, depth 5), a combination no preset names.
+  SceneRenderDefaults scene;
+  scene.width = 320;
+  scene.height = 200;
+  auto r = resolveScene({}, scene);
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->preset, kDefaultPreset);
+  EXPECT_EQ(r->presetSource, "the default");
+  EXPECT_TRUE(r->changedBy.empty());
+  expectPresetFields(r->settings, *presetSettings(kDefaultPreset));
+  EXPECT_EQ(r->settings.width, 320);
+  EXPECT_EQ(r->settings.height, 200);
+  EXPECT_EQ(std::string(kDefaultPreset), "hybrid-full");  // README and docs name it
+}
+
+TEST(ResolveFrame, TheScenesRenderBlockComesBeforeTheDefault) {
+  SceneRenderDefaults scene;
+  scene.preset = "raster";
+  scene.maxDepth = 3;
+  auto r = resolveScene({}, scene);
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->preset, "raster");
+  EXPECT_EQ(r->presetSource, "the scene's render.preset");
+  EXPECT_EQ(r->settings.maxDepth, 3);
+  EXPECT_EQ(r->changedBy, std::vector<std::string>{"the scene's render.maxDepth"});
+  // maxDepth without a preset changes the default preset.
+  SceneRenderDefaults depthOnly;
+  depthOnly.maxDepth = 2;
+  auto d = resolveScene({}, depthOnly);
+  ASSERT_TRUE(d) << d.error().message;
+  EXPECT_EQ(d->preset, kDefaultPreset);
+  EXPECT_EQ(d->settings.maxDepth, 2);
+}
+
+TEST(ResolveFrame, PresetFlagReplacesTheScenesPresetAndDepthThenFlagsOverride) {
+  SceneRenderDefaults scene;
+  scene.preset = "raster";
+  scene.maxDepth = 3;
+  auto r = resolveScene({"--preset", "hybrid-fast", "--shadows", "off", "--depth", "4"}, scene);
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->preset, "hybrid-fast");
+  EXPECT_EQ(r->presetSource, "--preset");
+  EXPECT_EQ(r->settings.shadows, EffectMode::Off);
+  EXPECT_EQ(r->settings.maxDepth, 4);
+  EXPECT_EQ(r->settings.rayScale, presetSettings("hybrid-fast")->rayScale);
+  EXPECT_EQ(r->changedBy, (std::vector<std::string>{"--shadows", "--depth"}));
+}
+
+TEST(ResolveFrame, SppFollowsTheScenesReferencePreset) {
+  SceneRenderDefaults scene;
+  scene.preset = "reference";
+  auto r = resolveScene({"--spp", "2"}, scene);
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->settings.referenceSpp, 2);
+  auto refused = resolveScene({"--spp", "2"}, SceneRenderDefaults{});
+  ASSERT_FALSE(refused);
+  EXPECT_TRUE(startsWith(refused.error().message, "--spp:")) << refused.error().message;
+}
+
+TEST(DescribeSettings, NamesWhatThePresetSets) {
+  EXPECT_EQ(describeSettings(*presetSettings("hybrid-fast")),
+            "shadows ray, reflections ray, refraction raster, depth 2, scale 1/2");
+  FrameSettings reference = *presetSettings("reference");
+  reference.referenceSpp = 4;
+  EXPECT_EQ(describeSettings(reference),
+            "shadows ray, reflections ray, refraction ray, depth 16, primary visibility by rays, 4×4 samples per pixel");
+}
+
 }  // namespace
 }  // namespace tandem::cli
