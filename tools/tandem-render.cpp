@@ -7,12 +7,16 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <vector>
+
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "CliCommon.h"
+#include "Progress.h"
 #include "tandem/Context.h"
 #include "tandem/Renderer.h"
 #include "tandem/SceneFile.h"
@@ -50,6 +54,8 @@ int main(int argc, char** argv) {
   std::string scenePath, outPath = "out.png", statsPath, contextName = "headless";
   int frames = 1;
   int threads = 0;
+  bool quiet = false;
+  double progressAfter = 2.0;
   cli::FrameOptions frameOptions;
   app.add_option("scene", scenePath, "Scene: .json, .gltf or .glb (default: the embedded Whitted scene)");
   app.add_option("-o,--output", outPath, "Output image: .png, or .jpg / .jpeg for JPEG")->capture_default_str();
@@ -59,6 +65,11 @@ int main(int argc, char** argv) {
   app.add_option("--stats", statsPath, "Write the per-stage medians and ray counts as JSON (default: none)");
   app.add_option("--threads", threads, "Ray-pass threads (0 = all)")->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--context", contextName, "headless | egl-device | surfaceless | osmesa")->capture_default_str();
+  app.add_flag("-q,--quiet", quiet, "Print errors only: no progress line, no summary (default: both)");
+  app.add_option("--progress-after", progressAfter,
+                 "Seconds a render runs before a progress line (percent, elapsed, ETA) appears on stderr")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cli::addFrameOptions(app, frameOptions);
   try {
     app.parse(argc, argv);
@@ -85,8 +96,12 @@ int main(int argc, char** argv) {
   auto context = createGlContext(desc);
   if (!context) return fail(context.error().message);
 
+  // A terminal gets one line redrawn in place; a pipe or log file gets a line now and then.
+  std::unique_ptr<cli::ProgressLine> progress;
+  if (!quiet) progress = std::make_unique<cli::ProgressLine>(stderr, isatty(fileno(stderr)) != 0, progressAfter, frames);
   RendererDesc rdesc;
   rdesc.threads = threads;
+  if (progress) rdesc.progress = [line = progress.get()](const RayPassProgress& p) { line->onRayPass(p); };
   auto renderer = Renderer::create(**context, rdesc);
   if (!renderer) return fail(renderer.error().message);
   Camera camera = scene->camera;
@@ -94,39 +109,47 @@ int main(int argc, char** argv) {
   if (auto r = (*renderer)->setScene(std::move(*scene)); !r) return fail(r.error().message);
 
   std::vector<FrameStats> stats;
-  for (int i = 0; i < frames; ++i) stats.push_back((*renderer)->render(camera, settings));
+  for (int i = 0; i < frames; ++i) {
+    if (progress) progress->beginFrame(i);
+    stats.push_back((*renderer)->render(camera, settings));
+  }
+  if (progress) progress->finish();
   Image image = (*renderer)->readImage();
   if (auto r = writeImage(outPath, image); !r) return fail(r.error().message);
 
   const FrameStats& last = stats.back();
-  std::string preset = "preset " + resolved->preset + " (" + resolved->presetSource + ")";
-  for (std::size_t i = 0; i < resolved->changedBy.size(); ++i)
-    preset += (i == 0 ? ", changed by " : ", ") + resolved->changedBy[i];
-  // A frame without ray effects runs no ray pass (rayWidth 0): say so rather than "ray pass 0x0".
-  std::string rayPass = last.rayWidth > 0 ? "ray pass " + std::to_string(last.rayWidth) + "x" +
-                                                std::to_string(last.rayHeight) + " on " +
-                                                std::to_string(last.threads) + " thread(s)"
-                                          : std::string("no ray pass");
-  std::printf("tandem-render: %s, %dx%d, %d frame(s), %s\n", sceneName.c_str(), settings.width, settings.height,
-              frames, preset.c_str());
-  std::printf("  %s\n", (*context)->describe().c_str());
-  std::printf("  %s; %s\n", cli::describeSettings(settings).c_str(), rayPass.c_str());
-  std::printf("  %-10s %10s %10s %10s\n", "stage", "median ms", "min ms", "max ms");
   nlohmann::json j;
   for (const Column& c : kColumns) {
     std::vector<double> v;
     for (const FrameStats& s : stats) v.push_back(s.*(c.field));
-    double med = median(v);
-    std::printf("  %-10s %10.2f %10.2f %10.2f\n", c.name, med, *std::min_element(v.begin(), v.end()),
-                *std::max_element(v.begin(), v.end()));
-    j["stages_ms"][c.name] = {{"median", med},
+    j["stages_ms"][c.name] = {{"median", median(v)},
                               {"min", *std::min_element(v.begin(), v.end())},
                               {"max", *std::max_element(v.begin(), v.end())}};
   }
-  std::printf("  rays/frame: primary %llu, shadow %llu, reflection %llu, refraction %llu\n",
-              static_cast<unsigned long long>(last.rays.primary), static_cast<unsigned long long>(last.rays.shadow),
-              static_cast<unsigned long long>(last.rays.reflection),
-              static_cast<unsigned long long>(last.rays.refraction));
+  if (!quiet) {
+    std::string preset = "preset " + resolved->preset + " (" + resolved->presetSource + ")";
+    for (std::size_t i = 0; i < resolved->changedBy.size(); ++i)
+      preset += (i == 0 ? ", changed by " : ", ") + resolved->changedBy[i];
+    // A frame without ray effects runs no ray pass (rayWidth 0): say so rather than "ray pass 0x0".
+    std::string rayPass = last.rayWidth > 0 ? "ray pass " + std::to_string(last.rayWidth) + "x" +
+                                                  std::to_string(last.rayHeight) + " on " +
+                                                  std::to_string(last.threads) + " thread(s)"
+                                            : std::string("no ray pass");
+    std::printf("tandem-render: %s, %dx%d, %d frame(s), %s\n", sceneName.c_str(), settings.width, settings.height,
+                frames, preset.c_str());
+    std::printf("  %s\n", (*context)->describe().c_str());
+    std::printf("  %s; %s\n", cli::describeSettings(settings).c_str(), rayPass.c_str());
+    std::printf("  %-10s %10s %10s %10s\n", "stage", "median ms", "min ms", "max ms");
+    for (const Column& c : kColumns) {
+      const nlohmann::json& ms = j["stages_ms"][c.name];
+      std::printf("  %-10s %10.2f %10.2f %10.2f\n", c.name, ms["median"].get<double>(), ms["min"].get<double>(),
+                  ms["max"].get<double>());
+    }
+    std::printf("  rays/frame: primary %llu, shadow %llu, reflection %llu, refraction %llu\n",
+                static_cast<unsigned long long>(last.rays.primary), static_cast<unsigned long long>(last.rays.shadow),
+                static_cast<unsigned long long>(last.rays.reflection),
+                static_cast<unsigned long long>(last.rays.refraction));
+  }
   if (!statsPath.empty()) {
     j["scene"] = sceneName;
     j["width"] = settings.width;

@@ -15,6 +15,7 @@
 #include "tandem/Context.h"
 #include "tandem/FrameStats.h"
 #include "tandem/Image.h"
+#include "tandem/Progress.h"
 #include "tandem/Result.h"
 #include "tandem/Scene.h"
 #include "tandem/Settings.h"
@@ -30,6 +31,9 @@ struct ResourceStats {
 
 struct RendererDesc {
   int threads = 0;  // ray-pass worker threads; 0 = all hardware threads
+  /// Optional: told as each tile of a frame's ray pass finishes (Progress.h says from which threads).
+  /// Frames without a ray pass (every effect raster or off) make no calls.
+  RayPassProgressCallback progress = {};
 };
 
 class Renderer {

@@ -72,6 +72,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(GlContext& context, const Ren
   auto tracer = rt::RayTracer::create(desc.threads);
   if (!tracer) return Error{"Renderer: " + tracer.error().message};
   impl->tracer = std::move(*tracer);
+  impl->tracer->setProgressCallback(desc.progress);
   auto visibility = gl::VisibilityPass::create();
   if (!visibility) return Error{"Renderer: " + visibility.error().message};
   impl->visibilityPass = std::move(*visibility);

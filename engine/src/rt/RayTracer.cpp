@@ -82,6 +82,25 @@ void forEachTile(int threads, int width, int height, Body&& body) {
   });
 }
 
+/// Counts the tiles of one pass and tells the progress callback, if any, as each finishes. Without a
+/// callback it costs one branch per tile; with one, a relaxed atomic increment (the order of calls is
+/// not promised, so nothing stronger is needed).
+class TileProgress {
+ public:
+  TileProgress(const RayPassProgressCallback& callback, int width, int height)
+      : callback_(callback ? &callback : nullptr),
+        tiles_(static_cast<std::uint64_t>((width + kTile - 1) / kTile) *
+               static_cast<std::uint64_t>((height + kTile - 1) / kTile)) {}
+  void tileDone() {
+    if (callback_) (*callback_)({done_.fetch_add(1, std::memory_order_relaxed) + 1, tiles_});
+  }
+
+ private:
+  const RayPassProgressCallback* callback_;
+  std::uint64_t tiles_;
+  std::atomic<std::uint64_t> done_{0};
+};
+
 /// The [tNear, tFar] span of a camera ray that the rasterizer keeps (between its near and far planes).
 void cameraSpan(const Camera& camera, const Ray& ray, float& tNear, float& tFar) {
   glm::vec3 forward = glm::normalize(camera.targetW - camera.posW);
@@ -99,6 +118,7 @@ struct RayTracer::Impl {
   std::unique_ptr<EmbreeScene> scene;
   bool batchedShadows = true;
   RayCapture* capture = nullptr;  // bench hook (setRayCapture)
+  RayPassProgressCallback progress;  // setProgressCallback
 };
 
 namespace {
@@ -147,6 +167,7 @@ std::size_t RayTracer::embreeBytes() const { return impl_->device ? impl_->devic
 void RayTracer::setBatchedShadowRays(bool batched) { impl_->batchedShadows = batched; }
 void RayTracer::setEmbreeMemoryLimit(std::size_t bytes) { impl_->device->setMemoryLimit(bytes); }
 void RayTracer::setRayCapture(RayCapture* capture) { impl_->capture = capture; }
+void RayTracer::setProgressCallback(RayPassProgressCallback progress) { impl_->progress = std::move(progress); }
 
 Result<void> RayTracer::setScene(const Scene& scene) {
   Result<std::unique_ptr<EmbreeScene>> built = Error{};
@@ -201,6 +222,7 @@ void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSetti
   AtomicCounts total;
   RayCapture* const capturing = impl_->capture;
   resetCapture(capturing, gw, gh, false);
+  TileProgress progress(impl_->progress, gw, gh);
 
   impl_->arena.execute([&] {
     forEachTile(impl_->threads, gw, gh, [&](int x0, int y0, int x1, int y1) {
@@ -238,6 +260,7 @@ void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSetti
       shadows.trace(embree.top(), out.lightMask.data(), counts);
       wavefront.run(counts, out.reflected.data(), out.transmitted.data());
       total.add(counts);
+      progress.tileDone();
     });
   });
 
@@ -266,6 +289,7 @@ void RayTracer::renderReference(const Scene& scene, const Camera& camera, const 
   AtomicCounts total;
   RayCapture* const capturing = impl_->capture;
   resetCapture(capturing, width, height, true);
+  TileProgress progress(impl_->progress, width, height);
 
   impl_->arena.execute([&] {
     forEachTile(impl_->threads, width, height, [&](int x0, int y0, int x1, int y1) {
@@ -301,6 +325,7 @@ void RayTracer::renderReference(const Scene& scene, const Camera& camera, const 
           out.at(x, y) = sum / static_cast<float>(spp * spp);
         }
       total.add(c);
+      progress.tileDone();
     });
   });
   counts = total.get();

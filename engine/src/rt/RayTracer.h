@@ -19,6 +19,7 @@
 #include "rt/RayCapture.h"
 #include "tandem/FrameStats.h"
 #include "tandem/Image.h"
+#include "tandem/Progress.h"
 #include "tandem/Result.h"
 #include "tandem/Scene.h"
 #include "tandem/Settings.h"
@@ -90,6 +91,8 @@ class RayTracer {
   /// be the scene the capture was taken on): each kind a parallel pass over the capture's tiles with
   /// the API the options name. Reports time, rays and answers that differ from the capture's.
   RetraceStats retrace(const RayCapture& capture, const RetraceOptions& options = {});
+  /// trace() and renderReference() call `progress` (when set) as each tile finishes (tandem/Progress.h).
+  void setProgressCallback(RayPassProgressCallback progress);
   /// Limit on Embree's memory (bytes, 0 = none): setScene fails with an out-of-memory error beyond it.
   void setEmbreeMemoryLimit(std::size_t bytes);
 
