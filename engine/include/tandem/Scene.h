@@ -48,7 +48,8 @@ struct Material {
   // texture units; 0 turns it off.
   glm::vec3 kd2{0.0f};
   float checkerFrequency = 0.0f;
-  // glTF extras (issue 3); ignored by the JSON scene format unless set.
+  // Material features of glTF 2.0 (docs/gltf.md), which JSON scene files may set too. Each default
+  // changes nothing, so a material that does not set them renders as it would without them.
   int normalTexture = -1;       // tangent-space normal map, linear
   float normalScale = 1.0f;
   AlphaMode alphaMode = AlphaMode::Opaque;

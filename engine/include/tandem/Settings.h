@@ -43,7 +43,8 @@ struct FrameSettings {
   ToneMap toneMap = ToneMap::Aces;
   float exposure = 1.0f;          // multiplies linear radiance before the tone map
   DebugView debugView = DebugView::Final;
-  int referenceSpp = 1;           // reference mode: N×N jittered samples per pixel (issue 5)
+  int referenceSpp = 1;           // reference mode: N×N jittered samples per pixel (converged images to
+                                  // measure the other presets against, docs/bench.md)
   bool reference = false;         // primary visibility by Embree rays instead of rasterization
 
   /// Clamps ranges and applies dependencies (e.g. rayScale rounded to 1, 2 or 4).
