@@ -24,7 +24,8 @@ std::optional<FrameSettings> presetSettings(std::string_view name, FrameSettings
     s.rayScale = 1;
     s.reference = false;
   } else if (name == "hybrid-fast") {
-    // Ray-traced hard shadows and one mirror bounce at half resolution; refraction by raster.
+    // Ray-traced hard shadows and reflections (up to two bounces: a mirror seen in a mirror) at half
+    // resolution; refraction by raster.
     s.shadows = EffectMode::Ray;
     s.reflections = EffectMode::Ray;
     s.refraction = EffectMode::Raster;
