@@ -125,7 +125,7 @@ struct Instance {
 struct SceneRenderDefaults {
   int width = 1280;
   int height = 720;
-  std::string preset;  // empty = the renderer's default
+  std::string preset;  // empty: the application's default (tandem-render: hybrid-full); the Renderer reads none of this
   int maxDepth = -1;   // -1 = the preset's
 };
 
