@@ -76,7 +76,9 @@ TEST(GltfCorpus, SampleModelsLoad) {
     Outcome o = loadOne(f);
     EXPECT_TRUE(o.ok) << f << ": " << o.error;
     EXPECT_TRUE(o.confined) << f << " opened " << o.escaped;
-    if (o.ok) EXPECT_GT(o.instances, 0u) << f;
+    if (o.ok) {
+      EXPECT_GT(o.instances, 0u) << f;
+    }
     if (!o.warnings.empty()) {
       ++warned;
       std::cout << "[warn] " << f.lexically_relative(assets).string() << ": " << o.warnings.front()

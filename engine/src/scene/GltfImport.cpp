@@ -1011,7 +1011,8 @@ Result<GltfAsset> Importer::run() {
 }
 
 Result<GltfAsset> loadImpl(const std::string& path, const GltfOptions& opt) {
-  const std::string file = fs::path(path).filename().string();
+  // Messages name the file as the caller gave it, as the scene file's do.
+  const std::string& file = path;
   std::error_code ec;
   const fs::path canon = fs::canonical(fs::path(path), ec);
   if (ec) return Error{file + ": cannot open: " + ec.message()};
@@ -1097,9 +1098,9 @@ Result<GltfAsset> loadGltfAsset(const std::string& path, const GltfOptions& opti
   try {
     return loadImpl(path, options);
   } catch (const std::bad_alloc&) {
-    return Error{fs::path(path).filename().string() + ": out of memory"};
+    return Error{path + ": out of memory"};
   } catch (const std::exception& e) {
-    return Error{fs::path(path).filename().string() + ": " + e.what()};
+    return Error{path + ": " + e.what()};
   }
 }
 
