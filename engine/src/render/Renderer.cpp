@@ -15,6 +15,7 @@
 #include "gl/GlObjects.h"
 #include "rt/EmbreeScene.h"
 #include "rt/RayTracer.h"
+#include "rt/Whitted.h"
 #include "tandem/Log.h"
 
 namespace tandem {
@@ -143,16 +144,17 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   // ---------------------------------------------------------------------------------------------
   const FrameSettings s = requested.resolved();
   FrameSettings raySettings = s;
-  raySettings.shadows = rayOnly(s.shadows);
+  // Raster shadows stay "raster" for the ray pass: its primary points take the shadow map's answer, but
+  // secondary hits have no map and trace shadow rays (TraceModes::hybrid).
   raySettings.reflections = rayOnly(s.reflections);
   raySettings.refraction = rayOnly(s.refraction);
   bool anyShadowLight = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
     return l.type != LightType::Ambient && l.castShadows;
   });
-  bool anyMirror = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.kr > 0.0f; });
-  // BLEND surfaces transmit too: their uncovered fraction 1 − a is a straight-through refraction ray.
-  bool anyGlass = std::any_of(scene.materials.begin(), scene.materials.end(),
-                              [](const Material& m) { return m.kt > 0.0f || m.alphaMode == AlphaMode::Blend; });
+  // From the weights of the Whitted sum the composite uses: glass reflects by Fresnel without any kr.
+  bool anyMirror = std::any_of(scene.materials.begin(), scene.materials.end(),
+                               [&](const Material& m) { return rt::mayReflect(m, s.fresnelWeighted); });
+  bool anyGlass = std::any_of(scene.materials.begin(), scene.materials.end(), rt::mayTransmit);
   if (!anyShadowLight) raySettings.shadows = EffectMode::Off;
   if (!anyMirror || s.maxDepth == 0) raySettings.reflections = EffectMode::Off;
   if (!anyGlass || s.maxDepth == 0) raySettings.refraction = EffectMode::Off;

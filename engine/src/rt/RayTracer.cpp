@@ -265,8 +265,9 @@ void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSetti
   });
 
   out.counts = total.get();
-  // Cost follows the scene: an effect that traced no ray leaves its channel empty.
-  if (out.counts.shadow == 0) out.lightMask.clear();
+  // Cost follows the scene: an effect that traced no ray leaves its channel empty. The mask is the primary
+  // points' only: with raster shadows, the shadow rays of secondary hits leave it to the shadow maps.
+  if (out.counts.shadow == 0 || !modes.primaryShadowRays) out.lightMask.clear();
   if (out.counts.reflection == 0) out.reflected.clear();
   if (out.counts.refraction == 0) out.transmitted.clear();
 }

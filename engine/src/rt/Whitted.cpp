@@ -115,6 +115,13 @@ std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts) const
   return mask;
 }
 
+bool mayReflect(const Material& m, bool fresnelWeighted) {
+  const float fMax = m.kt > 0.0f && m.ior != 1.0f ? 1.0f : 0.0f;
+  return whittedSum(m.kr, m.kt, fMax, false, fresnelWeighted).reflect > 0.0f;
+}
+
+bool mayTransmit(const Material& m) { return m.kt > 0.0f || m.alphaMode == AlphaMode::Blend; }
+
 WhittedWeights Whitted::weights(const SurfaceHit& hit) const {
   WhittedWeights w;
   const GpuMaterial& m = frame_.materials[hit.material];
@@ -125,16 +132,8 @@ WhittedWeights Whitted::weights(const SurfaceHit& hit) const {
     float etaT = hit.backFace ? 1.0f : ior;
     w.refraction = refractDielectric(hit.toEyeW, hit.normalW, etaI, etaT, modes_.fresnel);
   }
-  float f = w.refraction.fresnel;
-  float wR, wT;
-  if (modes_.fresnelWeighted) {
-    wR = kr + (kt > 0.0f ? kt * f : 0.0f);
-    wT = kt > 0.0f ? kt * (1.0f - f) : 0.0f;
-  } else {
-    wR = kr;
-    wT = kt;
-  }
-  if (kt <= 0.0f || w.refraction.totalInternal) wT = 0.0f;  // T is absent
+  const SumWeights sum = whittedSum(kr, kt, w.refraction.fresnel, w.refraction.totalInternal, modes_.fresnelWeighted);
+  const float wR = sum.reflect, wT = sum.transmit;
   // Coverage (docs/shading.md, BLEND): the covered fraction a shades and reflects, the rest 1 − a passes
   // straight through. Without a refracted ray of its own (kt = 0 or TIR) that part is T along −V, IOR 1.
   const float a = hit.coverage;

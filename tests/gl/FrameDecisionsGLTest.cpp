@@ -1,0 +1,156 @@
+// Which rays a frame traces, decided from the scene and the settings: the decisions users found wrong.
+//  - Glass reflects by Fresnel (wR = kr + kt·F) even when no material has kr > 0, and totally reflects
+//    under TIR: the frame must trace those reflection rays.
+//  - Raster shadows cover the primary points only; secondary hits have no shadow map and keep their
+//    shadow rays.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "GlTestUtil.h"
+#include "rt/Whitted.h"
+#include "tandem/SceneFile.h"
+
+namespace tandem {
+namespace {
+
+Scene whittedWithoutMirrors() {
+  auto s = loadDefaultScene();
+  EXPECT_TRUE(s) << s.error().message;
+  Scene scene = std::move(*s);
+  for (Material& m : scene.materials) m.kr = 0.0f;  // the mirror stays as a dull sphere, the glass has no kr
+  return scene;
+}
+
+TEST(FrameDecisions, MayReflectFollowsTheWeights) {
+  // mayReflect is wR at the largest Fresnel term the material reaches; checked against the sum itself.
+  for (float kr : {0.0f, 0.4f})
+    for (float kt : {0.0f, 0.7f})
+      for (float ior : {0.5f, 1.0f, 1.5f})
+        for (bool weighted : {true, false}) {
+          Material m;
+          m.kr = kr;
+          m.kt = kt;
+          m.ior = ior;
+          bool some = false;
+          for (float f : {0.0f, 0.01f, 0.5f, 1.0f}) {
+            // F = 0 at every angle when the IOR is 1 (refractDielectric's identity).
+            const float fr = ior == 1.0f ? 0.0f : f;
+            some |= rt::whittedSum(kr, kt, fr, fr == 1.0f, weighted).reflect > 0.0f;
+          }
+          EXPECT_EQ(rt::mayReflect(m, weighted), some) << "kr " << kr << " kt " << kt << " ior " << ior << " weighted " << weighted;
+        }
+  Material glass;
+  glass.kr = 0.0f;
+  glass.kt = 0.9f;
+  glass.ior = 1.5f;
+  EXPECT_TRUE(rt::mayReflect(glass, true)) << "Fresnel reflection of glass";
+  EXPECT_FALSE(rt::mayReflect(glass, false)) << "the classic sum reflects kr only";
+}
+
+TEST(FrameDecisions, GlassWithoutKrTracesItsFresnelReflections) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(renderer);
+  Scene scene = whittedWithoutMirrors();
+  const Camera camera = scene.camera;
+  ASSERT_TRUE(renderer->setScene(scene).ok());
+  FrameSettings hybrid = *presetSettings("hybrid-full");
+  hybrid.width = 320;
+  hybrid.height = 180;
+  FrameStats h = renderer->render(camera, hybrid);
+  // The reference with the same depth and cut-off: it decides nothing by material, so it is the count a
+  // correct decision gives (the primary hits differ only where raster and rays disagree at silhouettes).
+  FrameSettings reference = *presetSettings("reference");
+  reference.width = 320;
+  reference.height = 180;
+  reference.maxDepth = hybrid.maxDepth;
+  reference.minContribution = hybrid.minContribution;
+  FrameStats r = renderer->render(camera, reference);
+  ASSERT_GT(r.rays.reflection, 3000u) << "the reference reflects off the glass";
+  EXPECT_NEAR(double(h.rays.reflection), double(r.rays.reflection), 0.03 * double(r.rays.reflection));
+}
+
+TEST(FrameDecisions, TotalInternalReflectionIsTracedNotBlack) {
+  // A slab of IOR 0.5 in air: seen obliquely, light entering it is totally reflected at its first face.
+  TD_REQUIRE_GL_CONTEXT();
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(renderer);
+  Scene scene = gltest::boxScene();
+  scene.meshes = {makePlane({40.0f, 40.0f}, 1), makeBox({3.0f, 0.2f, 3.0f})};
+  Material floor = gltest::plainMaterial({0.8f, 0.6f, 0.2f});
+  Material slab;
+  slab.ka = slab.kd = glm::vec3(0.0f);
+  slab.ks = glm::vec3(0.0f);
+  slab.kr = 0.0f;
+  slab.kt = 1.0f;
+  slab.ior = 0.5f;
+  scene.materials = {floor, slab};
+  Instance f;
+  f.mesh = 0;
+  f.material = 0;
+  Instance b;
+  b.mesh = 1;
+  b.material = 1;
+  b.worldFromObject = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+  scene.instances = {f, b};
+  scene.camera.posW = {0.0f, 2.2f, 5.0f};
+  scene.camera.targetW = {0.0f, 1.0f, 0.0f};
+  ASSERT_TRUE(renderer->setScene(scene).ok());
+  FrameSettings hybrid = *presetSettings("hybrid-full");
+  hybrid.width = 160;
+  hybrid.height = 120;
+  FrameStats h = renderer->render(scene.camera, hybrid);
+  const Image hi = renderer->readImage();
+  FrameSettings reference = *presetSettings("reference");
+  reference.width = 160;
+  reference.height = 120;
+  renderer->render(scene.camera, reference);
+  const Image ri = renderer->readImage();
+  gltest::savePng("tir-slab-hybrid.png", hi);
+  gltest::savePng("tir-slab-reference.png", ri);
+  EXPECT_GT(h.rays.reflection, 0u);
+  int blackOnlyInHybrid = 0, slabPixels = 0;
+  for (int y = 0; y < hi.height; ++y)
+    for (int x = 0; x < hi.width; ++x) {
+      const glm::u8vec4 a = hi.at(x, y), c = ri.at(x, y);
+      const int la = a.r + a.g + a.b, lc = c.r + c.g + c.b;
+      slabPixels += lc > 0;
+      if (la < 6 && lc > 30) ++blackOnlyInHybrid;
+    }
+  // Before reflection rays followed the weights, most of the slab rendered black.
+  EXPECT_LT(blackOnlyInHybrid, slabPixels / 200) << "pixels black in the hybrid frame but lit in the reference";
+}
+
+TEST(FrameDecisions, RasterShadowsKeepShadowRaysAtSecondaryHits) {
+  // The mirror sphere of the Whitted scene reflects the floor with the other spheres' shadows on it: with
+  // raster shadows (primary points only) the reflected light must be what it is with ray shadows.
+  TD_REQUIRE_GL_CONTEXT();
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(renderer);
+  auto scene = loadDefaultScene();
+  ASSERT_TRUE(scene);
+  const Camera camera = scene->camera;
+  ASSERT_TRUE(renderer->setScene(*scene).ok());
+  FrameSettings s = *presetSettings("hybrid-full");
+  s.width = 240;
+  s.height = 135;
+  s.refraction = EffectMode::Off;
+  s.debugView = DebugView::Reflection;
+  s.shadows = EffectMode::Ray;
+  FrameStats ray = renderer->render(camera, s);
+  const Image withRays = renderer->readImage();
+  s.shadows = EffectMode::Raster;
+  FrameStats raster = renderer->render(camera, s);
+  const Image withMaps = renderer->readImage();
+  s.shadows = EffectMode::Off;
+  renderer->render(camera, s);
+  const Image without = renderer->readImage();
+  EXPECT_GT(raster.rays.shadow, 0u) << "secondary hits trace shadow rays under raster shadows";
+  EXPECT_LT(raster.rays.shadow, ray.rays.shadow) << "the primary points' shadows come from the maps";
+  EXPECT_EQ(withMaps.rgba, withRays.rgba) << "the reflected light is shadowed the same way";
+  EXPECT_NE(without.rgba, withRays.rgba) << "the test scene has shadows in its reflections";
+}
+
+}  // namespace
+}  // namespace tandem
