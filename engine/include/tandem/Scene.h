@@ -153,4 +153,13 @@ struct Error;
 template <class T> class Result;
 Result<void> validateScene(const Scene& scene);
 
+/// Pairs of instances whose faces lie in one plane, overlap and can be seen doing so: they fight for the same
+/// depth, so the shared area flickers between the two surfaces. Faces looking the same way always count;
+/// faces back to back (a box standing exactly on a floor) only when one of the two materials lets light
+/// through (kt > 0, alpha), since otherwise neither can be seen from the other's side. Checked where it is
+/// cheap: meshes made of at most `maxPlanes` planes (boxes, planes, quads); curved meshes are skipped. One
+/// message per pair, naming both instances and the plane. The scene file loader logs them as warnings;
+/// applications that build scenes in code can call it themselves.
+std::vector<std::string> coplanarOverlaps(const Scene& scene, std::size_t maxPlanes = 32);
+
 }  // namespace tandem

@@ -27,6 +27,7 @@
 #include "core/Embedded.h"
 #include "scene/LoadBudget.h"
 #include "tandem/Gltf.h"
+#include "tandem/Log.h"
 #include "tandem/Primitives.h"
 #include "tandem/Settings.h"
 
@@ -1026,6 +1027,7 @@ Result<Scene> parseImpl(std::string_view text, const std::string& name, std::opt
     // so it is the last word (it also covers what glTF placements bring in).
     Result<void> valid = validateScene(scene);
     if (!valid) return Error{name + ": " + valid.error().message};
+    for (const std::string& w : coplanarOverlaps(scene)) logWarning(name + ": " + w);
     return scene;
   } catch (const SceneFileError& e) {
     return Error{e.message};

@@ -4,6 +4,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "tandem/Log.h"
 #include "tandem/Primitives.h"
 
 namespace marble {
@@ -54,6 +55,17 @@ std::uint32_t addInstance(tandem::Scene& s, const std::string& name, std::uint32
   i.dynamic = dynamic;
   s.instances.push_back(i);
   return static_cast<std::uint32_t>(s.instances.size() - 1);
+}
+
+// Boxes that stand on the floor reach this far below it: a base exactly in the floor's plane fights the
+// floor for depth, which shows through glass as a flickering speckle (tandem::coplanarOverlaps finds it).
+constexpr float kSink = 0.01f;
+
+// A box of `size` centred on its origin, extended by kSink below its base (its top stays at size.y / 2).
+tandem::Mesh standingBox(glm::vec3 size) {
+  tandem::Mesh m = tandem::makeBox({size.x, size.y + kSink, size.z});
+  for (glm::vec3& p : m.positions) p.y -= 0.5f * kSink;
+  return m;
 }
 
 constexpr float kOrbitRadius = 5.5f;
@@ -111,7 +123,7 @@ BuiltScene buildScene(const Game& game) {
   };
 
   for (const Obstacle& o : level.obstacles) {
-    const auto mesh = addMesh(s, tandem::makeBox({2.0f * o.halfXZ.x, o.height, 2.0f * o.halfXZ.y}));
+    const auto mesh = addMesh(s, standingBox({2.0f * o.halfXZ.x, o.height, 2.0f * o.halfXZ.y}));
     glm::mat4 m = glm::translate(glm::mat4(1.0f), {o.centerXZ.x, 0.5f * o.height, o.centerXZ.y});
     m = glm::rotate(m, o.yaw, glm::vec3(0, 1, 0));
     addInstance(s, o.name, mesh, materialOf(o.surface), m, false);
@@ -126,7 +138,7 @@ BuiltScene buildScene(const Game& game) {
   const auto brassMat = addMaterial(s, brass);
   for (std::size_t i = 0; i < level.spinners.size(); ++i) {
     const Obstacle& b = level.spinners[i].box;
-    const auto mesh = addMesh(s, tandem::makeBox({2.0f * b.halfXZ.x, b.height, 2.0f * b.halfXZ.y}));
+    const auto mesh = addMesh(s, standingBox({2.0f * b.halfXZ.x, b.height, 2.0f * b.halfXZ.y}));
     out.handles.spinners.push_back(addInstance(s, b.name, mesh, brassMat, game.spinnerTransform(i), true));
   }
 
@@ -194,6 +206,7 @@ BuiltScene buildScene(const Game& game) {
 
   s.camera.yFovDeg = 60.0f;
   s.camera.nearZ = 0.05f;
+  for (const std::string& w : tandem::coplanarOverlaps(s)) tandem::logWarning("Marble Mirrors scene: " + w);
   return out;
 }
 

@@ -11,11 +11,13 @@ Level makeHallOfMirrors() {
   const float wallT = 0.15f;  // half thickness
   const float wallH = 2.2f;
   const float span = l.halfSize.x + 2.0f * wallT;
-  // Four mirrored walls enclose the floor: the endless corridors of reflections are the point.
+  // Four mirrored walls enclose the floor: the endless corridors of reflections are the point. The north and
+  // south walls own the corners; the east and west walls stop where they begin, so no two walls share a
+  // face's plane and area (their tops and outer faces would fight for depth in the corners).
   l.obstacles.push_back({"wall-north", {0.0f, -l.halfSize.y - wallT}, {span, wallT}, wallH, 0.0f, Surface::Mirror});
   l.obstacles.push_back({"wall-south", {0.0f, l.halfSize.y + wallT}, {span, wallT}, wallH, 0.0f, Surface::Mirror});
-  l.obstacles.push_back({"wall-west", {-l.halfSize.x - wallT, 0.0f}, {wallT, span}, wallH, 0.0f, Surface::Mirror});
-  l.obstacles.push_back({"wall-east", {l.halfSize.x + wallT, 0.0f}, {wallT, span}, wallH, 0.0f, Surface::Mirror});
+  l.obstacles.push_back({"wall-west", {-l.halfSize.x - wallT, 0.0f}, {wallT, l.halfSize.y}, wallH, 0.0f, Surface::Mirror});
+  l.obstacles.push_back({"wall-east", {l.halfSize.x + wallT, 0.0f}, {wallT, l.halfSize.y}, wallH, 0.0f, Surface::Mirror});
 
   const float q = glm::quarter_pi<float>();
   l.obstacles.push_back({"mirror-nw", {-4.5f, -4.5f}, {1.5f, 0.1f}, 2.0f, -q, Surface::Mirror});

@@ -140,6 +140,13 @@ void expectCollect3State(const Outcome& r) {
 
 TEST_F(ScriptedRun, HeadlessScriptReachesKnownState) { expectCollect3State(raster()); }
 
+TEST_F(ScriptedRun, SceneHasNoFacesFightingForDepth) {
+  // The game checks its scene with tandem::coplanarOverlaps and logs what it finds; its glass pillars used to
+  // stand exactly on the floor, so their bases flickered (41 % of neighbouring pixels jumped).
+  ASSERT_EQ(raster().exitCode, 0) << raster().output;
+  EXPECT_EQ(raster().output.find("depth fighting"), std::string::npos) << raster().output;
+}
+
 TEST_F(ScriptedRun, RasterCaptureMatchesGolden) {
   ASSERT_EQ(raster().exitCode, 0) << raster().output;
   // Raster preset: no ray pass, so the frame is GL only; allow 2/255 per channel on 99.9 % of pixels.
