@@ -203,6 +203,53 @@ TD_FN float tdFresnelSchlick(float cosI, float etaI, float etaT) {
   return r0 + (1.0f - r0) * k * k * k * k * k;
 }
 
+// ---- Secondary directions over the facet (docs/numerics.md, "Directions over the facet") ----
+// The mirror and Snell directions are taken about the shading normal N (interpolated or normal-mapped),
+// but a ray leaves from the triangle's own plane (unit normal Ng on the viewer's side, dot(Ng, V) >= 0).
+// Near silhouettes N·V is ≈ 0 or negative while Ng·V is not, and the direction about N can fall on the
+// wrong side of the facet: a reflected ray pointing into the object (trapped inside a closed mesh until
+// the depth limit), a transmitted one pointing back out. A reflected direction must leave over the facet
+// (Ng·R > 0), a transmitted one must cross it (Ng·T < 0). One that does not is bent minimally: to the
+// nearest direction at the margin m on the right side, i.e. its own azimuth about Ng (its tangential
+// part) at elevation asin(m). Iray (Keller et al. 2017) and Blender Cycles (ensure_valid_reflection, whose
+// margin this is) lift the mirror direction just above the facet the same way, by bending the normal;
+// bending the direction instead leaves the Fresnel weights as N gives them. The margin is
+// m = min(0.01, 0.9·|Ng·D0|), D0 the direction the flat facet itself would give: a ray is never forced
+// steeper than the facet's own (so with N = Ng the rule changes nothing, at grazing view and near the
+// critical angle alike) and never more than 0.01 (0.57°) off the plane; the bent direction is continuous
+// with the unbent one where the rule starts to act.
+
+// D (unit) moved to side·(Ng·D) >= m, side = +1 over the facet, -1 through it: D itself (bit for bit)
+// when it is there already, else the unit direction with D's tangential part and side·Ng·result = m.
+// A D along -side·Ng has no tangential part to keep and becomes side·Ng.
+TD_FN vec3 tdBendOverFacet(vec3 D, vec3 Ng, float side, float m) {
+  float d = side * dot(Ng, D);
+  if (d >= m) return D;
+  vec3 t = D - dot(Ng, D) * Ng;
+  float len = sqrt(dot(t, t));
+  if (!(len > 0.0f)) return side * Ng;
+  return t * (sqrt(1.0f - m * m) / len) + (side * m) * Ng;
+}
+
+// The reflected direction at a point with shading normal N, facet normal Ng and unit V towards the viewer.
+// Behind N (N·V <= 0) the Whitted weights already evaluate Fresnel at cosθ = 0 (clamped), and so does the
+// direction: the mirror direction at cosθ = 0 is −V, which then goes over the facet by the margin.
+TD_FN vec3 tdReflectOverFacet(vec3 V, vec3 N, vec3 Ng) {
+  vec3 R = dot(N, V) > 0.0f ? reflect(-V, N) : -V;
+  float gv = dot(Ng, V);
+  return tdBendOverFacet(R, Ng, 1.0f, 0.9f * gv < 0.01f ? 0.9f * gv : 0.01f);
+}
+
+// The transmitted direction T (Snell about N, IOR ratio eta = etaI / etaT) made to cross the facet. The
+// flat facet's own refracted ray leaves at cos²θt = tdCos2T(Ng·V, eta) below it; where the facet itself
+// would reflect totally the margin is 0.01.
+TD_FN vec3 tdRefractOverFacet(vec3 T, vec3 V, vec3 Ng, float eta) {
+  float c2 = tdCos2T(clamp(dot(Ng, V), 0.0f, 1.0f), eta);
+  float m = 0.01f;
+  if (c2 > 0.0f && 0.9f * sqrt(c2) < m) m = 0.9f * sqrt(c2);
+  return tdBendOverFacet(T, Ng, -1.0f, m);
+}
+
 // ---- Output ----
 TD_FN vec3 tdToneMap(vec3 c, int op) {
   // Bounded first: beyond 65504 (half-float max) every operator is at 1 anyway, and the curves' c² and

@@ -131,14 +131,21 @@ WhittedWeights Whitted::weights(const SurfaceHit& hit) const {
     float etaI = hit.backFace ? ior : 1.0f;
     float etaT = hit.backFace ? 1.0f : ior;
     w.refraction = refractDielectric(hit.toEyeW, hit.normalW, etaI, etaT, modes_.fresnel);
+    // Snell about the shading normal can point back out of the facet at a silhouette: such a ray would
+    // start behind the surface it was meant to cross.
+    if (!w.refraction.totalInternal)
+      w.refraction.dirW = tdRefractOverFacet(w.refraction.dirW, hit.toEyeW, hit.geomNormalW, etaI / etaT);
   }
+  // The mirror about the shading normal can point into the object at a silhouette, where a closed mesh
+  // would trap the ray until the depth limit.
+  w.reflectDirW = tdReflectOverFacet(hit.toEyeW, hit.normalW, hit.geomNormalW);
   const SumWeights sum = whittedSum(kr, kt, w.refraction.fresnel, w.refraction.totalInternal, modes_.fresnelWeighted);
   const float wR = sum.reflect, wT = sum.transmit;
   // Coverage (docs/shading.md, BLEND): the covered fraction a shades and reflects, the rest 1 − a passes
   // straight through. Without a refracted ray of its own (kt = 0 or TIR) that part is T along −V, IOR 1.
   const float a = hit.coverage;
   if (a < 1.0f && (kt <= 0.0f || w.refraction.totalInternal)) {
-    w.refraction.dirW = -hit.toEyeW;
+    w.refraction.dirW = -hit.toEyeW;  // crosses the facet: Ng faces V
     w.refraction.totalInternal = false;
   }
   w.reflect = a * wR;
@@ -153,25 +160,23 @@ void Whitted::secondary(const SurfaceHit& hit, int depth, float throughput, glm:
   tracedReflection = tracedRefraction = false;
   if (depth >= modes_.maxDepth || (!modes_.reflections && !modes_.refraction)) return;
   WhittedWeights w = weights(hit);
+  // Reflected rays leave from the front of the facet and transmitted ones from its back: the directions
+  // are on those sides by construction (WhittedWeights).
   if (modes_.reflections && w.reflect > 0.0f && throughput * w.reflect >= modes_.minContribution) {
-    glm::vec3 dir = glm::reflect(-hit.toEyeW, hit.normalW);
-    glm::vec3 side = glm::dot(dir, hit.geomNormalW) >= 0.0f ? hit.geomNormalW : -hit.geomNormalW;
+    const glm::vec3 dir = w.reflectDirW, origin = spawnOrigin(hit, hit.geomNormalW);
     ++counts.reflection;
     // Bench hook: the ray radiance() traces next (intersect() stores its answer).
-    capture::record(RayKind::Reflection, spawnOrigin(hit, side), dir, 0.0f,
-                    std::numeric_limits<float>::infinity());
+    capture::record(RayKind::Reflection, origin, dir, 0.0f, std::numeric_limits<float>::infinity());
     tracedReflection = true;
-    reflected = w.reflect * radiance(spawnOrigin(hit, side), dir, depth + 1, throughput * w.reflect, counts);
+    reflected = w.reflect * radiance(origin, dir, depth + 1, throughput * w.reflect, counts);
   }
   const float wT = w.transmitMax();
   if (modes_.refraction && wT > 0.0f && throughput * wT >= modes_.minContribution) {
-    glm::vec3 dir = w.refraction.dirW;
-    glm::vec3 side = glm::dot(dir, hit.geomNormalW) >= 0.0f ? hit.geomNormalW : -hit.geomNormalW;
+    const glm::vec3 dir = w.refraction.dirW, origin = spawnOrigin(hit, -hit.geomNormalW);
     ++counts.refraction;
-    capture::record(RayKind::Refraction, spawnOrigin(hit, side), dir, 0.0f,
-                    std::numeric_limits<float>::infinity());
+    capture::record(RayKind::Refraction, origin, dir, 0.0f, std::numeric_limits<float>::infinity());
     tracedRefraction = true;
-    transmitted = w.transmit * radiance(spawnOrigin(hit, side), dir, depth + 1, throughput * wT, counts);
+    transmitted = w.transmit * radiance(origin, dir, depth + 1, throughput * wT, counts);
   }
 }
 
@@ -268,9 +273,9 @@ void Wavefront::spawn(const SurfaceHit& hit, int depth, float throughput, std::i
   if (depth >= modes.maxDepth || (!modes.reflections && !modes.refraction)) return;
   WhittedWeights w = whitted_.weights(hit);
   auto queue = [&](RayKind kind, glm::vec3 dir, glm::vec3 weight, float weightMax) {
-    glm::vec3 side = glm::dot(dir, hit.geomNormalW) >= 0.0f ? hit.geomNormalW : -hit.geomNormalW;
+    // The sides of Whitted::secondary: reflection in front of the facet, transmission behind it.
     Buffers::Node& n = b_.nodes.emplace_back();
-    n.origin = spawnOrigin(hit, side);
+    n.origin = spawnOrigin(hit, kind == RayKind::Refraction ? -hit.geomNormalW : hit.geomNormalW);
     n.dir = dir;
     n.weight = weight;
     n.throughput = throughput * weightMax;
@@ -282,7 +287,7 @@ void Wavefront::spawn(const SurfaceHit& hit, int depth, float throughput, std::i
   };
   if (modes.reflections && w.reflect > 0.0f && throughput * w.reflect >= modes.minContribution) {
     ++counts.reflection;
-    queue(RayKind::Reflection, glm::reflect(-hit.toEyeW, hit.normalW), glm::vec3(w.reflect), w.reflect);
+    queue(RayKind::Reflection, w.reflectDirW, glm::vec3(w.reflect), w.reflect);
   }
   const float wT = w.transmitMax();
   if (modes.refraction && wT > 0.0f && throughput * wT >= modes.minContribution) {

@@ -62,11 +62,17 @@ bool mayTransmit(const Material& m);
 /// The weights of the Whitted sum at a hit (docs/shading.md).
 /// With coverage a (SurfaceHit::coverage, < 1 only for BLEND): reflect = a·wR and transmit =
 /// tdTransmitWeight(a, wT, transmissionTint) = a·wT·tint + (1 − a).
+/// Directions (docs/numerics.md, "Directions over the facet"): for a hit seen from in front of its facet
+/// (Ng·V > 0) the reflected ray leaves over the facet (Ng·reflectDirW > 0) and the transmitted one
+/// crosses it (Ng·refraction.dirW < 0), so a reflected ray always starts at the front offset origin and a
+/// transmitted one at the back.
 struct WhittedWeights {
   float reflect = 0.0f;          // a·wR
   glm::vec3 transmit{0.0f};      // tdTransmitWeight(a, wT, tint); wT = 0 on total internal reflection
-  Refraction refraction;         // dirW: the refracted direction, or straight through (−V) for a BLEND
-                                 // surface that has no refracted ray of its own
+  glm::vec3 reflectDirW{0.0f};   // the mirror direction about N, bent over the facet (tdReflectOverFacet)
+  Refraction refraction;         // dirW: the refracted direction about N, bent through the facet
+                                 // (tdRefractOverFacet), or straight through (−V) for a BLEND surface
+                                 // that has no refracted ray of its own
   /// The largest component of transmit: what the minContribution test and the throughput use.
   float transmitMax() const { return std::max(transmit.x, std::max(transmit.y, transmit.z)); }
 };
