@@ -490,7 +490,9 @@ void main() {
   if (tri.probe != 0u) {
     // Environment-mapped reflection and refraction through this object's probe, weighted like the ray
     // pass's Whitted::weights (docs/shading.md): Fresnel from the shared formulas, inside/outside from
-    // the geometric normal, refraction by Snell at this surface only (no exit through the far side).
+    // the geometric normal, refraction by Snell at this surface only (no exit through the far side), and
+    // the ray pass's directions: reflected over the facet, refracted through it (tdReflectOverFacet,
+    // tdRefractOverFacet), so a silhouette's probe lookup is the direction its ray would take.
     float kr = m.krKtIorModel.x, kt = m.krKtIorModel.y, ior = m.krKtIorModel.z;
     bool backFace = side < 0.0;
     float etaI = backFace ? ior : 1.0, etaT = backFace ? 1.0 : ior;
@@ -510,11 +512,11 @@ void main() {
     vec3 wTv = tdTransmitWeight(coverage, wT, texelFetch(uvTransformsBuf, ut).rgb);
     float layer = float(tri.probe - 1u);
 #if (TD_PROBES & 1) != 0
-    if (wR > 0.0) rays.reflected += wR * textureLod(probes, vec4(reflect(-V, N), layer), 0.0).rgb;
+    if (wR > 0.0) rays.reflected += wR * textureLod(probes, vec4(tdReflectOverFacet(V, N, Ng), layer), 0.0).rgb;
 #endif
 #if (TD_PROBES & 2) != 0
     if (wTv.x > 0.0 || wTv.y > 0.0 || wTv.z > 0.0) {
-      vec3 T = etaI == etaT ? -V : eta * -V + (eta * cosI - sqrt(max(cos2T, 0.0))) * N;
+      vec3 T = etaI == etaT ? -V : tdRefractOverFacet(normalize(eta * -V + (eta * cosI - sqrt(max(cos2T, 0.0))) * N), V, Ng, eta);
       rays.transmitted += wTv * textureLod(probes, vec4(T, layer), 0.0).rgb;
     }
 #endif

@@ -1,13 +1,20 @@
 // GLSL / C++ parity: the GL shade pass and the CPU twin (rt::resolveHit + rt::shadeLocal, the code the ray
 // pass shades secondary hits with) give the same linear radiance for the same visible triangles, for every
-// shading model, light type, checker, texture and vertex colour.
+// shading model, light type, checker, texture and vertex colour; and shading.glsl's secondary directions
+// (the ray pass's rays, the raster probes' lookups) evaluated by GLSL match their C++ twin.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "GlTestUtil.h"
+#include "core/Shading.h"
+#include "gl/GlObjects.h"
 #include "gl/GpuScene.h"
+#include "gl/Program.h"
 #include "gl/VisibilityPass.h"
+#include "rt/RayMath.h"
 #include "rt/SurfaceShading.h"
 
 namespace tandem {
@@ -148,6 +155,96 @@ TEST(ShadingParityGLTest, Flat) { checkParity(ShadingModel::Flat); }
 TEST(ShadingParityGLTest, Gouraud) { checkParity(ShadingModel::Gouraud); }
 TEST(ShadingParityGLTest, Phong) { checkParity(ShadingModel::Phong); }
 TEST(ShadingParityGLTest, Toon) { checkParity(ShadingModel::Toon); }
+
+
+// tdReflectOverFacet and tdRefractOverFacet (docs/numerics.md, "Directions over the facet") run by GLSL in
+// a compute shader over shading normals tilted up to 0.6 rad from the facet, views from grazing to head-on
+// and both directions of an IOR 1.5 interface, against the C++ twin: the same directions (to float
+// rounding, llvmpipe may contract into FMAs), and the GLSL ones on their side of the facet too.
+TEST(ShadingParityGLTest, DirectionsOverTheFacetMatchTheCppTwin) {
+  TD_REQUIRE_GL_CONTEXT();
+  struct Case {
+    glm::vec4 v, n, ng, tEta;  // tEta: the Snell direction about N, and eta = etaI / etaT
+  };
+  std::vector<Case> cases;
+  const glm::vec3 ng = glm::normalize(glm::vec3(0.3f, 1.0f, -0.2f));
+  const glm::vec3 u = glm::normalize(glm::cross(ng, glm::vec3(0.0f, 0.0f, 1.0f))), w = glm::cross(ng, u);
+  auto around = [&](float elevation, float azimuth) {
+    return std::cos(elevation) * (std::cos(azimuth) * u + std::sin(azimuth) * w) + std::sin(elevation) * ng;
+  };
+  int bentR = 0, bentT = 0;
+  for (float eta : {1.0f / 1.5f, 1.5f})
+    for (float tilt : {0.0f, 0.02f, 0.2f, 0.6f})
+      for (float tiltAzimuth : {0.0f, 1.3f, 2.9f, 4.4f})
+        for (float elevation : {1e-3f, 0.02f, 0.1f, 0.4f, 1.2f})
+          for (float viewAzimuth : {0.0f, 0.7f, 2.0f, 3.1f, 4.5f}) {
+            glm::vec3 v = around(elevation, viewAzimuth), n = tilt == 0.0f ? ng : around(1.5707964f - tilt, tiltAzimuth);
+            rt::Refraction r = rt::refractDielectric(v, n, eta, 1.0f, FresnelMode::Exact);
+            glm::vec3 t = r.totalInternal ? -v : r.dirW;
+            bentR += glm::dot(glm::dot(n, v) > 0.0f ? glm::reflect(-v, n) : -v, ng) < 0.01f;
+            bentT += glm::dot(t, ng) > -0.01f;
+            cases.push_back({glm::vec4(v, 0.0f), glm::vec4(n, 0.0f), glm::vec4(ng, 0.0f), glm::vec4(t, eta)});
+          }
+  ASSERT_GT(bentR, 50);
+  ASSERT_GT(bentT, 20);
+
+  std::vector<std::string> files;
+  auto shading = gl::expandShaderSource("shaders/shading.glsl", {}, files);
+  ASSERT_TRUE(shading.ok()) << shading.error().message;
+  const std::string source = "#version 450 core\n#define TD_OUT(T) out T\n" + *shading + R"(
+layout(local_size_x = 64) in;
+struct Case { vec4 v, n, ng, tEta; };
+layout(std430, binding = 0) readonly buffer Cases { Case cases[]; };
+layout(std430, binding = 1) writeonly buffer Results { vec4 results[]; };  // reflected, refracted
+uniform uint count;
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= count) return;
+  Case c = cases[i];
+  results[2u * i] = vec4(tdReflectOverFacet(c.v.xyz, c.n.xyz, c.ng.xyz), 0.0);
+  results[2u * i + 1u] = vec4(tdRefractOverFacet(c.tEta.xyz, c.v.xyz, c.ng.xyz, c.tEta.w), 0.0);
+}
+)";
+  gl::Shader shader = gl::createShader("facet-directions", GL_COMPUTE_SHADER);
+  const char* text = source.c_str();
+  glShaderSource(shader.id(), 1, &text, nullptr);
+  glCompileShader(shader.id());
+  GLint ok = 0;
+  glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    std::string log(4096, '\0');
+    glGetShaderInfoLog(shader.id(), static_cast<GLsizei>(log.size()), nullptr, log.data());
+    FAIL() << "compiling the facet-direction kernel: " << log.c_str();
+  }
+  gl::Program program = gl::createProgram("facet-directions");
+  glAttachShader(program.id(), shader.id());
+  glLinkProgram(program.id());
+  glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
+  ASSERT_TRUE(ok);
+  const auto count = static_cast<GLuint>(cases.size());
+  gl::Buffer in = gl::createBuffer("facet-cases", cases.size() * sizeof(Case), cases.data());
+  gl::Buffer out = gl::createBuffer("facet-results", cases.size() * 2 * sizeof(glm::vec4), nullptr);
+  glUseProgram(program.id());
+  glUniform1ui(glGetUniformLocation(program.id(), "count"), count);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+  glDispatchCompute((count + 63u) / 64u, 1, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  std::vector<glm::vec4> results(cases.size() * 2);
+  glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(results.size() * sizeof(glm::vec4)), results.data());
+  glUseProgram(0);
+
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const Case& c = cases[i];
+    const glm::vec3 v(c.v), n(c.n), g(c.ng), t(c.tEta);
+    const glm::vec3 wantR = shading::tdReflectOverFacet(v, n, g), wantT = shading::tdRefractOverFacet(t, v, g, c.tEta.w);
+    const glm::vec3 gotR(results[2 * i]), gotT(results[2 * i + 1]);
+    ASSERT_LT(glm::length(gotR - wantR), 1e-5f) << "reflected, case " << i;
+    ASSERT_LT(glm::length(gotT - wantT), 1e-5f) << "refracted, case " << i;
+    ASSERT_GT(glm::dot(gotR, g), 0.0f) << "GLSL reflected into the facet, case " << i;
+    ASSERT_LT(glm::dot(gotT, g), 0.0f) << "GLSL refracted back out of the facet, case " << i;
+  }
+}
 
 }  // namespace
 }  // namespace tandem
