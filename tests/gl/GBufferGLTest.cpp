@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "GlTestUtil.h"
+#include "core/RenderSpace.h"
 #include "gl/GpuScene.h"
 #include "gl/VisibilityPass.h"
 
@@ -23,7 +24,7 @@ RasterResult raster(const Scene& scene, int width, int height) {
   RasterResult out;
   if (!pass.ok()) return out;
   pass->resize(width, height);
-  pass->render(gpu, scene.camera);
+  pass->render(gpu, toRenderSpace(scene.camera, gpu.anchor()));  // the GL copy is in render space
   pass->readIds(out.ids);
   out.depth.resize(static_cast<std::size_t>(width) * height);
   glGetTextureImage(pass->depth().id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT,

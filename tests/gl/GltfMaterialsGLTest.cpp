@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "GlTestUtil.h"
+#include "core/RenderSpace.h"
 #include "gl/GpuScene.h"
 #include "gl/VisibilityPass.h"
 #include "rt/SurfaceShading.h"
@@ -66,7 +67,7 @@ Shaded renderGl(GlContext& context, const Scene& scene, const FrameSettings& set
   auto pass = gl::VisibilityPass::create();
   EXPECT_TRUE(pass.ok());
   pass->resize(settings.width, settings.height);
-  pass->render(gpu, scene.camera);
+  pass->render(gpu, toRenderSpace(scene.camera, gpu.anchor()));  // the GL copy is in render space
   pass->readIds(out.ids);
   return out;
 }

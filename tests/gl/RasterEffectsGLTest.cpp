@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "GlTestUtil.h"
+#include "core/RenderSpace.h"
 #include "core/Shading.h"
 #include "gl/GpuScene.h"
 #include "gl/VisibilityPass.h"
@@ -106,7 +107,7 @@ void checkShadowMaps(LightType type, const char* name) {
   auto pass = gl::VisibilityPass::create();
   ASSERT_TRUE(pass.ok());
   pass->resize(w, h);
-  pass->render(gpu, scene.camera);
+  pass->render(gpu, toRenderSpace(scene.camera, gpu.anchor()));  // the GL copy is in render space
   std::vector<glm::uvec2> ids;
   pass->readIds(ids);
 
@@ -209,7 +210,7 @@ ViewDiff compareEffect(const Scene& scene, DebugView view, EffectMode FrameSetti
   auto pass = gl::VisibilityPass::create();
   if (!pass) return d;
   pass->resize(w, h);
-  pass->render(gpu, scene.camera);
+  pass->render(gpu, toRenderSpace(scene.camera, gpu.anchor()));  // the GL copy is in render space
   std::vector<glm::uvec2> ids;
   pass->readIds(ids);
   for (int y = 0; y < h; ++y)

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "GlTestUtil.h"
+#include "core/RenderSpace.h"
 #include "core/Shading.h"
 #include "gl/GlObjects.h"
 #include "gl/GpuScene.h"
@@ -106,7 +107,7 @@ void checkParity(ShadingModel model) {
   auto pass = gl::VisibilityPass::create();
   ASSERT_TRUE(pass.ok());
   pass->resize(w, h);
-  pass->render(gpu, scene.camera);
+  pass->render(gpu, toRenderSpace(scene.camera, gpu.anchor()));  // the GL copy is in render space
   std::vector<glm::uvec2> ids;
   pass->readIds(ids);
 

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <glm/glm.hpp>
 
+#include "support/SceneTransform.h"
 #include "core/Shading.h"
 #include "rt/CpuComposite.h"
 #include "rt/RayTracer.h"
@@ -34,26 +35,6 @@ inline std::size_t pixelIndex(int x, int y, int w) {
 /// light positions, ranges and attenuation (so light reaching a scaled point is unchanged), the camera
 /// and its clip distances. Computed in double so only the final rounding to float remains: that rounding
 /// of the *input* is part of what the extremes test.
-inline void transformScene(Scene& s, double scale, glm::dvec3 offset) {
-  glm::dmat4 m(1.0);
-  m[0][0] = m[1][1] = m[2][2] = scale;
-  m[3] = glm::dvec4(offset, 1.0);
-  auto point = [&](glm::vec3 p) { return glm::vec3(offset + scale * glm::dvec3(p)); };
-  for (Instance& i : s.instances) i.worldFromObject = glm::mat4(m * glm::dmat4(i.worldFromObject));
-  for (Light& l : s.lights) {
-    l.posW = point(l.posW);
-    l.range = static_cast<float>(l.range * scale);
-    // 1/(c + l·d + q·d²) with d scaled by s: the same falloff needs l/s and q/s².
-    l.attenuation.y = static_cast<float>(l.attenuation.y / scale);
-    l.attenuation.z = static_cast<float>(l.attenuation.z / (scale * scale));
-  }
-  s.camera.posW = point(s.camera.posW);
-  s.camera.targetW = point(s.camera.targetW);
-  s.camera.nearZ = static_cast<float>(s.camera.nearZ * scale);
-  if (std::isfinite(s.camera.farZ)) s.camera.farZ = static_cast<float>(s.camera.farZ * scale);
-  s.camera.orthoHeight = static_cast<float>(s.camera.orthoHeight * scale);
-}
-
 inline Scene whittedScene() {
   Result<Scene> s = loadDefaultScene();
   EXPECT_TRUE(s.ok());

@@ -51,6 +51,7 @@ class CompositePass {
   /// A finished linear frame (reference mode), row 0 = top; replaces the shade pass's output.
   void uploadLinear(const ImageF& image);
 
+  /// `camera` in render space (GpuScene::anchor()), as the visibility pass drew with.
   void shade(const GpuScene& scene, const VisibilityPass& visibility, const Camera& camera, const ShadeInputs& in);
   /// The same shade pass into another colour target of width × height (a reflection probe's face) from
   /// that view's ids and depth (which it attaches to `framebuffer` as its read-only depth).

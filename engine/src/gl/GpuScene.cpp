@@ -1,10 +1,13 @@
 #include "gl/GpuScene.h"
 
+#include "core/RenderSpace.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <vector>
 
+#include "core/RenderSpace.h"
 #include "core/Shading.h"
 
 namespace tandem::gl {
@@ -42,12 +45,14 @@ Buffer bufferOf(std::string_view label, const std::vector<T>& v) {
   return createBuffer(label, v.size() * sizeof(T), v.data());
 }
 
-std::vector<GpuInstance> packInstances(const Scene& scene) {
+// Instance transforms in render space (core/RenderSpace.h): their translations rebased on the anchor in
+// double, so vertices far from the world origin are transformed with small, precise numbers.
+std::vector<GpuInstance> packInstances(const Scene& scene, glm::vec3 anchor) {
   std::vector<GpuInstance> out;
   out.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances) {
     GpuInstance g;
-    g.worldFromObject = inst.worldFromObject;
+    g.worldFromObject = toRenderSpace(inst.worldFromObject, anchor);
     glm::mat3 m(inst.worldFromObject);
     float det = glm::determinant(m);
     // A singular transform has no inverse: a zero matrix makes every normal fall back to Ng, as on the CPU.
@@ -85,6 +90,7 @@ std::vector<std::uint8_t> resizeRgba8(const tandem::Texture& t, int w, int h) {
 }  // namespace
 
 void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOverride) {
+  anchor_ = renderAnchor(scene);
   // ---- geometry: one shared set of buffers, indices made absolute so no base vertex is needed ----
   std::size_t vertexCount = 0, indexCount = 0;
   bool anyNormals = false, anyUvs = false, anyColors = false, anyTangents = false;
@@ -168,7 +174,7 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
 
   // ---- instances and the draw commands (one per instance, baseInstance = instance index) ----
   instanceCount_ = static_cast<int>(scene.instances.size());
-  instances_ = bufferOf("instances", packInstances(scene));
+  instances_ = bufferOf("instances", packInstances(scene, anchor_));
   // Two views of one record: the matrices as floats, meshMaterial as integers (reading integer bits
   // through a float view would meet llvmpipe's denormal flushing).
   instancesTex_ = createBufferTexture("instances view", GL_RGBA32F, instances_);
@@ -261,14 +267,17 @@ void GpuScene::bakeRamps(const Scene& scene) {
 
 void GpuScene::updateInstances(const Scene& scene) {
   assert(static_cast<int>(scene.instances.size()) == instanceCount_ && "updateInstances: instance count changed");
-  std::vector<GpuInstance> packed = packInstances(scene);
+  std::vector<GpuInstance> packed = packInstances(scene, anchor_);
   glNamedBufferSubData(instances_.id(), 0, static_cast<GLsizeiptr>(packed.size() * sizeof(GpuInstance)),
                        packed.data());
 }
 
 void GpuScene::updateLights(const Scene& scene) {
   std::vector<shading::GpuLight> packed;
-  for (const Light* l : scene.directLights()) packed.push_back(shading::packLight(*l));
+  for (const Light* l : scene.directLights()) {
+    packed.push_back(shading::packLight(*l));
+    packed.back().posType = glm::vec4(toRenderSpace(l->posW, anchor_), packed.back().posType.w);
+  }
   lightCount_ = static_cast<int>(packed.size());
   features_.lightCount = lightCount_;
   // Always TD_MAX_LIGHTS records: the uniform block declares that many, so a light turned ambient (or

@@ -64,6 +64,9 @@ class GpuScene {
   int lightCount() const { return lightCount_; }
   bool hasKdTextures() const { return static_cast<bool>(kdTextures_); }
   std::optional<ShadingModel> shadingOverride() const { return override_; }
+  /// The render-space anchor (core/RenderSpace.h), fixed at upload(): instance transforms and lights are
+  /// held relative to it, so cameras, bounds and lights handed to the passes must be too.
+  glm::vec3 anchor() const { return anchor_; }
   const SceneFeatures& features() const { return features_; }
   std::size_t gpuBytes() const { return bytes_; }
 
@@ -84,6 +87,7 @@ class GpuScene {
   int instanceCount_ = 0;
   int lightCount_ = 0;
   std::optional<ShadingModel> override_;
+  glm::vec3 anchor_{0.0f};
   SceneFeatures features_;
   std::size_t bytes_ = 0;
 };

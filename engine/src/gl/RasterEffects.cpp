@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "core/RenderSpace.h"
 #include "core/Shading.h"
 #include "gl/CompositePass.h"
 
@@ -71,12 +72,12 @@ std::vector<Bounds> meshBounds(const Scene& scene) {
   return out;
 }
 
-std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>& meshes) {
+std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>& meshes, glm::vec3 anchor) {
   std::vector<Bounds> out(scene.instances.size());
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {
     const Bounds& b = meshes[scene.instances[i].mesh];
     if (b.empty()) continue;
-    const glm::mat4& m = scene.instances[i].worldFromObject;
+    const glm::mat4 m = toRenderSpace(scene.instances[i].worldFromObject, anchor);
     for (int k = 0; k < 8; ++k) {
       glm::vec3 corner((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z);
       out[i].add(glm::vec3(m * glm::vec4(corner, 1.0f)));
@@ -138,7 +139,9 @@ void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const Visibilit
   glm::vec3 centre = world.centre();
   float radius = std::max(0.5f * glm::length(world.hi - world.lo), 1e-3f);
   for (const Job& job : jobs) {
-    const Light& l = *lights[static_cast<std::size_t>(job.light)];
+    // In render space, as the bounds and the GL copy of the scene (gpu.anchor()).
+    Light l = *lights[static_cast<std::size_t>(job.light)];
+    l.posW = toRenderSpace(l.posW, gpu.anchor());
     GpuShadow& rec = records[static_cast<std::size_t>(job.light)];
     if (l.type == LightType::Directional) {
       // Orthographic, fitted to the scene's bounds seen along the light.

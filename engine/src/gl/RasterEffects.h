@@ -40,8 +40,8 @@ struct Bounds {
 
 /// Object-space bounds of every mesh (computed once per scene).
 std::vector<Bounds> meshBounds(const Scene& scene);
-/// World-space bounds of each instance, and of the whole scene.
-std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>& meshes);
+/// Bounds of each instance in render space (world − anchor, core/RenderSpace.h): the space of the GL copy.
+std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>& meshes, glm::vec3 anchor);
 
 /// One record per direct light j, std140 (shade.frag's GpuShadow). Kind 0: no map (lit).
 struct GpuShadow {

@@ -20,6 +20,7 @@ class VisibilityPass {
 
   /// Reallocates the targets when the frame size changes.
   void resize(int width, int height);
+  /// `camera` in render space, the space of the GL copy: toRenderSpace(cameraW, scene.anchor()).
   void render(const GpuScene& scene, const Camera& camera);
   /// The same raster into another target (a shadow map's depth, a probe face's ids + depth) of
   /// width × height pixels, seen from `camera` (aspect width / height); `excluded` (an instance index)

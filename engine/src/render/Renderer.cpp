@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "core/RenderSpace.h"
 #include "core/Timer.h"
 #include "gl/CompositePass.h"
 #include "gl/Gl.h"
@@ -195,6 +196,8 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   }
   const bool rayPass = wantsRays && !r.rtBroken && !wantsReference;
   const bool referenceFrame = wantsReference && !r.rtBroken;
+  // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
+  const Camera glCamera = toRenderSpace(camera, r.gpu.anchor());
   r.visibilityPass.resize(s.width, s.height);
   r.compositePass.resize(s.width, s.height);
   stats.prepareMs = clock.ms();
@@ -210,7 +213,7 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   shadeIn.fresnel = s.fresnel;
   shadeIn.fresnelWeighted = s.fresnelWeighted;
   std::vector<gl::Bounds> instanceBounds;
-  if (rasterShadows || probeEffects != 0) instanceBounds = gl::instanceBounds(scene, r.meshBounds);
+  if (rasterShadows || probeEffects != 0) instanceBounds = gl::instanceBounds(scene, r.meshBounds, r.gpu.anchor());
   if (rasterShadows) {
     if (r.shadowVersion != r.gpuVersion) {
       gl::Bounds world;
@@ -241,7 +244,7 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
     r.probeVersion = 0;
   }
   if (!referenceFrame) {
-    r.visibilityPass.render(r.gpu, camera);
+    r.visibilityPass.render(r.gpu, glCamera);
     glFinish();
   }
   stats.rasterMs = clock.ms();
@@ -310,7 +313,7 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   // composite: shade the visibility buffer, add the ray results, then exposure + tone map + sRGB once.
   // ---------------------------------------------------------------------------------------------
   clock.reset();
-  if (!referenceFrame) r.compositePass.shade(r.gpu, r.visibilityPass, camera, shadeIn);
+  if (!referenceFrame) r.compositePass.shade(r.gpu, r.visibilityPass, glCamera, shadeIn);
   r.compositePass.output(s.exposure, s.toneMap, s.debugView);
   glFinish();
   stats.compositeMs = clock.ms();

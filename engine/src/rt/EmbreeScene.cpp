@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/RenderSpace.h"
 #include "rt/RayMath.h"
 #include "tandem/Log.h"
 
@@ -153,7 +154,7 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, co
   auto out = std::unique_ptr<EmbreeScene>(new EmbreeScene());
   // Camera-relative: positions are kept relative to where the camera is, so their precision follows
   // the distance to the viewer rather than to the world origin (docs/numerics.md, "Position").
-  if (isFinite(scene.camera.posW)) out->anchor_ = scene.camera.posW;
+  out->anchor_ = renderAnchor(scene);
   auto failed = [&](const std::string& what) -> Result<std::unique_ptr<EmbreeScene>> {
     std::string e = device.firstError();
     return Error{where + ": " + what + ": " + (e.empty() ? std::string("Embree failed") : e)};

@@ -9,20 +9,6 @@ namespace tandem::rt {
 
 using namespace tandem::shading;
 
-glm::vec3 toRenderSpace(glm::vec3 posW, glm::vec3 anchor) {
-  return glm::vec3(glm::dvec3(posW) - glm::dvec3(anchor));
-}
-
-Camera toRenderSpace(const Camera& camera, glm::vec3 anchor) {
-  Camera c = camera;
-  c.posW = toRenderSpace(camera.posW, anchor);
-  // The view direction from the world-space difference (exact in double): rounding the two rebased
-  // points separately would tilt it by their rounding when the target is close to the camera.
-  glm::dvec3 forward = glm::dvec3(camera.targetW) - glm::dvec3(camera.posW);
-  c.targetW = glm::vec3(glm::dvec3(c.posW) + forward);
-  return c;
-}
-
 CameraRays::CameraRays(const Camera& camera, glm::ivec2 size)
     : pos_(camera.posW),
       sizeX_(float(size.x)),
@@ -38,8 +24,7 @@ CameraRays::CameraRays(const Camera& camera, glm::ivec2 size)
 
 InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject, glm::vec3 anchor) {
   InstanceTransform t;
-  t.worldFromObject = worldFromObject;
-  t.worldFromObject[3] = glm::vec4(toRenderSpace(glm::vec3(worldFromObject[3]), anchor), worldFromObject[3].w);
+  t.worldFromObject = toRenderSpace(worldFromObject, anchor);
   glm::mat3 m(worldFromObject);
   // A singular transform (scale 0 on an axis) has no inverse; its normals fall back to Ng per hit.
   float det = glm::determinant(m);

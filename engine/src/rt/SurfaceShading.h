@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/RenderSpace.h"
 #include "core/Shading.h"
 #include "rt/RayMath.h"
 #include "tandem/Camera.h"
@@ -16,15 +17,7 @@
 
 namespace tandem::rt {
 
-/// Camera-relative rendering (docs/numerics.md): the ray pass works in "render space", world space
-/// translated by −anchor (the camera position when the Embree scene was built), as Unity HDRP does. Far
-/// from the world origin a float world position carries an error of ulp(|p|) (1/16 at 1e6), so offsets
-/// sized for it would be metres; relative to the camera the coordinates stay small and precise. Every
-/// position the ray pass handles (instance transforms, lights, ray origins, hits) is in render space;
-/// directions, distances and outputs are the same as in world space. anchor = 0 is plain world space.
-/// The subtraction is done in double, so the only rounding is that of the result.
-glm::vec3 toRenderSpace(glm::vec3 posW, glm::vec3 anchor);
-Camera toRenderSpace(const Camera& camera, glm::vec3 anchor);
+// Camera-relative rendering: core/RenderSpace.h (toRenderSpace, renderAnchor), shared with the GL passes.
 
 /// Camera::rayThroughPixel with its per-camera work (the basis, tan of the half field of view, the
 /// aspect) done once instead of per pixel; the per-pixel arithmetic is the same expression, so the rays
