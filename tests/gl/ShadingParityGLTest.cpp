@@ -114,17 +114,35 @@ void checkParity(ShadingModel model) {
   rt::FrameShading frame(scene, model);
   std::vector<rt::InstanceTransform> transforms;
   for (const Instance& inst : scene.instances) transforms.push_back(rt::makeInstanceTransform(inst.worldFromObject));
-  int compared = 0, mismatched = 0, outlined = 0;
+  int compared = 0, mismatched = 0, outlined = 0, onChecker = 0;
   double worst = 0.0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       glm::uvec2 id = ids[static_cast<std::size_t>(y) * w + x];
       glm::vec3 got = gl.at(x, y);
       glm::vec3 want = scene.background;
+      // What GL may do differently from the CPU and still be right (the GL spec leaves it to the
+      // implementation): filter textures with fixed-point weights (8 bits on NVIDIA: 1/512 of a texel's
+      // contrast, which this texture's sRGB steps make up to ~0.35 in linear), and contract a·b + c into
+      // fused multiply-adds. The latter moves a uv by an ulp, which only matters where the shading is
+      // discontinuous in uv: on a checker square's edge either colour is the exact answer for some
+      // rounding. Such pixels are counted, not compared, and must stay rare.
+      float tolerance = 2e-3f;
       if (id.x != 0) {
         Ray ray = scene.camera.rayThroughPixel({float(x) + 0.5f, float(y) + 0.5f}, {w, h});
         rt::SurfaceHit hit = rt::resolveHit(scene, transforms[id.x - 1], id.x - 1, id.y, ray);
         want = rt::shadeLocal(scene, frame, transforms[id.x - 1], hit, ~0u);
+        const Material& mat = scene.materials[hit.material];
+        if (mat.checkerFrequency > 0.0f) {
+          const glm::vec2 c = hit.uv * mat.checkerFrequency;
+          const glm::vec2 edge = glm::abs(c - glm::round(c));
+          if (std::min(edge.x, edge.y) < 1e-5f * std::max(1.0f, std::max(std::abs(c.x), std::abs(c.y)))) {
+            ++onChecker;
+            ++compared;
+            continue;
+          }
+        }
+        if (mat.kdTexture >= 0) tolerance += 1.0f / 512.0f;
       }
       if (model == ShadingModel::Toon && id.x != 0 && got == glm::vec3(0.0f) && want != glm::vec3(0.0f)) {
         ++outlined;  // silhouette outline: a GL-only screen-space step (docs/shading.md)
@@ -132,7 +150,7 @@ void checkParity(ShadingModel model) {
       }
       float err = glm::length(got - want);
       worst = std::max(worst, double(err));
-      if (err > 2e-3f + 2e-3f * glm::length(want)) {
+      if (err > tolerance + 2e-3f * glm::length(want)) {
         ++mismatched;
         if (model != ShadingModel::Toon && mismatched < 10)
           ADD_FAILURE() << toString(model) << " pixel " << x << "," << y << " id " << id.x << "/" << id.y << " GL ("
@@ -142,6 +160,7 @@ void checkParity(ShadingModel model) {
       ++compared;
     }
   EXPECT_EQ(compared + outlined, w * h);
+  EXPECT_LT(onChecker, compared / 200) << "pixels on a checker edge are the exception, not the frame";
   if (model == ShadingModel::Toon) {
     // Hard bands: a pixel whose N·L sits on a ramp step may land on either side in float.
     EXPECT_LT(mismatched, compared / 200) << "worst " << worst;
