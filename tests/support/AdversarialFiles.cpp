@@ -4,7 +4,7 @@
 #include <cstring>
 #include <fstream>
 
-#include <stb/stb_image_write.h>
+#include "unit/GltfTestUtil.h"
 
 namespace tandem::test {
 
@@ -12,35 +12,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string base64(const std::uint8_t* in, std::size_t n) {
-  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((n + 2) / 3 * 4);
-  std::size_t i = 0;
-  for (; i + 2 < n; i += 3) {
-    const std::uint32_t v = (std::uint32_t(in[i]) << 16) | (std::uint32_t(in[i + 1]) << 8) | in[i + 2];
-    out += t[v >> 18];
-    out += t[(v >> 12) & 63];
-    out += t[(v >> 6) & 63];
-    out += t[v & 63];
-  }
-  if (i + 1 == n) {
-    const std::uint32_t v = std::uint32_t(in[i]) << 16;
-    out += t[v >> 18];
-    out += t[(v >> 12) & 63];
-    out += "==";
-  } else if (i + 2 == n) {
-    const std::uint32_t v = (std::uint32_t(in[i]) << 16) | (std::uint32_t(in[i + 1]) << 8);
-    out += t[v >> 18];
-    out += t[(v >> 12) & 63];
-    out += t[(v >> 6) & 63];
-    out += '=';
-  }
-  return out;
-}
-
 std::string dataUri(const std::vector<std::uint8_t>& b, const char* type = "application/octet-stream") {
-  return std::string("data:") + type + ";base64," + base64(b.data(), b.size());
+  return std::string("data:") + type + ";base64," + base64(b);
 }
 
 void writeFile(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::binary) << s; }
@@ -468,16 +441,7 @@ std::vector<std::uint8_t> pngBomb(int w, int h, std::size_t inflatedBytes) { ret
 
 std::vector<std::uint8_t> pngHeaderOnly(int w, int h) { return png(w, h, zeroStream(std::size_t(w) * 4 + 1)); }
 
-std::vector<std::uint8_t> flatPng(int w, int h) {
-  std::vector<std::uint8_t> px(std::size_t(w) * std::size_t(h) * 4, 200), out;
-  stbi_write_png_to_func(
-      [](void* ctx, void* data, int size) {
-        auto* o = static_cast<std::vector<std::uint8_t>*>(ctx);
-        o->insert(o->end(), static_cast<std::uint8_t*>(data), static_cast<std::uint8_t*>(data) + size);
-      },
-      &out, w, h, 4, px.data(), w * 4);
-  return out;
-}
+std::vector<std::uint8_t> flatPng(int w, int h) { return pngBytes(w, h); }
 
 std::uint64_t folderBytes(const fs::path& dir) {
   std::uint64_t n = 0;

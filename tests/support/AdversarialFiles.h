@@ -27,7 +27,7 @@ std::uint64_t folderBytes(const std::filesystem::path& dir);
 std::vector<std::uint8_t> pngBomb(int w, int h, std::size_t inflatedBytes);
 /// A PNG header declaring w×h pixels, with a one-row IDAT: stb_image reads the size, never the pixels.
 std::vector<std::uint8_t> pngHeaderOnly(int w, int h);
-/// A real, flat-coloured w×h RGBA PNG (highly compressible).
+/// A real, flat-coloured w×h RGBA PNG (highly compressible): test::pngBytes.
 std::vector<std::uint8_t> flatPng(int w, int h);
 
 }  // namespace tandem::test
