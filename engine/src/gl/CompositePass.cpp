@@ -6,6 +6,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/FeedbackLoop.h"
 #include "gl/Program.h"
 #include "tandem/Log.h"
 
@@ -176,6 +177,7 @@ void CompositePass::shadeInto(GLuint framebuffer, int width, int height, const G
 
   glUseProgram(p);
   glBindVertexArray(emptyVao_.id());
+  assertNoFeedbackLoop("shade");
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glUseProgram(0);
@@ -197,6 +199,7 @@ void CompositePass::output(float exposure, ToneMap toneMap, DebugView view) {
   glBindTextureUnit(0, linear_.id());
   glUseProgram(p);
   glBindVertexArray(emptyVao_.id());
+  assertNoFeedbackLoop("output");
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glUseProgram(0);

@@ -5,6 +5,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/FeedbackLoop.h"
 #include "gl/Program.h"
 
 namespace tandem::gl {
@@ -73,6 +74,7 @@ void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const
   glProgramUniform3fv(program, 1, 1, glm::value_ptr(camera.posW));
   glProgramUniform1ui(program, 2, excluded ? *excluded + 1u : 0u);
   scene.bind(2, 3);
+  assertNoFeedbackLoop("visibility");
   scene.drawAll();
   glUseProgram(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
