@@ -1,11 +1,14 @@
-// Rendering feedback loops (GL 4.5 core, 9.3): the check finds a sampled texture attached to the draw
-// framebuffer (colour or depth, at a sampled mip level) and nothing else.
+// Rendering feedback loops (GL 4.5 core, 9.3): the check itself finds a sampled texture attached to the
+// draw framebuffer (colour or depth, at a sampled mip level) and nothing else, and no pass of any frame
+// samples its own target: the toon outlines and the depth view read the visibility depth that the shade
+// pass keeps attached for its early depth test.
 #include <gtest/gtest.h>
 
 #include "GlTestUtil.h"
 #include "gl/FeedbackLoop.h"
 #include "gl/GlObjects.h"
 #include "gl/Program.h"
+#include "tandem/SceneFile.h"
 
 namespace tandem {
 namespace {
@@ -83,6 +86,49 @@ TEST(FeedbackLoopGLTest, MipLevelsCountOnlyWhenSampled) {
   EXPECT_TRUE(f.loopsWith(target.id()).empty());
   glTextureParameteri(target.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
   EXPECT_EQ(f.loopsWith(target.id()).size(), 1u);
+}
+
+// Every pass of every frame below runs under the check; the report must show draws and no loop.
+void expectNoLoops(Renderer& renderer, const Camera& camera, const FrameSettings& settings, const char* what) {
+  gl::takeFeedbackLoopReport();
+  renderer.render(camera, settings);
+  gl::FeedbackLoopReport report = gl::takeFeedbackLoopReport();
+  EXPECT_GE(report.draws, 2u) << what << ": the passes did not run the check";
+  for (const std::string& loop : report.loops) ADD_FAILURE() << what << ": " << loop;
+  EXPECT_FALSE(renderer.readImage().rgba.empty()) << what;
+}
+
+struct ChecksOn {
+  ChecksOn() { gl::setFeedbackLoopChecks(true); }
+  ~ChecksOn() { gl::setFeedbackLoopChecks(false); }
+};
+
+TEST(FeedbackLoopGLTest, NoPassSamplesItsOwnTarget) {
+  TD_REQUIRE_GL_CONTEXT();
+  ChecksOn checks;
+  auto scene = loadDefaultScene();
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  Camera camera = scene->camera;
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_NE(renderer, nullptr);
+  ASSERT_TRUE(renderer->setScene(std::move(*scene)).ok());
+
+  // Toon with raster shadows and reflection probes: the probe faces are shaded (toon outlines
+  // included) by the same pass into their own targets.
+  FrameSettings toon = *presetSettings("raster");
+  toon.width = 160;
+  toon.height = 90;
+  toon.shadingOverride = ShadingModel::Toon;
+  expectNoLoops(*renderer, camera, toon, "raster preset, toon");
+  FrameSettings depthView = toon;
+  depthView.shadingOverride = ShadingModel::Phong;
+  depthView.debugView = DebugView::Depth;
+  expectNoLoops(*renderer, camera, depthView, "depth view");
+  FrameSettings hybridToon = *presetSettings("hybrid-fast");
+  hybridToon.width = 160;
+  hybridToon.height = 90;
+  hybridToon.shadingOverride = ShadingModel::Toon;
+  expectNoLoops(*renderer, camera, hybridToon, "hybrid-fast, toon");
 }
 
 }  // namespace

@@ -56,6 +56,7 @@ void CompositePass::resize(int width, int height) {
   if (width == width_ && height == height_) return;
   width_ = width;
   height_ = height;
+  sampledDepth_.reset();  // made again at the new size by the first frame that needs it
   linear_ = createTexture2D("linear radiance", GL_RGBA32F, width, height);
   setSampling(linear_, GL_NEAREST, GL_NEAREST);
   linearFbo_ = createFramebuffer("linear radiance");
@@ -89,6 +90,18 @@ void CompositePass::uploadLinear(const ImageF& image) {
       rgba[static_cast<std::size_t>(height_ - 1 - y) * width_ + x] = glm::vec4(image.at(x, y), 1.0f);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glTextureSubImage2D(linear_.id(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, rgba.data());
+}
+
+bool CompositePass::samplesDepth(const SceneFeatures& features, DebugView view) {
+  // Toon outlines test depth in every view the variant compiles them into; the depth view shows it.
+  return features.toon || view == DebugView::Depth;
+}
+
+void CompositePass::reserveSampledDepth() {
+  assert(width_ > 0 && "reserveSampledDepth before resize");
+  if (sampledDepth_) return;
+  sampledDepth_ = createTexture2D("gbuffer depth (sampled copy)", GL_DEPTH_COMPONENT32F, width_, height_);
+  setSampling(sampledDepth_, GL_NEAREST, GL_NEAREST);
 }
 
 const Program& CompositePass::shadeVariant(const SceneFeatures& f, const ShadeInputs& in) {
@@ -125,11 +138,13 @@ const Program& CompositePass::shadeVariant(const SceneFeatures& f, const ShadeIn
 void CompositePass::shade(const GpuScene& scene, const VisibilityPass& visibility, const Camera& camera,
                           const ShadeInputs& in) {
   assert(visibility.width() == width_ && visibility.height() == height_);
-  shadeInto(linearFbo_.id(), width_, height_, scene, visibility.ids(), visibility.depth(), camera, in);
+  shadeInto(linearFbo_.id(), width_, height_, scene, visibility.ids(), visibility.depth(),
+            sampledDepth_ ? &sampledDepth_ : nullptr, camera, in);
 }
 
 void CompositePass::shadeInto(GLuint framebuffer, int width, int height, const GpuScene& scene, const Texture& ids,
-                              const Texture& depth, const Camera& camera, const ShadeInputs& in) {
+                              const Texture& depth, const Texture* sampledDepth, const Camera& camera,
+                              const ShadeInputs& in) {
   // Background pixels never run the shader: the visibility depth is attached (read-only) and the
   // full-screen triangle at depth 0 passes only where something was drawn (reversed-Z: cleared = 0), so
   // llvmpipe's early depth test skips whole sky blocks; the clear gives them their colour. Attached
@@ -168,7 +183,15 @@ void CompositePass::shadeInto(GLuint framebuffer, int width, int height, const G
   scene.bind(kUnitKd, kUnitRamps);
   scene.bindShading();
   glBindTextureUnit(kUnitIds, ids.id());
-  glBindTextureUnit(kUnitDepth, depth.id());
+  // The shader never reads the attached depth: that is a feedback loop, undefined even with depth writes
+  // off (a GPU that compresses or tiles depth may hand the sampler stale or compressed data). Frames that
+  // need depth read a copy; the others bind nothing there.
+  const bool readsDepth = samplesDepth(scene.features(), in.debugView);
+  assert((!readsDepth || sampledDepth) && "shadeInto: this variant samples depth and has no copy to read");
+  if (readsDepth)
+    glCopyImageSubData(depth.id(), GL_TEXTURE_2D, 0, 0, 0, 0, sampledDepth->id(), GL_TEXTURE_2D, 0, 0, 0, 0, width,
+                       height, 1);
+  glBindTextureUnit(kUnitDepth, readsDepth ? sampledDepth->id() : 0);
   if (in.shadowMaps) in.shadowMaps->bind();
   if (in.probes && in.probeEffects != 0) in.probes->bind();
   glBindTextureUnit(kUnitLightMask, (in.rayInputs & kRayLightMask) ? lightMask_.id() : 0);

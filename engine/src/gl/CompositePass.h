@@ -51,12 +51,22 @@ class CompositePass {
   /// A finished linear frame (reference mode), row 0 = top; replaces the shade pass's output.
   void uploadLinear(const ImageF& image);
 
+  /// Whether the shade pass for these scene features and this view reads depth in the shader (the toon
+  /// outlines' depth test, the depth view). Such a pass samples a copy of the depth: the depth itself
+  /// stays attached for the early depth test, and sampling it there would be a feedback loop.
+  static bool samplesDepth(const SceneFeatures& features, DebugView view);
+  /// The frame-size depth copy that shade() samples when samplesDepth(): made on first need, kept until
+  /// the frame size changes.
+  void reserveSampledDepth();
+
   /// `camera` in render space (GpuScene::anchor()), as the visibility pass drew with.
   void shade(const GpuScene& scene, const VisibilityPass& visibility, const Camera& camera, const ShadeInputs& in);
   /// The same shade pass into another colour target of width × height (a reflection probe's face) from
-  /// that view's ids and depth (which it attaches to `framebuffer` as its read-only depth).
+  /// that view's ids and depth (which it attaches to `framebuffer` as its read-only depth). When
+  /// samplesDepth(), `depth` is copied into `sampledDepth` (GL_DEPTH_COMPONENT32F, at least width ×
+  /// height), which the shader reads instead.
   void shadeInto(GLuint framebuffer, int width, int height, const GpuScene& scene, const Texture& ids,
-                 const Texture& depth, const Camera& camera, const ShadeInputs& in);
+                 const Texture& depth, const Texture* sampledDepth, const Camera& camera, const ShadeInputs& in);
   /// Exposure, tone map and sRGB encoding into the RGBA8 target; debug views that are already display
   /// values (depth, ids, normals, light mask) pass through.
   void output(float exposure, ToneMap toneMap, DebugView view);
@@ -76,6 +86,7 @@ class CompositePass {
   Texture linear_, display_;
   Framebuffer linearFbo_, displayFbo_;
   Texture lightMask_, reflected_, transmitted_;
+  Texture sampledDepth_;  // frame size, with reserveSampledDepth()
   int width_ = 0, height_ = 0;
 };
 

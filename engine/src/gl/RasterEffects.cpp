@@ -246,6 +246,8 @@ void ReflectionProbes::update(const Scene& scene, const GpuScene& gpu, const Vis
     setSampling(ids_, GL_NEAREST, GL_NEAREST);
     depth_ = createTexture2D("probe depth", GL_DEPTH_COMPONENT32F, kFaceSize, kFaceSize);
     setSampling(depth_, GL_NEAREST, GL_NEAREST);
+    sampledDepth_ = createTexture2D("probe depth (sampled copy)", GL_DEPTH_COMPONENT32F, kFaceSize, kFaceSize);
+    setSampling(sampledDepth_, GL_NEAREST, GL_NEAREST);
     rasterFbo_ = createFramebuffer("probe raster");
     glNamedFramebufferTexture(rasterFbo_.id(), GL_COLOR_ATTACHMENT0, ids_.id(), 0);
     glNamedFramebufferTexture(rasterFbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
@@ -264,7 +266,7 @@ void ReflectionProbes::update(const Scene& scene, const GpuScene& gpu, const Vis
       raster.renderInto(rasterFbo_.id(), kFaceSize, kFaceSize, gpu, c, probes[slot]);
       glNamedFramebufferTextureLayer(shadeFbo_.id(), GL_COLOR_ATTACHMENT0, cubes_.id(), 0,
                                      static_cast<GLint>(6 * slot) + face);
-      composite.shadeInto(shadeFbo_.id(), kFaceSize, kFaceSize, gpu, ids_, depth_, c, local);
+      composite.shadeInto(shadeFbo_.id(), kFaceSize, kFaceSize, gpu, ids_, depth_, &sampledDepth_, c, local);
     }
   }
 }
@@ -273,6 +275,7 @@ void ReflectionProbes::release() {
   cubes_.reset();
   ids_.reset();
   depth_.reset();
+  sampledDepth_.reset();
   rasterFbo_.reset();
   shadeFbo_.reset();
   count_ = 0;

@@ -92,6 +92,7 @@ class ReflectionProbes {
 
  private:
   Texture cubes_, ids_, depth_;
+  Texture sampledDepth_;  // what toon outlines read while depth_ is attached to the face (64 KiB)
   Framebuffer rasterFbo_, shadeFbo_;
   int count_ = 0;
 };

@@ -200,6 +200,8 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   const Camera glCamera = toRenderSpace(camera, r.gpu.anchor());
   r.visibilityPass.resize(s.width, s.height);
   r.compositePass.resize(s.width, s.height);
+  if (!referenceFrame && gl::CompositePass::samplesDepth(r.gpu.features(), s.debugView))
+    r.compositePass.reserveSampledDepth();
   stats.prepareMs = clock.ms();
 
   // ---------------------------------------------------------------------------------------------
