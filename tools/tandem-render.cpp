@@ -108,10 +108,19 @@ int main(int argc, char** argv) {
   std::string sceneName = scenePath.empty() ? std::string("default (whitted.json)") : scenePath;
   if (auto r = (*renderer)->setScene(std::move(*scene)); !r) return fail(r.error().message);
 
+  // A size the GL cannot hold is refused here with the limit or the allocation it hit, before any frame
+  // (rendering it would give a black image).
+  std::string sizeSource = frameOptions.size ? "--size " + *frameOptions.size
+                                             : "frame size " + std::to_string(settings.width) + "x" +
+                                                   std::to_string(settings.height) + " (the scene's render size)";
+  if (auto ok = (*renderer)->resize(settings.width, settings.height); !ok)
+    return fail(sizeSource + ": " + ok.error().message);
+
   std::vector<FrameStats> stats;
   for (int i = 0; i < frames; ++i) {
     if (progress) progress->beginFrame(i);
     stats.push_back((*renderer)->render(camera, settings));
+    if (!stats.back().error.empty()) return fail(stats.back().error);
   }
   if (progress) progress->finish();
   Image image = (*renderer)->readImage();

@@ -23,7 +23,7 @@ RasterResult raster(const Scene& scene, int width, int height) {
   EXPECT_TRUE(pass.ok()) << (pass.ok() ? "" : pass.error().message);
   RasterResult out;
   if (!pass.ok()) return out;
-  pass->resize(width, height);
+  EXPECT_TRUE(pass->resize(width, height).ok());
   pass->render(gpu, toRenderSpace(scene.camera, gpu.anchor()));  // the GL copy is in render space
   pass->readIds(out.ids);
   out.depth.resize(static_cast<std::size_t>(width) * height);

@@ -66,7 +66,7 @@ Shaded renderGl(GlContext& context, const Scene& scene, const FrameSettings& set
   gpu.upload(scene, std::nullopt);
   auto pass = gl::VisibilityPass::create();
   EXPECT_TRUE(pass.ok());
-  pass->resize(settings.width, settings.height);
+  EXPECT_TRUE(pass->resize(settings.width, settings.height).ok());
   pass->render(gpu, toRenderSpace(scene.camera, gpu.anchor()));  // the GL copy is in render space
   pass->readIds(out.ids);
   return out;

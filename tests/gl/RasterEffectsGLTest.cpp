@@ -106,7 +106,7 @@ void checkShadowMaps(LightType type, const char* name) {
   gpu.upload(scene, std::nullopt);
   auto pass = gl::VisibilityPass::create();
   ASSERT_TRUE(pass.ok());
-  pass->resize(w, h);
+  EXPECT_TRUE(pass->resize(w, h).ok());
   pass->render(gpu, toRenderSpace(scene.camera, gpu.anchor()));  // the GL copy is in render space
   std::vector<glm::uvec2> ids;
   pass->readIds(ids);
@@ -209,7 +209,7 @@ ViewDiff compareEffect(const Scene& scene, DebugView view, EffectMode FrameSetti
   gpu.upload(scene, std::nullopt);
   auto pass = gl::VisibilityPass::create();
   if (!pass) return d;
-  pass->resize(w, h);
+  EXPECT_TRUE(pass->resize(w, h).ok());
   pass->render(gpu, toRenderSpace(scene.camera, gpu.anchor()));  // the GL copy is in render space
   std::vector<glm::uvec2> ids;
   pass->readIds(ids);

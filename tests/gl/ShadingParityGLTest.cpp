@@ -106,7 +106,7 @@ void checkParity(ShadingModel model) {
   gpu.upload(scene, model);
   auto pass = gl::VisibilityPass::create();
   ASSERT_TRUE(pass.ok());
-  pass->resize(w, h);
+  EXPECT_TRUE(pass->resize(w, h).ok());
   pass->render(gpu, toRenderSpace(scene.camera, gpu.anchor()));  // the GL copy is in render space
   std::vector<glm::uvec2> ids;
   pass->readIds(ids);

@@ -1,6 +1,7 @@
 #pragma once
-// What one frame cost: time per stage (milliseconds, wall clock) and rays of each kind.
+// What one frame cost: time per stage (milliseconds, wall clock) and rays of each kind, or why it was not drawn.
 #include <cstdint>
+#include <string>
 
 namespace tandem {
 
@@ -25,6 +26,10 @@ struct FrameStats {
   int rayWidth = 0;        // resolution the ray pass ran at
   int rayHeight = 0;
   int threads = 0;         // worker threads of the ray pass
+  /// Empty when the frame was drawn. Otherwise why it was not: the GL could not hold this frame size
+  /// (a limit it exceeds, or an allocation the driver refused, named as Renderer::resize names them).
+  /// readImage() is then empty when the frame's own targets failed, else it keeps the last frame drawn.
+  std::string error;
 };
 
 }  // namespace tandem

@@ -5,6 +5,7 @@
 //   auto ctx = createGlContext({});
 //   auto renderer = Renderer::create(**ctx);
 //   (*renderer)->setScene(std::move(scene));
+//   if (auto ok = (*renderer)->resize(settings.width, settings.height); !ok) { /* ok.error().message */ }
 //   FrameStats stats = (*renderer)->render(scene.camera, settings);
 //   Image frame = (*renderer)->readImage();
 //
@@ -50,7 +51,18 @@ class Renderer {
   void setInstanceTransform(std::uint32_t instance, const glm::mat4& worldFromObject);
   void setLight(std::uint32_t light, const Light& value);
 
-  /// Renders one frame into the renderer's offscreen target. Never fails: bad settings are clamped.
+  /// Makes the frame's GL targets for width × height now, so that a size the GL cannot hold is an error
+  /// here, where it can be handled, rather than a black frame. The error names what stops it: a driver
+  /// limit and its value ("width 16385 exceeds GL_MAX_TEXTURE_SIZE = 16384"; GL_MAX_FRAMEBUFFER_WIDTH /
+  /// HEIGHT, GL_MAX_VIEWPORT_DIMS), kMaxFrameSide, or the texture the driver refused and the memory the
+  /// frame needs (GL_OUT_OF_MEMORY: llvmpipe refuses any texture over 2 GiB, i.e. frames over 2^27 pixels).
+  /// The targets are then released. render() resizes by itself when the size changes; call this where the
+  /// size comes from outside (a window resize, a command-line flag) and before the first frame.
+  Result<void> resize(int width, int height);
+  /// Renders one frame into the renderer's offscreen target. Bad settings are clamped; the one failure
+  /// is a frame size the GL cannot hold: nothing is drawn and FrameStats::error says why (the same
+  /// message resize() gives; a size that failed is not tried again by render() until resize() is called
+  /// or another size is rendered).
   FrameStats render(const Camera& camera, const FrameSettings& settings);
   /// Draws the last frame into the default framebuffer (windows), size in pixels.
   void present(int framebufferWidth, int framebufferHeight);

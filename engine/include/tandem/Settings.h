@@ -28,9 +28,12 @@ enum class DebugView : std::uint8_t {
   Transmission, // ray pass: weighted transmitted radiance
 };
 
+/// The largest frame side resolved() keeps. The GL's own limits may be lower: Renderer::resize says.
+inline constexpr int kMaxFrameSide = 16384;
+
 struct FrameSettings {
-  int width = 1280;   // pixels, >= 1
-  int height = 720;   // pixels, >= 1
+  int width = 1280;   // pixels, [1, kMaxFrameSide]
+  int height = 720;   // pixels, [1, kMaxFrameSide]
   std::optional<ShadingModel> shadingOverride;  // replaces every material's model when set
   EffectMode shadows = EffectMode::Ray;
   EffectMode reflections = EffectMode::Ray;

@@ -7,8 +7,8 @@ namespace tandem {
 
 FrameSettings FrameSettings::resolved() const {
   FrameSettings s = *this;
-  s.width = std::clamp(s.width, 1, 16384);
-  s.height = std::clamp(s.height, 1, 16384);
+  s.width = std::clamp(s.width, 1, kMaxFrameSide);
+  s.height = std::clamp(s.height, 1, kMaxFrameSide);
   s.maxDepth = std::clamp(s.maxDepth, 0, 64);
   s.minContribution = std::isfinite(s.minContribution) ? std::clamp(s.minContribution, 0.0f, 1.0f) : 0.01f;
   s.rayScale = s.rayScale >= 4 ? 4 : s.rayScale >= 2 ? 2 : 1;

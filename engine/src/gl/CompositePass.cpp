@@ -19,19 +19,23 @@ constexpr GLuint kUnitIds = 0, kUnitDepth = 1, kUnitKd = 2, kUnitRamps = 3, kUni
                  kUnitTransmitted = 6;
 
 // Recreates `texture` only when the size changes: the ray grid is the same every frame in practice.
-void uploadGrid(Texture& texture, const char* label, GLenum internalFormat, int width, int height, GLenum format,
-                GLenum type, const void* data) {
+Result<void> uploadGrid(Texture& texture, const char* label, GLenum internalFormat, int width, int height,
+                        GLenum format, GLenum type, const void* data) {
   GLint w = 0, h = 0;
   if (texture) {
     glGetTextureLevelParameteriv(texture.id(), 0, GL_TEXTURE_WIDTH, &w);
     glGetTextureLevelParameteriv(texture.id(), 0, GL_TEXTURE_HEIGHT, &h);
   }
   if (!texture || w != width || h != height) {
-    texture = createTexture2D(label, internalFormat, width, height);
+    texture.reset();
+    auto made = tryCreateTexture2D(label, internalFormat, width, height);
+    if (!made) return made.error();
+    texture = std::move(*made);
     setSampling(texture, GL_NEAREST, GL_NEAREST);
   }
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, format, type, data);
+  return {};
 }
 
 }  // namespace
@@ -51,34 +55,55 @@ Result<CompositePass> CompositePass::create() {
   return pass;
 }
 
-void CompositePass::resize(int width, int height) {
+Result<void> CompositePass::resize(int width, int height) {
   assert(width > 0 && height > 0 && "CompositePass::resize: empty frame");
-  if (width == width_ && height == height_) return;
+  if (width == width_ && height == height_) return {};
+  release();  // the old targets first: they may be what keeps the new ones from fitting
+  auto linear = tryCreateTexture2D("linear radiance", GL_RGBA32F, width, height);
+  if (!linear) return linear.error();
+  auto display = tryCreateTexture2D("display", GL_RGBA8, width, height);
+  if (!display) return display.error();
+  setSampling(*linear, GL_NEAREST, GL_NEAREST);
+  setSampling(*display, GL_LINEAR, GL_LINEAR);
+  Framebuffer linearFbo = createFramebuffer("linear radiance");
+  glNamedFramebufferTexture(linearFbo.id(), GL_COLOR_ATTACHMENT0, linear->id(), 0);
+  if (auto complete = checkFramebufferComplete(linearFbo, "linear radiance"); !complete) return complete;
+  Framebuffer displayFbo = createFramebuffer("display");
+  glNamedFramebufferTexture(displayFbo.id(), GL_COLOR_ATTACHMENT0, display->id(), 0);
+  if (auto complete = checkFramebufferComplete(displayFbo, "display"); !complete) return complete;
+  linear_ = std::move(*linear);
+  display_ = std::move(*display);
+  linearFbo_ = std::move(linearFbo);
+  displayFbo_ = std::move(displayFbo);
   width_ = width;
   height_ = height;
+  return {};
+}
+
+void CompositePass::release() {
+  linearFbo_.reset();
+  displayFbo_.reset();
+  linear_.reset();
+  display_.reset();
   sampledDepth_.reset();  // made again at the new size by the first frame that needs it
-  linear_ = createTexture2D("linear radiance", GL_RGBA32F, width, height);
-  setSampling(linear_, GL_NEAREST, GL_NEAREST);
-  linearFbo_ = createFramebuffer("linear radiance");
-  glNamedFramebufferTexture(linearFbo_.id(), GL_COLOR_ATTACHMENT0, linear_.id(), 0);
-  display_ = createTexture2D("display", GL_RGBA8, width, height);
-  setSampling(display_, GL_LINEAR, GL_LINEAR);
-  displayFbo_ = createFramebuffer("display");
-  glNamedFramebufferTexture(displayFbo_.id(), GL_COLOR_ATTACHMENT0, display_.id(), 0);
-  assert(glCheckNamedFramebufferStatus(linearFbo_.id(), GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
-  assert(glCheckNamedFramebufferStatus(displayFbo_.id(), GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
+  width_ = height_ = 0;
 }
 
-void CompositePass::uploadLightMask(int width, int height, const std::uint32_t* mask) {
-  uploadGrid(lightMask_, "ray light mask", GL_R32UI, width, height, GL_RED_INTEGER, GL_UNSIGNED_INT, mask);
+std::size_t CompositePass::targetBytes(int width, int height) {
+  return (texelBytes(GL_RGBA32F) + texelBytes(GL_RGBA8)) * static_cast<std::size_t>(width) *
+         static_cast<std::size_t>(height);
 }
 
-void CompositePass::uploadReflected(int width, int height, const glm::vec4* rgba) {
-  uploadGrid(reflected_, "ray reflected", GL_RGBA32F, width, height, GL_RGBA, GL_FLOAT, rgba);
+Result<void> CompositePass::uploadLightMask(int width, int height, const std::uint32_t* mask) {
+  return uploadGrid(lightMask_, "ray light mask", GL_R32UI, width, height, GL_RED_INTEGER, GL_UNSIGNED_INT, mask);
 }
 
-void CompositePass::uploadTransmitted(int width, int height, const glm::vec4* rgba) {
-  uploadGrid(transmitted_, "ray transmitted", GL_RGBA32F, width, height, GL_RGBA, GL_FLOAT, rgba);
+Result<void> CompositePass::uploadReflected(int width, int height, const glm::vec4* rgba) {
+  return uploadGrid(reflected_, "ray reflected", GL_RGBA32F, width, height, GL_RGBA, GL_FLOAT, rgba);
+}
+
+Result<void> CompositePass::uploadTransmitted(int width, int height, const glm::vec4* rgba) {
+  return uploadGrid(transmitted_, "ray transmitted", GL_RGBA32F, width, height, GL_RGBA, GL_FLOAT, rgba);
 }
 
 void CompositePass::uploadLinear(const ImageF& image) {
@@ -97,11 +122,14 @@ bool CompositePass::samplesDepth(const SceneFeatures& features, DebugView view) 
   return features.toon || view == DebugView::Depth;
 }
 
-void CompositePass::reserveSampledDepth() {
+Result<void> CompositePass::reserveSampledDepth() {
   assert(width_ > 0 && "reserveSampledDepth before resize");
-  if (sampledDepth_) return;
-  sampledDepth_ = createTexture2D("gbuffer depth (sampled copy)", GL_DEPTH_COMPONENT32F, width_, height_);
+  if (sampledDepth_) return {};
+  auto made = tryCreateTexture2D("gbuffer depth (sampled copy)", GL_DEPTH_COMPONENT32F, width_, height_);
+  if (!made) return made.error();
+  sampledDepth_ = std::move(*made);
   setSampling(sampledDepth_, GL_NEAREST, GL_NEAREST);
+  return {};
 }
 
 const Program& CompositePass::shadeVariant(const SceneFeatures& f, const ShadeInputs& in) {

@@ -43,11 +43,19 @@ class CompositePass {
  public:
   static Result<CompositePass> create();
 
-  void resize(int width, int height);
-  /// Ray results on the ray grid (row 0 = top, as RayOutputs holds them).
-  void uploadLightMask(int width, int height, const std::uint32_t* mask);
-  void uploadReflected(int width, int height, const glm::vec4* rgba);
-  void uploadTransmitted(int width, int height, const glm::vec4* rgba);
+  /// Reallocates the frame's targets when the size changes, the largest (linear radiance, RGBA32F)
+  /// first, so a size the driver cannot hold fails before anything else is allocated. An error names
+  /// what the GL refused; the pass then holds no targets (readImage() is empty) until a resize succeeds.
+  Result<void> resize(int width, int height);
+  /// Drops the frame's targets.
+  void release();
+  /// The GL memory resize(width, height) allocates.
+  static std::size_t targetBytes(int width, int height);
+  /// Ray results on the ray grid (row 0 = top, as RayOutputs holds them). The grid's texture is made
+  /// again when the grid's size changes: an error names it when the GL refuses, and nothing is uploaded.
+  Result<void> uploadLightMask(int width, int height, const std::uint32_t* mask);
+  Result<void> uploadReflected(int width, int height, const glm::vec4* rgba);
+  Result<void> uploadTransmitted(int width, int height, const glm::vec4* rgba);
   /// A finished linear frame (reference mode), row 0 = top; replaces the shade pass's output.
   void uploadLinear(const ImageF& image);
 
@@ -56,8 +64,8 @@ class CompositePass {
   /// stays attached for the early depth test, and sampling it there would be a feedback loop.
   static bool samplesDepth(const SceneFeatures& features, DebugView view);
   /// The frame-size depth copy that shade() samples when samplesDepth(): made on first need, kept until
-  /// the frame size changes.
-  void reserveSampledDepth();
+  /// the frame size changes; an error names it when the GL refuses.
+  Result<void> reserveSampledDepth();
 
   /// `camera` in render space (GpuScene::anchor()), as the visibility pass drew with.
   void shade(const GpuScene& scene, const VisibilityPass& visibility, const Camera& camera, const ShadeInputs& in);

@@ -1,10 +1,12 @@
-#include <atomic>
-#include <algorithm>
 #include "gl/GlObjects.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
+#include <cstdio>
 #include <string>
+
+#include "tandem/Log.h"
 
 namespace tandem::gl {
 
@@ -49,6 +51,94 @@ Texture createTexture2D(std::string_view name, GLenum internalFormat, int width,
   label(GL_TEXTURE, id, name);
   glTextureStorage2D(id, levels, internalFormat, width, height);
   return Texture(id);
+}
+
+namespace {
+
+std::string hexValue(unsigned value) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%04X", value);
+  return buf;
+}
+
+const char* formatName(GLenum internalFormat) {
+  switch (internalFormat) {
+    case GL_RGBA32F: return "GL_RGBA32F";
+    case GL_RGBA8: return "GL_RGBA8";
+    case GL_RG32UI: return "GL_RG32UI";
+    case GL_R32UI: return "GL_R32UI";
+    case GL_DEPTH_COMPONENT32F: return "GL_DEPTH_COMPONENT32F";
+    default: return "?";
+  }
+}
+
+}  // namespace
+
+std::size_t texelBytes(GLenum internalFormat) {
+  switch (internalFormat) {
+    case GL_RGBA32F: return 16;
+    case GL_RG32UI: return 8;
+    case GL_RGBA8: case GL_R32UI: case GL_DEPTH_COMPONENT32F: return 4;
+    default: assert(false && "texelBytes: a format frame targets do not use"); return 0;
+  }
+}
+
+std::string glErrorName(GLenum error) {
+  switch (error) {
+    case GL_NO_ERROR: return "GL_NO_ERROR";
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
+    case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
+    case GL_CONTEXT_LOST: return "GL_CONTEXT_LOST";
+    default: return "GL error " + hexValue(error);
+  }
+}
+
+std::string formatBytes(std::size_t bytes) {
+  // MiB throughout, one decimal: a texture just over a driver's cap (2048.1 MiB) must not read as at it.
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f MiB", double(bytes) / (1024.0 * 1024.0));
+  return buf;
+}
+
+Result<Texture> tryCreateTexture2D(std::string_view name, GLenum internalFormat, int width, int height) {
+  assert(width > 0 && height > 0 && "tryCreateTexture2D: empty texture");
+  // Bounded: a lost context may keep reporting itself.
+  for (int i = 0; i < 16; ++i) {
+    GLenum pending = glGetError();
+    if (pending == GL_NO_ERROR) break;
+    logWarning("GL: " + glErrorName(pending) + " was pending before allocating '" + std::string(name) + "'");
+  }
+  Texture texture = createTexture2D(name, internalFormat, width, height);
+  GLenum error = glGetError();
+  if (error == GL_NO_ERROR) return texture;
+  std::size_t bytes = texelBytes(internalFormat) * static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  return Error{"GL texture '" + std::string(name) + "' (" + std::to_string(width) + "x" + std::to_string(height) + " " +
+               formatName(internalFormat) + ", " + formatBytes(bytes) + "): glTextureStorage2D failed with " +
+               glErrorName(error)};
+}
+
+Result<void> checkFramebufferComplete(const Framebuffer& framebuffer, std::string_view name) {
+  GLenum status = glCheckNamedFramebufferStatus(framebuffer.id(), GL_FRAMEBUFFER);
+  if (status == GL_FRAMEBUFFER_COMPLETE) return {};
+  std::string what;
+  switch (status) {
+    case GL_FRAMEBUFFER_UNDEFINED: what = "GL_FRAMEBUFFER_UNDEFINED"; break;
+    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT: what = "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT"; break;
+    case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT: what = "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT"; break;
+    case GL_FRAMEBUFFER_INCOMPLETE_DRAW_BUFFER: what = "GL_FRAMEBUFFER_INCOMPLETE_DRAW_BUFFER"; break;
+    case GL_FRAMEBUFFER_INCOMPLETE_READ_BUFFER: what = "GL_FRAMEBUFFER_INCOMPLETE_READ_BUFFER"; break;
+    case GL_FRAMEBUFFER_UNSUPPORTED: what = "GL_FRAMEBUFFER_UNSUPPORTED"; break;
+    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE: what = "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE"; break;
+    case GL_FRAMEBUFFER_INCOMPLETE_LAYER_TARGETS: what = "GL_FRAMEBUFFER_INCOMPLETE_LAYER_TARGETS"; break;
+    case 0: what = "no status: glCheckNamedFramebufferStatus failed with " + glErrorName(glGetError()); break;
+    default: what = "status " + hexValue(status); break;
+  }
+  return Error{"GL framebuffer '" + std::string(name) + "' is incomplete: " + what};
 }
 
 Texture createTexture2DArray(std::string_view name, GLenum internalFormat, int width, int height, int layers,

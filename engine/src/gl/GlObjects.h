@@ -3,10 +3,12 @@
 // (glCreate*) or deleted; everything else holds one of these. Every object gets a label, so debuggers
 // (apitrace, RenderDoc) and KHR_debug messages name it.
 #include <cstddef>
+#include <string>
 #include <string_view>
 #include <utility>
 
 #include "gl/Gl.h"
+#include "tandem/Result.h"
 
 namespace tandem::gl {
 
@@ -68,6 +70,20 @@ using Program = Object<ProgramTraits>;
 Buffer createBuffer(std::string_view label, std::size_t bytes, const void* data);
 /// Texture with immutable storage of `levels` × width × height (× layers for arrays).
 Texture createTexture2D(std::string_view label, GLenum internalFormat, int width, int height, int levels = 1);
+/// createTexture2D (one level) for storage that may not fit: frame-size targets. The driver may refuse the
+/// storage (GL_OUT_OF_MEMORY; llvmpipe refuses any texture over 2 GiB) and GL would carry on with an
+/// empty texture, so the GL error is read right after the allocation: the error names the texture, its
+/// size, format and bytes, and the GL error. Errors already pending are logged and cleared first, so
+/// they are not taken for this one.
+Result<Texture> tryCreateTexture2D(std::string_view label, GLenum internalFormat, int width, int height);
+/// Bytes per texel of the formats tryCreateTexture2D takes (asserts on others).
+std::size_t texelBytes(GLenum internalFormat);
+/// Completeness of a framebuffer whose attachments are made: an error naming `label` and the status.
+Result<void> checkFramebufferComplete(const Framebuffer& framebuffer, std::string_view label);
+/// "GL_OUT_OF_MEMORY", ..., or the value in hex for an error GL 4.5 does not define.
+std::string glErrorName(GLenum error);
+/// "2048.1 MiB": memory sizes in messages.
+std::string formatBytes(std::size_t bytes);
 Texture createTexture2DArray(std::string_view label, GLenum internalFormat, int width, int height, int layers,
                              int levels);
 /// Cube map (or cube map array of `layers` cubes when layers > 0) with immutable storage.

@@ -24,21 +24,40 @@ Result<VisibilityPass> VisibilityPass::create() {
   return pass;
 }
 
-void VisibilityPass::resize(int width, int height) {
+Result<void> VisibilityPass::resize(int width, int height) {
   assert(width > 0 && height > 0 && "VisibilityPass::resize: empty frame");
-  if (width == width_ && height == height_) return;
+  if (width == width_ && height == height_) return {};
+  release();  // the old targets first: they may be what keeps the new ones from fitting
+  auto ids = tryCreateTexture2D("gbuffer ids", GL_RG32UI, width, height);
+  if (!ids) return ids.error();
+  auto depth = tryCreateTexture2D("gbuffer depth", GL_DEPTH_COMPONENT32F, width, height);
+  if (!depth) return depth.error();
+  setSampling(*ids, GL_NEAREST, GL_NEAREST);
+  setSampling(*depth, GL_NEAREST, GL_NEAREST);
+  Framebuffer fbo = createFramebuffer("gbuffer");
+  glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT0, ids->id(), 0);
+  glNamedFramebufferTexture(fbo.id(), GL_DEPTH_ATTACHMENT, depth->id(), 0);
+  glNamedFramebufferDrawBuffer(fbo.id(), GL_COLOR_ATTACHMENT0);
+  glNamedFramebufferReadBuffer(fbo.id(), GL_COLOR_ATTACHMENT0);
+  if (auto complete = checkFramebufferComplete(fbo, "gbuffer"); !complete) return complete;
+  ids_ = std::move(*ids);
+  depth_ = std::move(*depth);
+  fbo_ = std::move(fbo);
   width_ = width;
   height_ = height;
-  ids_ = createTexture2D("gbuffer ids", GL_RG32UI, width, height);
-  setSampling(ids_, GL_NEAREST, GL_NEAREST);
-  depth_ = createTexture2D("gbuffer depth", GL_DEPTH_COMPONENT32F, width, height);
-  setSampling(depth_, GL_NEAREST, GL_NEAREST);
-  fbo_ = createFramebuffer("gbuffer");
-  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, ids_.id(), 0);
-  glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
-  glNamedFramebufferDrawBuffer(fbo_.id(), GL_COLOR_ATTACHMENT0);
-  glNamedFramebufferReadBuffer(fbo_.id(), GL_COLOR_ATTACHMENT0);
-  assert(glCheckNamedFramebufferStatus(fbo_.id(), GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
+  return {};
+}
+
+void VisibilityPass::release() {
+  fbo_.reset();
+  ids_.reset();
+  depth_.reset();
+  width_ = height_ = 0;
+}
+
+std::size_t VisibilityPass::targetBytes(int width, int height) {
+  return (texelBytes(GL_RG32UI) + texelBytes(GL_DEPTH_COMPONENT32F)) * static_cast<std::size_t>(width) *
+         static_cast<std::size_t>(height);
 }
 
 void VisibilityPass::render(const GpuScene& scene, const Camera& camera) {

@@ -18,8 +18,14 @@ class VisibilityPass {
  public:
   static Result<VisibilityPass> create();
 
-  /// Reallocates the targets when the frame size changes.
-  void resize(int width, int height);
+  /// Reallocates the targets when the frame size changes. An error names the target the GL refused
+  /// (out of memory, an incomplete framebuffer); the pass then holds no targets (width() 0) until a
+  /// resize succeeds.
+  Result<void> resize(int width, int height);
+  /// Drops the targets (width() 0).
+  void release();
+  /// The GL memory resize(width, height) allocates.
+  static std::size_t targetBytes(int width, int height);
   /// `camera` in render space, the space of the GL copy: toRenderSpace(cameraW, scene.anchor()).
   void render(const GpuScene& scene, const Camera& camera);
   /// The same raster into another target (a shadow map's depth, a probe face's ids + depth) of

@@ -9,6 +9,7 @@
 #include "core/RenderSpace.h"
 #include "core/Timer.h"
 #include "gl/CompositePass.h"
+#include "gl/FrameLimits.h"
 #include "gl/Gl.h"
 #include "gl/GpuScene.h"
 #include "gl/RasterEffects.h"
@@ -49,7 +50,48 @@ struct Renderer::Impl {
   rt::VisibilityBuffer visibility;
   rt::RayOutputs rays;
   ImageF reference;
+
+  // The frame's GL targets: the size they have, or the size they could not have and why (render() does
+  // not try that size again; resize() does).
+  gl::FrameLimits limits;
+  int targetWidth = 0, targetHeight = 0;
+  int failedWidth = 0, failedHeight = 0;
+  std::string failure;
+
+  Result<void> allocateFrame(int width, int height);
 };
+
+Result<void> Renderer::Impl::allocateFrame(int width, int height) {
+  if (width == targetWidth && height == targetHeight) return {};
+  if (width == failedWidth && height == failedHeight) return Error{failure};
+  targetWidth = targetHeight = 0;
+  auto fail = [&](std::string why) -> Result<void> {
+    compositePass.release();
+    visibilityPass.release();
+    failedWidth = width;
+    failedHeight = height;
+    failure = why;
+    return Error{std::move(why)};
+  };
+  // The driver's limits first: they are what the hardware can do, and cost no allocation to check.
+  if (auto within = gl::checkFrameLimits(width, height, limits); !within) return fail(within.error().message);
+  if (width > kMaxFrameSide || height > kMaxFrameSide)
+    return fail((width > kMaxFrameSide ? "width " + std::to_string(width) : "height " + std::to_string(height)) +
+                " exceeds kMaxFrameSide = " + std::to_string(kMaxFrameSide));
+  const std::string needs = "the frame's GL targets need " +
+                            gl::formatBytes(gl::CompositePass::targetBytes(width, height) +
+                                            gl::VisibilityPass::targetBytes(width, height)) +
+                            "; ";
+  // The composite pass first: its RGBA32F radiance is the largest texture, so a driver that cannot hold
+  // the size refuses it before anything else is allocated.
+  if (auto made = compositePass.resize(width, height); !made) return fail(needs + made.error().message);
+  if (auto made = visibilityPass.resize(width, height); !made) return fail(needs + made.error().message);
+  targetWidth = width;
+  targetHeight = height;
+  failedWidth = failedHeight = 0;
+  failure.clear();
+  return {};
+}
 
 namespace {
 
@@ -81,6 +123,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(GlContext& context, const Ren
   auto composite = gl::CompositePass::create();
   if (!composite) return Error{"Renderer: " + composite.error().message};
   impl->compositePass = std::move(*composite);
+  impl->limits = gl::queryFrameLimits();
   return std::unique_ptr<Renderer>(new Renderer(std::move(impl)));
 }
 
@@ -132,6 +175,14 @@ void Renderer::setLight(std::uint32_t light, const Light& value) {
   r.rtTransformsStale = true;
 }
 
+Result<void> Renderer::resize(int width, int height) {
+  Impl& r = *impl_;
+  if (width < 1 || height < 1)
+    return Error{"frame size " + std::to_string(width) + "x" + std::to_string(height) + ": must be at least 1x1"};
+  r.failedWidth = r.failedHeight = 0;  // asked again: try again (memory may have been freed since)
+  return r.allocateFrame(width, height);
+}
+
 FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested) {
   Impl& r = *impl_;
   const Scene& scene = r.scene;
@@ -144,6 +195,12 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   // (when rays run) the Embree scene — the only place Embree commits.
   // ---------------------------------------------------------------------------------------------
   const FrameSettings s = requested.resolved();
+  // A size the GL cannot hold: nothing to draw into. Reported, not drawn black.
+  if (auto targets = r.allocateFrame(s.width, s.height); !targets) {
+    stats.error = "frame " + std::to_string(s.width) + "x" + std::to_string(s.height) + ": " + targets.error().message;
+    stats.prepareMs = stats.totalMs = total.ms();
+    return stats;
+  }
   FrameSettings raySettings = s;
   // Raster shadows stay "raster" for the ray pass: its primary points take the shadow map's answer, but
   // secondary hits have no map and trace shadow rays (TraceModes::hybrid).
@@ -198,10 +255,13 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   const bool referenceFrame = wantsReference && !r.rtBroken;
   // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
   const Camera glCamera = toRenderSpace(camera, r.gpu.anchor());
-  r.visibilityPass.resize(s.width, s.height);
-  r.compositePass.resize(s.width, s.height);
-  if (!referenceFrame && gl::CompositePass::samplesDepth(r.gpu.features(), s.debugView))
-    r.compositePass.reserveSampledDepth();
+  if (!referenceFrame && gl::CompositePass::samplesDepth(r.gpu.features(), s.debugView)) {
+    if (auto copy = r.compositePass.reserveSampledDepth(); !copy) {
+      stats.error = "frame " + std::to_string(s.width) + "x" + std::to_string(s.height) + ": " + copy.error().message;
+      stats.prepareMs = stats.totalMs = total.ms();
+      return stats;
+    }
+  }
   stats.prepareMs = clock.ms();
 
   // ---------------------------------------------------------------------------------------------
@@ -293,17 +353,24 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
     std::size_t n = static_cast<std::size_t>(r.rays.width) * static_cast<std::size_t>(r.rays.height);
     shadeIn.rayWidth = r.rays.width;
     shadeIn.rayHeight = r.rays.height;
-    if (r.rays.lightMask.size() == n && n > 0) {
-      r.compositePass.uploadLightMask(r.rays.width, r.rays.height, r.rays.lightMask.data());
-      shadeIn.rayInputs |= gl::kRayLightMask;
-    }
-    if (r.rays.reflected.size() == n && n > 0) {
-      r.compositePass.uploadReflected(r.rays.width, r.rays.height, r.rays.reflected.data());
-      shadeIn.rayInputs |= gl::kRayReflected;
-    }
-    if (r.rays.transmitted.size() == n && n > 0) {
-      r.compositePass.uploadTransmitted(r.rays.width, r.rays.height, r.rays.transmitted.data());
-      shadeIn.rayInputs |= gl::kRayTransmitted;
+    std::string refused;
+    auto take = [&](const Result<void>& uploaded, int input) {
+      if (uploaded) shadeIn.rayInputs |= input;
+      else if (refused.empty()) refused = uploaded.error().message;
+    };
+    if (r.rays.lightMask.size() == n && n > 0)
+      take(r.compositePass.uploadLightMask(r.rays.width, r.rays.height, r.rays.lightMask.data()), gl::kRayLightMask);
+    if (r.rays.reflected.size() == n && n > 0)
+      take(r.compositePass.uploadReflected(r.rays.width, r.rays.height, r.rays.reflected.data()), gl::kRayReflected);
+    if (r.rays.transmitted.size() == n && n > 0)
+      take(r.compositePass.uploadTransmitted(r.rays.width, r.rays.height, r.rays.transmitted.data()),
+           gl::kRayTransmitted);
+    if (!refused.empty()) {
+      // A ray grid's texture the GL refused: the frame would miss an effect, so it is not drawn.
+      stats.error = "frame " + std::to_string(s.width) + "x" + std::to_string(s.height) + ": " + refused;
+      stats.uploadMs = clock.ms();
+      stats.totalMs = total.ms();
+      return stats;
     }
   } else if (referenceFrame) {
     r.compositePass.uploadLinear(r.reference);
