@@ -5,6 +5,7 @@
 //   if (!ctx) { std::cerr << ctx.error().message << "\n"; return 1; }
 //
 // Headless tries, in order: the EGL device platform (a real GPU), EGL surfaceless (Mesa), OSMesa.
+// describe() names the platform and, for the device platform, the device chosen.
 // A context is current on the thread that created it; it is not thread-safe.
 #include <memory>
 #include <string>
@@ -17,7 +18,9 @@ namespace tandem {
 
 enum class ContextKind {
   Headless,        // EGL device → EGL surfaceless → OSMesa, the first that gives GL 4.5 core
-  EglDevice,       // EGL_EXT_platform_device only (a real GPU)
+  EglDevice,       // the EGL device platform only: the first EGL device that is not a software renderer
+                   // (Mesa's llvmpipe device is skipped) and gives a context. Needs EGL_EXT_platform_device
+                   // and EGL_EXT_device_base (or EGL_EXT_device_enumeration + EGL_EXT_device_query).
   EglSurfaceless,  // EGL_MESA_platform_surfaceless only
   OSMesa,          // OSMesa only (software)
   Window,          // a GLFW window
@@ -48,7 +51,9 @@ class GlContext {
   /// Size of the default framebuffer (windows) in pixels; 0×0 when minimised or headless.
   virtual void framebufferSize(int& width, int& height) { width = height = 0; }
   virtual void setVsync(bool) {}
-  /// e.g. "EGL surfaceless, Mesa llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 (Core Profile) Mesa 22.3.6"
+  /// e.g. "EGL surfaceless, Mesa llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 (Core Profile) Mesa 22.3.6" or
+  /// "EGL device 0 of 2 (/dev/dri/renderD128, NVIDIA GeForce RTX 4090), NVIDIA GeForce RTX 4090/PCIe/SSE2, ..."
+  /// (the device's DRM node and name where it gives them).
   virtual std::string describe() const = 0;
   ContextKind kind() const { return kind_; }
 

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "gl/EglDevices.h"
 #include "tandem/Log.h"
 
 namespace tandem {
@@ -75,13 +76,7 @@ Error eglFailure(const std::string& platform, const std::string& step) {
   return Error{platform + ": " + step + " failed (" + eglErrorName(code) + ", " + hex(code) + ")"};
 }
 
-bool hasExtension(const char* list, const char* name) {
-  if (list == nullptr) return false;
-  std::size_t n = std::strlen(name);
-  for (const char* p = list; (p = std::strstr(p, name)) != nullptr; p += n)
-    if ((p == list || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0')) return true;
-  return false;
-}
+bool hasExtension(const char* list, const char* name) { return gl::hasEglExtension(list, name); }
 
 const char* glString(GLenum name) {
   const GLubyte* s = glGetString(name);
@@ -162,6 +157,7 @@ class EglContext final : public GlContext {
   }
 
   // Takes an initialised display (retained) and makes a configless, surfaceless core context on it.
+  // The platform names it in errors and describe(): for a device, which one ("EGL device 0 of 2 (...)").
   Result<void> init(EGLDisplay display, const ContextDesc& desc) {
     display_ = display;
     retainDisplay(display_);
@@ -210,42 +206,73 @@ class EglContext final : public GlContext {
   EGLContext context_ = EGL_NO_CONTEXT;
 };
 
+// A string a device may answer (only asked when it lists the extension that defines `name`: asking for
+// another is EGL_BAD_PARAMETER). "" when it has none; the error is cleared, so it cannot name a later step.
+std::string deviceString(PFNEGLQUERYDEVICESTRINGEXTPROC query, EGLDeviceEXT device, EGLint name) {
+  const char* value = query(device, name);
+  if (value == nullptr) {
+    eglGetError();
+    return {};
+  }
+  return value;
+}
+
 Result<std::unique_ptr<GlContext>> createEglDevice(const ContextDesc& desc) {
   const std::string platform = "EGL device";
-  const char* clientExts = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-  if (!hasExtension(clientExts, "EGL_EXT_platform_device") || !hasExtension(clientExts, "EGL_EXT_device_enumeration"))
-    return Error{platform + ": EGL_EXT_platform_device / EGL_EXT_device_enumeration not supported"};
+  if (auto exts = gl::checkEglDeviceClientExtensions(eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS)); !exts)
+    return Error{platform + ": " + exts.error().message};
   auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
   auto queryDeviceString =
       reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
   auto getPlatformDisplay =
       reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
   if (!queryDevices || !queryDeviceString || !getPlatformDisplay)
-    return Error{platform + ": the device-enumeration entry points are missing"};
+    return Error{platform + ": eglQueryDevicesEXT, eglQueryDeviceStringEXT or eglGetPlatformDisplayEXT is missing"};
   EGLint count = 0;
   if (!queryDevices(0, nullptr, &count)) return eglFailure(platform, "eglQueryDevicesEXT");
   std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(count));
   if (count > 0 && !queryDevices(count, devices.data(), &count)) return eglFailure(platform, "eglQueryDevicesEXT");
-  std::string tried;
+  devices.resize(static_cast<std::size_t>(count));
+
+  std::vector<gl::EglDeviceInfo> infos;
   for (EGLDeviceEXT device : devices) {
-    // Mesa lists llvmpipe as a "device" too; it is what surfaceless gives, so it is not a GPU here.
-    if (hasExtension(queryDeviceString(device, EGL_EXTENSIONS), "EGL_MESA_device_software")) continue;
-    EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
+    gl::EglDeviceInfo info;
+    info.extensions = deviceString(queryDeviceString, device, EGL_EXTENSIONS);
+    const char* exts = info.extensions.c_str();
+    std::string node;
+    if (hasExtension(exts, "EGL_EXT_device_drm_render_node"))
+      node = deviceString(queryDeviceString, device, EGL_DRM_RENDER_NODE_FILE_EXT);
+    if (node.empty() && hasExtension(exts, "EGL_EXT_device_drm"))
+      node = deviceString(queryDeviceString, device, EGL_DRM_DEVICE_FILE_EXT);
+    std::string renderer;
+    if (hasExtension(exts, "EGL_EXT_device_query_name")) renderer = deviceString(queryDeviceString, device, EGL_RENDERER_EXT);
+    info.name = node.empty() || renderer.empty() ? node + renderer : node + ", " + renderer;
+    infos.push_back(std::move(info));
+  }
+  auto chosen = gl::hardwareEglDevices(infos);
+  if (!chosen) return Error{platform + ": " + chosen.error().message};
+
+  // The first hardware device that gives a context; the others are tried only when it fails.
+  // Each attempt's failure names the device ("EGL device 1 of 2 (/dev/dri/renderD129): eglInitialize
+  // failed (...)"), as describe() names the one chosen.
+  std::string tried;
+  for (std::size_t index : *chosen) {
+    const std::string which = "EGL " + gl::describeEglDevice(index, infos);
+    EGLDisplay display = getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[index], nullptr);
     if (display == EGL_NO_DISPLAY) {
-      tried += "; " + eglFailure(platform, "eglGetPlatformDisplayEXT").message;
+      tried += (tried.empty() ? ": " : "; ") + eglFailure(which, "eglGetPlatformDisplayEXT").message;
       continue;
     }
     if (!eglInitialize(display, nullptr, nullptr)) {
-      tried += "; " + eglFailure(platform, "eglInitialize").message;
+      tried += (tried.empty() ? ": " : "; ") + eglFailure(which, "eglInitialize").message;
       continue;
     }
-    auto ctx = std::make_unique<EglContext>(ContextKind::EglDevice, platform);
+    auto ctx = std::make_unique<EglContext>(ContextKind::EglDevice, which);
     auto ok = ctx->init(display, desc);
     if (ok) return std::unique_ptr<GlContext>(std::move(ctx));
-    tried += "; " + ok.error().message;
+    tried += (tried.empty() ? ": " : "; ") + ok.error().message;
   }
-  return Error{platform + ": no hardware EGL device gave a context (" + std::to_string(count) + " devices listed" +
-               tried + ")"};
+  return Error{platform + ": no hardware EGL device gave a context" + tried};
 }
 
 Result<std::unique_ptr<GlContext>> createEglSurfaceless(const ContextDesc& desc) {
