@@ -101,14 +101,6 @@ class TileProgress {
   std::atomic<std::uint64_t> done_{0};
 };
 
-/// The [tNear, tFar] span of a camera ray that the rasterizer keeps (between its near and far planes).
-void cameraSpan(const Camera& camera, const Ray& ray, float& tNear, float& tFar) {
-  glm::vec3 forward = glm::normalize(camera.targetW - camera.posW);
-  float cosine = camera.orthographic ? 1.0f : std::max(glm::dot(ray.dir, forward), 1e-6f);
-  tNear = camera.nearZ / cosine;
-  tFar = std::isinf(camera.farZ) ? std::numeric_limits<float>::infinity() : camera.farZ / cosine;
-}
-
 }  // namespace
 
 struct RayTracer::Impl {
@@ -301,16 +293,7 @@ void RayTracer::renderReference(const Scene& scene, const Camera& camera, const 
           glm::vec3 sum(0.0f);
           for (int sy = 0; sy < spp; ++sy)
             for (int sx = 0; sx < spp; ++sx) {
-              // One sample per stratum, jittered by a hash of (pixel, sample): no shared RNG state. One
-              // sample is the pixel centre, the point the hybrid pass sees.
-              glm::vec2 offset(0.5f);
-              if (spp > 1) {
-                auto sample = static_cast<std::uint32_t>(sy * spp + sx);
-                auto ux = static_cast<std::uint32_t>(x), uy = static_cast<std::uint32_t>(y);
-                offset = (glm::vec2(sx, sy) + glm::vec2(random01(ux, uy, sample, 0), random01(ux, uy, sample, 1))) /
-                         static_cast<float>(spp);
-              }
-              Ray ray = cameraRays.through(glm::vec2(x, y) + offset);
+              Ray ray = cameraRays.through(glm::vec2(x, y) + referenceSampleOffset(x, y, sx, sy, spp));
               float tNear, tFar;
               cameraSpan(cam, ray, tNear, tFar);
               ++c.primary;

@@ -2,8 +2,11 @@
 // The CPU side of docs/shading.md: turning (instance, triangle, ray) into a surface point and shading its
 // local term with the formulas of shaders/shading.glsl (through core/Shading.h). No Embree here: the
 // exact primary hit and local shading need only the scene data, so tests and the CPU composite use them too.
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -44,6 +47,25 @@ class CameraRays {
   float sizeX_, sizeY_, aspect_, tanHalf_, halfH_;
   bool orthographic_;
 };
+
+/// The [tNear, tFar] span of a camera ray that the rasterizer keeps (between its near and far planes).
+inline void cameraSpan(const Camera& camera, const Ray& ray, float& tNear, float& tFar) {
+  glm::vec3 forward = glm::normalize(camera.targetW - camera.posW);
+  float cosine = camera.orthographic ? 1.0f : std::max(glm::dot(ray.dir, forward), 1e-6f);
+  tNear = camera.nearZ / cosine;
+  tFar = std::isinf(camera.farZ) ? std::numeric_limits<float>::infinity() : camera.farZ / cosine;
+}
+
+/// Where in pixel (x, y) the reference frame's sample (sx, sy) of spp × spp lies: one sample per stratum,
+/// jittered by a hash of (pixel, sample), so no RNG state is shared; with one sample, the pixel centre
+/// (the point the hybrid pass sees).
+inline glm::vec2 referenceSampleOffset(int x, int y, int sx, int sy, int spp) {
+  if (spp <= 1) return glm::vec2(0.5f);
+  auto sample = static_cast<std::uint32_t>(sy * spp + sx);
+  auto ux = static_cast<std::uint32_t>(x), uy = static_cast<std::uint32_t>(y);
+  return (glm::vec2(sx, sy) + glm::vec2(random01(ux, uy, sample, 0), random01(ux, uy, sample, 1))) /
+         static_cast<float>(spp);
+}
 
 /// An instance's transforms as the ray pass uses them (the same copy Embree was given), in render space.
 struct InstanceTransform {

@@ -54,11 +54,13 @@ bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, 
   return true;
 }
 
-ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins) const {
+template <class Recorder>
+ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins, Recorder rec) const {
   ShadowRay r;
   const GpuLight& l = frame_.lights[light];
   if (!frame_.castsShadows(light)) {
     r.visibleWithoutRay = true;
+    rec.noShadowRay(light, NoShadowRay::CastsNoShadows);
     return r;
   }
   const GpuMaterial& m = frame_.materials[hit.material];
@@ -70,6 +72,7 @@ ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrig
   glm::vec3 e = tdLightIncident(l, hit.posW, toLight, dist);
   if (!tdLightReaches(e, toLight, n)) {
     r.visibleWithoutRay = true;
+    rec.noShadowRay(light, NoShadowRay::CannotReach);
     return r;
   }
   // Leave from the side of the geometric surface the ray goes to (W&B offset, never a fixed epsilon).
@@ -80,6 +83,7 @@ ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrig
   } else {
     if (!(dist > 0.0f) || !std::isfinite(dist)) {
       r.visibleWithoutRay = true;  // the light sits on the point: nothing can be between them
+      rec.noShadowRay(light, NoShadowRay::AtThePoint);
       return r;
     }
     // The direction and distance from the hit itself (tdLightIncident's): the offset origin is a few
@@ -89,14 +93,16 @@ ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrig
   }
   r.needed = isFinite(r.originW) && isFinite(r.dirW);
   r.visibleWithoutRay = !r.needed;
+  if (!r.needed) rec.noShadowRay(light, NoShadowRay::NotFinite);
   return r;
 }
 
-std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts) const {
+template <class Recorder>
+std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts, Recorder rec) const {
   std::uint32_t mask = 0;
   SpawnOrigins origins;
   for (std::size_t j = 0; j < frame_.lights.size(); ++j) {
-    ShadowRay s = shadowRay(hit, j, origins);
+    ShadowRay s = shadowRay(hit, j, origins, rec);
     if (!s.needed) {
       if (s.visibleWithoutRay) mask |= 1u << j;
       continue;
@@ -111,6 +117,7 @@ std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts) const
     // Embree marks an occluded ray by tfar = -inf.
     if (ray.tfar >= 0.0f) mask |= 1u << j;
     capture::resolvePending(ray.tfar < 0.0f);
+    rec.shadowRay(j, s, ray.tfar < 0.0f);
   }
   return mask;
 }
@@ -153,13 +160,18 @@ WhittedWeights Whitted::weights(const SurfaceHit& hit) const {
   return w;
 }
 
+template <class Recorder>
 void Whitted::secondary(const SurfaceHit& hit, int depth, float throughput, glm::vec3& reflected,
                         glm::vec3& transmitted, bool& tracedReflection, bool& tracedRefraction,
-                        RayCounts& counts) const {
+                        RayCounts& counts, Recorder rec) const {
   reflected = transmitted = glm::vec3(0.0f);
   tracedReflection = tracedRefraction = false;
-  if (depth >= modes_.maxDepth || (!modes_.reflections && !modes_.refraction)) return;
+  if (depth >= modes_.maxDepth || (!modes_.reflections && !modes_.refraction)) {
+    rec.noSecondaryRays(*this, hit);
+    return;
+  }
   WhittedWeights w = weights(hit);
+  rec.weights(w);
   // Reflected rays leave from the front of the facet and transmitted ones from its back: the directions
   // are on those sides by construction (WhittedWeights).
   if (modes_.reflections && w.reflect > 0.0f && throughput * w.reflect >= modes_.minContribution) {
@@ -168,7 +180,13 @@ void Whitted::secondary(const SurfaceHit& hit, int depth, float throughput, glm:
     // Bench hook: the ray radiance() traces next (intersect() stores its answer).
     capture::record(RayKind::Reflection, origin, dir, 0.0f, std::numeric_limits<float>::infinity());
     tracedReflection = true;
-    reflected = w.reflect * radiance(origin, dir, depth + 1, throughput * w.reflect, counts);
+    rec.beginRay(RayKind::Reflection, origin, dir, 0.0f, std::numeric_limits<float>::infinity(),
+                 glm::vec3(w.reflect), throughput * w.reflect);
+    const glm::vec3 s = radiance(origin, dir, depth + 1, throughput * w.reflect, counts, rec);
+    reflected = w.reflect * s;
+    rec.endRay(s, reflected);
+  } else {
+    rec.skipped(RayKind::Reflection, w.reflect, throughput);
   }
   const float wT = w.transmitMax();
   if (modes_.refraction && wT > 0.0f && throughput * wT >= modes_.minContribution) {
@@ -176,22 +194,31 @@ void Whitted::secondary(const SurfaceHit& hit, int depth, float throughput, glm:
     ++counts.refraction;
     capture::record(RayKind::Refraction, origin, dir, 0.0f, std::numeric_limits<float>::infinity());
     tracedRefraction = true;
-    transmitted = w.transmit * radiance(origin, dir, depth + 1, throughput * wT, counts);
+    rec.beginRay(RayKind::Refraction, origin, dir, 0.0f, std::numeric_limits<float>::infinity(), w.transmit,
+                 throughput * wT);
+    const glm::vec3 t = radiance(origin, dir, depth + 1, throughput * wT, counts, rec);
+    transmitted = w.transmit * t;
+    rec.endRay(t, transmitted);
+  } else {
+    rec.skipped(RayKind::Refraction, wT, throughput);
   }
 }
 
-glm::vec3 Whitted::shade(const SurfaceHit& hit, int depth, float throughput, RayCounts& counts) const {
+template <class Recorder>
+glm::vec3 Whitted::shade(const SurfaceHit& hit, int depth, float throughput, RayCounts& counts, Recorder rec) const {
   bool shadowRays = depth == 0 ? modes_.primaryShadowRays : modes_.secondaryShadowRays;
-  std::uint32_t mask = shadowRays ? lightMask(hit, counts) : ~0u;
+  std::uint32_t mask = shadowRays ? lightMask(hit, counts, rec) : ~0u;
   glm::vec3 color = shadeLocal(scene_, frame_, embree_.transform(hit.instance), hit, mask);
+  rec.local(color, mask, shadowRays);
   glm::vec3 reflected, transmitted;
   bool tracedR, tracedT;
-  secondary(hit, depth, throughput, reflected, transmitted, tracedR, tracedT, counts);
+  secondary(hit, depth, throughput, reflected, transmitted, tracedR, tracedT, counts, rec);
   return color + reflected + transmitted;
 }
 
+template <class Recorder>
 bool Whitted::intersect(glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, std::uint32_t& instance,
-                        std::uint32_t& triangle) const {
+                        std::uint32_t& triangle, Recorder rec) const {
   RTCRayHit rh;
   if (!makeEmbreeRay(rh.ray, originW, dirW, tNear, tFar)) {
     capture::resolvePending(false, false);
@@ -207,17 +234,39 @@ bool Whitted::intersect(glm::vec3 originW, glm::vec3 dirW, float tNear, float tF
   if (missed) return false;
   instance = rh.hit.instID[0];
   triangle = rh.hit.primID;
+  rec.embreeHit(instance, triangle, rh.ray.tfar);
   return embree_.hasTriangle(instance, triangle);
 }
 
-glm::vec3 Whitted::radiance(glm::vec3 originW, glm::vec3 dirW, int depth, float throughput, RayCounts& counts) const {
+template <class Recorder>
+glm::vec3 Whitted::radiance(glm::vec3 originW, glm::vec3 dirW, int depth, float throughput, RayCounts& counts,
+                            Recorder rec) const {
   std::uint32_t instance, triangle;
-  if (!intersect(originW, dirW, 0.0f, std::numeric_limits<float>::infinity(), instance, triangle))
+  if (!intersect(originW, dirW, 0.0f, std::numeric_limits<float>::infinity(), instance, triangle, rec))
     return frame_.background;
   Ray ray{originW, dirW};
   SurfaceHit hit = resolveHit(scene_, embree_.transform(instance), instance, triangle, ray);
-  return shade(hit, depth, throughput, counts);
+  rec.surface(hit);
+  return shade(hit, depth, throughput, counts, rec);
 }
+
+// The passes' instantiation (no recorder) and PixelTrace's (through RayRecorder); no others.
+template ShadowRay Whitted::shadowRay(const SurfaceHit&, std::size_t, SpawnOrigins&, NoRecorder) const;
+template ShadowRay Whitted::shadowRay(const SurfaceHit&, std::size_t, SpawnOrigins&, Recording) const;
+template std::uint32_t Whitted::lightMask(const SurfaceHit&, RayCounts&, NoRecorder) const;
+template std::uint32_t Whitted::lightMask(const SurfaceHit&, RayCounts&, Recording) const;
+template void Whitted::secondary(const SurfaceHit&, int, float, glm::vec3&, glm::vec3&, bool&, bool&, RayCounts&,
+                                 NoRecorder) const;
+template void Whitted::secondary(const SurfaceHit&, int, float, glm::vec3&, glm::vec3&, bool&, bool&, RayCounts&,
+                                 Recording) const;
+template glm::vec3 Whitted::shade(const SurfaceHit&, int, float, RayCounts&, NoRecorder) const;
+template glm::vec3 Whitted::shade(const SurfaceHit&, int, float, RayCounts&, Recording) const;
+template glm::vec3 Whitted::radiance(glm::vec3, glm::vec3, int, float, RayCounts&, NoRecorder) const;
+template glm::vec3 Whitted::radiance(glm::vec3, glm::vec3, int, float, RayCounts&, Recording) const;
+template bool Whitted::intersect(glm::vec3, glm::vec3, float, float, std::uint32_t&, std::uint32_t&,
+                                 NoRecorder) const;
+template bool Whitted::intersect(glm::vec3, glm::vec3, float, float, std::uint32_t&, std::uint32_t&,
+                                 Recording) const;
 
 void ShadowBatch::clear() {
   rays_.clear();

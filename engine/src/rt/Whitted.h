@@ -3,12 +3,14 @@
 // Read-only after construction, so any number of tiles trace through one instance concurrently.
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
 
 #include "rt/EmbreeScene.h"
+#include "rt/RayCapture.h"
 #include "rt/RayMath.h"
 #include "rt/SurfaceShading.h"
 #include "tandem/FrameStats.h"
@@ -77,6 +79,16 @@ struct WhittedWeights {
   float transmitMax() const { return std::max(transmit.x, std::max(transmit.y, transmit.z)); }
 };
 
+/// Why no shadow ray was needed towards a light (Whitted::shadowRay tells a recorder). Each case leaves
+/// the light's bit set; the passes only need the bit, PixelTrace names the case.
+enum class NoShadowRay : std::uint8_t {
+  None = 0,        // a ray is needed
+  CastsNoShadows,  // the light's castShadows is off
+  CannotReach,     // behind the surface, outside a spot cone or beyond range: it shades nothing here
+  AtThePoint,      // a point light at the point itself: nothing can be between them
+  NotFinite,       // the origin or direction is not finite: nothing Embree could trace
+};
+
 /// A shadow ray ready for Embree, or none needed.
 struct ShadowRay {
   bool needed = false;
@@ -104,6 +116,89 @@ class SpawnOrigins {
   bool made_[2] = {false, false};
 };
 
+class Whitted;
+
+/// What the Whitted recursion reports as it runs, in order, so that a recorder can rebuild the ray tree
+/// of one pixel (rt/PixelTrace.h). The recursion takes the recorder as a template parameter: the passes
+/// instantiate it with NoRecorder, whose members are empty and inline, so their loops compile to what
+/// they were without it (no call, no branch); PixelTrace instantiates it with this interface.
+///
+/// Per ray: beginRay, then (when Embree is asked and answers) embreeHit, then (on a hit) surface, the
+/// shadow rays, local, then either weights with a skipped or a nested ray per secondary kind, or
+/// noSecondaryRays; endRay closes it. A miss goes straight from beginRay (or embreeHit) to endRay.
+class RayRecorder {
+ public:
+  /// A ray about to be followed: its kind, its span, the weight its radiance gets in the sum of the hit
+  /// it leaves (wR, or the wT vector) and the throughput of its path including that weight.
+  virtual void beginRay(RayKind kind, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar,
+                        glm::vec3 weight, float throughput) = 0;
+  /// Embree's nearest hit of the current ray.
+  virtual void embreeHit(std::uint32_t instance, std::uint32_t triangle, float t) = 0;
+  /// The surface point the current ray resolved to (the one it is shaded at).
+  virtual void surface(const SurfaceHit& hit) = 0;
+  /// Direct light `light` at the current hit needs no shadow ray, and why (its bit is set).
+  virtual void noShadowRay(std::size_t light, NoShadowRay why) = 0;
+  /// The shadow ray towards direct light `light` at the current hit, and Embree's answer.
+  virtual void shadowRay(std::size_t light, const ShadowRay& ray, bool occluded) = 0;
+  /// The local term at the current hit, shaded with `visibleLights`; `shadowRays` says whether the mask
+  /// came from shadow rays (else every light counts as visible to the rays).
+  virtual void local(const glm::vec3& color, std::uint32_t visibleLights, bool shadowRays) = 0;
+  /// The weights of the current hit's Whitted sum, before its secondary rays are decided.
+  virtual void weights(const WhittedWeights& w) = 0;
+  /// A secondary ray of the current hit that is not traced; `weight` (wR or max wT) and the path's
+  /// `throughput` are the numbers the decision was made on.
+  virtual void skipped(RayKind kind, float weight, float throughput) = 0;
+  /// The current hit spawns no secondary ray at all: the depth limit, or neither effect is by rays.
+  virtual void noSecondaryRays(const Whitted& whitted, const SurfaceHit& hit) = 0;
+  /// The current ray's radiance (shaded hit, or the background) and what it adds to its parent's sum
+  /// (weight ⊙ radiance, the exact value the recursion adds).
+  virtual void endRay(glm::vec3 radiance, glm::vec3 weighted) = 0;
+
+ protected:
+  ~RayRecorder() = default;  // not owned through this interface
+};
+
+/// The passes' recorder: nothing, inlined away. Passed by value, it is not even an argument (an empty
+/// class takes no register), so the recursion's code is what it was without a recorder: GCC 12 -O3 emits
+/// the same instructions for it as for the recursion before recorders existed. (Vectors the recursion
+/// keeps using go by reference: local's colour by value made GCC keep it in other registers.)
+struct NoRecorder {
+  void beginRay(RayKind, glm::vec3, glm::vec3, float, float, glm::vec3, float) const {}
+  void embreeHit(std::uint32_t, std::uint32_t, float) const {}
+  void surface(const SurfaceHit&) const {}
+  void noShadowRay(std::size_t, NoShadowRay) const {}
+  void shadowRay(std::size_t, const ShadowRay&, bool) const {}
+  void local(const glm::vec3&, std::uint32_t, bool) const {}
+  void weights(const WhittedWeights&) const {}
+  void skipped(RayKind, float, float) const {}
+  void noSecondaryRays(const Whitted&, const SurfaceHit&) const {}
+  void endRay(glm::vec3, glm::vec3) const {}
+};
+
+/// PixelTrace's recorder: forwards each report to a RayRecorder (one pointer, passed by value).
+class Recording {
+ public:
+  explicit Recording(RayRecorder& to) : to_(&to) {}
+  void beginRay(RayKind kind, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, glm::vec3 weight,
+                float throughput) const {
+    to_->beginRay(kind, originW, dirW, tNear, tFar, weight, throughput);
+  }
+  void embreeHit(std::uint32_t instance, std::uint32_t triangle, float t) const { to_->embreeHit(instance, triangle, t); }
+  void surface(const SurfaceHit& hit) const { to_->surface(hit); }
+  void noShadowRay(std::size_t light, NoShadowRay why) const { to_->noShadowRay(light, why); }
+  void shadowRay(std::size_t light, const ShadowRay& ray, bool occluded) const { to_->shadowRay(light, ray, occluded); }
+  void local(const glm::vec3& color, std::uint32_t visibleLights, bool shadowRays) const {
+    to_->local(color, visibleLights, shadowRays);
+  }
+  void weights(const WhittedWeights& w) const { to_->weights(w); }
+  void skipped(RayKind kind, float weight, float throughput) const { to_->skipped(kind, weight, throughput); }
+  void noSecondaryRays(const Whitted& whitted, const SurfaceHit& hit) const { to_->noSecondaryRays(whitted, hit); }
+  void endRay(glm::vec3 radiance, glm::vec3 weighted) const { to_->endRay(radiance, weighted); }
+
+ private:
+  RayRecorder* to_;
+};
+
 class Whitted {
  public:
   Whitted(const Scene& scene, const EmbreeScene& embree, const FrameShading& frame, TraceModes modes)
@@ -111,21 +206,50 @@ class Whitted {
 
   /// The shadow ray from hit towards direct light j (or why none is needed); `origins` is shared by the
   /// calls for one hit, so its lights reuse the offset origins.
-  ShadowRay shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins) const;
+  ShadowRay shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins) const {
+    return shadowRay(hit, light, origins, NoRecorder{});
+  }
   /// All direct lights' visibility bits at hit, one rtcOccluded1 per needed ray.
-  std::uint32_t lightMask(const SurfaceHit& hit, RayCounts& counts) const;
+  std::uint32_t lightMask(const SurfaceHit& hit, RayCounts& counts) const {
+    return lightMask(hit, counts, NoRecorder{});
+  }
   WhittedWeights weights(const SurfaceHit& hit) const;
   /// S and T of the Whitted sum at `hit` (depth = bounces so far, throughput = product of weights so
   /// far), already multiplied by wR and wT; zero where the ray is not traced.
   void secondary(const SurfaceHit& hit, int depth, float throughput, glm::vec3& reflected, glm::vec3& transmitted,
-                 bool& tracedReflection, bool& tracedRefraction, RayCounts& counts) const;
+                 bool& tracedReflection, bool& tracedRefraction, RayCounts& counts) const {
+    secondary(hit, depth, throughput, reflected, transmitted, tracedReflection, tracedRefraction, counts, NoRecorder{});
+  }
   /// Full colour of a hit: local (shadows by rays when asked) + wR·S + wT·T.
-  glm::vec3 shade(const SurfaceHit& hit, int depth, float throughput, RayCounts& counts) const;
+  glm::vec3 shade(const SurfaceHit& hit, int depth, float throughput, RayCounts& counts) const {
+    return shade(hit, depth, throughput, counts, NoRecorder{});
+  }
   /// Radiance arriving along a ray: the shaded nearest hit, or the background.
-  glm::vec3 radiance(glm::vec3 originW, glm::vec3 dirW, int depth, float throughput, RayCounts& counts) const;
+  glm::vec3 radiance(glm::vec3 originW, glm::vec3 dirW, int depth, float throughput, RayCounts& counts) const {
+    return radiance(originW, dirW, depth, throughput, counts, NoRecorder{});
+  }
   /// Nearest hit of a ray in (tNear, tFar); false when it escapes or the ray is not finite.
   bool intersect(glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, std::uint32_t& instance,
-                 std::uint32_t& triangle) const;
+                 std::uint32_t& triangle) const {
+    return intersect(originW, dirW, tNear, tFar, instance, triangle, NoRecorder{});
+  }
+
+  // The same, reporting to a recorder; instantiated for NoRecorder and Recording only.
+  template <class Recorder>
+  ShadowRay shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins, Recorder rec) const;
+  template <class Recorder>
+  std::uint32_t lightMask(const SurfaceHit& hit, RayCounts& counts, Recorder rec) const;
+  template <class Recorder>
+  void secondary(const SurfaceHit& hit, int depth, float throughput, glm::vec3& reflected, glm::vec3& transmitted,
+                 bool& tracedReflection, bool& tracedRefraction, RayCounts& counts, Recorder rec) const;
+  template <class Recorder>
+  glm::vec3 shade(const SurfaceHit& hit, int depth, float throughput, RayCounts& counts, Recorder rec) const;
+  template <class Recorder>
+  glm::vec3 radiance(glm::vec3 originW, glm::vec3 dirW, int depth, float throughput, RayCounts& counts,
+                     Recorder rec) const;
+  template <class Recorder>
+  bool intersect(glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, std::uint32_t& instance,
+                 std::uint32_t& triangle, Recorder rec) const;
 
   const TraceModes& modes() const { return modes_; }
   const Scene& scene() const { return scene_; }
