@@ -12,6 +12,7 @@
 #include <tbb/task_arena.h>
 
 #include "rt/EmbreeScene.h"
+#include "rt/PixelTrace.h"
 #include "rt/RayCapture.h"
 #include "rt/RayMath.h"
 #include "rt/SurfaceShading.h"
@@ -313,6 +314,22 @@ void RayTracer::renderReference(const Scene& scene, const Camera& camera, const 
     });
   });
   counts = total.get();
+}
+
+PixelTrace RayTracer::tracePixel(const Scene& scene, const Camera& camera, const FrameSettings& settings,
+                                 const VisibilityBuffer& visibility, int gx, int gy) const {
+  assert(impl_->scene && "tracePixel before a successful setScene");
+  assert(gx >= 0 && gy >= 0 && gx < gridSize(visibility.width, std::max(1, settings.rayScale)) &&
+         gy < gridSize(visibility.height, std::max(1, settings.rayScale)) && "tracePixel: outside the ray grid");
+  if (!impl_->scene) return {};
+  return traceHybridPixel(scene, *impl_->scene, camera, settings, visibility, gx, gy);
+}
+
+PixelTrace RayTracer::tracePixelReference(const Scene& scene, const Camera& camera, const FrameSettings& settings,
+                                          int x, int y) const {
+  assert(impl_->scene && "tracePixelReference before a successful setScene");
+  if (!impl_->scene) return {};
+  return traceReferencePixel(scene, *impl_->scene, camera, settings, x, y);
 }
 
 void RayTracer::castVisibility(const Camera& camera, int width, int height, VisibilityBuffer& out) {

@@ -19,6 +19,7 @@
 #include "rt/RayCapture.h"
 #include "tandem/FrameStats.h"
 #include "tandem/Image.h"
+#include "tandem/PixelTrace.h"
 #include "tandem/Progress.h"
 #include "tandem/Result.h"
 #include "tandem/Scene.h"
@@ -73,6 +74,14 @@ class RayTracer {
   /// samples per pixel, seeded per pixel so the image does not depend on the thread count.
   void renderReference(const Scene& scene, const Camera& camera, const FrameSettings& settings, ImageF& out,
                        RayCounts& counts);
+
+  /// The ray tree of one pixel, re-run on the calling thread with the inputs of a trace() (ray-grid pixel
+  /// (gx, gy)) or a renderReference() (pixel (x, y)) on the current scene: rt/PixelTrace.h. Debugging
+  /// calls, apart from the passes: their loops have no hook for them.
+  PixelTrace tracePixel(const Scene& scene, const Camera& camera, const FrameSettings& settings,
+                        const VisibilityBuffer& visibility, int gx, int gy) const;
+  PixelTrace tracePixelReference(const Scene& scene, const Camera& camera, const FrameSettings& settings, int x,
+                                 int y) const;
 
   /// Primary visibility by camera rays through pixel centres: the same buffer the raster pass writes.
   void castVisibility(const Camera& camera, int width, int height, VisibilityBuffer& out);
