@@ -8,6 +8,7 @@
 //   if (auto ok = (*renderer)->resize(settings.width, settings.height); !ok) { /* ok.error().message */ }
 //   FrameStats stats = (*renderer)->render(scene.camera, settings);
 //   Image frame = (*renderer)->readImage();
+//   if (auto trace = (*renderer)->tracePixel(640, 360)) std::puts(toText(*trace, (*renderer)->scene()).c_str());
 //
 // Not thread-safe: call it from the thread whose GL context is current. The ray pass uses its own
 // worker threads internally.
@@ -16,6 +17,7 @@
 #include "tandem/Context.h"
 #include "tandem/FrameStats.h"
 #include "tandem/Image.h"
+#include "tandem/PixelTrace.h"
 #include "tandem/Progress.h"
 #include "tandem/Result.h"
 #include "tandem/Scene.h"
@@ -64,6 +66,15 @@ class Renderer {
   /// message resize() gives; a size that failed is not tried again by render() until resize() is called
   /// or another size is rendered).
   FrameStats render(const Camera& camera, const FrameSettings& settings);
+  /// The ray tree of pixel (x, y) of the last frame (row 0 at the top, as readImage): the frame's ray
+  /// pass re-run for that one pixel, with its camera, settings and visibility, recording every ray, hit,
+  /// light, weight and the sum that makes the pixel (tandem/PixelTrace.h; toText prints it). For a
+  /// debugging tool or a key binding in a game: the frame itself pays nothing for it, the call costs
+  /// about one pixel's rays (plus, after a frame without ray effects, the id read-back and the Embree
+  /// scene that frame did not need). With rayScale > 1 it traces the ray-grid pixel that covers (x, y).
+  /// Errors: no frame drawn yet, the scene changed since (the frame's ids would be stale), (x, y) outside
+  /// the frame, a scene Embree refused. Call it from the GL context's thread, like render().
+  Result<PixelTrace> tracePixel(int x, int y);
   /// Draws the last frame into the default framebuffer (windows), size in pixels.
   void present(int framebufferWidth, int framebufferHeight);
   /// The last frame (or its debug view), 8-bit sRGB, top row first.

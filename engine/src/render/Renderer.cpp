@@ -58,8 +58,40 @@ struct Renderer::Impl {
   int failedWidth = 0, failedHeight = 0;
   std::string failure;
 
+  // The last frame drawn, as tracePixel re-runs it: what it was rendered with and which parts the GL made.
+  struct LastFrame {
+    bool drawn = false;
+    bool sceneChanged = false;  // setScene, setInstanceTransform or setLight since: its ids are stale
+    Camera camera;
+    FrameSettings settings;     // resolved
+    FrameSettings raySettings;  // what the ray pass was given
+    bool rayPass = false;
+    bool reference = false;
+    bool shadowMaps = false;    // primary hits' lights by the shadow maps
+    int probeEffects = 0;       // gl::kProbeReflect / kProbeRefract in use
+  } last;
+
   Result<void> allocateFrame(int width, int height);
+  /// Brings the Embree scene up to date with `scene` (the only place it is built or committed); false when
+  /// Embree refused the scene (logged once, ray effects off until the next scene).
+  bool syncRayScene();
 };
+
+bool Renderer::Impl::syncRayScene() {
+  if (rtBroken) return false;
+  if (rtSceneStale) {
+    auto built = tracer->setScene(scene);
+    if (!built) {
+      logError("Renderer: the ray pass cannot use this scene, ray effects are off: " + built.error().message);
+      rtBroken = true;
+    }
+    rtSceneStale = rtTransformsStale = false;
+  } else if (rtTransformsStale) {
+    tracer->updateTransforms(scene);
+    rtTransformsStale = false;
+  }
+  return !rtBroken;
+}
 
 Result<void> Renderer::Impl::allocateFrame(int width, int height) {
   if (width == targetWidth && height == targetHeight) return {};
@@ -137,6 +169,7 @@ Result<void> Renderer::setScene(Scene scene) {
   impl_->gpuStale = true;
   impl_->rtSceneStale = true;
   impl_->rtBroken = false;
+  impl_->last.sceneChanged = true;
   return {};
 }
 
@@ -155,6 +188,7 @@ void Renderer::setInstanceTransform(std::uint32_t instance, const glm::mat4& wor
   r.gpuInstancesStale = true;
   // Static geometry lives in Embree's bottom level baked in place: moving it needs a rebuild.
   (inst.dynamic ? r.rtTransformsStale : r.rtSceneStale) = true;
+  r.last.sceneChanged = true;
 }
 
 void Renderer::setLight(std::uint32_t light, const Light& value) {
@@ -173,6 +207,7 @@ void Renderer::setLight(std::uint32_t light, const Light& value) {
   r.scene.lights[light] = value;
   r.gpuLightsStale = true;
   r.rtTransformsStale = true;
+  r.last.sceneChanged = true;
 }
 
 Result<void> Renderer::resize(int width, int height) {
@@ -189,6 +224,7 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   FrameStats stats;
   Timer total;
   Timer clock;
+  r.last.drawn = false;  // until this frame is drawn
 
   // ---------------------------------------------------------------------------------------------
   // prepare: resolve settings, decide which ray effects the scene needs, sync the GL buffers and
@@ -238,19 +274,7 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   if (r.gpu.shadingOverride() != s.shadingOverride) r.gpu.updateMaterials(scene, s.shadingOverride), ++r.gpuVersion;
   r.gpuInstancesStale = r.gpuLightsStale = false;
 
-  if ((wantsRays || wantsReference) && !r.rtBroken) {
-    if (r.rtSceneStale) {
-      auto built = r.tracer->setScene(scene);
-      if (!built) {
-        logError("Renderer: the ray pass cannot use this scene, ray effects are off: " + built.error().message);
-        r.rtBroken = true;
-      }
-      r.rtSceneStale = r.rtTransformsStale = false;
-    } else if (r.rtTransformsStale) {
-      r.tracer->updateTransforms(scene);
-      r.rtTransformsStale = false;
-    }
-  }
+  if (wantsRays || wantsReference) r.syncRayScene();
   const bool rayPass = wantsRays && !r.rtBroken && !wantsReference;
   const bool referenceFrame = wantsReference && !r.rtBroken;
   // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
@@ -399,7 +423,78 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   }
   stats.presentMs = clock.ms();
   stats.totalMs = total.ms();
+  r.last.drawn = true;
+  r.last.sceneChanged = false;
+  r.last.camera = camera;
+  r.last.settings = s;
+  r.last.raySettings = raySettings;
+  r.last.rayPass = rayPass;
+  r.last.reference = referenceFrame;
+  r.last.shadowMaps = shadeIn.shadowMaps != nullptr;
+  r.last.probeEffects = shadeIn.probes ? shadeIn.probeEffects : 0;
   return stats;
+}
+
+Result<PixelTrace> Renderer::tracePixel(int x, int y) {
+  Impl& r = *impl_;
+  const Impl::LastFrame& f = r.last;
+  if (!f.drawn) return Error{"tracePixel: no frame to trace (none rendered yet, or the last one was not drawn)"};
+  if (f.sceneChanged)
+    return Error{"tracePixel: the scene changed since the last frame (setScene, setInstanceTransform or setLight); "
+                 "render a frame, then trace it"};
+  const int width = f.settings.width, height = f.settings.height;
+  if (x < 0 || y < 0 || x >= width || y >= height)
+    return Error{"tracePixel: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
+                 std::to_string(width) + "x" + std::to_string(height) + " frame"};
+  // A frame without rays did not need the Embree scene; the trace does (the scene is the frame's: unchanged).
+  if (!r.syncRayScene()) return Error{"tracePixel: the ray pass cannot use this scene (Embree refused it)"};
+
+  PixelTrace trace;
+  if (f.reference) {
+    trace = r.tracer->tracePixelReference(r.scene, f.camera, f.settings, x, y);
+  } else {
+    // The ids the ray pass read back, or (a frame without a ray pass) the visibility pass's, still the frame's.
+    rt::VisibilityBuffer idsNow;
+    const rt::VisibilityBuffer* visibility = &r.visibility;
+    if (!f.rayPass) {
+      idsNow.width = width;
+      idsNow.height = height;
+      r.visibilityPass.readIds(idsNow.ids);
+      visibility = &idsNow;
+    }
+    const int scale = std::max(1, f.raySettings.rayScale);
+    trace = r.tracer->tracePixel(r.scene, f.camera, f.raySettings, *visibility, x / scale, y / scale);
+    trace.x = x;
+    trace.y = y;
+  }
+  trace.settings = f.settings;
+  trace.rayPass = f.rayPass;
+
+  // What the frame's pixel has that the rays do not: the GL's parts the trace names but does not recompute.
+  const TraceNode* primary = trace.roots.empty() ? nullptr : &trace.nodes[static_cast<std::size_t>(trace.roots.front())];
+  const bool onSurface = primary && primary->hit;
+  if (f.settings.debugView != DebugView::Final)
+    trace.notes.push_back("the frame shows the " + std::string(toString(f.settings.debugView)) +
+                          " debug view, not this colour");
+  if (!f.reference && trace.rayScale > 1)
+    trace.notes.push_back("the ray pass ran at 1/" + std::to_string(trace.rayScale) +
+                          " resolution: the frame shades its local term at (" + std::to_string(x) + ", " +
+                          std::to_string(y) + ") and upsamples the grid's reflected and transmitted radiance there; "
+                          "this trace is of the grid pixel's rays, at pixel (" + std::to_string(trace.tracedX) +
+                          ", " + std::to_string(trace.tracedY) + ")");
+  if (onSurface && f.shadowMaps)
+    trace.notes.push_back("shadows are raster: the frame takes the primary hit's light visibility from the shadow "
+                          "maps, which the trace does not model (its local term counts every light as visible)");
+  if (onSurface && (f.probeEffects & gl::kProbeReflect))
+    trace.notes.push_back("reflections are raster: the frame's primary hit reflects a probe, which the trace does not model");
+  if (onSurface && (f.probeEffects & gl::kProbeRefract))
+    trace.notes.push_back("refraction is raster: the frame's primary hit refracts a probe, which the trace does not model");
+  if (onSurface && !f.reference) {
+    const ShadingModel model = f.settings.shadingOverride.value_or(r.scene.materials[primary->material].shading);
+    if (model == ShadingModel::Toon)
+      trace.notes.push_back("toon shading: the frame may draw a silhouette outline over this pixel");
+  }
+  return trace;
 }
 
 void Renderer::present(int framebufferWidth, int framebufferHeight) {
