@@ -1,7 +1,9 @@
 #include "CliCommon.h"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <string_view>
 
 namespace tandem::cli {
 
@@ -157,6 +159,25 @@ Result<ResolvedFrame> resolveFrame(const FrameOptions& o, const SceneRenderDefau
   for (const auto& [flag, given] : flags)
     if (given) out.changedBy.push_back(flag);
   return out;
+}
+
+Result<glm::ivec2> parseTracePixel(const std::string& text, int width, int height) {
+  // Two runs of digits around one comma: no sign, no spaces, no overflow (from_chars reports it).
+  auto number = [](std::string_view digits, int& v) {
+    if (digits.empty() || digits.find_first_not_of("0123456789") != std::string_view::npos) return false;
+    auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+    return ec == std::errc() && end == digits.data() + digits.size();
+  };
+  const std::size_t comma = text.find(',');
+  int x = 0, y = 0;
+  if (comma == std::string::npos || !number(std::string_view(text).substr(0, comma), x) ||
+      !number(std::string_view(text).substr(comma + 1), y))
+    return Error{"--trace-pixel: expected X,Y (the pixel's column and row, row 0 at the top), got " + inQuotes(text)};
+  if (x >= width || y >= height)
+    return Error{"--trace-pixel: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
+                 std::to_string(width) + "x" + std::to_string(height) + " frame (X 0.." + std::to_string(width - 1) +
+                 ", Y 0.." + std::to_string(height - 1) + ")"};
+  return glm::ivec2(x, y);
 }
 
 std::string describeSettings(const FrameSettings& s) {

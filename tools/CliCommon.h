@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <glm/glm.hpp>
 
 #include "tandem/Result.h"
 #include "tandem/Scene.h"
@@ -53,6 +54,10 @@ struct ResolvedFrame {
 /// The whole chain: the scene's render block (size, preset, maxDepth), kDefaultPreset where it names no
 /// preset, then the command line (resolveFrameOptions). --preset replaces the scene's preset and maxDepth.
 Result<ResolvedFrame> resolveFrame(const FrameOptions& o, const SceneRenderDefaults& scene);
+
+/// --trace-pixel X,Y: the pixel of a width × height frame (row 0 at the top) whose ray tree tandem-render
+/// prints after the frame. Malformed text and pixels outside the frame are one-line errors naming the flag.
+Result<glm::ivec2> parseTracePixel(const std::string& text, int width, int height);
 
 /// "shadows ray, reflections ray, refraction raster, depth 2, scale 1/2" (reference frames: the samples
 /// per pixel instead of the scale, which they do not have).

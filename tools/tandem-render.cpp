@@ -1,13 +1,17 @@
 // tandem-render: renders a scene headless to a PNG or JPEG and prints the per-stage times (median over frames).
 //   tandem-render [SCENE] -o OUT.png [--size WxH] [--preset NAME] [--shading MODEL] [--frames N] [--stats OUT.json]
+//                 [--trace-pixel X,Y]
 // SCENE is a JSON scene file, a .gltf/.glb, or omitted for the embedded Whitted scene. With no --preset
 // the scene's render.preset applies, else cli::kDefaultPreset (hybrid-full); the summary names which.
+// --trace-pixel prints that pixel's ray tree (Renderer::tracePixel) on stdout after the frame.
 // Exit 0 on success; non-zero with a one-line error on any bad input.
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <unistd.h>
@@ -18,6 +22,7 @@
 #include "CliCommon.h"
 #include "Progress.h"
 #include "tandem/Context.h"
+#include "tandem/PixelTrace.h"
 #include "tandem/Renderer.h"
 #include "tandem/SceneFile.h"
 
@@ -55,6 +60,7 @@ int main(int argc, char** argv) {
   int frames = 1;
   int threads = 0;
   bool quiet = false;
+  std::optional<std::string> tracePixel;
   double progressAfter = 2.0;
   cli::FrameOptions frameOptions;
   app.add_option("scene", scenePath, "Scene: .json, .gltf or .glb (default: the embedded Whitted scene)");
@@ -70,6 +76,9 @@ int main(int argc, char** argv) {
                  "Seconds a render runs before a progress line (percent, elapsed, ETA) appears on stderr")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--trace-pixel", tracePixel,
+                 "X,Y: after the frame, print that pixel's ray tree on stdout (every ray, hit, light, weight and the "
+                 "sum that makes the pixel; row 0 at the top; printed under --quiet too) (default: none)");
   cli::addFrameOptions(app, frameOptions);
   try {
     app.parse(argc, argv);
@@ -92,6 +101,13 @@ int main(int argc, char** argv) {
   Result<cli::ResolvedFrame> resolved = cli::resolveFrame(frameOptions, scene->render);
   if (!resolved) return fail(resolved.error().message);
   const FrameSettings& settings = resolved->settings;
+  // Checked against the frame before anything renders, like every other value.
+  std::optional<glm::ivec2> tracedPixel;
+  if (tracePixel) {
+    auto pixel = cli::parseTracePixel(*tracePixel, settings.width, settings.height);
+    if (!pixel) return fail(pixel.error().message);
+    tracedPixel = *pixel;
+  }
 
   auto context = createGlContext(desc);
   if (!context) return fail(context.error().message);
@@ -182,6 +198,12 @@ int main(int argc, char** argv) {
     if (!f) return fail("--stats: cannot write " + statsPath);
     f << j.dump(2) << "\n";
     if (!f) return fail("--stats: cannot write " + statsPath);
+  }
+  if (tracedPixel) {
+    // After the summary: the last frame's pixel, re-traced (the frame itself paid nothing for it).
+    auto trace = (*renderer)->tracePixel(tracedPixel->x, tracedPixel->y);
+    if (!trace) return fail("--trace-pixel: " + trace.error().message);
+    std::fputs(toText(*trace, (*renderer)->scene()).c_str(), stdout);
   }
   return 0;
 }

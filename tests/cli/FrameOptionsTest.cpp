@@ -204,5 +204,26 @@ TEST(DescribeSettings, NamesWhatThePresetSets) {
             "shadows ray, reflections ray, refraction ray, depth 16, primary visibility by rays, 4×4 samples per pixel");
 }
 
+// --trace-pixel X,Y: a pixel of the frame, row 0 at the top; anything else one line naming the flag.
+TEST(TracePixel, TakesAPixelOfTheFrameOnly) {
+  auto corner = parseTracePixel("319,179", 320, 180);
+  ASSERT_TRUE(corner) << corner.error().message;
+  EXPECT_EQ(*corner, glm::ivec2(319, 179));
+  EXPECT_EQ(*parseTracePixel("0,0", 1, 1), glm::ivec2(0, 0));
+  for (const char* text : {"320,0", "0,180", "1000,1000"}) {
+    auto r = parseTracePixel(text, 320, 180);
+    ASSERT_FALSE(r) << text;
+    EXPECT_TRUE(startsWith(r.error().message, "--trace-pixel: pixel (")) << r.error().message;
+    EXPECT_NE(r.error().message.find("outside the 320x180 frame"), std::string::npos) << r.error().message;
+  }
+  for (const char* text : {"", "5", "5,", ",5", "-1,5", "5,-1", "5;5", "5,5,5", "5, 5", " 5,5", "+5,5", "a,b", "5x5",
+                           "99999999999,5"}) {
+    auto r = parseTracePixel(text, 320, 180);
+    ASSERT_FALSE(r) << "'" << text << "'";
+    EXPECT_TRUE(startsWith(r.error().message, "--trace-pixel: expected X,Y")) << r.error().message;
+    EXPECT_EQ(r.error().message.find('\n'), std::string::npos);
+  }
+}
+
 }  // namespace
 }  // namespace tandem::cli

@@ -1,6 +1,7 @@
 #!/bin/sh
 # tandem-render RENDER OUTDIR: every invalid value (including those that used to render with exit 0:
-# --depth -1, --spp 0, --scale 0, --exposure 0 and inf, --spp without the reference preset) exits
+# --depth -1, --spp 0, --scale 0, --exposure 0 and inf, --spp without the reference preset; a
+# --trace-pixel outside the frame) exits
 # non-zero before rendering, with exactly one line on stderr naming the flag and nothing on stdout.
 set -u
 render="$1"
@@ -52,4 +53,8 @@ check --frames --frames 0
 check --threads --threads -1
 check --context --context x11
 check -o -o "$out/cli-reject.tga"
+check --trace-pixel --trace-pixel 32,0
+check --trace-pixel --trace-pixel 0,18
+check --trace-pixel --trace-pixel 5
+check --trace-pixel --trace-pixel -1,5
 exit $status
