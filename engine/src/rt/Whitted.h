@@ -123,9 +123,10 @@ class Whitted;
 /// instantiate it with NoRecorder, whose members are empty and inline, so their loops compile to what
 /// they were without it (no call, no branch); PixelTrace instantiates it with this interface.
 ///
-/// Per ray: beginRay, then (when Embree is asked and answers) embreeHit, then (on a hit) surface, the
-/// shadow rays, local, then either weights with a skipped or a nested ray per secondary kind, or
-/// noSecondaryRays; endRay closes it. A miss goes straight from beginRay (or embreeHit) to endRay.
+/// Per ray: beginRay, then (when Embree is asked and answers) embreeHit, then (on a hit) surface, a
+/// shadowRay or noShadowRay per light when the hit's shadows are by rays, local, then either weights with
+/// a skipped or a nested ray per secondary kind, or noSecondaryRays; endRay closes it. A miss goes
+/// straight from beginRay (or embreeHit) to endRay.
 class RayRecorder {
  public:
   /// A ray about to be followed: its kind, its span, the weight its radiance gets in the sum of the hit
