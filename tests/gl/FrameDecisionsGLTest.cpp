@@ -8,7 +8,6 @@
 #include <cmath>
 
 #include "GlTestUtil.h"
-#include "rt/Whitted.h"
 #include "tandem/SceneFile.h"
 
 namespace tandem {
@@ -20,32 +19,6 @@ Scene whittedWithoutMirrors() {
   Scene scene = std::move(*s);
   for (Material& m : scene.materials) m.kr = 0.0f;  // the mirror stays as a dull sphere, the glass has no kr
   return scene;
-}
-
-TEST(FrameDecisions, MayReflectFollowsTheWeights) {
-  // mayReflect is wR at the largest Fresnel term the material reaches; checked against the sum itself.
-  for (float kr : {0.0f, 0.4f})
-    for (float kt : {0.0f, 0.7f})
-      for (float ior : {0.5f, 1.0f, 1.5f})
-        for (bool weighted : {true, false}) {
-          Material m;
-          m.kr = kr;
-          m.kt = kt;
-          m.ior = ior;
-          bool some = false;
-          for (float f : {0.0f, 0.01f, 0.5f, 1.0f}) {
-            // F = 0 at every angle when the IOR is 1 (refractDielectric's identity).
-            const float fr = ior == 1.0f ? 0.0f : f;
-            some |= rt::whittedSum(kr, kt, fr, fr == 1.0f, weighted).reflect > 0.0f;
-          }
-          EXPECT_EQ(rt::mayReflect(m, weighted), some) << "kr " << kr << " kt " << kt << " ior " << ior << " weighted " << weighted;
-        }
-  Material glass;
-  glass.kr = 0.0f;
-  glass.kt = 0.9f;
-  glass.ior = 1.5f;
-  EXPECT_TRUE(rt::mayReflect(glass, true)) << "Fresnel reflection of glass";
-  EXPECT_FALSE(rt::mayReflect(glass, false)) << "the classic sum reflects kr only";
 }
 
 TEST(FrameDecisions, GlassWithoutKrTracesItsFresnelReflections) {

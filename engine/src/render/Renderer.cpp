@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <type_traits>
 
 #include "core/RenderSpace.h"
 #include "core/Timer.h"
@@ -17,7 +18,8 @@
 #include "gl/GlObjects.h"
 #include "rt/EmbreeScene.h"
 #include "rt/RayTracer.h"
-#include "rt/Whitted.h"
+#include "render/FramePlan.h"
+#include "render/SceneCaches.h"
 #include "tandem/Log.h"
 
 namespace tandem {
@@ -27,25 +29,8 @@ struct Renderer::Impl {
   std::unique_ptr<rt::RayTracer> tracer;
   gl::VisibilityPass visibilityPass;
   gl::CompositePass compositePass;
-  gl::GpuScene gpu;
-  gl::ShadowMaps shadowMaps;
-  gl::ReflectionProbes probes;
-  std::vector<gl::Bounds> meshBounds;  // object space, per mesh: recomputed with each upload
+  SceneCaches caches;  // the GL copy, the raster effects and the Embree scene, with what they miss
   Scene scene;
-
-  // What the caches are missing. The GL copy is synced every frame; the Embree scene only on frames
-  // whose ray pass runs, so raster-only use never builds a BVH.
-  bool gpuStale = true;
-  bool gpuInstancesStale = false;
-  bool gpuLightsStale = false;
-  bool rtSceneStale = true;
-  bool rtTransformsStale = false;
-  bool rtBroken = false;  // Embree refused this scene (logged once); ray effects are off until the next one
-  // Raster effects are re-rendered only when the GL copy changed since they were made (gpuVersion counts
-  // its changes) or, for probes, when the shading they were made with differs.
-  std::uint64_t gpuVersion = 1;
-  std::uint64_t shadowVersion = 0, probeVersion = 0;
-  bool probesShadowed = false;
 
   rt::VisibilityBuffer visibility;
   rt::RayOutputs rays;
@@ -63,35 +48,24 @@ struct Renderer::Impl {
     bool drawn = false;
     bool sceneChanged = false;  // setScene, setInstanceTransform or setLight since: its ids are stale
     Camera camera;
-    FrameSettings settings;     // resolved
-    FrameSettings raySettings;  // what the ray pass was given
-    bool rayPass = false;
-    bool reference = false;
+    FramePlan plan;
     bool shadowMaps = false;    // primary hits' lights by the shadow maps
     int probeEffects = 0;       // gl::kProbeReflect / kProbeRefract in use
   } last;
 
   Result<void> allocateFrame(int width, int height);
-  /// Brings the Embree scene up to date with `scene` (the only place it is built or committed); false when
-  /// Embree refused the scene (logged once, ray effects off until the next scene).
-  bool syncRayScene();
-};
 
-bool Renderer::Impl::syncRayScene() {
-  if (rtBroken) return false;
-  if (rtSceneStale) {
-    auto built = tracer->setScene(scene);
-    if (!built) {
-      logError("Renderer: the ray pass cannot use this scene, ray effects are off: " + built.error().message);
-      rtBroken = true;
-    }
-    rtSceneStale = rtTransformsStale = false;
-  } else if (rtTransformsStale) {
-    tracer->updateTransforms(scene);
-    rtTransformsStale = false;
-  }
-  return !rtBroken;
-}
+  // The frame's stages (Renderer::render calls them in order). A stage that cannot go on sets
+  // stats.error and returns false: the frame is then not drawn.
+  bool prepare(FramePlan& plan, FrameStats& stats);
+  void raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
+  void readback(const FramePlan& plan);
+  void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats);
+  bool upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats);
+  void shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in);
+  void present();
+  void remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in);
+};
 
 Result<void> Renderer::Impl::allocateFrame(int width, int height) {
   if (width == targetWidth && height == targetHeight) return {};
@@ -136,8 +110,23 @@ bool finiteMatrix(const glm::mat4& m) {
 
 bool finiteVec(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-// What the ray pass does for an effect: Raster effects are the GL passes' (shadow maps, probes), not its.
-EffectMode rayOnly(EffectMode m) { return m == EffectMode::Ray ? EffectMode::Ray : EffectMode::Off; }
+std::string frameError(const FrameSettings& s, const std::string& why) {
+  return "frame " + std::to_string(s.width) + "x" + std::to_string(s.height) + ": " + why;
+}
+
+// Runs a stage and stores its time.
+template <class F>
+auto timed(double& ms, F&& stage) {
+  Timer clock;
+  if constexpr (std::is_void_v<decltype(stage())>) {
+    stage();
+    ms = clock.ms();
+  } else {
+    auto result = stage();
+    ms = clock.ms();
+    return result;
+  }
+}
 
 }  // namespace
 
@@ -166,9 +155,7 @@ Result<void> Renderer::setScene(Scene scene) {
   auto valid = validateScene(scene);
   if (!valid) return Error{"Renderer::setScene: " + valid.error().message + " (the previous scene stays)"};
   impl_->scene = std::move(scene);
-  impl_->gpuStale = true;
-  impl_->rtSceneStale = true;
-  impl_->rtBroken = false;
+  impl_->caches.sceneChanged();
   impl_->last.sceneChanged = true;
   return {};
 }
@@ -185,9 +172,7 @@ void Renderer::setInstanceTransform(std::uint32_t instance, const glm::mat4& wor
   }
   Instance& inst = r.scene.instances[instance];
   inst.worldFromObject = worldFromObject;
-  r.gpuInstancesStale = true;
-  // Static geometry lives in Embree's bottom level baked in place: moving it needs a rebuild.
-  (inst.dynamic ? r.rtTransformsStale : r.rtSceneStale) = true;
+  r.caches.instanceMoved(inst.dynamic);
   r.last.sceneChanged = true;
 }
 
@@ -205,8 +190,7 @@ void Renderer::setLight(std::uint32_t light, const Light& value) {
     return;
   }
   r.scene.lights[light] = value;
-  r.gpuLightsStale = true;
-  r.rtTransformsStale = true;
+  r.caches.lightChanged();
   r.last.sceneChanged = true;
 }
 
@@ -218,221 +202,154 @@ Result<void> Renderer::resize(int width, int height) {
   return r.allocateFrame(width, height);
 }
 
+// The frame, top to bottom: plan → prepare (targets, caches) → raster → readback → rays → upload →
+// shade (composite and output) → present. Each stage is one call below, timed into FrameStats.
 FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested) {
   Impl& r = *impl_;
-  const Scene& scene = r.scene;
   FrameStats stats;
   Timer total;
-  Timer clock;
   r.last.drawn = false;  // until this frame is drawn
-
-  // ---------------------------------------------------------------------------------------------
-  // prepare: resolve settings, decide which ray effects the scene needs, sync the GL buffers and
-  // (when rays run) the Embree scene — the only place Embree commits.
-  // ---------------------------------------------------------------------------------------------
-  const FrameSettings s = requested.resolved();
-  // A size the GL cannot hold: nothing to draw into. Reported, not drawn black.
-  if (auto targets = r.allocateFrame(s.width, s.height); !targets) {
-    stats.error = "frame " + std::to_string(s.width) + "x" + std::to_string(s.height) + ": " + targets.error().message;
-    stats.prepareMs = stats.totalMs = total.ms();
+  FramePlan plan = planFrame(sceneFacts(r.scene), requested);
+  if (!timed(stats.prepareMs, [&] { return r.prepare(plan, stats); })) {
+    stats.totalMs = total.ms();
     return stats;
   }
-  FrameSettings raySettings = s;
-  // Raster shadows stay "raster" for the ray pass: its primary points take the shadow map's answer, but
-  // secondary hits have no map and trace shadow rays (TraceModes::hybrid).
-  raySettings.reflections = rayOnly(s.reflections);
-  raySettings.refraction = rayOnly(s.refraction);
-  bool anyShadowLight = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
-    return l.type != LightType::Ambient && l.castShadows;
-  });
-  // From the weights of the Whitted sum the composite uses: glass reflects by Fresnel without any kr.
-  bool anyMirror = std::any_of(scene.materials.begin(), scene.materials.end(),
-                               [&](const Material& m) { return rt::mayReflect(m, s.fresnelWeighted); });
-  bool anyGlass = std::any_of(scene.materials.begin(), scene.materials.end(), rt::mayTransmit);
-  if (!anyShadowLight) raySettings.shadows = EffectMode::Off;
-  if (!anyMirror || s.maxDepth == 0) raySettings.reflections = EffectMode::Off;
-  if (!anyGlass || s.maxDepth == 0) raySettings.refraction = EffectMode::Off;
-  const bool wantsRays = raySettings.shadows == EffectMode::Ray || raySettings.reflections == EffectMode::Ray ||
-                         raySettings.refraction == EffectMode::Ray;
-  const bool wantsReference = s.reference && s.debugView == DebugView::Final;
-  // Raster effects: only what the scene can show (a glass object reflects through its Fresnel term).
-  const bool rasterShadows = s.shadows == EffectMode::Raster && anyShadowLight && !wantsReference;
-  int probeEffects = 0;
-  if (s.maxDepth > 0 && !wantsReference) {
-    if (s.reflections == EffectMode::Raster && (anyMirror || anyGlass)) probeEffects |= gl::kProbeReflect;
-    if (s.refraction == EffectMode::Raster && anyGlass) probeEffects |= gl::kProbeRefract;
-  }
-
-  if (r.gpuStale) {
-    r.gpu.upload(scene, s.shadingOverride);
-    r.meshBounds = gl::meshBounds(scene);
-    r.gpuStale = r.gpuInstancesStale = r.gpuLightsStale = false;
-    ++r.gpuVersion;
-  }
-  if (r.gpuInstancesStale) r.gpu.updateInstances(scene), ++r.gpuVersion;
-  if (r.gpuLightsStale) r.gpu.updateLights(scene), ++r.gpuVersion;
-  if (r.gpu.shadingOverride() != s.shadingOverride) r.gpu.updateMaterials(scene, s.shadingOverride), ++r.gpuVersion;
-  r.gpuInstancesStale = r.gpuLightsStale = false;
-
-  if (wantsRays || wantsReference) r.syncRayScene();
-  const bool rayPass = wantsRays && !r.rtBroken && !wantsReference;
-  const bool referenceFrame = wantsReference && !r.rtBroken;
   // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
-  const Camera glCamera = toRenderSpace(camera, r.gpu.anchor());
-  if (!referenceFrame && gl::CompositePass::samplesDepth(r.gpu.features(), s.debugView)) {
-    if (auto copy = r.compositePass.reserveSampledDepth(); !copy) {
-      stats.error = "frame " + std::to_string(s.width) + "x" + std::to_string(s.height) + ": " + copy.error().message;
-      stats.prepareMs = stats.totalMs = total.ms();
-      return stats;
-    }
+  const Camera glCamera = toRenderSpace(camera, r.caches.gpu().anchor());
+  gl::ShadeInputs in;
+  timed(stats.rasterMs, [&] { r.raster(plan, glCamera, in); });
+  timed(stats.readbackMs, [&] { r.readback(plan); });
+  timed(stats.raysMs, [&] { r.traceRays(plan, camera, stats); });
+  if (!timed(stats.uploadMs, [&] { return r.upload(plan, in, stats); })) {
+    stats.totalMs = total.ms();
+    return stats;
   }
-  stats.prepareMs = clock.ms();
+  timed(stats.compositeMs, [&] { r.shade(plan, glCamera, in); });
+  timed(stats.presentMs, [&] { r.present(); });
+  stats.totalMs = total.ms();
+  r.remember(plan, camera, in);
+  return stats;
+}
 
-  // ---------------------------------------------------------------------------------------------
-  // raster: the raster effects' maps when the scene changed (shadow maps, then the probes, which are
-  // shaded with them), then the visibility G-buffer (instance + 1, triangle) over reversed-Z depth.
-  // ---------------------------------------------------------------------------------------------
-  clock.reset();
-  gl::ShadeInputs shadeIn;
-  shadeIn.background = scene.background;
-  shadeIn.ambient = scene.ambientIntensity();
-  shadeIn.fresnel = s.fresnel;
-  shadeIn.fresnelWeighted = s.fresnelWeighted;
-  std::vector<gl::Bounds> instanceBounds;
-  if (rasterShadows || probeEffects != 0) instanceBounds = gl::instanceBounds(scene, r.meshBounds, r.gpu.anchor());
-  if (rasterShadows) {
-    if (r.shadowVersion != r.gpuVersion) {
-      gl::Bounds world;
-      for (const gl::Bounds& b : instanceBounds) world.add(b);
-      r.shadowMaps.update(scene, r.gpu, r.visibilityPass, world);
-      r.shadowVersion = r.gpuVersion;
-    }
-    if (r.shadowMaps.mapCount() + r.shadowMaps.cubeCount() > 0) shadeIn.shadowMaps = &r.shadowMaps;
-  } else if (r.shadowVersion != 0) {
-    r.shadowMaps.release();  // cost follows the settings: no maps held while shadows are not raster
-    r.shadowVersion = 0;
+// prepare: the frame's GL targets, the GL copy, and (when rays run) the Embree scene — the only place
+// Embree commits. Without an Embree scene the plan loses its rays.
+bool Renderer::Impl::prepare(FramePlan& plan, FrameStats& stats) {
+  const FrameSettings& s = plan.settings;
+  // A size the GL cannot hold: nothing to draw into. Reported, not drawn black.
+  if (auto targets = allocateFrame(s.width, s.height); !targets) {
+    stats.error = frameError(s, targets.error().message);
+    return false;
   }
-  if (probeEffects != 0) {
-    bool shadowed = shadeIn.shadowMaps != nullptr;
-    if (r.probeVersion != r.gpuVersion || r.probesShadowed != shadowed) {
-      // The probes see local shading only (no ray results, no probes): one bounce.
-      gl::ShadeInputs local = shadeIn;
-      r.probes.update(scene, r.gpu, r.visibilityPass, r.compositePass, local, instanceBounds);
-      r.probeVersion = r.gpuVersion;
-      r.probesShadowed = shadowed;
+  caches.syncGpu(scene, s.shadingOverride);
+  if (plan.needsRayScene() && !caches.syncRays(scene, *tracer)) plan.withoutRays();
+  if (!plan.reference && gl::CompositePass::samplesDepth(caches.gpu().features(), s.debugView)) {
+    if (auto copy = compositePass.reserveSampledDepth(); !copy) {
+      stats.error = frameError(s, copy.error().message);
+      return false;
     }
-    if (r.probes.probeCount() > 0) {
-      shadeIn.probes = &r.probes;
-      shadeIn.probeEffects = probeEffects;
-    }
-  } else if (r.probeVersion != 0) {
-    r.probes.release();
-    r.probeVersion = 0;
   }
-  if (!referenceFrame) {
-    r.visibilityPass.render(r.gpu, glCamera);
+  return true;
+}
+
+// raster: the raster effects' maps when the scene changed (shadow maps, then the probes, which are shaded
+// with them), then the visibility G-buffer (instance + 1, triangle) over reversed-Z depth.
+void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in) {
+  const FrameSettings& s = plan.settings;
+  in.background = scene.background;
+  in.ambient = scene.ambientIntensity();
+  in.fresnel = s.fresnel;
+  in.fresnelWeighted = s.fresnelWeighted;
+  // The probes are shaded from these inputs as they stand: the final view of local shading.
+  caches.syncRasterEffects(scene, plan, visibilityPass, compositePass, in);
+  in.debugView = s.debugView;
+  in.rayScale = s.rayScale;
+  if (!plan.reference) {
+    visibilityPass.render(caches.gpu(), glCamera);
     glFinish();
   }
-  stats.rasterMs = clock.ms();
+}
 
-  // ---------------------------------------------------------------------------------------------
-  // readback: the ids channel, top row first, only for the ray pass.
-  // ---------------------------------------------------------------------------------------------
-  clock.reset();
-  if (rayPass) {
-    r.visibility.width = s.width;
-    r.visibility.height = s.height;
-    r.visibilityPass.readIds(r.visibility.ids);
+// readback: the ids channel, top row first, only for the ray pass.
+void Renderer::Impl::readback(const FramePlan& plan) {
+  if (!plan.rayPass) return;
+  visibility.width = plan.settings.width;
+  visibility.height = plan.settings.height;
+  visibilityPass.readIds(visibility.ids);
+}
+
+// rays: the hybrid ray pass on the ray grid, or the whole reference frame.
+void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats) {
+  rays.lightMask.clear();
+  rays.reflected.clear();
+  rays.transmitted.clear();
+  rays.counts = {};
+  if (plan.rayPass) {
+    tracer->trace(scene, camera, plan.raySettings, visibility, rays);
+    stats.rays = rays.counts;
+    stats.rayWidth = rays.width;
+    stats.rayHeight = rays.height;
+  } else if (plan.reference) {
+    tracer->renderReference(scene, camera, plan.settings, reference, stats.rays);
+    stats.rayWidth = reference.width;
+    stats.rayHeight = reference.height;
   }
-  stats.readbackMs = clock.ms();
+  stats.threads = tracer->threads();
+}
 
-  // ---------------------------------------------------------------------------------------------
-  // rays: the hybrid ray pass on the ray grid, or the whole reference frame.
-  // ---------------------------------------------------------------------------------------------
-  clock.reset();
-  r.rays.lightMask.clear();
-  r.rays.reflected.clear();
-  r.rays.transmitted.clear();
-  r.rays.counts = {};
-  if (rayPass) {
-    r.tracer->trace(scene, camera, raySettings, r.visibility, r.rays);
-    stats.rays = r.rays.counts;
-    stats.rayWidth = r.rays.width;
-    stats.rayHeight = r.rays.height;
-  } else if (referenceFrame) {
-    r.tracer->renderReference(scene, camera, s, r.reference, stats.rays);
-    stats.rayWidth = r.reference.width;
-    stats.rayHeight = r.reference.height;
-  }
-  stats.threads = r.tracer->threads();
-  stats.raysMs = clock.ms();
-
-  // ---------------------------------------------------------------------------------------------
-  // upload: only the ray results that exist this frame.
-  // ---------------------------------------------------------------------------------------------
-  clock.reset();
-  shadeIn.debugView = s.debugView;
-  shadeIn.rayScale = s.rayScale;
-  if (rayPass) {
-    std::size_t n = static_cast<std::size_t>(r.rays.width) * static_cast<std::size_t>(r.rays.height);
-    shadeIn.rayWidth = r.rays.width;
-    shadeIn.rayHeight = r.rays.height;
+// upload: only the ray results that exist this frame.
+bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats) {
+  if (plan.rayPass) {
+    const std::size_t n = static_cast<std::size_t>(rays.width) * static_cast<std::size_t>(rays.height);
+    in.rayWidth = rays.width;
+    in.rayHeight = rays.height;
     std::string refused;
     auto take = [&](const Result<void>& uploaded, int input) {
-      if (uploaded) shadeIn.rayInputs |= input;
+      if (uploaded) in.rayInputs |= input;
       else if (refused.empty()) refused = uploaded.error().message;
     };
-    if (r.rays.lightMask.size() == n && n > 0)
-      take(r.compositePass.uploadLightMask(r.rays.width, r.rays.height, r.rays.lightMask.data()), gl::kRayLightMask);
-    if (r.rays.reflected.size() == n && n > 0)
-      take(r.compositePass.uploadReflected(r.rays.width, r.rays.height, r.rays.reflected.data()), gl::kRayReflected);
-    if (r.rays.transmitted.size() == n && n > 0)
-      take(r.compositePass.uploadTransmitted(r.rays.width, r.rays.height, r.rays.transmitted.data()),
-           gl::kRayTransmitted);
+    if (rays.lightMask.size() == n && n > 0)
+      take(compositePass.uploadLightMask(rays.width, rays.height, rays.lightMask.data()), gl::kRayLightMask);
+    if (rays.reflected.size() == n && n > 0)
+      take(compositePass.uploadReflected(rays.width, rays.height, rays.reflected.data()), gl::kRayReflected);
+    if (rays.transmitted.size() == n && n > 0)
+      take(compositePass.uploadTransmitted(rays.width, rays.height, rays.transmitted.data()), gl::kRayTransmitted);
     if (!refused.empty()) {
       // A ray grid's texture the GL refused: the frame would miss an effect, so it is not drawn.
-      stats.error = "frame " + std::to_string(s.width) + "x" + std::to_string(s.height) + ": " + refused;
-      stats.uploadMs = clock.ms();
-      stats.totalMs = total.ms();
-      return stats;
+      stats.error = frameError(plan.settings, refused);
+      return false;
     }
-  } else if (referenceFrame) {
-    r.compositePass.uploadLinear(r.reference);
+  } else if (plan.reference) {
+    compositePass.uploadLinear(reference);
   }
   glFinish();
-  stats.uploadMs = clock.ms();
+  return true;
+}
 
-  // ---------------------------------------------------------------------------------------------
-  // composite: shade the visibility buffer, add the ray results, then exposure + tone map + sRGB once.
-  // ---------------------------------------------------------------------------------------------
-  clock.reset();
-  if (!referenceFrame) r.compositePass.shade(r.gpu, r.visibilityPass, glCamera, shadeIn);
-  r.compositePass.output(s.exposure, s.toneMap, s.debugView);
+// shade: the visibility buffer shaded with the ray results added, then exposure + tone map + sRGB once.
+void Renderer::Impl::shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in) {
+  const FrameSettings& s = plan.settings;
+  if (!plan.reference) compositePass.shade(caches.gpu(), visibilityPass, glCamera, in);
+  compositePass.output(s.exposure, s.toneMap, s.debugView);
   glFinish();
-  stats.compositeMs = clock.ms();
+}
 
-  // ---------------------------------------------------------------------------------------------
-  // present: a window gets the frame in its default framebuffer, ready for the application to draw its
-  // UI and swap; headless frames stay in the offscreen target until readImage() captures them.
-  // ---------------------------------------------------------------------------------------------
-  clock.reset();
-  if (r.context->window() != nullptr) {
-    int w = 0, h = 0;
-    r.context->framebufferSize(w, h);
-    r.compositePass.present(w, h);
-  }
-  stats.presentMs = clock.ms();
-  stats.totalMs = total.ms();
-  r.last.drawn = true;
-  r.last.sceneChanged = false;
-  r.last.camera = camera;
-  r.last.settings = s;
-  r.last.raySettings = raySettings;
-  r.last.rayPass = rayPass;
-  r.last.reference = referenceFrame;
-  r.last.shadowMaps = shadeIn.shadowMaps != nullptr;
-  r.last.probeEffects = shadeIn.probes ? shadeIn.probeEffects : 0;
-  return stats;
+// present: a window gets the frame in its default framebuffer, ready for the application to draw its UI
+// and swap; headless frames stay in the offscreen target until readImage() captures them.
+void Renderer::Impl::present() {
+  if (context->window() == nullptr) return;
+  int w = 0, h = 0;
+  context->framebufferSize(w, h);
+  compositePass.present(w, h);
+}
+
+// What tracePixel re-runs: the frame as it was drawn.
+void Renderer::Impl::remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in) {
+  last.drawn = true;
+  last.sceneChanged = false;
+  last.camera = camera;
+  last.plan = plan;
+  last.shadowMaps = in.shadowMaps != nullptr;
+  last.probeEffects = in.probes ? in.probeEffects : 0;
 }
 
 Result<PixelTrace> Renderer::tracePixel(int x, int y) {
@@ -442,41 +359,42 @@ Result<PixelTrace> Renderer::tracePixel(int x, int y) {
   if (f.sceneChanged)
     return Error{"tracePixel: the scene changed since the last frame (setScene, setInstanceTransform or setLight); "
                  "render a frame, then trace it"};
-  const int width = f.settings.width, height = f.settings.height;
+  const int width = f.plan.settings.width, height = f.plan.settings.height;
   if (x < 0 || y < 0 || x >= width || y >= height)
     return Error{"tracePixel: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
                  std::to_string(width) + "x" + std::to_string(height) + " frame"};
   // A frame without rays did not need the Embree scene; the trace does (the scene is the frame's: unchanged).
-  if (!r.syncRayScene()) return Error{"tracePixel: the ray pass cannot use this scene (Embree refused it)"};
+  if (!r.caches.syncRays(r.scene, *r.tracer))
+    return Error{"tracePixel: the ray pass cannot use this scene (Embree refused it)"};
 
   PixelTrace trace;
-  if (f.reference) {
-    trace = r.tracer->tracePixelReference(r.scene, f.camera, f.settings, x, y);
+  if (f.plan.reference) {
+    trace = r.tracer->tracePixelReference(r.scene, f.camera, f.plan.settings, x, y);
   } else {
     // The ids the ray pass read back, or (a frame without a ray pass) the visibility pass's, still the frame's.
     rt::VisibilityBuffer idsNow;
     const rt::VisibilityBuffer* visibility = &r.visibility;
-    if (!f.rayPass) {
+    if (!f.plan.rayPass) {
       idsNow.width = width;
       idsNow.height = height;
       r.visibilityPass.readIds(idsNow.ids);
       visibility = &idsNow;
     }
-    const int scale = std::max(1, f.raySettings.rayScale);
-    trace = r.tracer->tracePixel(r.scene, f.camera, f.raySettings, *visibility, x / scale, y / scale);
+    const int scale = std::max(1, f.plan.raySettings.rayScale);
+    trace = r.tracer->tracePixel(r.scene, f.camera, f.plan.raySettings, *visibility, x / scale, y / scale);
     trace.x = x;
     trace.y = y;
   }
-  trace.settings = f.settings;
-  trace.rayPass = f.rayPass;
+  trace.settings = f.plan.settings;
+  trace.rayPass = f.plan.rayPass;
 
   // What the frame's pixel has that the rays do not: the GL's parts the trace names but does not recompute.
   const TraceNode* primary = trace.roots.empty() ? nullptr : &trace.nodes[static_cast<std::size_t>(trace.roots.front())];
   const bool onSurface = primary && primary->hit;
-  if (f.settings.debugView != DebugView::Final)
-    trace.notes.push_back("the frame shows the " + std::string(toString(f.settings.debugView)) +
+  if (f.plan.settings.debugView != DebugView::Final)
+    trace.notes.push_back("the frame shows the " + std::string(toString(f.plan.settings.debugView)) +
                           " debug view, not this colour");
-  if (!f.reference && trace.rayScale > 1)
+  if (!f.plan.reference && trace.rayScale > 1)
     trace.notes.push_back("the ray pass ran at 1/" + std::to_string(trace.rayScale) +
                           " resolution: the frame shades its local term at (" + std::to_string(x) + ", " +
                           std::to_string(y) + ") and upsamples the grid's reflected and transmitted radiance there; "
@@ -489,8 +407,8 @@ Result<PixelTrace> Renderer::tracePixel(int x, int y) {
     trace.notes.push_back("reflections are raster: the frame's primary hit reflects a probe, which the trace does not model");
   if (onSurface && (f.probeEffects & gl::kProbeRefract))
     trace.notes.push_back("refraction is raster: the frame's primary hit refracts a probe, which the trace does not model");
-  if (onSurface && !f.reference) {
-    const ShadingModel model = f.settings.shadingOverride.value_or(r.scene.materials[primary->material].shading);
+  if (onSurface && !f.plan.reference) {
+    const ShadingModel model = f.plan.settings.shadingOverride.value_or(r.scene.materials[primary->material].shading);
     if (model == ShadingModel::Toon)
       trace.notes.push_back("toon shading: the frame may draw a silhouette outline over this pixel");
   }

@@ -16,24 +16,20 @@ namespace {
 constexpr float kShadowRayEnd = 1.0f - 1.0f / 4096.0f;
 }  // namespace
 
-TraceModes TraceModes::hybrid(const FrameSettings& s) {
+TraceModes TraceModes::hybrid(const FrameSettings& s) { return from(hybridRayEffects(s), s); }
+
+TraceModes TraceModes::reference(const FrameSettings& s) { return from(referenceRayEffects(s), s); }
+
+TraceModes TraceModes::from(const RayEffects& e, const FrameSettings& s) {
   TraceModes m;
-  m.primaryShadowRays = s.shadows == EffectMode::Ray;
-  m.secondaryShadowRays = s.shadows != EffectMode::Off;
-  m.reflections = s.reflections == EffectMode::Ray;
-  m.refraction = s.refraction == EffectMode::Ray;
+  m.primaryShadowRays = e.primaryShadows;
+  m.secondaryShadowRays = e.secondaryShadows;
+  m.reflections = e.reflections;
+  m.refraction = e.refraction;
   m.maxDepth = s.maxDepth;
   m.minContribution = s.minContribution;
   m.fresnel = s.fresnel;
   m.fresnelWeighted = s.fresnelWeighted;
-  return m;
-}
-
-TraceModes TraceModes::reference(const FrameSettings& s) {
-  TraceModes m = hybrid(s);
-  m.primaryShadowRays = m.secondaryShadowRays = s.shadows != EffectMode::Off;
-  m.reflections = s.reflections != EffectMode::Off;
-  m.refraction = s.refraction != EffectMode::Off;
   return m;
 }
 
@@ -121,13 +117,6 @@ std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts, Recor
   }
   return mask;
 }
-
-bool mayReflect(const Material& m, bool fresnelWeighted) {
-  const float fMax = m.kt > 0.0f && m.ior != 1.0f ? 1.0f : 0.0f;
-  return whittedSum(m.kr, m.kt, fMax, false, fresnelWeighted).reflect > 0.0f;
-}
-
-bool mayTransmit(const Material& m) { return m.kt > 0.0f || m.alphaMode == AlphaMode::Blend; }
 
 WhittedWeights Whitted::weights(const SurfaceHit& hit) const {
   WhittedWeights w;

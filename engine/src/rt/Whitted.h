@@ -9,6 +9,7 @@
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
 
+#include "core/FrameRules.h"
 #include "rt/EmbreeScene.h"
 #include "rt/RayCapture.h"
 #include "rt/RayMath.h"
@@ -30,36 +31,10 @@ struct TraceModes {
   bool fresnelWeighted = true;
   static TraceModes hybrid(const FrameSettings& s);
   static TraceModes reference(const FrameSettings& s);  // raster-made effects become rays
+  static TraceModes from(const RayEffects& effects, const FrameSettings& s);
 };
 
-/// The Whitted sum's reflected and transmitted weights before coverage (docs/shading.md), at Fresnel
-/// reflectance f of the hit (f = 1 and no T under total internal reflection). Whitted::weights and the
-/// frame's decision which rays to trace (mayReflect) both take them from here.
-struct SumWeights {
-  float reflect = 0.0f;   // wR
-  float transmit = 0.0f;  // wT
-};
-inline SumWeights whittedSum(float kr, float kt, float f, bool totalInternal, bool fresnelWeighted) {
-  SumWeights w;
-  if (fresnelWeighted) {
-    w.reflect = kr + (kt > 0.0f ? kt * f : 0.0f);
-    w.transmit = kt > 0.0f ? kt * (1.0f - f) : 0.0f;
-  } else {
-    w.reflect = kr;
-    w.transmit = kt;
-  }
-  if (kt <= 0.0f || totalInternal) w.transmit = 0.0f;  // T is absent
-  return w;
-}
-
-/// Whether reflected rays from a material can carry weight at some hit of some depth: wR at the largest
-/// Fresnel reflectance its surface reaches — 1 at grazing incidence and under total internal reflection,
-/// 0 everywhere when its IOR is 1 (no interface). Glass without kr reflects by Fresnel; a frame that
-/// skipped its reflection rays lost that light and, under TIR, all of it.
-bool mayReflect(const Material& m, bool fresnelWeighted);
-/// Whether transmitted rays from a material can carry weight: kt > 0, or BLEND coverage (its uncovered
-/// fraction passes straight through).
-bool mayTransmit(const Material& m);
+// whittedSum, mayReflect and mayTransmit: core/FrameRules.h (shared with the frame's plan).
 
 /// The weights of the Whitted sum at a hit (docs/shading.md).
 /// With coverage a (SurfaceHit::coverage, < 1 only for BLEND): reflect = a·wR and transmit =

@@ -1,0 +1,68 @@
+#pragma once
+// The rules that decide which rays a frame traces, in one place (no GL, no Embree): the Whitted sum's
+// weights (docs/shading.md), which materials those weights let reflect or transmit, and which ray effects
+// the settings ask of the ray pass. The ray pass (rt::TraceModes, rt::Whitted::weights) and the frame's
+// plan (render/FramePlan) both take them from here, so a decision cannot drift from what is traced.
+#include "tandem/Scene.h"
+#include "tandem/Settings.h"
+
+namespace tandem {
+
+/// The Whitted sum's reflected and transmitted weights before coverage, at Fresnel reflectance f of the
+/// hit (f = 1 and no T under total internal reflection).
+struct SumWeights {
+  float reflect = 0.0f;   // wR
+  float transmit = 0.0f;  // wT
+};
+inline SumWeights whittedSum(float kr, float kt, float f, bool totalInternal, bool fresnelWeighted) {
+  SumWeights w;
+  if (fresnelWeighted) {
+    w.reflect = kr + (kt > 0.0f ? kt * f : 0.0f);
+    w.transmit = kt > 0.0f ? kt * (1.0f - f) : 0.0f;
+  } else {
+    w.reflect = kr;
+    w.transmit = kt;
+  }
+  if (kt <= 0.0f || totalInternal) w.transmit = 0.0f;  // T is absent
+  return w;
+}
+
+/// Whether reflected rays from a material can carry weight at some hit of some depth: wR at the largest
+/// Fresnel reflectance its surface reaches — 1 at grazing incidence and under total internal reflection,
+/// 0 everywhere when its IOR is 1 (no interface). Glass without kr reflects by Fresnel; a frame that
+/// skipped its reflection rays lost that light and, under TIR, all of it.
+inline bool mayReflect(const Material& m, bool fresnelWeighted) {
+  const float fMax = m.kt > 0.0f && m.ior != 1.0f ? 1.0f : 0.0f;
+  return whittedSum(m.kr, m.kt, fMax, false, fresnelWeighted).reflect > 0.0f;
+}
+/// Whether transmitted rays from a material can carry weight: kt > 0, or BLEND coverage (its uncovered
+/// fraction passes straight through).
+inline bool mayTransmit(const Material& m) { return m.kt > 0.0f || m.alphaMode == AlphaMode::Blend; }
+
+/// The ray effects of a frame: what the ray pass traces.
+struct RayEffects {
+  bool primaryShadows = false;    // the primary points' light mask by shadow rays
+  bool secondaryShadows = false;  // shadow rays at reflected and refracted hits (no shadow map covers them)
+  bool reflections = false;
+  bool refraction = false;
+  bool any() const { return primaryShadows || secondaryShadows || reflections || refraction; }
+};
+/// The hybrid frame: effects by rays are traced; raster shadows still need rays at secondary hits.
+inline RayEffects hybridRayEffects(const FrameSettings& s) {
+  RayEffects e;
+  e.primaryShadows = s.shadows == EffectMode::Ray;
+  e.secondaryShadows = s.shadows != EffectMode::Off;
+  e.reflections = s.reflections == EffectMode::Ray;
+  e.refraction = s.refraction == EffectMode::Ray;
+  return e;
+}
+/// The reference frame: every effect that is not off is traced.
+inline RayEffects referenceRayEffects(const FrameSettings& s) {
+  RayEffects e;
+  e.primaryShadows = e.secondaryShadows = s.shadows != EffectMode::Off;
+  e.reflections = s.reflections != EffectMode::Off;
+  e.refraction = s.refraction != EffectMode::Off;
+  return e;
+}
+
+}  // namespace tandem

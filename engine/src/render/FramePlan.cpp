@@ -1,0 +1,56 @@
+#include "render/FramePlan.h"
+
+#include <algorithm>
+
+namespace tandem {
+
+namespace {
+// The ray pass traces effects by rays; raster effects are the GL passes' (shadow maps, probes).
+EffectMode rayOnly(EffectMode m) { return m == EffectMode::Ray ? EffectMode::Ray : EffectMode::Off; }
+}  // namespace
+
+SceneFacts sceneFacts(const Scene& scene) {
+  SceneFacts f;
+  f.shadowLight = std::any_of(scene.lights.begin(), scene.lights.end(),
+                              [](const Light& l) { return l.type != LightType::Ambient && l.castShadows; });
+  for (const Material& m : scene.materials) {
+    f.reflectiveWeighted = f.reflectiveWeighted || mayReflect(m, true);
+    f.reflectiveClassic = f.reflectiveClassic || mayReflect(m, false);
+    f.transmissive = f.transmissive || mayTransmit(m);
+  }
+  return f;
+}
+
+void FramePlan::withoutRays() {
+  rayPass = false;
+  reference = false;
+}
+
+FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested) {
+  FramePlan p;
+  const FrameSettings s = requested.resolved();
+  p.settings = s;
+  const bool reflective = facts.reflective(s.fresnelWeighted);
+  // Raster shadows stay "raster" for the ray pass: its primary points take the shadow maps' answer, but
+  // secondary hits have no map and trace shadow rays.
+  FrameSettings r = s;
+  r.reflections = rayOnly(s.reflections);
+  r.refraction = rayOnly(s.refraction);
+  if (!facts.shadowLight) r.shadows = EffectMode::Off;
+  if (!reflective || s.maxDepth == 0) r.reflections = EffectMode::Off;
+  if (!facts.transmissive || s.maxDepth == 0) r.refraction = EffectMode::Off;
+  p.raySettings = r;
+  p.reference = s.reference && s.debugView == DebugView::Final;
+  const bool wantsRays = r.shadows == EffectMode::Ray || r.reflections == EffectMode::Ray || r.refraction == EffectMode::Ray;
+  p.rayPass = wantsRays && !p.reference;
+  p.rays = p.reference ? referenceRayEffects(s) : p.rayPass ? hybridRayEffects(r) : RayEffects{};
+  // Raster effects only for what the scene can show (a glass object reflects through its Fresnel term).
+  p.rasterShadows = s.shadows == EffectMode::Raster && facts.shadowLight && !p.reference;
+  if (s.maxDepth > 0 && !p.reference) {
+    p.probeReflections = s.reflections == EffectMode::Raster && (reflective || facts.transmissive);
+    p.probeRefraction = s.refraction == EffectMode::Raster && facts.transmissive;
+  }
+  return p;
+}
+
+}  // namespace tandem

@@ -1,0 +1,41 @@
+#pragma once
+// What one frame runs and how, decided before anything runs: a pure function of what the scene can show
+// and the requested settings (no GL, no Embree), so every decision is a one-line unit test
+// (tests/unit/FramePlanTest.cpp). The Renderer executes a plan; it decides nothing itself, except to drop
+// the rays when Embree refused the scene (FramePlan::withoutRays).
+#include "core/FrameRules.h"
+#include "tandem/Scene.h"
+#include "tandem/Settings.h"
+
+namespace tandem {
+
+/// What a scene can show, for planning its frames.
+struct SceneFacts {
+  bool shadowLight = false;          // a direct light casts shadows
+  bool reflectiveWeighted = false;   // a material's wR can be > 0 under the Fresnel-weighted sum
+  bool reflectiveClassic = false;    // ... under the classic sum (kr only)
+  bool transmissive = false;         // a material's wT can be > 0, or BLEND coverage lets light through
+  bool reflective(bool fresnelWeighted) const { return fresnelWeighted ? reflectiveWeighted : reflectiveClassic; }
+};
+SceneFacts sceneFacts(const Scene& scene);
+
+struct FramePlan {
+  FrameSettings settings;      // resolved
+  /// The whole frame by rays: the reference preset's final view. Otherwise the hybrid frame.
+  bool reference = false;
+  /// The hybrid ray pass runs, with raySettings (effects the scene cannot show are off there).
+  bool rayPass = false;
+  FrameSettings raySettings;
+  /// What the ray pass traces (TraceModes is made from these same rules).
+  RayEffects rays;
+  bool rasterShadows = false;    // shadow maps for the primary points
+  bool probeReflections = false; // cube-map probes stand in for reflection rays
+  bool probeRefraction = false;  // ... and for refraction rays
+  bool needsRayScene() const { return rayPass || reference; }
+  /// The frame when Embree cannot take the scene: no ray pass, no reference (the GL shades it).
+  void withoutRays();
+};
+
+FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested);
+
+}  // namespace tandem

@@ -1,0 +1,62 @@
+#pragma once
+// The scene's derived copies and what they are missing: the GL copy (GpuScene) and the raster effects
+// made from it (shadow maps, probes), and the Embree scene. The Scene is the truth; these are caches,
+// told what changed (sceneChanged, instanceMoved, lightChanged) and brought up to date by the sync calls
+// the frame makes. All the stale flags and version counters live here and nowhere else.
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "gl/CompositePass.h"
+#include "gl/GpuScene.h"
+#include "gl/RasterEffects.h"
+#include "gl/VisibilityPass.h"
+#include "render/FramePlan.h"
+#include "rt/RayTracer.h"
+
+namespace tandem {
+
+class SceneCaches {
+ public:
+  // ---- what changed ----
+  void sceneChanged();
+  /// A static instance sits in Embree's bottom level baked in place: moving it needs a rebuild.
+  void instanceMoved(bool dynamic);
+  void lightChanged();
+
+  // ---- syncs ----
+  /// The GL copy: uploaded or patched as needed, re-packed when the shading override changes.
+  void syncGpu(const Scene& scene, std::optional<ShadingModel> shadingOverride);
+  /// The Embree scene (the only place it is built or committed). False when Embree refused the scene:
+  /// logged once; the frames of this scene then run without rays.
+  bool syncRays(const Scene& scene, rt::RayTracer& tracer);
+  /// The raster effects the plan asks for, re-rendered only when the GL copy changed since they were made
+  /// (probes also when the shadowing they were shaded with changed) and released when not asked for;
+  /// fills what the shade pass takes from them into `in` (which already holds the frame's shading inputs).
+  void syncRasterEffects(const Scene& scene, const FramePlan& plan, const gl::VisibilityPass& raster,
+                         gl::CompositePass& composite, gl::ShadeInputs& in);
+
+  gl::GpuScene& gpu() { return gpu_; }
+  const gl::GpuScene& gpu() const { return gpu_; }
+
+ private:
+  gl::GpuScene gpu_;
+  gl::ShadowMaps shadowMaps_;
+  gl::ReflectionProbes probes_;
+  std::vector<gl::Bounds> meshBounds_;  // object space, per mesh: recomputed with each upload
+
+  // The GL copy is synced every frame; the Embree scene only on frames whose rays run, so raster-only use
+  // never builds a BVH.
+  bool gpuStale_ = true;
+  bool gpuInstancesStale_ = false;
+  bool gpuLightsStale_ = false;
+  bool rtSceneStale_ = true;
+  bool rtTransformsStale_ = false;
+  bool rtBroken_ = false;
+  // gpuVersion_ counts the GL copy's changes; the effects remember the version they were made from.
+  std::uint64_t gpuVersion_ = 1;
+  std::uint64_t shadowVersion_ = 0, probeVersion_ = 0;
+  bool probesShadowed_ = false;
+};
+
+}  // namespace tandem

@@ -1,0 +1,110 @@
+// The frame's plan (render/FramePlan.h): which rays and raster effects a frame runs, from what the scene
+// can show and the settings. Each decision users found wrong is one test here; the renderer executes the
+// plan (tests/gl/FrameDecisionsGLTest.cpp checks the frames).
+#include <gtest/gtest.h>
+
+#include "render/FramePlan.h"
+
+namespace tandem {
+namespace {
+
+SceneFacts everything() {
+  SceneFacts f;
+  f.shadowLight = f.reflectiveWeighted = f.reflectiveClassic = f.transmissive = true;
+  return f;
+}
+
+FrameSettings with(EffectMode shadows, EffectMode reflections, EffectMode refraction, int depth = 4) {
+  FrameSettings s;
+  s.shadows = shadows;
+  s.reflections = reflections;
+  s.refraction = refraction;
+  s.maxDepth = depth;
+  return s;
+}
+
+TEST(FramePlan, MayReflectFollowsTheWeights) {
+  // mayReflect is wR at the largest Fresnel term the material reaches; checked against the sum itself.
+  for (float kr : {0.0f, 0.4f})
+    for (float kt : {0.0f, 0.7f})
+      for (float ior : {0.5f, 1.0f, 1.5f})
+        for (bool weighted : {true, false}) {
+          Material m;
+          m.kr = kr;
+          m.kt = kt;
+          m.ior = ior;
+          bool some = false;
+          for (float f : {0.0f, 0.01f, 0.5f, 1.0f}) {
+            const float fr = ior == 1.0f ? 0.0f : f;  // F = 0 at every angle when the IOR is 1
+            some |= whittedSum(kr, kt, fr, fr == 1.0f, weighted).reflect > 0.0f;
+          }
+          EXPECT_EQ(mayReflect(m, weighted), some) << "kr " << kr << " kt " << kt << " ior " << ior << " weighted " << weighted;
+        }
+}
+
+TEST(FramePlan, GlassWithoutKrReflectsUnderTheWeightedSumOnly) {
+  Scene s;
+  Material glass;
+  glass.kr = 0.0f;
+  glass.kt = 0.9f;
+  glass.ior = 1.5f;
+  s.materials = {glass};
+  const SceneFacts f = sceneFacts(s);
+  EXPECT_TRUE(f.reflectiveWeighted);
+  EXPECT_FALSE(f.reflectiveClassic);
+  FrameSettings rays = with(EffectMode::Off, EffectMode::Ray, EffectMode::Ray);
+  EXPECT_TRUE(planFrame(f, rays).rays.reflections) << "Fresnel reflection and TIR of glass";
+  rays.fresnelWeighted = false;
+  EXPECT_FALSE(planFrame(f, rays).rays.reflections) << "the classic sum reflects kr only";
+}
+
+TEST(FramePlan, RasterShadowsKeepShadowRaysAtSecondaryHits) {
+  const FramePlan p = planFrame(everything(), with(EffectMode::Raster, EffectMode::Ray, EffectMode::Off));
+  EXPECT_TRUE(p.rayPass);
+  EXPECT_TRUE(p.rasterShadows);
+  EXPECT_FALSE(p.rays.primaryShadows) << "the primary points take the shadow maps' answer";
+  EXPECT_TRUE(p.rays.secondaryShadows) << "reflected hits have no map";
+  EXPECT_EQ(p.raySettings.shadows, EffectMode::Raster);
+}
+
+TEST(FramePlan, RasterOnlyEffectsRunNoRayPass) {
+  const FramePlan p = planFrame(everything(), with(EffectMode::Raster, EffectMode::Raster, EffectMode::Raster));
+  EXPECT_FALSE(p.rayPass);
+  EXPECT_FALSE(p.rays.any());
+  EXPECT_TRUE(p.rasterShadows && p.probeReflections && p.probeRefraction);
+}
+
+TEST(FramePlan, EffectsTheSceneCannotShowAreNotRun) {
+  SceneFacts none;
+  const FramePlan p = planFrame(none, with(EffectMode::Ray, EffectMode::Ray, EffectMode::Ray));
+  EXPECT_FALSE(p.rayPass) << "no shadow-casting light, nothing reflective or transmissive: no ray";
+  const FramePlan q = planFrame(none, with(EffectMode::Raster, EffectMode::Raster, EffectMode::Raster));
+  EXPECT_FALSE(q.rasterShadows || q.probeReflections || q.probeRefraction);
+  const FramePlan flat = planFrame(everything(), with(EffectMode::Off, EffectMode::Ray, EffectMode::Ray, 0));
+  EXPECT_FALSE(flat.rayPass) << "depth 0: no secondary ray";
+  EXPECT_FALSE(planFrame(everything(), with(EffectMode::Off, EffectMode::Raster, EffectMode::Raster, 0)).probeReflections);
+}
+
+TEST(FramePlan, ReferenceTracesEveryEffectThatIsNotOff) {
+  FrameSettings s = *presetSettings("reference");
+  s.shadows = EffectMode::Raster;
+  s.reflections = EffectMode::Off;
+  const FramePlan p = planFrame(everything(), s);
+  EXPECT_TRUE(p.reference);
+  EXPECT_FALSE(p.rayPass);
+  EXPECT_TRUE(p.rays.primaryShadows && p.rays.secondaryShadows) << "raster-made effects become rays";
+  EXPECT_FALSE(p.rays.reflections);
+  EXPECT_FALSE(p.rasterShadows || p.probeReflections || p.probeRefraction) << "the reference uses no raster effect";
+  s.debugView = DebugView::NormalW;
+  EXPECT_FALSE(planFrame(everything(), s).reference) << "a debug view is the hybrid frame's";
+}
+
+TEST(FramePlan, WithoutRaysDropsThePassAndTheReference) {
+  FramePlan p = planFrame(everything(), *presetSettings("reference"));
+  ASSERT_TRUE(p.needsRayScene());
+  p.withoutRays();
+  EXPECT_FALSE(p.needsRayScene());
+}
+
+}  // namespace
+}  // namespace tandem
