@@ -17,13 +17,14 @@ struct GpuMesh {
 };
 
 // xyz packed as floats: a vec3 array would pad every element to 16 bytes.
-layout(std430, binding = 0) readonly buffer Positions { float positions[]; };
-layout(std430, binding = 1) readonly buffer Normals { float normals[]; };
-layout(std430, binding = 2) readonly buffer Uvs { vec2 uvs[]; };
-layout(std430, binding = 3) readonly buffer Colors { vec4 colors[]; };
-layout(std430, binding = 4) readonly buffer Indices { uint indices[]; };  // absolute vertex numbers
-layout(std430, binding = 5) readonly buffer Meshes { GpuMesh meshes[]; };
-layout(std430, binding = 6) readonly buffer Instances { GpuInstance instances[]; };
+#include "bindings.glsl"
+layout(std430, binding = TD_BIND_POSITIONS) readonly buffer Positions { float positions[]; };
+layout(std430, binding = TD_BIND_NORMALS) readonly buffer Normals { float normals[]; };
+layout(std430, binding = TD_BIND_UVS) readonly buffer Uvs { vec2 uvs[]; };
+layout(std430, binding = TD_BIND_COLORS) readonly buffer Colors { vec4 colors[]; };
+layout(std430, binding = TD_BIND_INDICES) readonly buffer Indices { uint indices[]; };  // absolute vertex numbers
+layout(std430, binding = TD_BIND_MESHES) readonly buffer Meshes { GpuMesh meshes[]; };
+layout(std430, binding = TD_BIND_INSTANCES) readonly buffer Instances { GpuInstance instances[]; };
 
 vec3 tdPositionO(uint v) { return vec3(positions[3u * v], positions[3u * v + 1u], positions[3u * v + 2u]); }
 vec3 tdNormalO(uint v) { return vec3(normals[3u * v], normals[3u * v + 1u], normals[3u * v + 2u]); }

@@ -4,6 +4,7 @@
 // light visibility, reflected and transmitted radiance added. Writes linear radiance (or a debug
 // view's display values); tonemap.frag encodes it. Channels: docs/gbuffer.md.
 #define TD_OUT(T) out T
+#include "bindings.glsl"
 #include "shading.glsl"
 #include "scene.glsl"
 
@@ -11,15 +12,15 @@
 // llvmpipe turns an SSBO read into a bounds-checked loop over the 8 lanes, a texelFetch into one
 // vectorized gather. Lights and materials come from uniform blocks: the light loop reads the same
 // record in every lane (one scalar load), and materials gather without the per-lane loop.
-layout(binding = 7) uniform samplerBuffer positionsBuf;       // RGB32F: object-space position per vertex
-layout(binding = 8) uniform samplerBuffer normalsBuf;         // RGB32F
-layout(binding = 9) uniform samplerBuffer uvsBuf;             // RG32F
-layout(binding = 10) uniform samplerBuffer colorsBuf;         // RGBA32F
-layout(binding = 11) uniform usamplerBuffer indicesBuf;       // R32UI, absolute vertex numbers
-layout(binding = 12) uniform usamplerBuffer meshesBuf;        // RGBA32UI: GpuMesh
-layout(binding = 13) uniform samplerBuffer instancesBuf;      // RGBA32F: GpuInstance = 9 texels
-layout(binding = 14) uniform usamplerBuffer instanceIdsBuf;   // RGBA32UI view of the same: texel 9i + 8
-layout(binding = 15) uniform samplerBuffer uvTransformsBuf;   // RGBA32F: Material::uvTransform, 4 texels
+layout(binding = TD_UNIT_POSITIONS_TEX) uniform samplerBuffer positionsBuf;       // RGB32F: object-space position per vertex
+layout(binding = TD_UNIT_NORMALS_TEX) uniform samplerBuffer normalsBuf;         // RGB32F
+layout(binding = TD_UNIT_UVS_TEX) uniform samplerBuffer uvsBuf;             // RG32F
+layout(binding = TD_UNIT_COLORS_TEX) uniform samplerBuffer colorsBuf;         // RGBA32F
+layout(binding = TD_UNIT_INDICES_TEX) uniform usamplerBuffer indicesBuf;       // R32UI, absolute vertex numbers
+layout(binding = TD_UNIT_MESHES_TEX) uniform usamplerBuffer meshesBuf;        // RGBA32UI: GpuMesh
+layout(binding = TD_UNIT_INSTANCES_TEX) uniform samplerBuffer instancesBuf;      // RGBA32F: GpuInstance = 9 texels
+layout(binding = TD_UNIT_INSTANCE_IDS_TEX) uniform usamplerBuffer instanceIdsBuf;   // RGBA32UI view of the same: texel 9i + 8
+layout(binding = TD_UNIT_UV_TRANSFORMS_TEX) uniform samplerBuffer uvTransformsBuf;   // RGBA32F: Material::uvTransform, 4 texels
 
 #ifndef TD_LIGHT_COUNT
 #define TD_LIGHT_COUNT TD_MAX_LIGHTS  // direct lights: a compile-time bound, so the loop unrolls
@@ -27,11 +28,11 @@ layout(binding = 15) uniform samplerBuffer uvTransformsBuf;   // RGBA32F: Materi
 #ifndef TD_UNIFORM_MATERIALS
 #define TD_UNIFORM_MATERIALS 0        // material count when they are in a uniform block, 0: SSBO
 #endif
-layout(std140, binding = 0) uniform LightBlock { GpuLight lights[TD_MAX_LIGHTS]; };
+layout(std140, binding = TD_BLOCK_LIGHTS) uniform LightBlock { GpuLight lights[TD_MAX_LIGHTS]; };
 #if TD_UNIFORM_MATERIALS > 0
-layout(std140, binding = 1) uniform MaterialBlock { GpuMaterial materials[TD_UNIFORM_MATERIALS]; };
+layout(std140, binding = TD_BLOCK_MATERIALS) uniform MaterialBlock { GpuMaterial materials[TD_UNIFORM_MATERIALS]; };
 #else
-layout(std430, binding = 7) readonly buffer Materials { GpuMaterial materials[]; };
+layout(std430, binding = TD_BIND_MATERIALS) readonly buffer Materials { GpuMaterial materials[]; };
 #endif
 
 #ifndef TD_SHADOW_MAPS
@@ -59,24 +60,24 @@ struct GpuShadow {
   vec4 originKind;             // xyz origin, w kind (TD_SHADOW_*)
   vec4 params;                 // x layer / cube index, y near, z far, w texel size (world, or per unit distance)
 };
-layout(std140, binding = 2) uniform ShadowBlock { GpuShadow shadows[TD_MAX_LIGHTS]; };
-layout(binding = 16) uniform sampler2DArrayShadow shadowMaps;
-layout(binding = 17) uniform samplerCubeArrayShadow shadowCubes;
+layout(std140, binding = TD_BLOCK_SHADOWS) uniform ShadowBlock { GpuShadow shadows[TD_MAX_LIGHTS]; };
+layout(binding = TD_UNIT_SHADOW_MAPS) uniform sampler2DArrayShadow shadowMaps;
+layout(binding = TD_UNIT_SHADOW_CUBES) uniform samplerCubeArrayShadow shadowCubes;
 #endif
 #if TD_PROBES != 0
-layout(binding = 18) uniform samplerCubeArray probes;  // RGBA16F linear radiance, layer = probe slot
+layout(binding = TD_UNIT_PROBES) uniform samplerCubeArray probes;  // RGBA16F linear radiance, layer = probe slot
 #endif
 
 vec3 positionO(uint v) { return texelFetch(positionsBuf, int(v)).xyz; }
 vec3 objectNormal(uint v) { return texelFetch(normalsBuf, int(v)).xyz; }
 
-layout(binding = 0) uniform usampler2D idsTex;        // GL rows: bottom first
-layout(binding = 1) uniform sampler2D depthTex;
-layout(binding = 2) uniform sampler2DArray kdTextures;
-layout(binding = 3) uniform sampler2D toonRamps;      // row = material, nearest
-layout(binding = 4) uniform usampler2D lightMaskTex;  // ray grid, row 0 = top
-layout(binding = 5) uniform sampler2D reflectedTex;   // ray grid, row 0 = top
-layout(binding = 6) uniform sampler2D transmittedTex; // ray grid, row 0 = top
+layout(binding = TD_UNIT_IDS) uniform usampler2D idsTex;        // GL rows: bottom first
+layout(binding = TD_UNIT_DEPTH) uniform sampler2D depthTex;
+layout(binding = TD_UNIT_KD) uniform sampler2DArray kdTextures;
+layout(binding = TD_UNIT_RAMPS) uniform sampler2D toonRamps;      // row = material, nearest
+layout(binding = TD_UNIT_LIGHT_MASK) uniform usampler2D lightMaskTex;  // ray grid, row 0 = top
+layout(binding = TD_UNIT_REFLECTED) uniform sampler2D reflectedTex;   // ray grid, row 0 = top
+layout(binding = TD_UNIT_TRANSMITTED) uniform sampler2D transmittedTex; // ray grid, row 0 = top
 
 layout(location = 0) uniform vec3 cameraPosW;
 layout(location = 1) uniform vec3 cameraForward;
@@ -125,16 +126,13 @@ layout(location = 11) uniform int rayScale;
 #define TD_USE_ALPHA_BLEND 1 // some material is BLEND: coverage scales the surface, the rest passes through
 #endif
 #if TD_USE_NORMAL_MAPS
-layout(binding = 19) uniform samplerBuffer tangentsBuf;   // RGBA32F: object-space tangent, w handedness
-layout(binding = 20) uniform sampler2DArray normalMaps;   // linear RGBA8, layer = Scene::textures index
+layout(binding = TD_UNIT_TANGENTS_TEX) uniform samplerBuffer tangentsBuf;   // RGBA32F: object-space tangent, w handedness
+layout(binding = TD_UNIT_NORMAL_MAPS) uniform sampler2DArray normalMaps;   // linear RGBA8, layer = Scene::textures index
 #endif
 #define debugView TD_DEBUG_VIEW
 #define rayInputs TD_RAY_INPUTS
 layout(location = 12) uniform ivec2 rayGridSize;
 
-#define TD_RAY_LIGHT_MASK 1
-#define TD_RAY_REFLECTED 2
-#define TD_RAY_TRANSMITTED 4
 
 // DebugView values (Settings.h).
 #define TD_VIEW_FINAL 0
@@ -511,10 +509,10 @@ void main() {
     int ut = 4 * int(tri.material) + 3;  // the transmission tint sits in the uv-transform record
     vec3 wTv = tdTransmitWeight(coverage, wT, texelFetch(uvTransformsBuf, ut).rgb);
     float layer = float(tri.probe - 1u);
-#if (TD_PROBES & 1) != 0
+#if (TD_PROBES & TD_PROBE_REFLECT) != 0
     if (wR > 0.0) rays.reflected += wR * textureLod(probes, vec4(tdReflectOverFacet(V, N, Ng), layer), 0.0).rgb;
 #endif
-#if (TD_PROBES & 2) != 0
+#if (TD_PROBES & TD_PROBE_REFRACT) != 0
     if (wTv.x > 0.0 || wTv.y > 0.0 || wTv.z > 0.0) {
       vec3 T = etaI == etaT ? -V : tdRefractOverFacet(normalize(eta * -V + (eta * cosI - sqrt(max(cos2T, 0.0))) * N), V, Ng, eta);
       rays.transmitted += wTv * textureLod(probes, vec4(T, layer), 0.0).rgb;
@@ -582,8 +580,8 @@ void main() {
   }
 
   vec3 I = coverage * local;
-  if ((rayInputs & TD_RAY_REFLECTED) != 0 || (TD_PROBES & 1) != 0) I += rays.reflected;
-  if ((rayInputs & TD_RAY_TRANSMITTED) != 0 || (TD_PROBES & 2) != 0) I += rays.transmitted;
+  if ((rayInputs & TD_RAY_REFLECTED) != 0 || (TD_PROBES & TD_PROBE_REFLECT) != 0) I += rays.reflected;
+  if ((rayInputs & TD_RAY_TRANSMITTED) != 0 || (TD_PROBES & TD_PROBE_REFRACT) != 0) I += rays.transmitted;
 #if TD_USE_TOON
   if (model == TD_MODEL_TOON && m.emissionFlags.w < 0.5 && isEdge(pix, id, ngRaw)) I = vec3(0.0);
 #endif

@@ -2,9 +2,10 @@
 // The one place radiance becomes display values: exposure, tone map, sRGB encode (docs/shading.md,
 // "Output"). Debug views that are already display values pass through.
 #define TD_OUT(T) out T
+#include "bindings.glsl"
 #include "shading.glsl"
 
-layout(binding = 0) uniform sampler2D linearColor;
+layout(binding = TD_UNIT_LINEAR) uniform sampler2D linearColor;
 layout(location = 0) uniform float exposure;
 layout(location = 1) uniform int toneMap;
 layout(location = 2) uniform int passThrough;

@@ -8,8 +8,9 @@
 // glTF alphaMode MASK: texels under the cutoff are holes, so the raster sees what is behind them. A
 // variant, because a shader that may discard loses llvmpipe's early depth test for every scene.
 #define TD_OUT(T) out T
+#include "bindings.glsl"
 #include "shading.glsl"
-layout(binding = 2) uniform sampler2DArray kdTextures;  // GpuScene::bind's kd unit
+layout(binding = TD_UNIT_KD) uniform sampler2DArray kdTextures;  // GpuScene::bind's kd unit
 in vec2 vUv;
 flat in float vAlphaCode;
 flat in float vLayer;

@@ -7,8 +7,8 @@
 #if TD_ALPHA_MASK
 #define TD_OUT(T) out T
 #include "shading.glsl"
-layout(std430, binding = 7) readonly buffer Materials { GpuMaterial materials[]; };
-layout(std430, binding = 9) readonly buffer UvTransforms { mat4 uvTransforms[]; };  // GpuScene: xyz columns
+layout(std430, binding = TD_BIND_MATERIALS) readonly buffer Materials { GpuMaterial materials[]; };
+layout(std430, binding = TD_BIND_UV_TRANSFORMS) readonly buffer UvTransforms { mat4 uvTransforms[]; };  // GpuScene: xyz columns
 out vec2 vUv;
 flat out float vAlphaCode;  // tdCoverage's code when the material is MASK, else 0 (no test)
 flat out float vLayer;      // kd texture layer, -1 for none (coverage from the base alpha only)

@@ -14,10 +14,6 @@ namespace tandem::gl {
 
 namespace {
 
-// Texture units of shade.frag.
-constexpr GLuint kUnitIds = 0, kUnitDepth = 1, kUnitKd = 2, kUnitRamps = 3, kUnitLightMask = 4, kUnitReflected = 5,
-                 kUnitTransmitted = 6;
-
 // Recreates `texture` only when the size changes: the ray grid is the same every frame in practice.
 Result<void> uploadGrid(Texture& texture, const char* label, GLenum internalFormat, int width, int height,
                         GLenum format, GLenum type, const void* data) {

@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "gl/Bindings.h"
 #include "gl/GlObjects.h"
 #include "gl/GpuScene.h"
 #include "gl/RasterEffects.h"
@@ -20,10 +21,7 @@
 
 namespace tandem::gl {
 
-/// Which ray results the shade pass reads (bits of its `rayInputs` uniform).
-enum RayInput : int { kRayLightMask = 1, kRayReflected = 2, kRayTransmitted = 4 };
-/// Which terms the shade pass takes from the reflection probes (EffectMode::Raster).
-enum ProbeEffect : int { kProbeReflect = 1, kProbeRefract = 2 };
+// RayInput and ProbeEffect bits, texture units: gl/Bindings.h (shaders/bindings.glsl).
 
 struct ShadeInputs {
   glm::vec3 background{0.0f};

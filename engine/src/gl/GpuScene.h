@@ -7,24 +7,13 @@
 #include <optional>
 #include <vector>
 
+#include "gl/Bindings.h"
 #include "gl/GlObjects.h"
 #include "tandem/Scene.h"
 
 namespace tandem::gl {
 
-// Binding points; shaders/scene.glsl and shaders/shade.frag declare the same numbers.
-inline constexpr GLuint kBindPositions = 0, kBindNormals = 1, kBindUvs = 2, kBindColors = 3, kBindIndices = 4,
-                        kBindMeshes = 5, kBindInstances = 6, kBindMaterials = 7, kBindLights = 8, kBindUvTransforms = 9;
-
-// Texture units of the buffer-texture views the shade pass gathers through (shade.frag declares the same).
-inline constexpr GLuint kUnitPositionsTex = 7, kUnitNormalsTex = 8, kUnitUvsTex = 9, kUnitColorsTex = 10,
-                        kUnitIndicesTex = 11, kUnitMeshesTex = 12, kUnitInstancesTex = 13,
-                        kUnitInstanceIdsTex = 14, kUnitUvTransformsTex = 15;
-// Normal maps: the tangents view (RGBA32F, per vertex) and the linear normal-map array (units 16–18 are
-// the raster effects' maps, shade.frag).
-inline constexpr GLuint kUnitTangentsTex = 19, kUnitNormalMaps = 20;
-// Uniform-block binding points: lights (always TD_MAX_LIGHTS records) and materials (when they fit).
-inline constexpr GLuint kBlockLights = 0, kBlockMaterials = 1;
+// Binding points and texture units: gl/Bindings.h (shaders/bindings.glsl).
 
 /// What the scene uses, for choosing the shade pass's variant.
 struct SceneFeatures {

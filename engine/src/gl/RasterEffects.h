@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "gl/Bindings.h"
 #include "gl/GlObjects.h"
 #include "gl/GpuScene.h"
 #include "gl/VisibilityPass.h"
@@ -19,10 +20,6 @@ namespace tandem::gl {
 
 class CompositePass;
 struct ShadeInputs;
-
-// Texture units and the uniform block of the shade pass's raster effects (shade.frag declares the same).
-inline constexpr GLuint kUnitShadowMaps = 16, kUnitShadowCubes = 17, kUnitProbes = 18;
-inline constexpr GLuint kBlockShadows = 2;
 
 struct Bounds {
   glm::vec3 lo{std::numeric_limits<float>::infinity()};

@@ -1,0 +1,33 @@
+#pragma once
+// The GL binding points, texture units and channel bits as C++ constants, from the one table the shaders
+// include (shaders/bindings.glsl).
+#include "gl/Gl.h"
+#include "../../../shaders/bindings.glsl"
+
+namespace tandem::gl {
+
+inline constexpr GLuint kBindPositions = TD_BIND_POSITIONS, kBindNormals = TD_BIND_NORMALS, kBindUvs = TD_BIND_UVS,
+                        kBindColors = TD_BIND_COLORS, kBindIndices = TD_BIND_INDICES, kBindMeshes = TD_BIND_MESHES,
+                        kBindInstances = TD_BIND_INSTANCES, kBindMaterials = TD_BIND_MATERIALS,
+                        kBindLights = TD_BIND_LIGHTS, kBindUvTransforms = TD_BIND_UV_TRANSFORMS;
+inline constexpr GLuint kBlockLights = TD_BLOCK_LIGHTS, kBlockMaterials = TD_BLOCK_MATERIALS,
+                        kBlockShadows = TD_BLOCK_SHADOWS;
+inline constexpr GLuint kUnitIds = TD_UNIT_IDS, kUnitDepth = TD_UNIT_DEPTH, kUnitKd = TD_UNIT_KD,
+                        kUnitRamps = TD_UNIT_RAMPS, kUnitLightMask = TD_UNIT_LIGHT_MASK,
+                        kUnitReflected = TD_UNIT_REFLECTED, kUnitTransmitted = TD_UNIT_TRANSMITTED,
+                        kUnitLinear = TD_UNIT_LINEAR;
+inline constexpr GLuint kUnitPositionsTex = TD_UNIT_POSITIONS_TEX, kUnitNormalsTex = TD_UNIT_NORMALS_TEX,
+                        kUnitUvsTex = TD_UNIT_UVS_TEX, kUnitColorsTex = TD_UNIT_COLORS_TEX,
+                        kUnitIndicesTex = TD_UNIT_INDICES_TEX, kUnitMeshesTex = TD_UNIT_MESHES_TEX,
+                        kUnitInstancesTex = TD_UNIT_INSTANCES_TEX, kUnitInstanceIdsTex = TD_UNIT_INSTANCE_IDS_TEX,
+                        kUnitUvTransformsTex = TD_UNIT_UV_TRANSFORMS_TEX;
+inline constexpr GLuint kUnitShadowMaps = TD_UNIT_SHADOW_MAPS, kUnitShadowCubes = TD_UNIT_SHADOW_CUBES,
+                        kUnitProbes = TD_UNIT_PROBES;
+inline constexpr GLuint kUnitTangentsTex = TD_UNIT_TANGENTS_TEX, kUnitNormalMaps = TD_UNIT_NORMAL_MAPS;
+
+/// Which ray results a frame uploaded (ShadeInputs::rayInputs), the shade pass's TD_RAY_INPUTS.
+enum RayInput : int { kRayLightMask = TD_RAY_LIGHT_MASK, kRayReflected = TD_RAY_REFLECTED, kRayTransmitted = TD_RAY_TRANSMITTED };
+/// Which effects the probes stand in for (ShadeInputs::probeEffects), the shade pass's TD_PROBES.
+enum ProbeEffect : int { kProbeReflect = TD_PROBE_REFLECT, kProbeRefract = TD_PROBE_REFRACT };
+
+}  // namespace tandem::gl
