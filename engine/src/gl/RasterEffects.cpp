@@ -6,7 +6,6 @@
 
 #include "core/RenderSpace.h"
 #include "core/Shading.h"
-#include "gl/CompositePass.h"
 
 namespace tandem::gl {
 
@@ -27,7 +26,9 @@ struct Face {
 constexpr Face kFaces[6] = {{{1, 0, 0}, {0, -1, 0}},  {{-1, 0, 0}, {0, -1, 0}}, {{0, 1, 0}, {0, 0, 1}},
                             {{0, -1, 0}, {0, 0, -1}}, {{0, 0, 1}, {0, -1, 0}},  {{0, 0, -1}, {0, -1, 0}}};
 
-Camera faceCamera(glm::vec3 eye, int face, float nearZ, float farZ) {
+}  // namespace
+
+Camera cubeFaceCamera(glm::vec3 eye, int face, float nearZ, float farZ) {
   Camera c;
   c.posW = eye;
   c.targetW = eye + kFaces[face].forward;
@@ -37,6 +38,8 @@ Camera faceCamera(glm::vec3 eye, int face, float nearZ, float farZ) {
   c.farZ = farZ;
   return c;
 }
+
+namespace {
 
 // Any unit vector not parallel to `d`, for an up vector.
 glm::vec3 upFor(glm::vec3 d) { return std::abs(d.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0); }
@@ -194,7 +197,7 @@ void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const Visibilit
     } else {
       for (int face = 0; face < 6; ++face) {
         glNamedFramebufferTextureLayer(fbo_.id(), GL_DEPTH_ATTACHMENT, cubeMaps_.id(), 0, 6 * job.slot + face);
-        raster.renderInto(fbo_.id(), kCubeSize, kCubeSize, gpu, faceCamera(l.posW, face, nearZ, farZ));
+        raster.renderInto(fbo_.id(), kCubeSize, kCubeSize, gpu, cubeFaceCamera(l.posW, face, nearZ, farZ));
       }
       rec.originKind = glm::vec4(l.posW, kKindCube);
       rec.params = glm::vec4(float(job.slot), nearZ, farZ, 2.0f / float(kCubeSize));
@@ -219,68 +222,5 @@ void ShadowMaps::bind() const {
   glBindTextureUnit(kUnitShadowCubes, cubeMaps_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, kBlockShadows, records_.id());
 }
-
-// ---------------------------------------------------------------------------------------------------
-// Reflection probes
-// ---------------------------------------------------------------------------------------------------
-
-void ReflectionProbes::update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster,
-                              CompositePass& composite, const ShadeInputs& local,
-                              const std::vector<Bounds>& instances) {
-  std::vector<std::uint32_t> probes = probeInstances(scene);
-  if (probes.empty()) {
-    release();
-    return;
-  }
-  if (static_cast<int>(probes.size()) != count_ || !cubes_) {
-    count_ = static_cast<int>(probes.size());
-    cubes_ = createTextureCube("reflection probes", GL_RGBA16F, kFaceSize, count_);
-    glTextureParameteri(cubes_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(cubes_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(cubes_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(cubes_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(cubes_.id(), GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-  }
-  if (!ids_) {
-    ids_ = createTexture2D("probe ids", GL_RG32UI, kFaceSize, kFaceSize);
-    setSampling(ids_, GL_NEAREST, GL_NEAREST);
-    depth_ = createTexture2D("probe depth", GL_DEPTH_COMPONENT32F, kFaceSize, kFaceSize);
-    setSampling(depth_, GL_NEAREST, GL_NEAREST);
-    sampledDepth_ = createTexture2D("probe depth (sampled copy)", GL_DEPTH_COMPONENT32F, kFaceSize, kFaceSize);
-    setSampling(sampledDepth_, GL_NEAREST, GL_NEAREST);
-    rasterFbo_ = createFramebuffer("probe raster");
-    glNamedFramebufferTexture(rasterFbo_.id(), GL_COLOR_ATTACHMENT0, ids_.id(), 0);
-    glNamedFramebufferTexture(rasterFbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
-    glNamedFramebufferDrawBuffer(rasterFbo_.id(), GL_COLOR_ATTACHMENT0);
-    shadeFbo_ = createFramebuffer("probe shade");
-  }
-  // Filtering across face edges, so the seams of a 128² probe do not show in a smooth mirror.
-  glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
-  Bounds world;
-  for (const Bounds& b : instances) world.add(b);
-  float nearZ = std::max(1e-5f * glm::length(world.hi - world.lo), 1e-6f);
-  for (std::size_t slot = 0; slot < probes.size(); ++slot) {
-    glm::vec3 eye = instances[probes[slot]].centre();
-    for (int face = 0; face < 6; ++face) {
-      Camera c = faceCamera(eye, face, nearZ, std::numeric_limits<float>::infinity());
-      raster.renderInto(rasterFbo_.id(), kFaceSize, kFaceSize, gpu, c, probes[slot]);
-      glNamedFramebufferTextureLayer(shadeFbo_.id(), GL_COLOR_ATTACHMENT0, cubes_.id(), 0,
-                                     static_cast<GLint>(6 * slot) + face);
-      composite.shadeInto(shadeFbo_.id(), kFaceSize, kFaceSize, gpu, ids_, depth_, &sampledDepth_, c, local);
-    }
-  }
-}
-
-void ReflectionProbes::release() {
-  cubes_.reset();
-  ids_.reset();
-  depth_.reset();
-  sampledDepth_.reset();
-  rasterFbo_.reset();
-  shadeFbo_.reset();
-  count_ = 0;
-}
-
-void ReflectionProbes::bind() const { glBindTextureUnit(kUnitProbes, cubes_.id()); }
 
 }  // namespace tandem::gl

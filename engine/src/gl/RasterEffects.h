@@ -18,8 +18,6 @@
 
 namespace tandem::gl {
 
-class CompositePass;
-struct ShadeInputs;
 
 struct Bounds {
   glm::vec3 lo{std::numeric_limits<float>::infinity()};
@@ -39,6 +37,10 @@ struct Bounds {
 std::vector<Bounds> meshBounds(const Scene& scene);
 /// Bounds of each instance in render space (world − anchor, core/RenderSpace.h): the space of the GL copy.
 std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>& meshes, glm::vec3 anchor);
+
+/// The camera of cube-map face `face` (GL's order +X, −X, +Y, −Y, +Z, −Z) seen from `eye`: a face rendered by
+/// the ordinary raster and shade passes is then addressed by direction with no flip.
+Camera cubeFaceCamera(glm::vec3 eye, int face, float nearZ, float farZ);
 
 /// One record per direct light j, std140 (shade.frag's GpuShadow). Kind 0: no map (lit).
 struct GpuShadow {
@@ -70,28 +72,6 @@ class ShadowMaps {
   Framebuffer fbo_;
   Buffer records_;
   int layers_ = 0, cubes_ = 0;
-};
-
-/// A cube map of the surroundings of each object whose material has kr > 0 or kt > 0 (GpuScene's
-/// probeInstances order), rendered from the centre of its bounds without the object itself and shaded
-/// by the same shade pass with local shading only. The shade pass looks the reflected (and refracted)
-/// direction up in it.
-class ReflectionProbes {
- public:
-  static constexpr int kFaceSize = 128;
-
-  /// `local` are the inputs of the probes' shade pass (no ray results, no probes: one bounce).
-  void update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, CompositePass& composite,
-              const ShadeInputs& local, const std::vector<Bounds>& instances);
-  void release();
-  void bind() const;  // the cube-map array on kUnitProbes
-  int probeCount() const { return count_; }
-
- private:
-  Texture cubes_, ids_, depth_;
-  Texture sampledDepth_;  // what toon outlines read while depth_ is attached to the face (64 KiB)
-  Framebuffer rasterFbo_, shadeFbo_;
-  int count_ = 0;
 };
 
 }  // namespace tandem::gl

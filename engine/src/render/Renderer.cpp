@@ -9,7 +9,8 @@
 
 #include "core/RenderSpace.h"
 #include "core/Timer.h"
-#include "gl/CompositePass.h"
+#include "gl/OutputPass.h"
+#include "gl/ShadePass.h"
 #include "gl/FrameLimits.h"
 #include "gl/Gl.h"
 #include "gl/GpuScene.h"
@@ -28,7 +29,8 @@ struct Renderer::Impl {
   GlContext* context = nullptr;
   std::unique_ptr<rt::RayTracer> tracer;
   gl::VisibilityPass visibilityPass;
-  gl::CompositePass compositePass;
+  gl::ShadePass shadePass;
+  gl::OutputPass outputPass;
   SceneCaches caches;  // the GL copy, the raster effects and the Embree scene, with what they miss
   Scene scene;
 
@@ -72,7 +74,8 @@ Result<void> Renderer::Impl::allocateFrame(int width, int height) {
   if (width == failedWidth && height == failedHeight) return Error{failure};
   targetWidth = targetHeight = 0;
   auto fail = [&](std::string why) -> Result<void> {
-    compositePass.release();
+    outputPass.release();
+    shadePass.releaseFrame();
     visibilityPass.release();
     failedWidth = width;
     failedHeight = height;
@@ -85,12 +88,13 @@ Result<void> Renderer::Impl::allocateFrame(int width, int height) {
     return fail((width > kMaxFrameSide ? "width " + std::to_string(width) : "height " + std::to_string(height)) +
                 " exceeds kMaxFrameSide = " + std::to_string(kMaxFrameSide));
   const std::string needs = "the frame's GL targets need " +
-                            gl::formatBytes(gl::CompositePass::targetBytes(width, height) +
+                            gl::formatBytes(gl::OutputPass::targetBytes(width, height) +
                                             gl::VisibilityPass::targetBytes(width, height)) +
                             "; ";
   // The composite pass first: its RGBA32F radiance is the largest texture, so a driver that cannot hold
   // the size refuses it before anything else is allocated.
-  if (auto made = compositePass.resize(width, height); !made) return fail(needs + made.error().message);
+  shadePass.releaseFrame();  // its depth copy is made again at the new size by the first frame that needs it
+  if (auto made = outputPass.resize(width, height); !made) return fail(needs + made.error().message);
   if (auto made = visibilityPass.resize(width, height); !made) return fail(needs + made.error().message);
   targetWidth = width;
   targetHeight = height;
@@ -141,9 +145,12 @@ Result<std::unique_ptr<Renderer>> Renderer::create(GlContext& context, const Ren
   auto visibility = gl::VisibilityPass::create();
   if (!visibility) return Error{"Renderer: " + visibility.error().message};
   impl->visibilityPass = std::move(*visibility);
-  auto composite = gl::CompositePass::create();
-  if (!composite) return Error{"Renderer: " + composite.error().message};
-  impl->compositePass = std::move(*composite);
+  auto shade = gl::ShadePass::create();
+  if (!shade) return Error{"Renderer: " + shade.error().message};
+  impl->shadePass = std::move(*shade);
+  auto output = gl::OutputPass::create();
+  if (!output) return Error{"Renderer: " + output.error().message};
+  impl->outputPass = std::move(*output);
   impl->limits = gl::queryFrameLimits();
   return std::unique_ptr<Renderer>(new Renderer(std::move(impl)));
 }
@@ -242,8 +249,8 @@ bool Renderer::Impl::prepare(FramePlan& plan, FrameStats& stats) {
   }
   caches.syncGpu(scene, s.shadingOverride);
   if (plan.needsRayScene() && !caches.syncRays(scene, *tracer)) plan.withoutRays();
-  if (!plan.reference && gl::CompositePass::samplesDepth(caches.gpu().features(), s.debugView)) {
-    if (auto copy = compositePass.reserveSampledDepth(); !copy) {
+  if (!plan.reference && gl::ShadePass::samplesDepth(caches.gpu().features(), s.debugView)) {
+    if (auto copy = shadePass.reserveSampledDepth(s.width, s.height); !copy) {
       stats.error = frameError(s, copy.error().message);
       return false;
     }
@@ -260,7 +267,7 @@ void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::S
   in.fresnel = s.fresnel;
   in.fresnelWeighted = s.fresnelWeighted;
   // The probes are shaded from these inputs as they stand: the final view of local shading.
-  caches.syncRasterEffects(scene, plan, visibilityPass, compositePass, in);
+  caches.syncRasterEffects(scene, plan, visibilityPass, shadePass, in);
   in.debugView = s.debugView;
   in.rayScale = s.rayScale;
   if (!plan.reference) {
@@ -308,18 +315,18 @@ bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameSta
       else if (refused.empty()) refused = uploaded.error().message;
     };
     if (rays.lightMask.size() == n && n > 0)
-      take(compositePass.uploadLightMask(rays.width, rays.height, rays.lightMask.data()), gl::kRayLightMask);
+      take(shadePass.uploadLightMask(rays.width, rays.height, rays.lightMask.data()), gl::kRayLightMask);
     if (rays.reflected.size() == n && n > 0)
-      take(compositePass.uploadReflected(rays.width, rays.height, rays.reflected.data()), gl::kRayReflected);
+      take(shadePass.uploadReflected(rays.width, rays.height, rays.reflected.data()), gl::kRayReflected);
     if (rays.transmitted.size() == n && n > 0)
-      take(compositePass.uploadTransmitted(rays.width, rays.height, rays.transmitted.data()), gl::kRayTransmitted);
+      take(shadePass.uploadTransmitted(rays.width, rays.height, rays.transmitted.data()), gl::kRayTransmitted);
     if (!refused.empty()) {
       // A ray grid's texture the GL refused: the frame would miss an effect, so it is not drawn.
       stats.error = frameError(plan.settings, refused);
       return false;
     }
   } else if (plan.reference) {
-    compositePass.uploadLinear(reference);
+    outputPass.uploadLinear(reference);
   }
   glFinish();
   return true;
@@ -328,8 +335,8 @@ bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameSta
 // shade: the visibility buffer shaded with the ray results added, then exposure + tone map + sRGB once.
 void Renderer::Impl::shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in) {
   const FrameSettings& s = plan.settings;
-  if (!plan.reference) compositePass.shade(caches.gpu(), visibilityPass, glCamera, in);
-  compositePass.output(s.exposure, s.toneMap, s.debugView);
+  if (!plan.reference) shadePass.shade(outputPass.linearFramebuffer(), caches.gpu(), visibilityPass, glCamera, in);
+  outputPass.output(s.exposure, s.toneMap, s.debugView);
   glFinish();
 }
 
@@ -339,7 +346,7 @@ void Renderer::Impl::present() {
   if (context->window() == nullptr) return;
   int w = 0, h = 0;
   context->framebufferSize(w, h);
-  compositePass.present(w, h);
+  outputPass.present(w, h);
 }
 
 // What tracePixel re-runs: the frame as it was drawn.
@@ -349,7 +356,7 @@ void Renderer::Impl::remember(const FramePlan& plan, const Camera& camera, const
   last.camera = camera;
   last.plan = plan;
   last.shadowMaps = in.shadowMaps != nullptr;
-  last.probeEffects = in.probes ? in.probeEffects : 0;
+  last.probeEffects = in.probeCubes ? in.probeEffects : 0;
 }
 
 Result<PixelTrace> Renderer::tracePixel(int x, int y) {
@@ -416,12 +423,12 @@ Result<PixelTrace> Renderer::tracePixel(int x, int y) {
 }
 
 void Renderer::present(int framebufferWidth, int framebufferHeight) {
-  impl_->compositePass.present(framebufferWidth, framebufferHeight);
+  impl_->outputPass.present(framebufferWidth, framebufferHeight);
 }
 
-Image Renderer::readImage() { return impl_->compositePass.readImage(); }
+Image Renderer::readImage() { return impl_->outputPass.readImage(); }
 
-ImageF Renderer::readLinear() { return impl_->compositePass.readLinear(); }
+ImageF Renderer::readLinear() { return impl_->outputPass.readLinear(); }
 
 ResourceStats Renderer::resources() const {
   ResourceStats r;

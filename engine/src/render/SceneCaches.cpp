@@ -50,7 +50,7 @@ bool SceneCaches::syncRays(const Scene& scene, rt::RayTracer& tracer) {
 }
 
 void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, const gl::VisibilityPass& raster,
-                                    gl::CompositePass& composite, gl::ShadeInputs& in) {
+                                    gl::ShadePass& shade, gl::ShadeInputs& in) {
   const int probeEffects = (plan.probeReflections ? gl::kProbeReflect : 0) | (plan.probeRefraction ? gl::kProbeRefract : 0);
   std::vector<gl::Bounds> instanceBounds;
   if (plan.rasterShadows || probeEffects != 0) instanceBounds = gl::instanceBounds(scene, meshBounds_, gpu_.anchor());
@@ -71,12 +71,12 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     if (probeVersion_ != gpuVersion_ || probesShadowed_ != shadowed) {
       // The probes see local shading only (no ray results, no probes): one bounce.
       gl::ShadeInputs local = in;
-      probes_.update(scene, gpu_, raster, composite, local, instanceBounds);
+      probes_.update(scene, gpu_, raster, shade, local, instanceBounds);
       probeVersion_ = gpuVersion_;
       probesShadowed_ = shadowed;
     }
     if (probes_.probeCount() > 0) {
-      in.probes = &probes_;
+      in.probeCubes = &probes_.cubes();
       in.probeEffects = probeEffects;
     }
   } else if (probeVersion_ != 0) {

@@ -7,9 +7,10 @@
 #include <optional>
 #include <vector>
 
-#include "gl/CompositePass.h"
 #include "gl/GpuScene.h"
 #include "gl/RasterEffects.h"
+#include "gl/ReflectionProbes.h"
+#include "gl/ShadePass.h"
 #include "gl/VisibilityPass.h"
 #include "render/FramePlan.h"
 #include "rt/RayTracer.h"
@@ -34,7 +35,7 @@ class SceneCaches {
   /// (probes also when the shadowing they were shaded with changed) and released when not asked for;
   /// fills what the shade pass takes from them into `in` (which already holds the frame's shading inputs).
   void syncRasterEffects(const Scene& scene, const FramePlan& plan, const gl::VisibilityPass& raster,
-                         gl::CompositePass& composite, gl::ShadeInputs& in);
+                         gl::ShadePass& shade, gl::ShadeInputs& in);
 
   gl::GpuScene& gpu() { return gpu_; }
   const gl::GpuScene& gpu() const { return gpu_; }

@@ -6,7 +6,7 @@
 // bit-identical to that recursion (tests/rt WavefrontEqualsTheRecursionBitForBit), and the reference
 // frame calls it directly.
 #include "rt/EmbreeScene.h"
-#include "rt/RayTracer.h"
+#include "rt/RayBuffers.h"
 #include "tandem/Camera.h"
 #include "tandem/PixelTrace.h"
 #include "tandem/Scene.h"

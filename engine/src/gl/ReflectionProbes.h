@@ -1,0 +1,38 @@
+#pragma once
+// Reflection probes: the raster stand-in for reflection and refraction rays. Baked with the visibility and
+// shade passes (it sits above them: they know nothing of it; the shade pass reads the cube array it hands
+// over in ShadeInputs::probeCubes).
+#include <vector>
+
+#include "gl/GlObjects.h"
+#include "gl/GpuScene.h"
+#include "gl/RasterEffects.h"
+#include "gl/ShadePass.h"
+#include "gl/VisibilityPass.h"
+
+namespace tandem::gl {
+
+/// A cube map of the surroundings of each object whose material has kr > 0 or kt > 0 (GpuScene's
+/// probeInstances order), rendered from the centre of its bounds without the object itself and shaded
+/// by the same shade pass with local shading only. The shade pass looks the reflected (and refracted)
+/// direction up in it.
+class ReflectionProbes {
+ public:
+  static constexpr int kFaceSize = 128;
+
+  /// `local` are the inputs of the probes' shade pass (no ray results, no probes: one bounce).
+  void update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, ShadePass& shade,
+              const ShadeInputs& local, const std::vector<Bounds>& instances);
+  void release();
+  /// The cube-map array (layer = probe slot) the shade pass looks reflected directions up in.
+  const Texture& cubes() const { return cubes_; }
+  int probeCount() const { return count_; }
+
+ private:
+  Texture cubes_, ids_, depth_;
+  Texture sampledDepth_;  // what toon outlines read while depth_ is attached to the face (64 KiB)
+  Framebuffer rasterFbo_, shadeFbo_;
+  int count_ = 0;
+};
+
+}  // namespace tandem::gl

@@ -1,0 +1,37 @@
+#pragma once
+// What the ray pass reads and writes per frame: the visibility ids in, the ray results out (RayTracer,
+// PixelTrace and the Renderer share them).
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "tandem/FrameStats.h"
+
+namespace tandem::rt {
+
+/// The raster pass's visibility channel read back to memory: per pixel (row 0 = top),
+/// x = instance index + 1 (0 = background), y = triangle index within that instance's mesh.
+struct VisibilityBuffer {
+  int width = 0;
+  int height = 0;
+  std::vector<glm::uvec2> ids;
+};
+
+/// Ray results on the ray grid. A vector is empty when its effect traced no ray this frame
+/// (cost follows the scene and the settings).
+struct RayOutputs {
+  int width = 0;
+  int height = 0;
+  // bit j: direct light j (Scene::directLights()) unoccluded. Set without a ray where no ray is needed:
+  // lights with castShadows = false, and lights that cannot reach the point (behind the surface, outside
+  // a spot cone, beyond range: the shading formula gives them nothing anyway, toon's lowest band aside,
+  // which therefore looks as with shadows off). So an empty mask means exactly "all lights visible".
+  std::vector<std::uint32_t> lightMask;
+  std::vector<glm::vec4> reflected;      // rgb: weighted reflected radiance (wR·S), linear
+  std::vector<glm::vec4> transmitted;    // rgb: weighted transmitted radiance (wT·T), linear
+  RayCounts counts;
+  int threads = 0;
+};
+
+}  // namespace tandem::rt
