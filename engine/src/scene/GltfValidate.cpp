@@ -282,9 +282,10 @@ bool supportedExtension(const std::string& name) {
   return false;
 }
 
-Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, const std::string& file) {
-  const std::string f = file + ": ";
-  // ---- asset and extensions ----
+namespace {
+
+// Asset and extensions.
+Result<void> checkAsset(const tinygltf::Model& m, const GltfLimits&, const std::string& f) {
   int major = 0, minor = 0;
   if (!parseVersion(m.asset.version, &major, &minor) || major != 2)
     return Error{f + "asset.version '" + m.asset.version + "' is not glTF 2.x"};
@@ -298,8 +299,11 @@ Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, c
   for (const std::string& e : m.extensionsRequired)
     if (!supportedExtension(e)) unknown += (unknown.empty() ? "" : ", ") + e;
   if (!unknown.empty()) return Error{f + "extensionsRequired names unsupported extensions: " + unknown};
+  return {};
+}
 
-  // ---- caps on object counts ----
+// Caps on object counts.
+Result<void> checkCounts(const tinygltf::Model& m, const GltfLimits& limits, const std::string& f) {
   if (m.nodes.size() > limits.maxNodes)
     return Error{f + std::to_string(m.nodes.size()) + " nodes exceed the cap maxNodes = " + std::to_string(limits.maxNodes)};
   const std::pair<const char*, std::size_t> counts[] = {
@@ -309,8 +313,12 @@ Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, c
   for (const auto& [name, n] : counts)
     if (n > limits.maxObjects)
       return Error{f + std::to_string(n) + " " + name + " exceed the cap maxObjects = " + std::to_string(limits.maxObjects)};
+  return {};
+}
 
-  // ---- buffers, views, accessors ----
+// Buffers, views, accessors.
+Result<void> checkBuffers(const tinygltf::Model& m, const GltfLimits& limits, const std::string& file,
+                          const std::string& f) {
   for (std::size_t i = 0; i < m.buffers.size(); ++i)
     if (m.buffers[i].data.empty()) return Error{f + at("buffers", i) + ": no data (byteLength 0 or not loaded)"};
   for (std::size_t i = 0; i < m.bufferViews.size(); ++i) {
@@ -329,8 +337,11 @@ Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, c
   }
   for (std::size_t i = 0; i < m.accessors.size(); ++i)
     if (auto r = validateAccessor(m, i, limits, file); !r) return r;
+  return {};
+}
 
-  // ---- images, samplers, textures, materials ----
+// Images, samplers, textures, materials.
+Result<void> checkMaterials(const tinygltf::Model& m, const GltfLimits&, const std::string& f) {
   for (std::size_t i = 0; i < m.images.size(); ++i)
     if (m.images[i].bufferView < -1 || m.images[i].bufferView >= int(m.bufferViews.size()))
       return Error{f + at("images", i) + ": bufferView " + std::to_string(m.images[i].bufferView) + " does not exist"};
@@ -362,8 +373,11 @@ Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, c
     if (!(mat.alphaCutoff >= 0) || !std::isfinite(mat.alphaCutoff)) return Error{id + ": alphaCutoff must be >= 0"};
     if (!std::isfinite(mat.normalTexture.scale)) return Error{id + ": normalTexture.scale is not finite"};
   }
+  return {};
+}
 
-  // ---- meshes ----
+// Meshes.
+Result<void> checkMeshes(const tinygltf::Model& m, const GltfLimits&, const std::string& f) {
   for (std::size_t i = 0; i < m.meshes.size(); ++i) {
     const tinygltf::Mesh& mesh = m.meshes[i];
     if (mesh.primitives.empty()) return Error{f + at("meshes", i) + ": no primitives"};
@@ -405,8 +419,11 @@ Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, c
       }
     }
   }
+  return {};
+}
 
-  // ---- nodes: references, finite transforms, single parent, no cycle ----
+// Nodes: references, finite transforms, single parent, no cycle; the parent of each node (−1 for roots).
+Result<std::vector<int>> checkNodes(const tinygltf::Model& m, const std::string& f) {
   std::vector<int> parent(m.nodes.size(), -1);
   for (std::size_t i = 0; i < m.nodes.size(); ++i) {
     const tinygltf::Node& n = m.nodes[i];
@@ -455,8 +472,11 @@ Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, c
       for (std::size_t c : chain) state[c] = 2;
     }
   }
+  return parent;
+}
 
-  // ---- scenes ----
+// Scenes: references, roots that are roots, no node twice.
+Result<void> checkScenes(const tinygltf::Model& m, const std::string& f, const std::vector<int>& parent) {
   if (m.defaultScene < -1 || m.defaultScene >= int(m.scenes.size()))
     return Error{f + "scene " + std::to_string(m.defaultScene) + " does not exist"};
   for (std::size_t i = 0; i < m.scenes.size(); ++i) {
@@ -470,13 +490,19 @@ Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, c
       if (!seen.insert(n).second) return Error{f + at("scenes", i) + ": node " + std::to_string(n) + " listed twice"};
     }
   }
+  return {};
+}
 
-  // ---- cameras (types only; bad parameters skip the camera at import) ----
+// Cameras (types only; bad parameters skip the camera at import).
+Result<void> checkCameras(const tinygltf::Model& m, const GltfLimits&, const std::string& f) {
   for (std::size_t i = 0; i < m.cameras.size(); ++i)
     if (m.cameras[i].type != "perspective" && m.cameras[i].type != "orthographic")
       return Error{f + at("cameras", i) + ": type '" + m.cameras[i].type + "' is not perspective or orthographic"};
+  return {};
+}
 
-  // ---- animations (references; content problems skip the channel at import) ----
+// Animations (references; content problems skip the channel at import).
+Result<void> checkAnimations(const tinygltf::Model& m, const GltfLimits&, const std::string& f) {
   for (std::size_t i = 0; i < m.animations.size(); ++i) {
     const tinygltf::Animation& an = m.animations[i];
     const std::string id = f + at("animations", i);
@@ -495,8 +521,11 @@ Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, c
         return Error{id + "." + at("channels", c) + ": target node " + std::to_string(ch.target_node) + " does not exist"};
     }
   }
+  return {};
+}
 
-  // ---- skins (ignored at import, but their references must still be sound) ----
+// Skins (ignored at import, but their references must still be sound).
+Result<void> checkSkins(const tinygltf::Model& m, const GltfLimits&, const std::string& f) {
   for (std::size_t i = 0; i < m.skins.size(); ++i) {
     const tinygltf::Skin& s = m.skins[i];
     if (s.inverseBindMatrices < -1 || s.inverseBindMatrices >= int(m.accessors.size()))
@@ -506,6 +535,25 @@ Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, c
       if (j < 0 || j >= int(m.nodes.size()))
         return Error{f + at("skins", i) + ": joint " + std::to_string(j) + " does not exist"};
   }
+  return {};
+  return {};
+}
+
+}  // namespace
+
+Result<void> validateModel(const tinygltf::Model& m, const GltfLimits& limits, const std::string& file) {
+  const std::string f = file + ": ";
+  if (auto r = checkAsset(m, limits, f); !r) return r;
+  if (auto r = checkCounts(m, limits, f); !r) return r;
+  if (auto r = checkBuffers(m, limits, file, f); !r) return r;
+  if (auto r = checkMaterials(m, limits, f); !r) return r;
+  if (auto r = checkMeshes(m, limits, f); !r) return r;
+  auto parent = checkNodes(m, f);
+  if (!parent) return parent.error();
+  if (auto r = checkScenes(m, f, *parent); !r) return r;
+  if (auto r = checkCameras(m, limits, f); !r) return r;
+  if (auto r = checkAnimations(m, limits, f); !r) return r;
+  if (auto r = checkSkins(m, limits, f); !r) return r;
   return {};
 }
 

@@ -1,0 +1,248 @@
+// The glTF importer's materials and textures (docs/gltf.md, "Materials"): metallic-roughness mapped onto
+// the engine's Phong/Whitted material, textures decoded once per distinct source under the load budget.
+#include <stb_image.h>
+
+#include <algorithm>
+
+#include "core/StbGuard.h"
+#include "scene/GltfImporter.h"
+#include "tandem/Image.h"
+
+namespace tandem::gltf {
+
+// ---- textures ----
+
+int Importer::fallbackTexture() {
+  // SKIP policy for images (bad-inputs.md I2–I4, U13): the material keeps a neutral white texture so the
+  // rest renders and nothing indexes a missing texture.
+  if (fallbackTexture_ < 0) {
+    Texture t;
+    t.name = "fallback";
+    t.width = t.height = 2;
+    t.rgba8.assign(16, 255);
+    fallbackTexture_ = int(out_.scene.textures.size());
+    out_.scene.textures.push_back(std::move(t));
+  }
+  return fallbackTexture_;
+}
+
+int Importer::texture(int gltfTexture, bool srgb, const std::string& usage) {
+  if (gltfTexture < 0) return -1;
+  const tinygltf::Texture& t = m_.textures[std::size_t(gltfTexture)];
+  const std::string id = "textures[" + std::to_string(gltfTexture) + "] (" + usage + ")";
+  if (t.source < 0) {
+    warn_(id + ": no image source (or only an unsupported extension source); fallback texture used");
+    return srgb ? fallbackTexture() : -1;
+  }
+  const tinygltf::Image& img = m_.images[std::size_t(t.source)];
+  // Decoded once per distinct source (a bufferView, or distinct bytes read by URI), however many images and
+  // textures name it.
+  std::tuple<int, int, bool> key{2, t.source, srgb};
+  if (img.bufferView >= 0) key = {0, img.bufferView, srgb};
+  else if (auto it = images_.sourceOf.find(t.source); it != images_.sourceOf.end()) key = {1, it->second, srgb};
+  if (auto it = textureCache_.find(key); it != textureCache_.end()) return it->second;
+  auto fail = [&](const std::string& why) {
+    warn_("images[" + std::to_string(t.source) + "]: " + why + "; " + (srgb ? "fallback texture used" : "map dropped"));
+    const int r = srgb ? fallbackTexture() : -1;
+    textureCache_[key] = r;
+    return r;
+  };
+  if (std::get<0>(key) == 2) return fail("'" + img.uri.substr(0, 200) + "' could not be read (missing file?)");
+  const std::uint8_t* bytes = nullptr;
+  std::size_t size = 0;
+  if (img.bufferView >= 0) {
+    const tinygltf::BufferView& v = m_.bufferViews[std::size_t(img.bufferView)];  // range validated
+    bytes = m_.buffers[std::size_t(v.buffer)].data.data() + v.byteOffset;
+    size = v.byteLength;
+  } else {
+    const std::vector<std::uint8_t>& u = images_.unique[std::size_t(std::get<1>(key))];
+    bytes = u.data();
+    size = u.size();
+  }
+  if (!isPng(bytes, size) && !isJpeg(bytes, size)) return fail("not PNG or JPEG data (only those are decoded)");
+  if (size > std::size_t(INT32_MAX)) return fail("encoded image too large");
+  int w = 0, h = 0, comp = 0;
+  if (!stbi_info_from_memory(bytes, int(size), &w, &h, &comp) || w <= 0 || h <= 0)
+    return fail(std::string("unreadable header (") + (stbi_failure_reason() ? stbi_failure_reason() : "?") + ")");
+  const u64 pixels = u64(w) * u64(h);
+  if (pixels > opt_.limits.maxImagePixels)
+    return fail(std::to_string(w) + "×" + std::to_string(h) + " exceeds the cap maxImagePixels = " +
+                std::to_string(opt_.limits.maxImagePixels));
+  if (totalPixels_ + pixels > opt_.limits.maxTotalPixels)
+    return fail("decoding it would exceed the cap maxTotalPixels = " + std::to_string(opt_.limits.maxTotalPixels));
+  // The texels are charged before decoding; a file refused here fails the load (it is a resource refusal,
+  // not a broken image).
+  if (!budget_.charge(pixels * 4)) {
+    budgetRefusal_ = err(budget_.refusal("decoding images[" + std::to_string(t.source) + "]", pixels * 4));
+    return -1;
+  }
+  stbi_uc* px = nullptr;
+  {
+    // The decoder's own memory: a stream that inflates past the declared rows is cut off.
+    StbMemoryCap cap(imageDecodeBytes(pixels, size));
+    px = stbi_load_from_memory(bytes, int(size), &w, &h, &comp, 4);
+    if (!px && cap.refused()) return fail("decoding needs more memory than its declared size allows");
+  }
+  if (!px) return fail(std::string("decoding failed (") + (stbi_failure_reason() ? stbi_failure_reason() : "?") + ")");
+  Texture tex;
+  tex.name = !img.name.empty() ? img.name : img.uri.substr(0, 200);
+  tex.width = w;
+  tex.height = h;
+  tex.srgb = srgb;
+  tex.rgba8.assign(px, px + pixels * 4);
+  stbi_image_free(px);
+  totalPixels_ += pixels;
+  const int index = int(out_.scene.textures.size());
+  out_.scene.textures.push_back(std::move(tex));
+  textureCache_[key] = index;
+  return index;
+}
+
+// ---- materials ----
+
+glm::mat3 textureTransform(const tinygltf::ExtensionMap& e) {
+  const tinygltf::Value* tt = ext(e, "KHR_texture_transform");
+  if (!tt) return glm::mat3(1.0f);
+  glm::vec2 offset(0.0f), scale(1.0f);
+  if (tt->Has("offset") && tt->Get("offset").ArrayLen() == 2 && tt->Get("offset").Get(0).IsNumber() &&
+      tt->Get("offset").Get(1).IsNumber())
+    offset = {float(tt->Get("offset").Get(0).GetNumberAsDouble()), float(tt->Get("offset").Get(1).GetNumberAsDouble())};
+  if (tt->Has("scale") && tt->Get("scale").ArrayLen() == 2 && tt->Get("scale").Get(0).IsNumber() &&
+      tt->Get("scale").Get(1).IsNumber())
+    scale = {float(tt->Get("scale").Get(0).GetNumberAsDouble()), float(tt->Get("scale").Get(1).GetNumberAsDouble())};
+  const float rot = float(num(*tt, "rotation", 0.0));
+  if (!std::isfinite(offset.x) || !std::isfinite(offset.y) || !std::isfinite(scale.x) || !std::isfinite(scale.y))
+    return glm::mat3(1.0f);
+  // KHR_texture_transform README: uv' = T · R · S · (u, v, 1), matrices column-major as in GLSL.
+  const glm::mat3 T(1, 0, 0, 0, 1, 0, offset.x, offset.y, 1);
+  const glm::mat3 R(std::cos(rot), std::sin(rot), 0, -std::sin(rot), std::cos(rot), 0, 0, 0, 1);
+  const glm::mat3 S(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
+  return T * R * S;
+}
+
+Result<void> Importer::buildMaterials() {
+  for (std::size_t i = 0; i < m_.materials.size(); ++i) {
+    const tinygltf::Material& g = m_.materials[i];
+    const auto& pbr = g.pbrMetallicRoughness;
+    const std::string id = "materials[" + std::to_string(i) + "]";
+    Material mat;
+    mat.name = g.name;
+    const glm::vec3 base(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]), float(pbr.baseColorFactor[2]));
+    float metallic = float(pbr.metallicFactor), rough = float(pbr.roughnessFactor);
+    // The metallic-roughness texture is not sampled per pixel (one Phong lobe per material): its mean
+    // blue (metal) and green (roughness) channels scale the factors, so a mostly dielectric surface
+    // with a few metal parts is not shaded as solid metal (glTF's default metallicFactor is 1).
+    if (pbr.metallicRoughnessTexture.index >= 0) {
+      const int mr = texture(pbr.metallicRoughnessTexture.index, false, id + " metallic-roughness");
+      if (budgetRefusal_) return *budgetRefusal_;
+      if (mr >= 0) {
+        // Once per texture, not per material: many materials may share one large map.
+        auto [it, fresh] = textureMeans_.try_emplace(mr, glm::dvec2(1.0));
+        const Texture& t = out_.scene.textures[std::size_t(mr)];
+        const std::size_t texels = t.rgba8.size() / 4;
+        if (fresh && texels > 0) {
+          double green = 0.0, blue = 0.0;
+          for (std::size_t k = 0; k < texels; ++k) {
+            green += t.rgba8[4 * k + 1];
+            blue += t.rgba8[4 * k + 2];
+          }
+          it->second = glm::dvec2(green, blue) / (255.0 * double(texels));
+        }
+        rough *= float(it->second.x);
+        metallic *= float(it->second.y);
+      }
+    }
+    float ior = 1.5f;
+    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_ior")) {
+      const double v = num(*e, "ior", 1.5);
+      // The extension allows 0 (meaning "no refraction"); anything else must be >= 1. Clamp the rest.
+      ior = v == 0.0 ? 1.0f : float(std::clamp(v, 1.0, 5.0));
+      if (v != 0.0 && (v < 1.0 || v > 5.0)) warn_(id + ": ior " + std::to_string(v) + " clamped to [1, 5]");
+    }
+    float specular = 1.0f;
+    glm::vec3 specularColor(1.0f);
+    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_specular")) {
+      specular = float(std::clamp(num(*e, "specularFactor", 1.0), 0.0, 1.0));
+      specularColor = glm::clamp(vec3Of(*e, "specularColorFactor", glm::vec3(1.0f)), 0.0f, 1e3f);
+    }
+    float transmission = 0.0f;
+    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_transmission"))
+      transmission = float(std::clamp(num(*e, "transmissionFactor", 0.0), 0.0, 1.0));
+    bool thick = false;
+    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_volume")) thick = num(*e, "thicknessFactor", 0.0) > 0.0;
+    float emissiveStrength = 1.0f;
+    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_emissive_strength"))
+      emissiveStrength = float(std::clamp(num(*e, "emissiveStrength", 1.0), 0.0, 1e6));
+
+    // Fresnel reflectance at normal incidence: dielectric F0 from the IOR, scaled by KHR_materials_specular;
+    // metals reflect their base colour.
+    const float f0d = std::pow((ior - 1.0f) / (ior + 1.0f), 2.0f);
+    const glm::vec3 f0Dielectric = glm::min(glm::vec3(f0d) * specularColor * specular, glm::vec3(1.0f));
+    mat.ks = glm::mix(f0Dielectric, base, metallic);
+    // Energy that is not reflected specularly by metals or transmitted goes to the diffuse lobe.
+    mat.kd = base * (1.0f - metallic) * (1.0f - transmission);
+    mat.ka = mat.kd;
+    // Phong exponent from GGX roughness: α = roughness², ns = 2/α² − 2 (Walter et al. 2007, Beckmann↔Phong).
+    const float alpha = std::max(rough * rough, 1e-3f);
+    mat.ns = std::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 10000.0f);
+    // Mirror rays only for smooth surfaces: rough ones would need blurred reflections we do not trace.
+    const float smooth = (1.0f - rough) * (1.0f - rough);
+    const float f0Max = std::max({f0Dielectric.x, f0Dielectric.y, f0Dielectric.z});
+    mat.kr = std::clamp(smooth * (metallic + (1.0f - metallic) * f0Max), 0.0f, 1.0f);
+    mat.kt = transmission * (1.0f - metallic);
+    // Without KHR_materials_volume a transmissive surface is thin-walled: light passes without bending.
+    mat.ior = (mat.kt > 0.0f && !thick) ? 1.0f : ior;
+    // glTF tints transmitted light by the base colour (KHR_materials_transmission); texture not included.
+    mat.transmissionTint = base;
+    if (g.emissiveFactor.size() == 3)
+      mat.emission = glm::vec3(float(g.emissiveFactor[0]), float(g.emissiveFactor[1]), float(g.emissiveFactor[2])) *
+                     emissiveStrength;
+    mat.opacity = float(pbr.baseColorFactor[3]);
+    mat.alphaMode = g.alphaMode == "MASK" ? AlphaMode::Mask : g.alphaMode == "BLEND" ? AlphaMode::Blend : AlphaMode::Opaque;
+    mat.alphaCutoff = float(g.alphaCutoff);
+    // BLEND is thin transmission: the uncovered fraction passes straight through (IOR 1). A refracting
+    // BLEND material would need two transmitted rays (bent and straight); it keeps one, unbent.
+    if (mat.alphaMode == AlphaMode::Blend && mat.ior != 1.0f) mat.ior = 1.0f;
+    mat.doubleSided = g.doubleSided;
+    if (ext(g.extensions, "KHR_materials_unlit")) {
+      mat.unlit = true;
+      mat.kd = base;
+      mat.ka = glm::vec3(0.0f);
+      mat.ks = glm::vec3(0.0f);
+      mat.kr = mat.kt = 0.0f;
+    }
+    auto texCoordOf = [&](const tinygltf::ExtensionMap& e, int texCoord) {
+      const tinygltf::Value* tt = ext(e, "KHR_texture_transform");
+      return tt ? intOf(*tt, "texCoord", texCoord) : texCoord;
+    };
+    if (pbr.baseColorTexture.index >= 0) {
+      mat.kdTexture = texture(pbr.baseColorTexture.index, true, id + " base colour");
+      if (budgetRefusal_) return *budgetRefusal_;
+      mat.uvTransform = textureTransform(pbr.baseColorTexture.extensions);
+      if (texCoordOf(pbr.baseColorTexture.extensions, pbr.baseColorTexture.texCoord) != 0)
+        warn_(id + ": base colour texture uses a TEXCOORD other than 0; TEXCOORD_0 is used");
+    }
+    if (g.normalTexture.index >= 0) {
+      mat.normalTexture = texture(g.normalTexture.index, false, id + " normal map");
+      if (budgetRefusal_) return *budgetRefusal_;
+      mat.normalScale = float(g.normalTexture.scale);
+      if (pbr.baseColorTexture.index < 0) mat.uvTransform = textureTransform(g.normalTexture.extensions);
+      if (texCoordOf(g.normalTexture.extensions, g.normalTexture.texCoord) != 0)
+        warn_(id + ": normal map uses a TEXCOORD other than 0; TEXCOORD_0 is used");
+    }
+    if (g.emissiveTexture.index >= 0) {
+      mat.emissiveTexture = texture(g.emissiveTexture.index, true, id + " emissive");
+      if (budgetRefusal_) return *budgetRefusal_;
+      if (texCoordOf(g.emissiveTexture.extensions, g.emissiveTexture.texCoord) != 0)
+        warn_(id + ": emissive texture uses a TEXCOORD other than 0; TEXCOORD_0 is used");
+    }
+    if (g.occlusionTexture.index >= 0)
+      warnOnce("unusedTextures", "occlusion textures are not used; metallic-roughness textures only through their mean");
+    wantsTangents_.push_back(mat.normalTexture >= 0);
+    materialOf_.push_back(int(out_.scene.materials.size()));
+    out_.scene.materials.push_back(std::move(mat));
+  }
+  return {};
+}
+
+}  // namespace tandem::gltf
