@@ -13,10 +13,10 @@ set(TANDEM_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/Tandem)
 # Tandem::tandem is the engine (the Renderer and every layer under it); the layers are exported too, as
 # Tandem::core, Tandem::scene, ..., since the engine links them (a tool may link Tandem::scene alone).
 set_target_properties(tandem_engine PROPERTIES EXPORT_NAME tandem)
-foreach(layer core scene rt glad gl)
+foreach(layer core scene rt glad gl plan)
   set_target_properties(tandem_${layer} PROPERTIES EXPORT_NAME ${layer})
 endforeach()
-install(TARGETS tandem_core tandem_scene tandem_rt tandem_glad tandem_gl tandem_engine EXPORT TandemTargets
+install(TARGETS tandem_core tandem_scene tandem_rt tandem_glad tandem_gl tandem_plan tandem_engine EXPORT TandemTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/engine/include/tandem DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(EXPORT TandemTargets NAMESPACE Tandem:: DESTINATION ${TANDEM_CMAKE_DIR})

@@ -19,7 +19,7 @@ status=0
 dpkg-deb -c "$deb" | awk '{ print $NF }' >"$out/contents"
 want=""
 for h in "$src"/engine/include/tandem/*.h; do want="$want ./usr/include/tandem/$(basename "$h")"; done
-for l in core scene rt glad gl engine; do want="$want libtandem_$l.a"; done
+for l in core scene rt glad gl plan engine; do want="$want libtandem_$l.a"; done
 want="$want cmake/Tandem/TandemConfig.cmake cmake/Tandem/TandemConfigVersion.cmake cmake/Tandem/TandemTargets.cmake"
 for f in $want; do
   if ! grep -q -- "$f\$" "$out/contents"; then
