@@ -1,8 +1,9 @@
-// The bench's ray capture (RayTracer::setRayCapture) and raw re-trace (RayTracer::retrace): the capture
+// The bench's ray capture (RayTracerBench::trace) and raw re-trace (RayTracerBench::retrace): the capture
 // holds exactly the rays the pass counted, tile by tile, and Embree alone gives the same answers.
 #include <gtest/gtest.h>
 
 #include "rt/RayCapture.h"
+#include "rt/RayTracerBench.h"
 #include "rt/RtTestScenes.h"
 #include "tandem/SceneFile.h"
 
@@ -34,11 +35,9 @@ struct Frame {
     settings = *presetSettings("hybrid-full", settingsFor(w, h));
     if (tracer) tracer->castVisibility(scene.camera, w, h, visibility);
   }
-  RayCounts trace(RayCapture* capture) {
+  RayCounts trace(RayCapture* capture, bool batchedShadowRays = true) {
     RayOutputs out;
-    tracer->setRayCapture(capture);
-    tracer->trace(scene, scene.camera, settings, visibility, out);
-    tracer->setRayCapture(nullptr);
+    RayTracerBench::trace(*tracer, scene, scene.camera, settings, visibility, out, {capture, batchedShadowRays});
     return out.counts;
   }
 };
@@ -48,9 +47,8 @@ TEST(RayCapture, HybridCaptureHoldsExactlyTheCountedRays) {
     SCOPED_TRACE(batched ? "batched shadow rays" : "one rtcOccluded1 per shadow ray");
     Frame f;
     ASSERT_TRUE(f.tracer);
-    f.tracer->setBatchedShadowRays(batched);
     RayCapture capture;
-    RayCounts counted = f.trace(&capture);
+    RayCounts counted = f.trace(&capture, batched);
     // Whitted's scene exercises every kind; a zero here would make the comparison vacuous.
     ASSERT_GT(counted.shadow, 0u);
     ASSERT_GT(counted.reflection, 0u);
@@ -106,7 +104,6 @@ TEST(RayCapture, WithoutACaptureNothingIsRecorded) {
   RayCapture capture;
   f.trace(&capture);
   RayCounts before = capture.counts();
-  f.tracer->setRayCapture(nullptr);
   RayOutputs out;
   f.tracer->trace(f.scene, f.scene.camera, f.settings, f.visibility, out);
   expectCounts(capture.counts(), before);  // the previous capture is left as it was
@@ -130,7 +127,7 @@ TEST(RayCapture, RetraceGivesTheSameAnswersWithEitherApi) {
     SCOPED_TRACE(api == RetraceApi::Single ? "rtc*1" : "rtc*1M");
     RetraceOptions options;
     options.api.fill(api);
-    RetraceStats s = f.tracer->retrace(capture, options);
+    RetraceStats s = RayTracerBench::retrace(*f.tracer, capture, options);
     EXPECT_EQ(s.rays[0], 0u) << "hybrid primary hits are not Embree rays";
     EXPECT_EQ(s.rays[1], counted.shadow);
     EXPECT_EQ(s.rays[2], counted.reflection);
@@ -146,17 +143,44 @@ TEST(RayCapture, ReferenceCaptureIncludesTracedCameraRays) {
   FrameSettings s = *presetSettings("reference", settingsFor(64, 36));
   s.referenceSpp = 2;
   RayCapture capture;
-  tracer->setRayCapture(&capture);
   ImageF image;
   RayCounts counts;
-  tracer->renderReference(scene, scene.camera, s, image, counts);
-  tracer->setRayCapture(nullptr);
+  RayTracerBench::renderReference(*tracer, scene, scene.camera, s, image, counts, capture);
   EXPECT_TRUE(capture.primaryTraced);
   EXPECT_EQ(counts.primary, 64u * 36u * 4u);
   expectCounts(capture.counts(), counts);
-  RetraceStats r = tracer->retrace(capture);
+  RetraceStats r = RayTracerBench::retrace(*tracer, capture);
   EXPECT_EQ(r.rays[0], counts.primary);
   for (std::size_t k = 0; k < kRayKinds; ++k) EXPECT_EQ(r.mismatches[k], 0u) << toString(static_cast<RayKind>(k));
+}
+
+// The capture is a second instantiation of the passes (rt/TileCapture.h): it must compute what the
+// frame's computes, to the bit, or the bench would measure other rays than the frame traces.
+TEST(RayCapture, CapturingPassesComputeTheFramesResultsBitForBit) {
+  Frame f;
+  ASSERT_TRUE(f.tracer);
+  for (bool batched : {true, false}) {
+    SCOPED_TRACE(batched ? "batched shadow rays" : "one rtcOccluded1 per shadow ray");
+    RayOutputs frame, captured;
+    f.tracer->trace(f.scene, f.scene.camera, f.settings, f.visibility, frame);
+    RayCapture capture;
+    RayTracerBench::trace(*f.tracer, f.scene, f.scene.camera, f.settings, f.visibility, captured, {&capture, batched});
+    expectCounts(captured.counts, frame.counts);
+    ASSERT_FALSE(frame.lightMask.empty());
+    ASSERT_FALSE(frame.reflected.empty());
+    ASSERT_FALSE(frame.transmitted.empty());
+    EXPECT_EQ(captured.lightMask, frame.lightMask);
+    EXPECT_EQ(captured.reflected, frame.reflected);
+    EXPECT_EQ(captured.transmitted, frame.transmitted);
+  }
+  FrameSettings s = *presetSettings("reference", settingsFor(48, 27));
+  ImageF plain, recorded;
+  RayCounts plainCounts, recordedCounts;
+  f.tracer->renderReference(f.scene, f.scene.camera, s, plain, plainCounts);
+  RayCapture capture;
+  RayTracerBench::renderReference(*f.tracer, f.scene, f.scene.camera, s, recorded, recordedCounts, capture);
+  expectCounts(recordedCounts, plainCounts);
+  EXPECT_EQ(recorded.rgb, plain.rgb);
 }
 
 }  // namespace

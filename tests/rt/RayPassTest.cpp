@@ -8,7 +8,9 @@
 #include "rt/CpuComposite.h"
 #include "rt/EmbreeScene.h"
 #include "rt/RayMath.h"
+#include "rt/RayTracerBench.h"
 #include "rt/RtTestScenes.h"
+#include "rt/Wavefront.h"
 #include "rt/Whitted.h"
 #include "tandem/Log.h"
 
@@ -446,8 +448,7 @@ TEST(RayPassWhitted, ImagesAreIdenticalWithOneAndTwoThreads) {
   EXPECT_GT(a.counts.reflection, 0u);
   EXPECT_GT(a.counts.refraction, 0u);
   // One shadow ray per rtcOccluded1 call gives the same masks as the batched rtcOccluded1M.
-  two->setBatchedShadowRays(false);
-  two->trace(scene, scene.camera, s, vis1, b);
+  RayTracerBench::trace(*two, scene, scene.camera, s, vis1, b, {nullptr, false});
   EXPECT_EQ(a.lightMask, b.lightMask);
   EXPECT_EQ(a.counts.shadow, b.counts.shadow);
 
@@ -748,15 +749,15 @@ TEST(RayPassPerf, DISABLED_ShadowRayThroughput) {
     for (bool batched : {false, true}) {
       auto rt = makeTracer(scene, threads);
       ASSERT_TRUE(rt);
-      rt->setBatchedShadowRays(batched);
       VisibilityBuffer vis;
       rt->castVisibility(scene.camera, w, h, vis);
       RayOutputs out;
-      rt->trace(scene, scene.camera, s, vis, out);  // warm-up
+      const BenchTrace how{nullptr, batched};
+      RayTracerBench::trace(*rt, scene, scene.camera, s, vis, out, how);  // warm-up
       double best = 1e30;
       for (int rep = 0; rep < 5; ++rep) {
         auto t0 = std::chrono::steady_clock::now();
-        rt->trace(scene, scene.camera, s, vis, out);
+        RayTracerBench::trace(*rt, scene, scene.camera, s, vis, out, how);
         best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       }
       ASSERT_GT(out.counts.shadow, 0u);

@@ -11,6 +11,7 @@
 #include "BenchCommon.h"
 #include "core/Timer.h"
 #include "rt/RayCapture.h"
+#include "rt/RayTracerBench.h"
 #include "rt/RayTracer.h"
 #include "tandem/Context.h"
 #include "tandem/ImageMetrics.h"
@@ -68,15 +69,13 @@ RtFrame& rtFrame(std::int64_t arg) {
   f.settings = *presetSettings("hybrid-full", base);
   f.tracer->castVisibility(f.scene.camera, kWidth, kHeight, f.visibility);
   rt::RayOutputs out;
-  f.tracer->setRayCapture(&f.capture);
-  f.tracer->trace(f.scene, f.scene.camera, f.settings, f.visibility, out);
-  f.tracer->setRayCapture(nullptr);
+  rt::RayTracerBench::trace(*f.tracer, f.scene, f.scene.camera, f.settings, f.visibility, out, {&f.capture});
   f.counts = out.counts;
   rt::RetraceOptions single, stream;
   single.api.fill(rt::RetraceApi::Single);
   stream.api.fill(rt::RetraceApi::Stream);
-  (void)f.tracer->retrace(f.capture, single);  // warm caches
-  rt::RetraceStats a = f.tracer->retrace(f.capture, single), b = f.tracer->retrace(f.capture, stream);
+  (void)rt::RayTracerBench::retrace(*f.tracer, f.capture, single);  // warm caches
+  rt::RetraceStats a = rt::RayTracerBench::retrace(*f.tracer, f.capture, single), b = rt::RayTracerBench::retrace(*f.tracer, f.capture, stream);
   for (std::size_t k = 0; k < rt::kRayKinds; ++k) f.best.api[k] = a.ms[k] <= b.ms[k] ? rt::RetraceApi::Single : rt::RetraceApi::Stream;
   return f;
 }
@@ -84,7 +83,7 @@ RtFrame& rtFrame(std::int64_t arg) {
 /// Median over a few runs of the floor with the best API per kind.
 double floorMs(RtFrame& f) {
   std::vector<double> v;
-  for (int i = 0; i < 5; ++i) v.push_back(f.tracer->retrace(f.capture, f.best).totalMs());
+  for (int i = 0; i < 5; ++i) v.push_back(rt::RayTracerBench::retrace(*f.tracer, f.capture, f.best).totalMs());
   return summarize(v).median;
 }
 
@@ -117,7 +116,7 @@ void BM_RetraceFloor(benchmark::State& state) {
   RtFrame& f = rtFrame(state.range(0));
   if (!f.tracer) return state.SkipWithError(f.error.c_str());
   rt::RetraceStats s;
-  for (auto _ : state) s = f.tracer->retrace(f.capture, f.best);
+  for (auto _ : state) s = rt::RayTracerBench::retrace(*f.tracer, f.capture, f.best);
   std::uint64_t n = s.rays[1] + s.rays[2] + s.rays[3] + s.rays[0];
   state.counters["Mrays/s"] = benchmark::Counter(static_cast<double>(n) * 1e-6 * static_cast<double>(state.iterations()),
                                                  benchmark::Counter::kIsRate);
@@ -134,7 +133,7 @@ void shadowRays(benchmark::State& state, rt::RetraceApi api) {
   o.kinds = {false, true, false, false};
   o.api.fill(api);
   rt::RetraceStats s;
-  for (auto _ : state) s = f.tracer->retrace(f.capture, o);
+  for (auto _ : state) s = rt::RayTracerBench::retrace(*f.tracer, f.capture, o);
   state.counters["Mrays/s"] = benchmark::Counter(static_cast<double>(s.rays[1]) * 1e-6 * static_cast<double>(state.iterations()),
                                                  benchmark::Counter::kIsRate);
 }

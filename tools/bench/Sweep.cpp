@@ -16,6 +16,7 @@
 #include "Plots.h"
 #include "core/Timer.h"
 #include "rt/RayCapture.h"
+#include "rt/RayTracerBench.h"
 #include "rt/RayTracer.h"
 #include "tandem/Context.h"
 #include "tandem/HeavyScene.h"
@@ -206,16 +207,14 @@ Ceiling measureCeiling(const Scene& scene, Size size, const FrameSettings& full,
     return timer.ms();
   });
   rt::RayCapture capture;
-  t.setRayCapture(&capture);
-  t.trace(scene, scene.camera, full, vis, out);
-  t.setRayCapture(nullptr);
+  rt::RayTracerBench::trace(t, scene, scene.camera, full, vis, out, {&capture});
   c.rays = capture.counts();
   for (int api = 0; api < 2; ++api) {
     rt::RetraceOptions opt;
     opt.api.fill(static_cast<rt::RetraceApi>(api));
-    (void)t.retrace(capture, opt);  // warm
+    (void)rt::RayTracerBench::retrace(t, capture, opt);  // warm
     std::vector<rt::RetraceStats> runs;
-    for (int i = 0; i < frames; ++i) runs.push_back(t.retrace(capture, opt));
+    for (int i = 0; i < frames; ++i) runs.push_back(rt::RayTracerBench::retrace(t, capture, opt));
     for (std::size_t k = 0; k < rt::kRayKinds; ++k) {
       std::vector<double> v;
       for (const auto& r : runs) v.push_back(r.ms[k]);

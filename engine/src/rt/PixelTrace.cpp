@@ -66,6 +66,8 @@ class TreeRecorder final : public RayRecorder {
   }
 
   void embreeHit(std::uint32_t, std::uint32_t, float t) override { current().t = t; }
+  // A ray Embree could not be given escapes: the node stays a miss that brings the background.
+  void notTraced() override {}
 
   void surface(const SurfaceHit& hit) override {
     TraceNode& n = current();

@@ -1,15 +1,9 @@
 #pragma once
 // Ray capture: the exact rays one frame of the ray pass traced, per kind and per tile, in trace order,
-// with what Embree answered. The bench re-traces them with no shading (RayTracer::retrace) to measure
-// the floor of the ray pass: how fast the same rays go through Embree alone (docs/bench.md, "Ceiling").
-//
-//   RayCapture capture;
-//   tracer->setRayCapture(&capture);   // the next trace()/renderReference() records into it
-//   tracer->trace(scene, camera, settings, visibility, out);
-//   tracer->setRayCapture(nullptr);
-//   RetraceStats floor = tracer->retrace(capture, RetraceOptions{});
-//
-// Capturing costs a vector append per ray; without a capture the hooks are one thread-local load.
+// with what Embree answered. The bench re-traces them with no shading (RayTracerBench::retrace) to
+// measure the floor of the ray pass: how fast the same rays go through Embree alone (docs/bench.md,
+// "Ceiling"). The passes record into it through the policy of rt/TileCapture.h, only when the bench asks
+// (rt/RayTracerBench.h): the frame's passes are compiled without it.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -74,30 +68,5 @@ struct RetraceStats {
   std::array<std::uint64_t, kRayKinds> mismatches{};  // hit/miss answers that differ from the capture
   double totalMs() const { return ms[0] + ms[1] + ms[2] + ms[3]; }
 };
-
-/// Hooks the ray pass calls; they do nothing unless the calling thread is inside a capturing tile.
-namespace capture {
-/// Sets the thread's current tile for the lifetime of the scope (nullptr capture: no capture).
-class TileScope {
- public:
-  TileScope(RayCapture* capture, std::size_t tile);
-  ~TileScope();
-  TileScope(const TileScope&) = delete;
-  TileScope& operator=(const TileScope&) = delete;
-
- private:
-  RayCaptureTile* previous_;
-};
-bool active();
-/// Appends a ray of `kind` to the current tile; returns its index there (0 when inactive). The ray
-/// becomes the pending one: the next resolvePending() stores its answer.
-std::size_t record(RayKind kind, glm::vec3 origin, glm::vec3 dir, float tnear, float tfar);
-/// Appends a ray whose answer comes later through setHit (batched rays); it does not become pending.
-std::size_t recordDeferred(RayKind kind, glm::vec3 origin, glm::vec3 dir, float tnear, float tfar);
-/// Answer of the pending ray (the one recorded last), for rays traced after the call that records them.
-void resolvePending(bool hit, bool traced = true);
-/// Answer of a ray recorded earlier by index (batched rays); traced = false: Embree was not called.
-void setHit(RayKind kind, std::size_t index, bool hit, bool traced = true);
-}  // namespace capture
 
 }  // namespace tandem::rt

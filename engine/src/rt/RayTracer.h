@@ -17,7 +17,6 @@
 #include <glm/glm.hpp>
 
 #include "rt/RayBuffers.h"
-#include "rt/RayCapture.h"
 #include "tandem/FrameStats.h"
 #include "tandem/Image.h"
 #include "tandem/PixelTrace.h"
@@ -27,6 +26,9 @@
 #include "tandem/Settings.h"
 
 namespace tandem::rt {
+
+struct RayCapture;
+struct RayTracerState;
 
 // VisibilityBuffer and RayOutputs: rt/RayBuffers.h.
 
@@ -69,26 +71,30 @@ class RayTracer {
   /// Bytes Embree reports in use on this tracer's device.
   std::size_t embreeBytes() const;
 
-  /// Primary shadow rays per tile through one rtcOccluded1M call (true, the default: measured faster
-  /// here) or one rtcOccluded1 per ray. Both give identical masks.
-  void setBatchedShadowRays(bool batched);
-  /// Bench hook: while set (non-null), trace() and renderReference() record every ray they trace into
-  /// `capture` (cleared at the start of each call). The caller owns it and keeps it alive while set.
-  void setRayCapture(RayCapture* capture);
-  /// Re-traces a capture through raw Embree, no shading, on this tracer's threads and scene (which must
-  /// be the scene the capture was taken on): each kind a parallel pass over the capture's tiles with
-  /// the API the options name. Reports time, rays and answers that differ from the capture's.
-  RetraceStats retrace(const RayCapture& capture, const RetraceOptions& options = {});
   /// trace() and renderReference() call `progress` (when set) as each tile finishes (tandem/Progress.h).
   void setProgressCallback(RayPassProgressCallback progress);
   /// Limit on Embree's memory (bytes, 0 = none): setScene fails with an out-of-memory error beyond it.
   void setEmbreeMemoryLimit(std::size_t bytes);
 
-  struct Impl;
-
  private:
-  explicit RayTracer(std::unique_ptr<Impl> impl);
-  std::unique_ptr<Impl> impl_;
+  // The bench's capture, its re-trace and per-ray shadow rays (rt/RayTracerBench.h) go through these;
+  // the frame's calls pass no capture and batched shadow rays.
+  friend class RayTracerBench;
+  void hybridPass(const Scene& scene, const Camera& camera, const FrameSettings& settings,
+                  const VisibilityBuffer& visibility, RayOutputs& out, RayCapture* capture, bool batchedShadowRays);
+  void referencePass(const Scene& scene, const Camera& camera, const FrameSettings& settings, ImageF& out,
+                     RayCounts& counts, RayCapture* capture);
+  // Capture: NoCapture or TileCapture (rt/TileCapture.h).
+  template <class Capture>
+  void hybridPassWith(const Scene& scene, const Camera& camera, const FrameSettings& settings,
+                      const VisibilityBuffer& visibility, RayOutputs& out, RayCapture* capture,
+                      bool batchedShadowRays);
+  template <class Capture>
+  void referencePassWith(const Scene& scene, const Camera& camera, const FrameSettings& settings, ImageF& out,
+                         RayCounts& counts, RayCapture* capture);
+
+  explicit RayTracer(std::unique_ptr<RayTracerState> impl);
+  std::unique_ptr<RayTracerState> impl_;  // rt/RayTracerState.h
 };
 
 }  // namespace tandem::rt

@@ -94,14 +94,15 @@ class SpawnOrigins {
 class Whitted;
 
 /// What the Whitted recursion reports as it runs, in order, so that a recorder can rebuild the ray tree
-/// of one pixel (rt/PixelTrace.h). The recursion takes the recorder as a template parameter: the passes
-/// instantiate it with NoRecorder, whose members are empty and inline, so their loops compile to what
-/// they were without it (no call, no branch); PixelTrace instantiates it with this interface.
+/// of one pixel (rt/PixelTrace.h) or record every ray it traces (the bench's capture, rt/TileCapture.h).
+/// The recursion takes the recorder as a template parameter: the passes instantiate it with NoRecorder,
+/// whose members are empty and inline, so their loops compile to what they were without it (no call, no
+/// branch); PixelTrace and the capture instantiate it with this interface.
 ///
-/// Per ray: beginRay, then (when Embree is asked and answers) embreeHit, then (on a hit) surface, a
-/// shadowRay or noShadowRay per light when the hit's shadows are by rays, local, then either weights with
-/// a skipped or a nested ray per secondary kind, or noSecondaryRays; endRay closes it. A miss goes
-/// straight from beginRay (or embreeHit) to endRay.
+/// Per ray: beginRay, then notTraced when Embree cannot be asked or embreeHit when it answers a hit, then
+/// (on a hit) surface, a shadowRay or noShadowRay per light when the hit's shadows are by rays, local,
+/// then either weights with a skipped or a nested ray per secondary kind, or noSecondaryRays; endRay
+/// closes it. A miss goes straight from beginRay (or embreeHit) to endRay.
 class RayRecorder {
  public:
   /// A ray about to be followed: its kind, its span, the weight its radiance gets in the sum of the hit
@@ -110,6 +111,8 @@ class RayRecorder {
                         glm::vec3 weight, float throughput) = 0;
   /// Embree's nearest hit of the current ray.
   virtual void embreeHit(std::uint32_t instance, std::uint32_t triangle, float t) = 0;
+  /// The current ray was not given to Embree (an origin or direction that is not finite): it escapes.
+  virtual void notTraced() = 0;
   /// The surface point the current ray resolved to (the one it is shaded at).
   virtual void surface(const SurfaceHit& hit) = 0;
   /// Direct light `light` at the current hit needs no shadow ray, and why (its bit is set).
@@ -141,6 +144,7 @@ class RayRecorder {
 struct NoRecorder {
   void beginRay(RayKind, glm::vec3, glm::vec3, float, float, glm::vec3, float) const {}
   void embreeHit(std::uint32_t, std::uint32_t, float) const {}
+  void notTraced() const {}
   void surface(const SurfaceHit&) const {}
   void noShadowRay(std::size_t, NoShadowRay) const {}
   void shadowRay(std::size_t, const ShadowRay&, bool) const {}
@@ -160,6 +164,7 @@ class Recording {
     to_->beginRay(kind, originW, dirW, tNear, tFar, weight, throughput);
   }
   void embreeHit(std::uint32_t instance, std::uint32_t triangle, float t) const { to_->embreeHit(instance, triangle, t); }
+  void notTraced() const { to_->notTraced(); }
   void surface(const SurfaceHit& hit) const { to_->surface(hit); }
   void noShadowRay(std::size_t light, NoShadowRay why) const { to_->noShadowRay(light, why); }
   void shadowRay(std::size_t light, const ShadowRay& ray, bool occluded) const { to_->shadowRay(light, ray, occluded); }
@@ -237,71 +242,6 @@ class Whitted {
   const EmbreeScene& embree_;
   const FrameShading& frame_;
   TraceModes modes_;
-};
-
-/// Shadow rays gathered from many hits and traced by one rtcOccluded1M call: each ray answers one
-/// (slot, light bit). Reused across tiles (clear() keeps the capacity), so a tile allocates nothing.
-class ShadowBatch {
- public:
-  void clear();
-  /// Queues the shadow rays of `hit` (Whitted::shadowRay, light order), answering into masks[slot];
-  /// returns the bits of the lights that are visible without a ray.
-  std::uint32_t add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot);
-  /// Traces the queued rays and ORs the bit of every unoccluded one into masks[its slot].
-  void trace(RTCScene scene, std::uint32_t* masks, RayCounts& counts);
-
- private:
-  std::vector<RTCRay> rays_;
-  std::vector<std::size_t> slots_;
-  std::vector<std::uint32_t> bits_;
-  std::vector<std::size_t> captured_;  // bench hook: capture index of each ray
-};
-
-/// The reflection and refraction rays of a tile's primary hits, traced breadth first (a wavefront):
-/// every ray of one depth goes to Embree in one rtcIntersect1M call (measured about 1.8× faster than
-/// rtcIntersect1 per ray on the Whitted scene), the shadow rays of their hits in one rtcOccluded1M, and
-/// the hits spawn the next depth. It traces exactly the rays Whitted::secondary's recursion would (the
-/// same decisions on the same numbers) and sums them in the recursion's order, bottom up over the path
-/// tree, so S and T are bit-identical to the recursive result and do not depend on the thread count.
-class Wavefront {
- public:
-  /// Scratch kept between tiles (one per thread): the path tree and the per-depth batches.
-  struct Buffers {
-    struct Node {
-      glm::vec3 origin{0.0f};
-      glm::vec3 dir{0.0f};
-      glm::vec3 weight{0.0f};   // wR or wT of the parent's Whitted sum (WhittedWeights)
-      float throughput = 0.0f;  // product of the weights (largest component) from the primary hit
-      std::int64_t parent = -1;  // node index; -1: a primary hit's ray, whose S or T goes to `pixel`
-      std::size_t pixel = 0;
-      std::size_t captured = 0;  // bench hook: capture index
-      bool refraction = false;   // T rather than S of its parent
-      bool hit = false;
-      glm::vec3 local{0.0f};     // shaded local colour of the hit, or the background on a miss
-      glm::vec3 reflected{0.0f};    // wR·S of the hit (its children's results)
-      glm::vec3 transmitted{0.0f};  // wT·T
-    };
-    std::vector<Node> nodes;
-    std::vector<RTCRayHit> rays;
-    std::vector<std::size_t> rayNodes;
-    std::vector<SurfaceHit> hits;
-    std::vector<std::size_t> hitNodes;
-    std::vector<std::uint32_t> masks;
-    ShadowBatch shadows;
-  };
-
-  Wavefront(const Whitted& whitted, Buffers& buffers);
-  /// Queues the depth-0 reflection and refraction rays of a primary hit (counted now, as the
-  /// recursion counts them), whose weighted S and T go to `pixel` of the output arrays.
-  void addPrimary(const SurfaceHit& hit, std::size_t pixel, RayCounts& counts);
-  /// Traces depth after depth, then writes (wR·S, 1) and (wT·T, 1) of every pixel that traced the ray.
-  void run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmitted);
-
- private:
-  void spawn(const SurfaceHit& hit, int depth, float throughput, std::int64_t parent, std::size_t pixel,
-             RayCounts& counts);
-  const Whitted& whitted_;
-  Buffers& b_;
 };
 
 /// Fills an Embree ray; false (and nothing to trace) when any component is NaN or infinite, which

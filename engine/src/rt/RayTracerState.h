@@ -1,0 +1,22 @@
+#pragma once
+// RayTracer's state, for the two files that run passes on it: RayTracer.cpp (the frame's) and
+// RayTracerBench.cpp (the bench's re-trace). Its own type, not RayTracer::Impl, so that this header
+// need not include RayTracer.h.
+#include <memory>
+
+#include <tbb/task_arena.h>
+
+#include "rt/EmbreeScene.h"
+#include "tandem/Progress.h"
+
+namespace tandem::rt {
+
+struct RayTracerState {
+  int threads = 1;
+  tbb::task_arena arena;
+  std::unique_ptr<EmbreeDevice> device;
+  std::unique_ptr<EmbreeScene> scene;
+  RayPassProgressCallback progress;  // setProgressCallback
+};
+
+}  // namespace tandem::rt

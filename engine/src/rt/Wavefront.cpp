@@ -1,0 +1,192 @@
+#include "rt/Wavefront.h"
+
+#include <limits>
+
+#include "rt/TileCapture.h"
+
+namespace tandem::rt {
+
+void ShadowBatch::clear() {
+  rays_.clear();
+  slots_.clear();
+  bits_.clear();
+  captured_.clear();
+}
+
+template <class Capture>
+std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot,
+                               Capture& capture) {
+  std::uint32_t visible = 0;
+  SpawnOrigins origins;
+  for (std::size_t j = 0; j < lights; ++j) {
+    ShadowRay s = whitted.shadowRay(hit, j, origins);
+    if (!s.needed) {
+      if (s.visibleWithoutRay) visible |= 1u << j;
+      continue;
+    }
+    rays_.emplace_back();
+    makeEmbreeRay(rays_.back(), s.originW, s.dirW, 0.0f, s.tFar);  // finite: shadowRay checked
+    slots_.push_back(slot);
+    bits_.push_back(1u << j);
+    if constexpr (Capture::kRecords) captured_.push_back(capture.deferred(RayKind::Shadow, s.originW, s.dirW, 0.0f, s.tFar));
+  }
+  return visible;
+}
+
+template <class Capture>
+void ShadowBatch::trace(RTCScene scene, std::uint32_t* masks, RayCounts& counts, Capture& capture) {
+  if (rays_.empty()) return;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  // Left incoherent on purpose: with RTC_INTERSECT_CONTEXT_FLAG_COHERENT, Debian's Embree 3.13.5
+  // never returned from one tile's batch (tests/rt GlassSlab after the grazing-light scenes).
+  rtcOccluded1M(scene, &ctx, rays_.data(), static_cast<unsigned>(rays_.size()), sizeof(RTCRay));
+  counts.shadow += rays_.size();
+  // Embree marks an occluded ray by tfar = -inf.
+  for (std::size_t i = 0; i < rays_.size(); ++i)
+    if (rays_[i].tfar >= 0.0f) masks[slots_[i]] |= bits_[i];
+  if constexpr (Capture::kRecords)
+    for (std::size_t i = 0; i < captured_.size(); ++i) capture.answer(RayKind::Shadow, captured_[i], rays_[i].tfar < 0.0f);
+}
+
+Wavefront::Wavefront(const Whitted& whitted, Buffers& buffers) : whitted_(whitted), b_(buffers) {
+  b_.nodes.clear();
+}
+
+template <class Capture>
+void Wavefront::addPrimary(const SurfaceHit& hit, std::size_t pixel, RayCounts& counts, Capture& capture) {
+  spawn(hit, 0, 1.0f, -1, pixel, counts, capture);
+}
+
+// Whitted::secondary's decisions, queuing the rays instead of recursing into them.
+template <class Capture>
+void Wavefront::spawn(const SurfaceHit& hit, int depth, float throughput, std::int64_t parent, std::size_t pixel,
+                      RayCounts& counts, Capture& capture) {
+  const TraceModes& modes = whitted_.modes();
+  if (depth >= modes.maxDepth || (!modes.reflections && !modes.refraction)) return;
+  WhittedWeights w = whitted_.weights(hit);
+  auto queue = [&](RayKind kind, glm::vec3 dir, glm::vec3 weight, float weightMax) {
+    // The sides of Whitted::secondary: reflection in front of the facet, transmission behind it.
+    Buffers::Node& n = b_.nodes.emplace_back();
+    n.origin = spawnOrigin(hit, kind == RayKind::Refraction ? -hit.geomNormalW : hit.geomNormalW);
+    n.dir = dir;
+    n.weight = weight;
+    n.throughput = throughput * weightMax;
+    n.parent = parent;
+    n.pixel = pixel;
+    n.refraction = kind == RayKind::Refraction;
+    if constexpr (Capture::kRecords)
+      n.captured = capture.deferred(kind, n.origin, dir, 0.0f, std::numeric_limits<float>::infinity());
+  };
+  if (modes.reflections && w.reflect > 0.0f && throughput * w.reflect >= modes.minContribution) {
+    ++counts.reflection;
+    queue(RayKind::Reflection, w.reflectDirW, glm::vec3(w.reflect), w.reflect);
+  }
+  const float wT = w.transmitMax();
+  if (modes.refraction && wT > 0.0f && throughput * wT >= modes.minContribution) {
+    ++counts.refraction;
+    queue(RayKind::Refraction, w.refraction.dirW, w.transmit, wT);
+  }
+}
+
+template <class Capture>
+void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmitted, Capture& capture) {
+  const TraceModes& modes = whitted_.modes();
+  const EmbreeScene& embree = whitted_.embree();
+  const FrameShading& frame = whitted_.frame();
+  const std::size_t lights = frame.lights.size();
+  // Breadth first: the rays of depth d are nodes [begin, end); their hits append depth d + 1.
+  std::size_t begin = 0;
+  for (int depth = 1; begin < b_.nodes.size(); ++depth) {
+    const std::size_t end = b_.nodes.size();
+    b_.rays.clear();
+    b_.rayNodes.clear();
+    for (std::size_t i = begin; i < end; ++i) {
+      Buffers::Node& n = b_.nodes[i];
+      n.local = frame.background;  // until a hit says otherwise
+      RTCRayHit rh;
+      if (!makeEmbreeRay(rh.ray, n.origin, n.dir, 0.0f, std::numeric_limits<float>::infinity())) {
+        if constexpr (Capture::kRecords) capture.answer(n.refraction ? RayKind::Refraction : RayKind::Reflection, n.captured, false, false);
+        continue;
+      }
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      b_.rays.push_back(rh);
+      b_.rayNodes.push_back(i);
+    }
+    if (!b_.rays.empty()) {
+      RTCIntersectContext ctx;
+      rtcInitIntersectContext(&ctx);  // incoherent, as for shadow rays (see ShadowBatch::trace)
+      rtcIntersect1M(embree.top(), &ctx, b_.rays.data(), static_cast<unsigned>(b_.rays.size()), sizeof(RTCRayHit));
+    }
+    b_.hits.clear();
+    b_.hitNodes.clear();
+    for (std::size_t k = 0; k < b_.rays.size(); ++k) {
+      const RTCRayHit& rh = b_.rays[k];
+      Buffers::Node& n = b_.nodes[b_.rayNodes[k]];
+      bool missed = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID;
+      if constexpr (Capture::kRecords) capture.answer(n.refraction ? RayKind::Refraction : RayKind::Reflection, n.captured, !missed);
+      if (missed || !embree.hasTriangle(rh.hit.instID[0], rh.hit.primID)) continue;
+      n.hit = true;
+      b_.hits.push_back(resolveHit(whitted_.scene(), embree.transform(rh.hit.instID[0]), rh.hit.instID[0], rh.hit.primID,
+                                   Ray{n.origin, n.dir}));
+      b_.hitNodes.push_back(b_.rayNodes[k]);
+    }
+    // Shadow rays of every hit of this depth (Whitted::shade: secondary hits use rays when asked).
+    b_.masks.assign(b_.hits.size(), ~0u);
+    if (modes.secondaryShadowRays) {
+      b_.shadows.clear();
+      for (std::size_t h = 0; h < b_.hits.size(); ++h) b_.masks[h] = b_.shadows.add(whitted_, lights, b_.hits[h], h, capture);
+      b_.shadows.trace(embree.top(), b_.masks.data(), counts, capture);
+    }
+    for (std::size_t h = 0; h < b_.hits.size(); ++h) {
+      const SurfaceHit& hit = b_.hits[h];
+      std::size_t node = b_.hitNodes[h];
+      b_.nodes[node].local = shadeLocal(whitted_.scene(), frame, embree.transform(hit.instance), hit, b_.masks[h]);
+      spawn(hit, depth, b_.nodes[node].throughput, static_cast<std::int64_t>(node), b_.nodes[node].pixel, counts, capture);
+    }
+    begin = end;
+  }
+  // Bottom up: children come after their parent, so walking back finishes every node's S and T before
+  // its own sum, which is the recursion's expression: colour + wR·S + wT·T (background on a miss).
+  for (std::size_t i = b_.nodes.size(); i-- > 0;) {
+    const Buffers::Node& n = b_.nodes[i];
+    glm::vec3 radiance = n.hit ? n.local + n.reflected + n.transmitted : n.local;
+    glm::vec3 weighted = n.weight * radiance;
+    if (n.parent >= 0) {
+      Buffers::Node& p = b_.nodes[static_cast<std::size_t>(n.parent)];
+      (n.refraction ? p.transmitted : p.reflected) = weighted;
+    } else {
+      (n.refraction ? transmitted : reflected)[n.pixel] = glm::vec4(weighted, 1.0f);
+    }
+  }
+}
+
+std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot) {
+  NoCapture none;
+  return add(whitted, lights, hit, slot, none);
+}
+void ShadowBatch::trace(RTCScene scene, std::uint32_t* masks, RayCounts& counts) {
+  NoCapture none;
+  trace(scene, masks, counts, none);
+}
+void Wavefront::addPrimary(const SurfaceHit& hit, std::size_t pixel, RayCounts& counts) {
+  NoCapture none;
+  addPrimary(hit, pixel, counts, none);
+}
+void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmitted) {
+  NoCapture none;
+  run(counts, reflected, transmitted, none);
+}
+
+// The frame's instantiation and the bench's; no others.
+template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, NoCapture&);
+template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, TileCapture&);
+template void ShadowBatch::trace(RTCScene, std::uint32_t*, RayCounts&, NoCapture&);
+template void ShadowBatch::trace(RTCScene, std::uint32_t*, RayCounts&, TileCapture&);
+template void Wavefront::addPrimary(const SurfaceHit&, std::size_t, RayCounts&, NoCapture&);
+template void Wavefront::addPrimary(const SurfaceHit&, std::size_t, RayCounts&, TileCapture&);
+template void Wavefront::run(RayCounts&, glm::vec4*, glm::vec4*, NoCapture&);
+template void Wavefront::run(RayCounts&, glm::vec4*, glm::vec4*, TileCapture&);
+
+}  // namespace tandem::rt
