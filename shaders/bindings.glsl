@@ -1,6 +1,6 @@
-// The one table of GL binding points, texture units and channel bits. Included by every shader that binds
-// something, and by C++ (engine/src/gl/Bindings.h) as plain #defines, so a number is written once.
-// Channels and formats: docs/gbuffer.md.
+// The one table of GL binding points, texture units, channel formats and channel bits. Included by every
+// shader that binds something, and by C++ (engine/src/gl/Bindings.h) as plain #defines, so a number or a
+// format is written once. Channels and formats: docs/gbuffer.md.
 #ifndef TD_BINDINGS_GLSL
 #define TD_BINDINGS_GLSL
 
@@ -50,6 +50,30 @@
 // ---- texture units: normal maps (GpuScene) ----
 #define TD_UNIT_TANGENTS_TEX 19
 #define TD_UNIT_NORMAL_MAPS 20
+
+// ---- frame channels (docs/gbuffer.md) ----
+// TD_CHANNEL_X: the GL internal format, and the pixel format and type its CPU copies (uploads and
+// read-backs) travel in; C++ only (GLSL never expands them). TD_SAMPLER_X / TD_OUTPUT_X: the type the
+// shaders declare the channel with, which must match the format (unsigned integer, float or depth).
+#define TD_CHANNEL_IDS GL_RG32UI, GL_RG_INTEGER, GL_UNSIGNED_INT     // visibility ids, full res
+#define TD_SAMPLER_IDS usampler2D
+#define TD_OUTPUT_IDS uvec2
+#define TD_CHANNEL_DEPTH GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT  // reversed-Z, and its sampled copy
+#define TD_SAMPLER_DEPTH sampler2D
+#define TD_CHANNEL_LIGHT_MASK GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT  // ray grid
+#define TD_SAMPLER_LIGHT_MASK usampler2D
+#define TD_CHANNEL_REFLECTED GL_RGBA32F, GL_RGBA, GL_FLOAT       // ray grid, wR·S
+#define TD_SAMPLER_REFLECTED sampler2D
+#define TD_CHANNEL_TRANSMITTED GL_RGBA32F, GL_RGBA, GL_FLOAT     // ray grid, wT·T
+#define TD_SAMPLER_TRANSMITTED sampler2D
+#define TD_CHANNEL_LINEAR GL_RGBA32F, GL_RGBA, GL_FLOAT          // linear radiance, full res
+#define TD_SAMPLER_LINEAR sampler2D
+#define TD_CHANNEL_DISPLAY GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE   // tone-mapped sRGB, full res
+#define TD_CHANNEL_PROBES GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT     // reflection probe cubes
+#define TD_SAMPLER_PROBES samplerCubeArray
+#define TD_CHANNEL_SHADOW_MAPS GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT  // maps and cube maps
+#define TD_SAMPLER_SHADOW_MAPS sampler2DArrayShadow
+#define TD_SAMPLER_SHADOW_CUBES samplerCubeArrayShadow
 
 // ---- channel bits the shade pass is compiled for ----
 #define TD_RAY_LIGHT_MASK 1     // TD_RAY_INPUTS: which ray results were uploaded

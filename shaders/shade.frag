@@ -61,23 +61,23 @@ struct GpuShadow {
   vec4 params;                 // x layer / cube index, y near, z far, w texel size (world, or per unit distance)
 };
 layout(std140, binding = TD_BLOCK_SHADOWS) uniform ShadowBlock { GpuShadow shadows[TD_MAX_LIGHTS]; };
-layout(binding = TD_UNIT_SHADOW_MAPS) uniform sampler2DArrayShadow shadowMaps;
-layout(binding = TD_UNIT_SHADOW_CUBES) uniform samplerCubeArrayShadow shadowCubes;
+layout(binding = TD_UNIT_SHADOW_MAPS) uniform TD_SAMPLER_SHADOW_MAPS shadowMaps;
+layout(binding = TD_UNIT_SHADOW_CUBES) uniform TD_SAMPLER_SHADOW_CUBES shadowCubes;
 #endif
 #if TD_PROBES != 0
-layout(binding = TD_UNIT_PROBES) uniform samplerCubeArray probes;  // RGBA16F linear radiance, layer = probe slot
+layout(binding = TD_UNIT_PROBES) uniform TD_SAMPLER_PROBES probes;  // RGBA16F linear radiance, layer = probe slot
 #endif
 
 vec3 positionO(uint v) { return texelFetch(positionsBuf, int(v)).xyz; }
 vec3 objectNormal(uint v) { return texelFetch(normalsBuf, int(v)).xyz; }
 
-layout(binding = TD_UNIT_IDS) uniform usampler2D idsTex;        // GL rows: bottom first
-layout(binding = TD_UNIT_DEPTH) uniform sampler2D depthTex;
+layout(binding = TD_UNIT_IDS) uniform TD_SAMPLER_IDS idsTex;        // GL rows: bottom first
+layout(binding = TD_UNIT_DEPTH) uniform TD_SAMPLER_DEPTH depthTex;
 layout(binding = TD_UNIT_KD) uniform sampler2DArray kdTextures;
 layout(binding = TD_UNIT_RAMPS) uniform sampler2D toonRamps;      // row = material, nearest
-layout(binding = TD_UNIT_LIGHT_MASK) uniform usampler2D lightMaskTex;  // ray grid, row 0 = top
-layout(binding = TD_UNIT_REFLECTED) uniform sampler2D reflectedTex;   // ray grid, row 0 = top
-layout(binding = TD_UNIT_TRANSMITTED) uniform sampler2D transmittedTex; // ray grid, row 0 = top
+layout(binding = TD_UNIT_LIGHT_MASK) uniform TD_SAMPLER_LIGHT_MASK lightMaskTex;  // ray grid, row 0 = top
+layout(binding = TD_UNIT_REFLECTED) uniform TD_SAMPLER_REFLECTED reflectedTex;   // ray grid, row 0 = top
+layout(binding = TD_UNIT_TRANSMITTED) uniform TD_SAMPLER_TRANSMITTED transmittedTex; // ray grid, row 0 = top
 
 layout(location = 0) uniform vec3 cameraPosW;
 layout(location = 1) uniform vec3 cameraForward;

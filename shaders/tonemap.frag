@@ -5,7 +5,7 @@
 #include "bindings.glsl"
 #include "shading.glsl"
 
-layout(binding = TD_UNIT_LINEAR) uniform sampler2D linearColor;
+layout(binding = TD_UNIT_LINEAR) uniform TD_SAMPLER_LINEAR linearColor;
 layout(location = 0) uniform float exposure;
 layout(location = 1) uniform int toneMap;
 layout(location = 2) uniform int passThrough;

@@ -4,11 +4,11 @@
 #ifndef TD_ALPHA_MASK
 #define TD_ALPHA_MASK 0
 #endif
+#include "bindings.glsl"  // the ids' output type, and the kd unit below
 #if TD_ALPHA_MASK
 // glTF alphaMode MASK: texels under the cutoff are holes, so the raster sees what is behind them. A
 // variant, because a shader that may discard loses llvmpipe's early depth test for every scene.
 #define TD_OUT(T) out T
-#include "bindings.glsl"
 #include "shading.glsl"
 layout(binding = TD_UNIT_KD) uniform sampler2DArray kdTextures;  // GpuScene::bind's kd unit
 in vec2 vUv;
@@ -16,7 +16,7 @@ flat in float vAlphaCode;
 flat in float vLayer;
 #endif
 flat in uint vInstance;
-layout(location = 0) out uvec2 outIds;  // x instance + 1 (0 = background), y triangle within the mesh
+layout(location = 0) out TD_OUTPUT_IDS outIds;  // x instance + 1 (0 = background), y triangle within the mesh
 
 void main() {
 #if TD_ALPHA_MASK

@@ -1,6 +1,6 @@
 #pragma once
-// The GL binding points, texture units and channel bits as C++ constants, from the one table the shaders
-// include (shaders/bindings.glsl).
+// The GL binding points, texture units, channel formats and channel bits as C++ constants, from the one
+// table the shaders include (shaders/bindings.glsl).
 #include "gl/Gl.h"
 #include "../../../shaders/bindings.glsl"
 
@@ -24,6 +24,18 @@ inline constexpr GLuint kUnitPositionsTex = TD_UNIT_POSITIONS_TEX, kUnitNormalsT
 inline constexpr GLuint kUnitShadowMaps = TD_UNIT_SHADOW_MAPS, kUnitShadowCubes = TD_UNIT_SHADOW_CUBES,
                         kUnitProbes = TD_UNIT_PROBES;
 inline constexpr GLuint kUnitTangentsTex = TD_UNIT_TANGENTS_TEX, kUnitNormalMaps = TD_UNIT_NORMAL_MAPS;
+
+/// A frame channel's GL internal format, and the pixel format and type of its CPU copies (docs/gbuffer.md).
+struct ChannelFormat {
+  GLenum internal;
+  GLenum transfer;
+  GLenum type;
+};
+inline constexpr ChannelFormat kChannelIds{TD_CHANNEL_IDS}, kChannelDepth{TD_CHANNEL_DEPTH},
+                               kChannelLightMask{TD_CHANNEL_LIGHT_MASK}, kChannelReflected{TD_CHANNEL_REFLECTED},
+                               kChannelTransmitted{TD_CHANNEL_TRANSMITTED}, kChannelLinear{TD_CHANNEL_LINEAR},
+                               kChannelDisplay{TD_CHANNEL_DISPLAY}, kChannelProbes{TD_CHANNEL_PROBES},
+                               kChannelShadowMaps{TD_CHANNEL_SHADOW_MAPS};
 
 /// Which ray results a frame uploaded (ShadeInputs::rayInputs), the shade pass's TD_RAY_INPUTS.
 enum RayInput : int { kRayLightMask = TD_RAY_LIGHT_MASK, kRayReflected = TD_RAY_REFLECTED, kRayTransmitted = TD_RAY_TRANSMITTED };

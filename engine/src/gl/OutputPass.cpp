@@ -24,9 +24,9 @@ Result<void> OutputPass::resize(int width, int height) {
   assert(width > 0 && height > 0 && "OutputPass::resize: empty frame");
   if (width == width_ && height == height_) return {};
   release();  // the old targets first: they may be what keeps the new ones from fitting
-  auto linear = tryCreateTexture2D("linear radiance", GL_RGBA32F, width, height);
+  auto linear = tryCreateTexture2D("linear radiance", kChannelLinear.internal, width, height);
   if (!linear) return linear.error();
-  auto display = tryCreateTexture2D("display", GL_RGBA8, width, height);
+  auto display = tryCreateTexture2D("display", kChannelDisplay.internal, width, height);
   if (!display) return display.error();
   setSampling(*linear, GL_NEAREST, GL_NEAREST);
   setSampling(*display, GL_LINEAR, GL_LINEAR);
@@ -54,7 +54,7 @@ void OutputPass::release() {
 }
 
 std::size_t OutputPass::targetBytes(int width, int height) {
-  return (texelBytes(GL_RGBA32F) + texelBytes(GL_RGBA8)) * static_cast<std::size_t>(width) *
+  return (texelBytes(kChannelLinear.internal) + texelBytes(kChannelDisplay.internal)) * static_cast<std::size_t>(width) *
          static_cast<std::size_t>(height);
 }
 
@@ -66,7 +66,7 @@ void OutputPass::uploadLinear(const ImageF& image) {
     for (int x = 0; x < width_; ++x)
       rgba[static_cast<std::size_t>(height_ - 1 - y) * width_ + x] = glm::vec4(image.at(x, y), 1.0f);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTextureSubImage2D(linear_.id(), 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT, rgba.data());
+  glTextureSubImage2D(linear_.id(), 0, 0, 0, width_, height_, kChannelLinear.transfer, kChannelLinear.type, rgba.data());
 }
 
 void OutputPass::output(float exposure, ToneMap toneMap, DebugView view) {
@@ -98,7 +98,7 @@ Image OutputPass::readImage() const {
   std::vector<std::uint8_t> rows(image.rgba.size());
   glBindFramebuffer(GL_READ_FRAMEBUFFER, displayFbo_.id());
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+  glReadPixels(0, 0, width_, height_, kChannelDisplay.transfer, kChannelDisplay.type, rows.data());
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
   std::size_t stride = static_cast<std::size_t>(width_) * 4;
   for (int y = 0; y < height_; ++y)
@@ -116,7 +116,7 @@ ImageF OutputPass::readLinear() const {
   std::vector<glm::vec4> rows(image.rgb.size());
   glBindFramebuffer(GL_READ_FRAMEBUFFER, linearFbo_.id());
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, rows.data());
+  glReadPixels(0, 0, width_, height_, kChannelLinear.transfer, kChannelLinear.type, rows.data());
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
   for (int y = 0; y < height_; ++y)
     for (int x = 0; x < width_; ++x)

@@ -116,7 +116,7 @@ void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const Visibilit
   if (layers != layers_ || (layers > 0 && !maps_)) {
     maps_.reset();
     if (layers > 0) {
-      maps_ = createTexture2DArray("shadow maps", GL_DEPTH_COMPONENT32F, kMapSize, kMapSize, layers, 1);
+      maps_ = createTexture2DArray("shadow maps", kChannelShadowMaps.internal, kMapSize, kMapSize, layers, 1);
       depthCompare(maps_);
     }
     layers_ = layers;
@@ -124,7 +124,7 @@ void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const Visibilit
   if (cubes != cubes_ || (cubes > 0 && !cubeMaps_)) {
     cubeMaps_.reset();
     if (cubes > 0) {
-      cubeMaps_ = createTextureCube("shadow cube maps", GL_DEPTH_COMPONENT32F, kCubeSize, cubes);
+      cubeMaps_ = createTextureCube("shadow cube maps", kChannelShadowMaps.internal, kCubeSize, cubes);
       depthCompare(cubeMaps_);
     }
     cubes_ = cubes;

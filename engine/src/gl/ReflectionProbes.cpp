@@ -19,7 +19,7 @@ void ReflectionProbes::update(const Scene& scene, const GpuScene& gpu, const Vis
   }
   if (static_cast<int>(probes.size()) != count_ || !cubes_) {
     count_ = static_cast<int>(probes.size());
-    cubes_ = createTextureCube("reflection probes", GL_RGBA16F, kFaceSize, count_);
+    cubes_ = createTextureCube("reflection probes", kChannelProbes.internal, kFaceSize, count_);
     glTextureParameteri(cubes_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(cubes_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(cubes_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -27,11 +27,11 @@ void ReflectionProbes::update(const Scene& scene, const GpuScene& gpu, const Vis
     glTextureParameteri(cubes_.id(), GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
   }
   if (!ids_) {
-    ids_ = createTexture2D("probe ids", GL_RG32UI, kFaceSize, kFaceSize);
+    ids_ = createTexture2D("probe ids", kChannelIds.internal, kFaceSize, kFaceSize);
     setSampling(ids_, GL_NEAREST, GL_NEAREST);
-    depth_ = createTexture2D("probe depth", GL_DEPTH_COMPONENT32F, kFaceSize, kFaceSize);
+    depth_ = createTexture2D("probe depth", kChannelDepth.internal, kFaceSize, kFaceSize);
     setSampling(depth_, GL_NEAREST, GL_NEAREST);
-    sampledDepth_ = createTexture2D("probe depth (sampled copy)", GL_DEPTH_COMPONENT32F, kFaceSize, kFaceSize);
+    sampledDepth_ = createTexture2D("probe depth (sampled copy)", kChannelDepth.internal, kFaceSize, kFaceSize);
     setSampling(sampledDepth_, GL_NEAREST, GL_NEAREST);
     rasterFbo_ = createFramebuffer("probe raster");
     glNamedFramebufferTexture(rasterFbo_.id(), GL_COLOR_ATTACHMENT0, ids_.id(), 0);

@@ -14,8 +14,8 @@ namespace tandem::gl {
 namespace {
 
 // Recreates `texture` only when the size changes: the ray grid is the same every frame in practice.
-Result<void> uploadGrid(Texture& texture, const char* label, GLenum internalFormat, int width, int height,
-                        GLenum format, GLenum type, const void* data) {
+Result<void> uploadGrid(Texture& texture, const char* label, ChannelFormat channel, int width, int height,
+                        const void* data) {
   GLint w = 0, h = 0;
   if (texture) {
     glGetTextureLevelParameteriv(texture.id(), 0, GL_TEXTURE_WIDTH, &w);
@@ -23,13 +23,13 @@ Result<void> uploadGrid(Texture& texture, const char* label, GLenum internalForm
   }
   if (!texture || w != width || h != height) {
     texture.reset();
-    auto made = tryCreateTexture2D(label, internalFormat, width, height);
+    auto made = tryCreateTexture2D(label, channel.internal, width, height);
     if (!made) return made.error();
     texture = std::move(*made);
     setSampling(texture, GL_NEAREST, GL_NEAREST);
   }
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, format, type, data);
+  glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, channel.transfer, channel.type, data);
   return {};
 }
 
@@ -47,15 +47,15 @@ Result<ShadePass> ShadePass::create() {
 }
 
 Result<void> ShadePass::uploadLightMask(int width, int height, const std::uint32_t* mask) {
-  return uploadGrid(lightMask_, "ray light mask", GL_R32UI, width, height, GL_RED_INTEGER, GL_UNSIGNED_INT, mask);
+  return uploadGrid(lightMask_, "ray light mask", kChannelLightMask, width, height, mask);
 }
 
 Result<void> ShadePass::uploadReflected(int width, int height, const glm::vec4* rgba) {
-  return uploadGrid(reflected_, "ray reflected", GL_RGBA32F, width, height, GL_RGBA, GL_FLOAT, rgba);
+  return uploadGrid(reflected_, "ray reflected", kChannelReflected, width, height, rgba);
 }
 
 Result<void> ShadePass::uploadTransmitted(int width, int height, const glm::vec4* rgba) {
-  return uploadGrid(transmitted_, "ray transmitted", GL_RGBA32F, width, height, GL_RGBA, GL_FLOAT, rgba);
+  return uploadGrid(transmitted_, "ray transmitted", kChannelTransmitted, width, height, rgba);
 }
 
 bool ShadePass::samplesDepth(const SceneFeatures& features, DebugView view) {
@@ -72,7 +72,7 @@ Result<void> ShadePass::reserveSampledDepth(int width, int height) {
     if (w == width && h == height) return {};
     sampledDepth_.reset();
   }
-  auto made = tryCreateTexture2D("gbuffer depth (sampled copy)", GL_DEPTH_COMPONENT32F, width, height);
+  auto made = tryCreateTexture2D("gbuffer depth (sampled copy)", kChannelDepth.internal, width, height);
   if (!made) return made.error();
   sampledDepth_ = std::move(*made);
   setSampling(sampledDepth_, GL_NEAREST, GL_NEAREST);

@@ -5,6 +5,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "gl/Bindings.h"
 #include "gl/FeedbackLoop.h"
 #include "gl/Program.h"
 
@@ -28,9 +29,9 @@ Result<void> VisibilityPass::resize(int width, int height) {
   assert(width > 0 && height > 0 && "VisibilityPass::resize: empty frame");
   if (width == width_ && height == height_) return {};
   release();  // the old targets first: they may be what keeps the new ones from fitting
-  auto ids = tryCreateTexture2D("gbuffer ids", GL_RG32UI, width, height);
+  auto ids = tryCreateTexture2D("gbuffer ids", kChannelIds.internal, width, height);
   if (!ids) return ids.error();
-  auto depth = tryCreateTexture2D("gbuffer depth", GL_DEPTH_COMPONENT32F, width, height);
+  auto depth = tryCreateTexture2D("gbuffer depth", kChannelDepth.internal, width, height);
   if (!depth) return depth.error();
   setSampling(*ids, GL_NEAREST, GL_NEAREST);
   setSampling(*depth, GL_NEAREST, GL_NEAREST);
@@ -56,7 +57,7 @@ void VisibilityPass::release() {
 }
 
 std::size_t VisibilityPass::targetBytes(int width, int height) {
-  return (texelBytes(GL_RG32UI) + texelBytes(GL_DEPTH_COMPONENT32F)) * static_cast<std::size_t>(width) *
+  return (texelBytes(kChannelIds.internal) + texelBytes(kChannelDepth.internal)) * static_cast<std::size_t>(width) *
          static_cast<std::size_t>(height);
 }
 
@@ -104,7 +105,7 @@ void VisibilityPass::readIds(std::vector<glm::uvec2>& ids) const {
   ids.resize(rowLength * static_cast<std::size_t>(height_));
   glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_.id());
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(0, 0, width_, height_, GL_RG_INTEGER, GL_UNSIGNED_INT, ids.data());
+  glReadPixels(0, 0, width_, height_, kChannelIds.transfer, kChannelIds.type, ids.data());
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
   // GL rows run bottom-up; the ray pass wants row 0 at the top.
   for (int y = 0; y < height_ / 2; ++y)
