@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
 """The engine's include rules (docs/architecture.md), checked on the source: exit 1 naming each breach.
- - layers: core includes no scene/rt/gl/render, no Embree and no GL; scene includes no rt/gl/render;
+ - layers: core includes no io/rt/gl/render, no Embree and no GL; io includes no rt/gl/render;
    rt includes no gl/render and no GL header; gl includes no rt/render, no Embree;
  - no include circle among the files of one layer (a .cpp counts with its own header)."""
 import os, re, sys
 
 src = os.path.join(sys.argv[1], "engine", "src")
 forbidden = {
-    "core": ["scene/", "rt/", "gl/", "render/", "embree3/", "glad/", "EGL/", "GLFW/"],
-    "scene": ["rt/", "gl/", "render/", "embree3/", "glad/", "EGL/", "GLFW/"],
+    "core": ["io/", "rt/", "gl/", "render/", "embree3/", "glad/", "EGL/", "GLFW/"],
+    "io": ["rt/", "gl/", "render/", "embree3/", "glad/", "EGL/", "GLFW/"],
     "rt": ["gl/", "render/", "glad/", "EGL/", "GLFW/"],
     "gl": ["rt/", "render/", "embree3/"],
 }

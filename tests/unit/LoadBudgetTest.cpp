@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "support/AdversarialFiles.h"
-#include "scene/LoadBudget.h"
+#include "io/LoadBudget.h"
 #include "tandem/Gltf.h"
 #include "tandem/Image.h"
 #include "tandem/Log.h"

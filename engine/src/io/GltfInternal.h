@@ -22,7 +22,7 @@
 #include "tandem/Animation.h"
 #include "tandem/Gltf.h"
 #include "tandem/Result.h"
-#include "scene/LoadBudget.h"
+#include "io/LoadBudget.h"
 
 namespace tandem::gltf {
 

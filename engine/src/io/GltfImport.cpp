@@ -13,7 +13,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "scene/GltfImporter.h"
+#include "io/GltfImporter.h"
 #include "tandem/Image.h"
 #include "tandem/Log.h"
 

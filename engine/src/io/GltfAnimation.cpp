@@ -5,7 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include "scene/GltfInternal.h"
+#include "io/GltfInternal.h"
 
 namespace tandem {
 

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "scene/GltfInternal.h"
+#include "io/GltfInternal.h"
 
 namespace tandem::gltf {
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 
 #include "core/StbGuard.h"
-#include "scene/GltfImporter.h"
+#include "io/GltfImporter.h"
 #include "tandem/Image.h"
 
 namespace tandem::gltf {

@@ -25,8 +25,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/Embedded.h"
-#include "scene/LoadBudget.h"
-#include "scene/SceneJson.h"
+#include "io/LoadBudget.h"
+#include "io/SceneJson.h"
 #include "tandem/Gltf.h"
 #include "tandem/Log.h"
 #include "tandem/Primitives.h"

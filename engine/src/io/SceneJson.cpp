@@ -1,4 +1,4 @@
-#include "scene/SceneJson.h"
+#include "io/SceneJson.h"
 
 #include <algorithm>
 #include <optional>

@@ -16,8 +16,8 @@
 
 #include <glm/glm.hpp>
 
-#include "scene/GltfInternal.h"
-#include "scene/LoadBudget.h"
+#include "io/GltfInternal.h"
+#include "io/LoadBudget.h"
 
 namespace tandem::gltf {
 

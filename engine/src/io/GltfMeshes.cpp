@@ -3,7 +3,7 @@
 // same accessors, every array charged to the load budget first.
 #include <algorithm>
 
-#include "scene/GltfImporter.h"
+#include "io/GltfImporter.h"
 
 namespace tandem::gltf {
 

@@ -7,7 +7,7 @@
 #include <set>
 #include <string>
 
-#include "scene/GltfInternal.h"
+#include "io/GltfInternal.h"
 
 namespace tandem::gltf {
 
