@@ -126,11 +126,10 @@ std::string EmbreeDevice::firstError() {
   return errorText_;
 }
 
-Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, const Scene& scene) {
-  RTCDevice dev = device.get();
-  device.clearError();
-  const std::string where = scene.name.empty() ? std::string("scene") : "scene '" + scene.name + "'";
-  // Bad input is refused here, before Embree sees it: Debian's Embree does not skip invalid data.
+namespace {
+
+// Bad input is refused here, before Embree sees it: Debian's Embree does not skip invalid data.
+Result<void> checkEmbreeInput(const Scene& scene, const std::string& where) {
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     if (mesh.indices.size() % 3 != 0)
@@ -150,122 +149,149 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, co
           !std::isfinite(inst.worldFromObject[c].z) || !std::isfinite(inst.worldFromObject[c].w))
         return Error{where + ": instance " + std::to_string(i) + ": transform is NaN or infinite"};
   }
+  return {};
+}
+
+Error embreeFailure(EmbreeDevice& device, const std::string& where, const std::string& what) {
+  std::string e = device.firstError();
+  return Error{where + ": " + what + ": " + (e.empty() ? std::string("Embree failed") : e)};
+}
+
+}  // namespace
+
+Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, const Scene& scene) {
+  device.clearError();
+  const std::string where = scene.name.empty() ? std::string("scene") : "scene '" + scene.name + "'";
+  if (auto checked = checkEmbreeInput(scene, where); !checked) return checked.error();
 
   auto out = std::unique_ptr<EmbreeScene>(new EmbreeScene());
   // Camera-relative: positions are kept relative to where the camera is, so their precision follows
   // the distance to the viewer rather than to the world origin (docs/numerics.md, "Position").
   out->anchor_ = renderAnchor(scene);
-  auto failed = [&](const std::string& what) -> Result<std::unique_ptr<EmbreeScene>> {
-    std::string e = device.firstError();
-    return Error{where + ": " + what + ": " + (e.empty() ? std::string("Embree failed") : e)};
-  };
+  out->collectMaskCutouts(scene);
+  if (auto built = out->buildMeshScenes(device, scene, where); !built) return built.error();
+  if (auto built = out->buildTopLevel(device, scene, where); !built) return built.error();
+  return out;
+}
 
-  // MASK cut-outs: which instances test a texture's alpha, and which meshes therefore need the filter.
-  // Cost follows the scene: geometries with no MASK instance get no filter at all.
-  out->instanceMask_.assign(scene.instances.size(), -1);
-  out->meshMask_.assign(scene.meshes.size(), -1);
-  {
-    std::vector<std::int32_t> materialMask(scene.materials.size(), -1);
-    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
-      const Instance& inst = scene.instances[i];
-      const Material& mat = scene.materials[inst.material];
-      const Mesh& mesh = scene.meshes[inst.mesh];
-      shading::GpuMaterial packed = shading::packMaterial(mat, static_cast<int>(inst.material), std::nullopt);
-      bool masked = mat.alphaMode == AlphaMode::Mask && packed.texAlpha.w > 0.0f;
-      // Without a texture (or uvs) the coverage is uniform: opacity ≥ cutoff keeps all, else nothing passes.
-      if (!masked) continue;
-      bool textured = mat.kdTexture >= 0 && static_cast<std::size_t>(mat.kdTexture) < scene.textures.size() &&
-                      !mesh.uvs.empty() && mesh.uvs.size() == mesh.positions.size();
-      if (!textured && shading::tdCoverage(packed, 1.0f) > 0.0f) continue;
-      if (materialMask[inst.material] < 0) {
-        MaskMaterial mm;
-        mm.packed = packed;
-        mm.uvTransform = mat.uvTransform;
-        if (textured) mm.kdTexture = scene.textures[static_cast<std::size_t>(mat.kdTexture)];
-        else {
-          mm.kdTexture.width = mm.kdTexture.height = 1;  // uniform: one white texel, alpha 1
-          mm.kdTexture.rgba8 = {255, 255, 255, 255};
-        }
-        materialMask[inst.material] = static_cast<std::int32_t>(out->maskMaterials_.size());
-        out->maskMaterials_.push_back(std::move(mm));
+// MASK cut-outs: which instances test a texture's alpha, and which meshes therefore need the filter.
+// Cost follows the scene: geometries with no MASK instance get no filter at all.
+void EmbreeScene::collectMaskCutouts(const Scene& scene) {
+  instanceMask_.assign(scene.instances.size(), -1);
+  meshMask_.assign(scene.meshes.size(), -1);
+  std::vector<std::int32_t> materialMask(scene.materials.size(), -1);
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    const Material& mat = scene.materials[inst.material];
+    const Mesh& mesh = scene.meshes[inst.mesh];
+    shading::GpuMaterial packed = shading::packMaterial(mat, static_cast<int>(inst.material), std::nullopt);
+    bool masked = mat.alphaMode == AlphaMode::Mask && packed.texAlpha.w > 0.0f;
+    // Without a texture (or uvs) the coverage is uniform: opacity ≥ cutoff keeps all, else nothing passes.
+    if (!masked) continue;
+    bool textured = mat.kdTexture >= 0 && static_cast<std::size_t>(mat.kdTexture) < scene.textures.size() &&
+                    !mesh.uvs.empty() && mesh.uvs.size() == mesh.positions.size();
+    if (!textured && shading::tdCoverage(packed, 1.0f) > 0.0f) continue;
+    if (materialMask[inst.material] < 0) {
+      MaskMaterial mm;
+      mm.packed = packed;
+      mm.uvTransform = mat.uvTransform;
+      if (textured) mm.kdTexture = scene.textures[static_cast<std::size_t>(mat.kdTexture)];
+      else {
+        mm.kdTexture.width = mm.kdTexture.height = 1;  // uniform: one white texel, alpha 1
+        mm.kdTexture.rgba8 = {255, 255, 255, 255};
       }
-      out->instanceMask_[i] = materialMask[inst.material];
-      if (out->meshMask_[inst.mesh] < 0) {
-        MaskMesh mm;
-        mm.indices = mesh.indices;
-        mm.uvs = textured ? mesh.uvs : std::vector<glm::vec2>(mesh.positions.size(), glm::vec2(0.0f));
-        out->meshMask_[inst.mesh] = static_cast<std::int32_t>(out->maskMeshes_.size());
-        out->maskMeshes_.push_back(std::move(mm));
-      }
+      materialMask[inst.material] = static_cast<std::int32_t>(maskMaterials_.size());
+      maskMaterials_.push_back(std::move(mm));
+    }
+    instanceMask_[i] = materialMask[inst.material];
+    if (meshMask_[inst.mesh] < 0) {
+      MaskMesh mm;
+      mm.indices = mesh.indices;
+      mm.uvs = textured ? mesh.uvs : std::vector<glm::vec2>(mesh.positions.size(), glm::vec2(0.0f));
+      meshMask_[inst.mesh] = static_cast<std::int32_t>(maskMeshes_.size());
+      maskMeshes_.push_back(std::move(mm));
     }
   }
+}
 
+Result<void> EmbreeScene::buildMeshScenes(EmbreeDevice& device, const Scene& scene, const std::string& where) {
+  RTCDevice dev = device.get();
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     SceneHandle blas = newScene(dev);
-    if (!blas) return failed("mesh " + std::to_string(m));
+    if (!blas) return embreeFailure(device, where, "mesh " + std::to_string(m));
     // Static geometry traced for many frames: spend build time for traversal speed. ROBUST makes
     // traversal watertight, so shared edges never leak a ray (shadows and refraction through meshes).
     rtcSetSceneBuildQuality(blas.get(), RTC_BUILD_QUALITY_HIGH);
     rtcSetSceneFlags(blas.get(), RTC_SCENE_FLAG_ROBUST);
-    std::size_t triangles = mesh.triangleCount();
-    if (triangles > 0) {
-      RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-      if (!geom) return failed("mesh " + std::to_string(m));
-      // Embree-allocated buffers carry the readable padding after the last vertex that its SIMD loads need.
-      auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                   3 * sizeof(float), mesh.positions.size()));
-      auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
-          geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), triangles));
-      if (!vertices || !indices) {
-        rtcReleaseGeometry(geom);
-        return failed("mesh " + std::to_string(m) + " buffers");
-      }
-      std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3));
-      // Every triangle keeps its slot, degenerate ones included, so primID = the mesh's triangle index
-      // (the rasterizer's gl_PrimitiveID); Embree itself never reports a zero-area triangle as hit.
-      std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t));
-      if (out->meshMask_[m] >= 0) {
-        auto& user = out->maskUsers_.emplace_back(std::make_unique<MaskFilterUser>());
-        user->owner = out.get();
-        user->mesh = static_cast<std::uint32_t>(m);
-        rtcSetGeometryUserData(geom, user.get());
-        rtcSetGeometryIntersectFilterFunction(geom, &alphaMaskFilter);
-        rtcSetGeometryOccludedFilterFunction(geom, &alphaMaskFilter);
-      }
-      rtcCommitGeometry(geom);
-      rtcAttachGeometryByID(blas.get(), geom, 0);
-      rtcReleaseGeometry(geom);
-    }
+    if (mesh.triangleCount() > 0)
+      if (auto attached = attachTriangles(device, mesh, m, blas.get(), where); !attached) return attached.error();
     rtcCommitScene(blas.get());
-    if (!device.firstError().empty()) return failed("mesh " + std::to_string(m));
-    out->meshScenes_.push_back(std::move(blas));
+    if (!device.firstError().empty()) return embreeFailure(device, where, "mesh " + std::to_string(m));
+    meshScenes_.push_back(std::move(blas));
   }
+  return {};
+}
 
-  out->top_ = newScene(dev);
-  if (!out->top_) return failed("top level");
+Result<void> EmbreeScene::attachTriangles(EmbreeDevice& device, const Mesh& mesh, std::size_t m, RTCScene blas,
+                                          const std::string& where) {
+  RTCDevice dev = device.get();
+  std::size_t triangles = mesh.triangleCount();
+  RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+  if (!geom) return embreeFailure(device, where, "mesh " + std::to_string(m));
+  // Embree-allocated buffers carry the readable padding after the last vertex that its SIMD loads need.
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                               3 * sizeof(float), mesh.positions.size()));
+  auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), triangles));
+  if (!vertices || !indices) {
+    rtcReleaseGeometry(geom);
+    return embreeFailure(device, where, "mesh " + std::to_string(m) + " buffers");
+  }
+  std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3));
+  // Every triangle keeps its slot, degenerate ones included, so primID = the mesh's triangle index
+  // (the rasterizer's gl_PrimitiveID); Embree itself never reports a zero-area triangle as hit.
+  std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t));
+  if (meshMask_[m] >= 0) {
+    auto& user = maskUsers_.emplace_back(std::make_unique<MaskFilterUser>());
+    user->owner = this;
+    user->mesh = static_cast<std::uint32_t>(m);
+    rtcSetGeometryUserData(geom, user.get());
+    rtcSetGeometryIntersectFilterFunction(geom, &alphaMaskFilter);
+    rtcSetGeometryOccludedFilterFunction(geom, &alphaMaskFilter);
+  }
+  rtcCommitGeometry(geom);
+  rtcAttachGeometryByID(blas, geom, 0);
+  rtcReleaseGeometry(geom);
+  return {};
+}
+
+Result<void> EmbreeScene::buildTopLevel(EmbreeDevice& device, const Scene& scene, const std::string& where) {
+  RTCDevice dev = device.get();
+  top_ = newScene(dev);
+  if (!top_) return embreeFailure(device, where, "top level");
   // The top level is rebuilt whenever a dynamic instance moves: a fast build beats a better tree there.
-  rtcSetSceneFlags(out->top_.get(), RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(out->top_.get(), RTC_BUILD_QUALITY_LOW);
+  rtcSetSceneFlags(top_.get(), RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(top_.get(), RTC_BUILD_QUALITY_LOW);
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {
     const Instance& inst = scene.instances[i];
     RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_INSTANCE);
-    if (!geom) return failed("instance " + std::to_string(i));
-    rtcSetGeometryInstancedScene(geom, out->meshScenes_[inst.mesh].get());
+    if (!geom) return embreeFailure(device, where, "instance " + std::to_string(i));
+    rtcSetGeometryInstancedScene(geom, meshScenes_[inst.mesh].get());
     rtcSetGeometryTimeStepCount(geom, 1);
-    InstanceTransform t = makeInstanceTransform(inst.worldFromObject, out->anchor_);
+    InstanceTransform t = makeInstanceTransform(inst.worldFromObject, anchor_);
     rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &t.worldFromObject[0][0]);
     rtcCommitGeometry(geom);
     // geomID = instance index, so a hit's instID is the Scene::instances index the rasterizer writes.
-    rtcAttachGeometryByID(out->top_.get(), geom, static_cast<unsigned>(i));
+    rtcAttachGeometryByID(top_.get(), geom, static_cast<unsigned>(i));
     rtcReleaseGeometry(geom);
-    out->transforms_.push_back(t);
-    out->worldFromObject_.push_back(inst.worldFromObject);
-    out->triangleCounts_.push_back(scene.meshes[inst.mesh].triangleCount());
+    transforms_.push_back(t);
+    worldFromObject_.push_back(inst.worldFromObject);
+    triangleCounts_.push_back(scene.meshes[inst.mesh].triangleCount());
   }
-  rtcCommitScene(out->top_.get());
-  if (!device.firstError().empty()) return failed("top level");
-  return out;
+  rtcCommitScene(top_.get());
+  if (!device.firstError().empty()) return embreeFailure(device, where, "top level");
+  return {};
 }
 
 void EmbreeScene::updateTransforms(const Scene& scene) {

@@ -111,6 +111,12 @@ class EmbreeScene {
     std::uint32_t mesh = 0;
   };
   static void alphaMaskFilter(const RTCFilterFunctionNArguments* args);
+  // The steps of build, in order.
+  void collectMaskCutouts(const Scene& scene);
+  Result<void> buildMeshScenes(EmbreeDevice& device, const Scene& scene, const std::string& where);
+  Result<void> attachTriangles(EmbreeDevice& device, const Mesh& mesh, std::size_t m, RTCScene blas,
+                               const std::string& where);
+  Result<void> buildTopLevel(EmbreeDevice& device, const Scene& scene, const std::string& where);
   std::vector<MaskMaterial> maskMaterials_;
   std::vector<std::int32_t> instanceMask_;  // per instance: index into maskMaterials_, or -1
   std::vector<std::int32_t> meshMask_;      // per mesh: index into maskMeshes_, or -1
