@@ -87,14 +87,8 @@ std::vector<std::uint8_t> resizeRgba8(const tandem::Texture& t, int w, int h) {
   return out;
 }
 
-}  // namespace
-
-void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOverride) {
-  anchor_ = renderAnchor(scene);
-  // ---- geometry: one shared set of buffers, indices made absolute so no base vertex is needed ----
-  std::size_t vertexCount = 0, indexCount = 0;
-  bool anyNormals = false, anyUvs = false, anyColors = false, anyTangents = false;
-  // Tangents are uploaded only for meshes drawn with a normal-mapped material (the only readers).
+// Tangents are uploaded only for meshes drawn with a normal-mapped material (the only readers).
+std::vector<bool> normalMappedMeshes(const Scene& scene) {
   std::vector<bool> meshNormalMapped(scene.meshes.size(), false);
   for (const Instance& inst : scene.instances)
     if (inst.mesh < scene.meshes.size() && scene.materials[inst.material].normalTexture >= 0)
@@ -102,65 +96,87 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
   for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
     const Mesh& m = scene.meshes[i];
     meshNormalMapped[i] = meshNormalMapped[i] && m.tangents.size() == m.positions.size() && !m.uvs.empty();
-    anyTangents |= meshNormalMapped[i];
   }
+  return meshNormalMapped;
+}
+
+// Every mesh's vertices in one shared set of arrays; a channel no mesh has stays empty, one that some
+// meshes lack is filled with a neutral value for them (and their flag says so).
+struct PackedGeometry {
+  std::vector<float> positions, normals;
+  std::vector<glm::vec2> uvs;
+  std::vector<glm::vec4> colors, tangents;
+  std::vector<std::uint32_t> indices;  // absolute, so no base vertex is needed
+  std::vector<glm::uvec4> meshes;      // first vertex, first index, flags, triangle count
+  bool anyUvs = false, anyColors = false, anyTangents = false;
+};
+
+PackedGeometry packGeometry(const Scene& scene) {
+  PackedGeometry g;
+  std::size_t vertexCount = 0, indexCount = 0;
+  bool anyNormals = false;
+  const std::vector<bool> meshNormalMapped = normalMappedMeshes(scene);
+  for (bool mapped : meshNormalMapped) g.anyTangents |= mapped;
   for (const Mesh& m : scene.meshes) {
     vertexCount += m.positions.size();
     indexCount += m.indices.size();
     anyNormals |= !m.normals.empty();
-    anyUvs |= !m.uvs.empty();
-    anyColors |= !m.colors.empty() && m.colors.size() == m.positions.size();
+    g.anyUvs |= !m.uvs.empty();
+    g.anyColors |= !m.colors.empty() && m.colors.size() == m.positions.size();
   }
-  std::vector<float> positions, normals;
-  std::vector<glm::vec2> uvs;
-  std::vector<glm::vec4> colors, tangents;
-  std::vector<std::uint32_t> indices;
-  std::vector<glm::uvec4> meshes;
-  positions.reserve(vertexCount * 3);
-  indices.reserve(indexCount);
-  if (anyNormals) normals.reserve(vertexCount * 3);
-  if (anyUvs) uvs.reserve(vertexCount);
-  if (anyColors) colors.reserve(vertexCount);
-  if (anyTangents) tangents.reserve(vertexCount);
+  g.positions.reserve(vertexCount * 3);
+  g.indices.reserve(indexCount);
+  if (anyNormals) g.normals.reserve(vertexCount * 3);
+  if (g.anyUvs) g.uvs.reserve(vertexCount);
+  if (g.anyColors) g.colors.reserve(vertexCount);
+  if (g.anyTangents) g.tangents.reserve(vertexCount);
   for (std::size_t mi = 0; mi < scene.meshes.size(); ++mi) {
     const Mesh& m = scene.meshes[mi];
-    auto first = static_cast<std::uint32_t>(positions.size() / 3);
+    auto first = static_cast<std::uint32_t>(g.positions.size() / 3);
     std::uint32_t flags = 0;
-    for (const glm::vec3& p : m.positions) positions.insert(positions.end(), {p.x, p.y, p.z});
+    for (const glm::vec3& p : m.positions) g.positions.insert(g.positions.end(), {p.x, p.y, p.z});
     if (anyNormals) {
       if (!m.normals.empty()) flags |= kHasNormals;
       for (std::size_t i = 0; i < m.positions.size(); ++i) {
         glm::vec3 n = m.normals.empty() ? glm::vec3(0.0f) : m.normals[i];
-        normals.insert(normals.end(), {n.x, n.y, n.z});
+        g.normals.insert(g.normals.end(), {n.x, n.y, n.z});
       }
     }
-    if (anyUvs) {
+    if (g.anyUvs) {
       if (!m.uvs.empty()) flags |= kHasUvs;
-      for (std::size_t i = 0; i < m.positions.size(); ++i) uvs.push_back(m.uvs.empty() ? glm::vec2(0.0f) : m.uvs[i]);
+      for (std::size_t i = 0; i < m.positions.size(); ++i) g.uvs.push_back(m.uvs.empty() ? glm::vec2(0.0f) : m.uvs[i]);
     }
-    if (anyColors) {
+    if (g.anyColors) {
       bool has = m.colors.size() == m.positions.size() && !m.colors.empty();
       if (has) flags |= kHasColors;
-      for (std::size_t i = 0; i < m.positions.size(); ++i) colors.push_back(has ? m.colors[i] : glm::vec4(1.0f));
+      for (std::size_t i = 0; i < m.positions.size(); ++i) g.colors.push_back(has ? m.colors[i] : glm::vec4(1.0f));
     }
-    if (anyTangents) {
+    if (g.anyTangents) {
       if (meshNormalMapped[mi]) flags |= kHasTangents;
       for (std::size_t i = 0; i < m.positions.size(); ++i)
-        tangents.push_back(meshNormalMapped[mi] ? m.tangents[i] : glm::vec4(0.0f));
+        g.tangents.push_back(meshNormalMapped[mi] ? m.tangents[i] : glm::vec4(0.0f));
     }
-    meshes.emplace_back(first, static_cast<std::uint32_t>(indices.size()), flags,
-                        static_cast<std::uint32_t>(m.triangleCount()));
-    for (std::uint32_t i : m.indices) indices.push_back(first + i);
+    g.meshes.emplace_back(first, static_cast<std::uint32_t>(g.indices.size()), flags,
+                          static_cast<std::uint32_t>(m.triangleCount()));
+    for (std::uint32_t i : m.indices) g.indices.push_back(first + i);
   }
-  features_.uvs = anyUvs;
-  features_.colors = anyColors;
-  positions_ = bufferOf("positions", positions);
-  normals_ = bufferOf("normals", normals);
-  uvs_ = bufferOf("uvs", uvs);
-  colors_ = bufferOf("colors", colors);
-  indices_ = bufferOf("indices", indices);
-  meshes_ = bufferOf("meshes", meshes);
-  tangents_ = bufferOf("tangents", tangents);
+  return g;
+}
+
+}  // namespace
+
+void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOverride) {
+  anchor_ = renderAnchor(scene);
+  const PackedGeometry g = packGeometry(scene);
+  features_.uvs = g.anyUvs;
+  features_.colors = g.anyColors;
+  positions_ = bufferOf("positions", g.positions);
+  normals_ = bufferOf("normals", g.normals);
+  uvs_ = bufferOf("uvs", g.uvs);
+  colors_ = bufferOf("colors", g.colors);
+  indices_ = bufferOf("indices", g.indices);
+  meshes_ = bufferOf("meshes", g.meshes);
+  tangents_ = bufferOf("tangents", g.tangents);
   // Empty channels keep a 16-byte stand-in buffer: the views are over whole buffers either way.
   positionsTex_ = createBufferTexture("positions view", GL_RGB32F, positions_);
   normalsTex_ = createBufferTexture("normals view", GL_RGB32F, normals_);
@@ -169,10 +185,18 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
   indicesTex_ = createBufferTexture("indices view", GL_R32UI, indices_);
   meshesTex_ = createBufferTexture("meshes view", GL_RGBA32UI, meshes_);
   tangentsTex_ = createBufferTexture("tangents view", GL_RGBA32F, tangents_);
-  bytes_ = (positions.size() + normals.size()) * sizeof(float) + uvs.size() * sizeof(glm::vec2) +
-           (colors.size() + tangents.size()) * sizeof(glm::vec4) + indices.size() * sizeof(std::uint32_t);
+  bytes_ = (g.positions.size() + g.normals.size()) * sizeof(float) + g.uvs.size() * sizeof(glm::vec2) +
+           (g.colors.size() + g.tangents.size()) * sizeof(glm::vec4) + g.indices.size() * sizeof(std::uint32_t);
 
-  // ---- instances and the draw commands (one per instance, baseInstance = instance index) ----
+  uploadInstances(scene, g.meshes);
+  updateLights(scene);
+  toonRamps_.reset();
+  updateMaterials(scene, shadingOverride);
+  uploadTextures(scene, g.anyTangents);
+}
+
+// One draw command per instance, baseInstance = instance index.
+void GpuScene::uploadInstances(const Scene& scene, const std::vector<glm::uvec4>& meshes) {
   instanceCount_ = static_cast<int>(scene.instances.size());
   instances_ = bufferOf("instances", packInstances(scene, anchor_));
   // Two views of one record: the matrices as floats, meshMaterial as integers (reading integer bits
@@ -195,13 +219,11 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
   glEnableVertexArrayAttrib(vao_.id(), 0);
   glVertexArrayAttribIFormat(vao_.id(), 0, 1, GL_UNSIGNED_INT, 0);
   glVertexArrayAttribBinding(vao_.id(), 0, 0);
+}
 
-  updateLights(scene);
-  toonRamps_.reset();
-  updateMaterials(scene, shadingOverride);
-
-  // ---- textures: the sRGB array (base colour, emissive) and the linear one (normal maps), layer = scene
-  // texture index (what packMaterial stores) in both; a layer the other array's materials use stays empty.
+// The sRGB array (base colour, emissive) and the linear one (normal maps), layer = scene texture index
+// (what packMaterial stores) in both; a layer the other array's materials use stays empty.
+void GpuScene::uploadTextures(const Scene& scene, bool anyTangents) {
   kdTextures_.reset();
   normalMaps_.reset();
   std::vector<bool> srgbLayer(scene.textures.size(), false), linearLayer(scene.textures.size(), false);

@@ -60,6 +60,9 @@ class GpuScene {
   std::size_t gpuBytes() const { return bytes_; }
 
  private:
+  // The steps of upload() after the geometry.
+  void uploadInstances(const Scene& scene, const std::vector<glm::uvec4>& meshes);
+  void uploadTextures(const Scene& scene, bool anyTangents);
   void bakeRamps(const Scene& scene);
   /// A mipmapped RGBA8 array (`format` sRGB or linear) with scene.textures[i] in layer i where layers[i];
   /// empty when no layer is wanted.
