@@ -93,26 +93,51 @@ std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>
 // Shadow maps
 // ---------------------------------------------------------------------------------------------------
 
-void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, const Bounds& world) {
-  std::vector<const Light*> lights = scene.directLights();
-  std::array<GpuShadow, TD_MAX_LIGHTS> records{};
-  struct Job {
-    int light;
-    bool cube;
-    int slot;
-  };
-  std::vector<Job> jobs;
-  int layers = 0, cubes = 0;
-  for (std::size_t j = 0; j < lights.size() && j < TD_MAX_LIGHTS; ++j) {
-    const Light& l = *lights[j];
-    if (!l.castShadows) continue;
-    bool cube = l.type == LightType::Point || (l.type == LightType::Spot && l.outerConeDeg > kMaxSpotMapDeg);
-    jobs.push_back({static_cast<int>(j), cube, cube ? cubes++ : layers++});
+namespace {
+
+// Orthographic, fitted to the scene's bounds seen along the light; `world` and the camera in render space.
+Camera directionalShadowCamera(const Light& l, const Bounds& world, float radius) {
+  glm::vec3 centre = world.centre();
+  glm::vec3 fwd = glm::normalize(l.dirW);
+  glm::vec3 right = glm::normalize(glm::cross(fwd, upFor(fwd)));
+  glm::vec3 up = glm::cross(right, fwd);
+  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+  for (int k = 0; k < 8; ++k) {
+    glm::vec3 p((k & 1) ? world.hi.x : world.lo.x, (k & 2) ? world.hi.y : world.lo.y,
+                (k & 4) ? world.hi.z : world.lo.z);
+    glm::vec3 q(glm::dot(p - centre, right), glm::dot(p - centre, up), glm::dot(p - centre, fwd));
+    lo = glm::min(lo, q);
+    hi = glm::max(hi, q);
   }
-  if (jobs.empty() || world.empty()) {
-    release();
-    return;
-  }
+  float pad = 0.01f * radius;
+  Camera c;
+  c.orthographic = true;
+  c.posW = centre + right * (0.5f * (lo.x + hi.x)) + up * (0.5f * (lo.y + hi.y)) + fwd * (lo.z - 2.0f * pad);
+  c.targetW = c.posW + fwd;
+  c.upW = up;
+  c.orthoHeight = std::max(hi.x - lo.x, hi.y - lo.y) + 2.0f * pad;
+  c.nearZ = pad;
+  c.farZ = (hi.z - lo.z) + 4.0f * pad;
+  return c;
+}
+
+Camera spotShadowCamera(const Light& l, float nearZ, float farZ) {
+  glm::vec3 fwd = glm::normalize(l.dirW);
+  Camera c;
+  c.posW = l.posW;
+  c.targetW = l.posW + fwd;
+  c.upW = upFor(fwd);
+  c.yFovDeg = 2.0f * l.outerConeDeg + 2.0f;  // the square frustum holds the cone, plus PCF margin
+  c.nearZ = nearZ;
+  c.farZ = farZ;
+  return c;
+}
+
+}  // namespace
+
+// Keeps the targets while the number of maps and cube maps stays the same: lights move far more often
+// than they are added or removed.
+void ShadowMaps::reserveTargets(int layers, int cubes) {
   if (layers != layers_ || (layers > 0 && !maps_)) {
     maps_.reset();
     if (layers > 0) {
@@ -134,12 +159,34 @@ void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const Visibilit
     glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
     glNamedFramebufferReadBuffer(fbo_.id(), GL_NONE);
   }
+}
+
+void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, const Bounds& world) {
+  std::vector<const Light*> lights = scene.directLights();
+  std::array<GpuShadow, TD_MAX_LIGHTS> records{};
+  struct Job {
+    int light;
+    bool cube;
+    int slot;
+  };
+  std::vector<Job> jobs;
+  int layers = 0, cubes = 0;
+  for (std::size_t j = 0; j < lights.size() && j < TD_MAX_LIGHTS; ++j) {
+    const Light& l = *lights[j];
+    if (!l.castShadows) continue;
+    bool cube = l.type == LightType::Point || (l.type == LightType::Spot && l.outerConeDeg > kMaxSpotMapDeg);
+    jobs.push_back({static_cast<int>(j), cube, cube ? cubes++ : layers++});
+  }
+  if (jobs.empty() || world.empty()) {
+    release();
+    return;
+  }
+  reserveTargets(layers, cubes);
 
   // Slope-scaled bias in the map itself; reversed-Z, so negative moves occluders away from the light.
   // The shade pass adds a normal offset of 1.5 texels, which handles grazing angles.
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(-1.5f, -4.0f);
-  glm::vec3 centre = world.centre();
   float radius = std::max(0.5f * glm::length(world.hi - world.lo), 1e-3f);
   for (const Job& job : jobs) {
     // In render space, as the bounds and the GL copy of the scene (gpu.anchor()).
@@ -147,27 +194,7 @@ void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const Visibilit
     l.posW = toRenderSpace(l.posW, gpu.anchor());
     GpuShadow& rec = records[static_cast<std::size_t>(job.light)];
     if (l.type == LightType::Directional) {
-      // Orthographic, fitted to the scene's bounds seen along the light.
-      glm::vec3 fwd = glm::normalize(l.dirW);
-      glm::vec3 right = glm::normalize(glm::cross(fwd, upFor(fwd)));
-      glm::vec3 up = glm::cross(right, fwd);
-      glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-      for (int k = 0; k < 8; ++k) {
-        glm::vec3 p((k & 1) ? world.hi.x : world.lo.x, (k & 2) ? world.hi.y : world.lo.y,
-                    (k & 4) ? world.hi.z : world.lo.z);
-        glm::vec3 q(glm::dot(p - centre, right), glm::dot(p - centre, up), glm::dot(p - centre, fwd));
-        lo = glm::min(lo, q);
-        hi = glm::max(hi, q);
-      }
-      float pad = 0.01f * radius;
-      Camera c;
-      c.orthographic = true;
-      c.posW = centre + right * (0.5f * (lo.x + hi.x)) + up * (0.5f * (lo.y + hi.y)) + fwd * (lo.z - 2.0f * pad);
-      c.targetW = c.posW + fwd;
-      c.upW = up;
-      c.orthoHeight = std::max(hi.x - lo.x, hi.y - lo.y) + 2.0f * pad;
-      c.nearZ = pad;
-      c.farZ = (hi.z - lo.z) + 4.0f * pad;
+      const Camera c = directionalShadowCamera(l, world, radius);
       glNamedFramebufferTextureLayer(fbo_.id(), GL_DEPTH_ATTACHMENT, maps_.id(), 0, job.slot);
       raster.renderInto(fbo_.id(), kMapSize, kMapSize, gpu, c);
       rec.clipFromWorldRelative = clipFromWorldRelative(c);
@@ -180,14 +207,7 @@ void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const Visibilit
     if (l.range > 0.0f) farZ = std::min(farZ, l.range);
     float nearZ = std::max(farZ * 1e-4f, 1e-5f * radius);
     if (!job.cube) {
-      glm::vec3 fwd = glm::normalize(l.dirW);
-      Camera c;
-      c.posW = l.posW;
-      c.targetW = l.posW + fwd;
-      c.upW = upFor(fwd);
-      c.yFovDeg = 2.0f * l.outerConeDeg + 2.0f;  // the square frustum holds the cone, plus PCF margin
-      c.nearZ = nearZ;
-      c.farZ = farZ;
+      const Camera c = spotShadowCamera(l, nearZ, farZ);
       glNamedFramebufferTextureLayer(fbo_.id(), GL_DEPTH_ATTACHMENT, maps_.id(), 0, job.slot);
       raster.renderInto(fbo_.id(), kMapSize, kMapSize, gpu, c);
       rec.clipFromWorldRelative = clipFromWorldRelative(c);

@@ -68,6 +68,7 @@ class ShadowMaps {
   int cubeCount() const { return cubes_; }
 
  private:
+  void reserveTargets(int layers, int cubes);
   Texture maps_, cubeMaps_;
   Framebuffer fbo_;
   Buffer records_;
