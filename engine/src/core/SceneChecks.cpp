@@ -114,9 +114,8 @@ bool planesOverlap(const WorldPlane& a, const WorldPlane& b) {
   return false;
 }
 
-}  // namespace
-
-std::vector<std::string> coplanarOverlaps(const Scene& scene, std::size_t maxPlanes) {
+// Every plane of every instance whose mesh has at most maxPlanes planes, in world space.
+std::vector<WorldPlane> worldPlanes(const Scene& scene, std::size_t maxPlanes) {
   std::vector<std::vector<PlaneGroup>> meshPlanes(scene.meshes.size());
   std::vector<bool> done(scene.meshes.size(), false);
   std::vector<WorldPlane> planes;
@@ -152,6 +151,24 @@ std::vector<std::string> coplanarOverlaps(const Scene& scene, std::size_t maxPla
       planes.push_back(std::move(w));
     }
   }
+  return planes;
+}
+
+std::string overlapMessage(const Scene& scene, std::pair<std::size_t, std::size_t> pair, const WorldPlane& a) {
+  std::ostringstream s;
+  const Instance& ia = scene.instances[pair.first];
+  const Instance& ib = scene.instances[pair.second];
+  s << "instances " << pair.first << " '" << ia.name << "' and " << pair.second << " '" << ib.name
+    << "' have overlapping faces in one plane (normal (" << a.n.x << ", " << a.n.y << ", " << a.n.z
+    << "), offset " << a.d << "): the shared area flickers between them (depth fighting); move one apart "
+    << "or into the other";
+  return s.str();
+}
+
+}  // namespace
+
+std::vector<std::string> coplanarOverlaps(const Scene& scene, std::size_t maxPlanes) {
+  const std::vector<WorldPlane> planes = worldPlanes(scene, maxPlanes);
   // Planes that may coincide share a cell: the normal rounded to 1e-6 and the offset to a cell of the
   // tolerance; the neighbouring offset cells are looked at too.
   auto tolerance = [](const WorldPlane& p) { return 1e-6 * std::max({1.0, std::abs(p.d), p.extent}); };
@@ -189,14 +206,7 @@ std::vector<std::string> coplanarOverlaps(const Scene& scene, std::size_t maxPla
         if (a.flipped != b.flipped && !seeThrough(a.instance) && !seeThrough(b.instance)) continue;
         if (!planesOverlap(a, b)) continue;
         reported[pair] = true;
-        std::ostringstream s;
-        const Instance& ia = scene.instances[pair.first];
-        const Instance& ib = scene.instances[pair.second];
-        s << "instances " << pair.first << " '" << ia.name << "' and " << pair.second << " '" << ib.name
-          << "' have overlapping faces in one plane (normal (" << a.n.x << ", " << a.n.y << ", " << a.n.z
-          << "), offset " << a.d << "): the shared area flickers between them (depth fighting); move one apart "
-          << "or into the other";
-        out.push_back(s.str());
+        out.push_back(overlapMessage(scene, pair, a));
       }
     }
   }
