@@ -108,6 +108,78 @@ u64 readUnsigned(const std::uint8_t* p, int componentType) {
   }
 }
 
+// An accessor's bytes in its bufferView: aligned, strided and inside the view.
+Result<void> checkAccessorView(const tinygltf::Model& m, const tinygltf::Accessor& a, const std::string& id) {
+  const int cs = componentSize(a.componentType);
+  const u64 es = elementSize(a.componentType, a.type);
+  const tinygltf::BufferView& v = m.bufferViews[std::size_t(a.bufferView)];
+  if (a.byteOffset % u64(cs) != 0 || (v.byteOffset + a.byteOffset) % u64(cs) != 0)
+    return Error{id + ": byteOffset " + std::to_string(a.byteOffset) + " is not aligned to its component size " +
+                 std::to_string(cs)};
+  const u64 stride = v.byteStride ? v.byteStride : es;
+  if (v.byteStride && v.byteStride < es)
+    return Error{id + ": " + at("bufferViews", std::size_t(a.bufferView)) + " byteStride " +
+                 std::to_string(v.byteStride) + " is smaller than the element size " + std::to_string(es)};
+  // The last element needs no padding after its last matrix column (glTF 3.6.2.4).
+  const u64 tail = (a.type >= TINYGLTF_TYPE_MAT2 && a.type <= TINYGLTF_TYPE_MAT4)
+                       ? es - es / u64(a.type - 32) + u64(a.type - 32) * u64(cs)
+                       : es;
+  u64 span = 0, bytes = 0;
+  if (!mulOk(a.count - 1, stride, &span) || !addOk(span, tail, &bytes))
+    return Error{id + ": count " + std::to_string(a.count) + " × stride overflows"};
+  if (auto r = rangeInView(m, a.bufferView, a.byteOffset, bytes,
+                           "byteOffset " + std::to_string(a.byteOffset) + " + " + std::to_string(a.count) + "×" +
+                               std::to_string(stride) + " bytes");
+      !r)
+    return Error{id + ": " + r.error().message};
+  return {};
+}
+
+// A sparse accessor's index and value arrays: inside their views, and indices strictly increasing and
+// below count, since they are write positions.
+Result<void> checkSparse(const tinygltf::Model& m, const tinygltf::Accessor& a, const std::string& id) {
+  const int cs = componentSize(a.componentType);
+  const u64 es = elementSize(a.componentType, a.type);
+  const auto& s = a.sparse;
+  const std::string sid = id + ": sparse";
+  if (s.count < 1 || u64(s.count) > a.count)
+    return Error{sid + ": count " + std::to_string(s.count) + " must be in [1, " + std::to_string(a.count) + "]"};
+  if (s.indices.bufferView < 0 || s.indices.bufferView >= int(m.bufferViews.size()))
+    return Error{sid + ".indices: bufferView " + std::to_string(s.indices.bufferView) + " does not exist"};
+  if (s.values.bufferView < 0 || s.values.bufferView >= int(m.bufferViews.size()))
+    return Error{sid + ".values: bufferView " + std::to_string(s.values.bufferView) + " does not exist"};
+  const int ict = s.indices.componentType;
+  if (ict != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && ict != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+      ict != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+    return Error{sid + ".indices: componentType " + std::to_string(ict) + " is not an unsigned integer type"};
+  if (s.indices.byteOffset < 0 || s.values.byteOffset < 0) return Error{sid + ": negative byteOffset"};
+  const u64 ics = u64(componentSize(ict));
+  if ((m.bufferViews[std::size_t(s.indices.bufferView)].byteOffset + u64(s.indices.byteOffset)) % ics != 0 ||
+      (m.bufferViews[std::size_t(s.values.bufferView)].byteOffset + u64(s.values.byteOffset)) % u64(cs) != 0)
+    return Error{sid + ": misaligned indices or values"};
+  if (auto r = rangeInView(m, s.indices.bufferView, u64(s.indices.byteOffset), u64(s.count) * ics,
+                           "indices (" + std::to_string(s.count) + " × " + std::to_string(ics) + " bytes)");
+      !r)
+    return Error{sid + ": " + r.error().message};
+  if (auto r = rangeInView(m, s.values.bufferView, u64(s.values.byteOffset), u64(s.count) * es,
+                           "values (" + std::to_string(s.count) + " × " + std::to_string(es) + " bytes)");
+      !r)
+    return Error{sid + ": " + r.error().message};
+  const tinygltf::BufferView& iv = m.bufferViews[std::size_t(s.indices.bufferView)];
+  const std::uint8_t* p = m.buffers[std::size_t(iv.buffer)].data.data() + iv.byteOffset + u64(s.indices.byteOffset);
+  u64 prev = 0;
+  for (int k = 0; k < s.count; ++k) {
+    const u64 idx = readUnsigned(p + u64(k) * ics, ict);
+    if (idx >= a.count)
+      return Error{sid + ".indices[" + std::to_string(k) + "] = " + std::to_string(idx) + " is not below count " +
+                   std::to_string(a.count)};
+    if (k > 0 && idx <= prev)
+      return Error{sid + ".indices[" + std::to_string(k) + "] = " + std::to_string(idx) + " is not increasing"};
+    prev = idx;
+  }
+  return {};
+}
+
 Result<void> validateAccessor(const tinygltf::Model& m, std::size_t i, const GltfLimits& limits,
                               const std::string& file) {
   const tinygltf::Accessor& a = m.accessors[i];
@@ -126,26 +198,7 @@ Result<void> validateAccessor(const tinygltf::Model& m, std::size_t i, const Glt
   if (a.bufferView < -1 || a.bufferView >= static_cast<int>(m.bufferViews.size()))
     return Error{id + ": bufferView " + std::to_string(a.bufferView) + " does not exist"};
   if (a.bufferView >= 0) {
-    const tinygltf::BufferView& v = m.bufferViews[std::size_t(a.bufferView)];
-    if (a.byteOffset % u64(cs) != 0 || (v.byteOffset + a.byteOffset) % u64(cs) != 0)
-      return Error{id + ": byteOffset " + std::to_string(a.byteOffset) + " is not aligned to its component size " +
-                   std::to_string(cs)};
-    const u64 stride = v.byteStride ? v.byteStride : es;
-    if (v.byteStride && v.byteStride < es)
-      return Error{id + ": " + at("bufferViews", std::size_t(a.bufferView)) + " byteStride " +
-                   std::to_string(v.byteStride) + " is smaller than the element size " + std::to_string(es)};
-    // The last element needs no padding after its last matrix column (glTF 3.6.2.4).
-    const u64 tail = (a.type >= TINYGLTF_TYPE_MAT2 && a.type <= TINYGLTF_TYPE_MAT4)
-                         ? es - es / u64(a.type - 32) + u64(a.type - 32) * u64(cs)
-                         : es;
-    u64 span = 0, bytes = 0;
-    if (!mulOk(a.count - 1, stride, &span) || !addOk(span, tail, &bytes))
-      return Error{id + ": count " + std::to_string(a.count) + " × stride overflows"};
-    if (auto r = rangeInView(m, a.bufferView, a.byteOffset, bytes,
-                             "byteOffset " + std::to_string(a.byteOffset) + " + " + std::to_string(a.count) + "×" +
-                                 std::to_string(stride) + " bytes");
-        !r)
-      return Error{id + ": " + r.error().message};
+    if (auto r = checkAccessorView(m, a, id); !r) return r;
   } else {
     if (a.byteOffset != 0) return Error{id + ": byteOffset without a bufferView"};
     // Nothing backs the count of a view-less accessor (it is zeros, maybe with sparse values), so cap it
@@ -154,46 +207,8 @@ Result<void> validateAccessor(const tinygltf::Model& m, std::size_t i, const Glt
       return Error{id + ": count " + std::to_string(a.count) + " without a bufferView exceeds the cap maxFileBytes = " +
                    std::to_string(limits.maxFileBytes)};
   }
-  if (a.sparse.isSparse) {
-    const auto& s = a.sparse;
-    const std::string sid = id + ": sparse";
-    if (s.count < 1 || u64(s.count) > a.count)
-      return Error{sid + ": count " + std::to_string(s.count) + " must be in [1, " + std::to_string(a.count) + "]"};
-    if (s.indices.bufferView < 0 || s.indices.bufferView >= int(m.bufferViews.size()))
-      return Error{sid + ".indices: bufferView " + std::to_string(s.indices.bufferView) + " does not exist"};
-    if (s.values.bufferView < 0 || s.values.bufferView >= int(m.bufferViews.size()))
-      return Error{sid + ".values: bufferView " + std::to_string(s.values.bufferView) + " does not exist"};
-    const int ict = s.indices.componentType;
-    if (ict != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && ict != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-        ict != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
-      return Error{sid + ".indices: componentType " + std::to_string(ict) + " is not an unsigned integer type"};
-    if (s.indices.byteOffset < 0 || s.values.byteOffset < 0) return Error{sid + ": negative byteOffset"};
-    const u64 ics = u64(componentSize(ict));
-    if ((m.bufferViews[std::size_t(s.indices.bufferView)].byteOffset + u64(s.indices.byteOffset)) % ics != 0 ||
-        (m.bufferViews[std::size_t(s.values.bufferView)].byteOffset + u64(s.values.byteOffset)) % u64(cs) != 0)
-      return Error{sid + ": misaligned indices or values"};
-    if (auto r = rangeInView(m, s.indices.bufferView, u64(s.indices.byteOffset), u64(s.count) * ics,
-                             "indices (" + std::to_string(s.count) + " × " + std::to_string(ics) + " bytes)");
-        !r)
-      return Error{sid + ": " + r.error().message};
-    if (auto r = rangeInView(m, s.values.bufferView, u64(s.values.byteOffset), u64(s.count) * es,
-                             "values (" + std::to_string(s.count) + " × " + std::to_string(es) + " bytes)");
-        !r)
-      return Error{sid + ": " + r.error().message};
-    // Indices must be strictly increasing and < count: they are write positions.
-    const tinygltf::BufferView& iv = m.bufferViews[std::size_t(s.indices.bufferView)];
-    const std::uint8_t* p = m.buffers[std::size_t(iv.buffer)].data.data() + iv.byteOffset + u64(s.indices.byteOffset);
-    u64 prev = 0;
-    for (int k = 0; k < s.count; ++k) {
-      const u64 idx = readUnsigned(p + u64(k) * ics, ict);
-      if (idx >= a.count)
-        return Error{sid + ".indices[" + std::to_string(k) + "] = " + std::to_string(idx) + " is not below count " +
-                     std::to_string(a.count)};
-      if (k > 0 && idx <= prev)
-        return Error{sid + ".indices[" + std::to_string(k) + "] = " + std::to_string(idx) + " is not increasing"};
-      prev = idx;
-    }
-  }
+  if (a.sparse.isSparse)
+    if (auto r = checkSparse(m, a, id); !r) return r;
   return {};
 }
 
@@ -535,7 +550,6 @@ Result<void> checkSkins(const tinygltf::Model& m, const GltfLimits&, const std::
       if (j < 0 || j >= int(m.nodes.size()))
         return Error{f + at("skins", i) + ": joint " + std::to_string(j) + " does not exist"};
   }
-  return {};
   return {};
 }
 
