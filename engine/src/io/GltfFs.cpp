@@ -272,6 +272,73 @@ std::string pathOf(const std::vector<Frame>& stack, std::string_view leafKey, st
   return p;
 }
 
+// The frame of the item just taken from `parent` (a member when parentIsObject, else an element).
+Frame childFrame(const Frame& parent, bool parentIsObject, std::string_view key, std::size_t index, const json& v) {
+  Frame child;
+  child.v = &v;
+  child.key = key;
+  child.index = index;
+  child.inArray = !parentIsObject;
+  child.freeForm = parent.freeForm || (parentIsObject && key == "extras");
+  child.valueTree = parent.valueTree || (parentIsObject && (key == "extras" || key == "extensions"));
+  child.attributeMap =
+      (parentIsObject && !parent.freeForm && key == "attributes") || (!parentIsObject && parent.inTargets);
+  child.inTargets = parentIsObject && !parent.freeForm && key == "targets";
+  return child;
+}
+
+// What one item adds to the estimate of tinygltf's model.
+std::uint64_t itemModelCost(const Frame& parent, const Frame& child, bool parentIsObject, std::string_view key,
+                            const json& v) {
+  std::uint64_t est = 0;
+  if (child.valueTree) {
+    est += kValueCost + (parentIsObject ? kStringCost + key.size() : 0);
+  } else if (!parentIsObject) {
+    est += parent.elementCost != 0 ? parent.elementCost : 8;  // a struct, or a number/index in a plain array
+  } else if (parent.attributeMap) {
+    est += kSlot + kStringCost + key.size() + 8;  // std::map<std::string, int> entry
+  }
+  if (v.is_string()) {
+    const std::string& str = v.get_ref<const std::string&>();
+    est += kStringCost + str.size();
+    if (str.rfind("data:", 0) == 0) est += str.size() / 4 * 3;  // the decoded bytes beside the URI
+  }
+  return est;
+}
+
+// tinygltf struct bytes per element of an array the item opens (0: plain values or Value trees).
+std::uint64_t arrayElementCost(const Frame& child, bool root, bool parentIsObject, std::string_view key,
+                               const json& v) {
+  if (!v.is_array() || child.freeForm || child.valueTree) return 0;
+  if (root) return topLevelCost(key);
+  if (parentIsObject && key == "primitives") return sizeof(tinygltf::Primitive) + kSlot;
+  if (parentIsObject && key == "channels") return sizeof(tinygltf::AnimationChannel) + kSlot;
+  if (parentIsObject && key == "samplers") return sizeof(tinygltf::AnimationSampler) + kSlot;
+  return 0;
+}
+
+// The type rules of index members and index arrays, which tinygltf would otherwise convert silently.
+Result<void> checkItemType(const std::vector<Frame>& stack, const Frame& parent, std::string_view key,
+                           std::size_t index, const json& v, bool root) {
+  const std::string k(key.size() <= 32 ? key : std::string_view{});  // every rule key is short
+  if (parent.attributeMap || isIntegerKey(k)) {
+    if (v.is_number() && !validIndexNumber(v))
+      return Error{pathOf(stack, key, index, false) + ": " + v.dump() + " is not an integer in [0, 2^31)"};
+    if (parent.attributeMap && !v.is_number())
+      return Error{pathOf(stack, key, index, false) + ": attribute must be an accessor index"};
+    // Objects are legitimate under some of these names (channel "target", sparse "indices") and are
+    // walked; strings, booleans and null never are.
+    if (!v.is_number() && !v.is_object() && !v.is_array())
+      return Error{pathOf(stack, key, index, false) + ": expected an integer"};
+  } else if (isIndexArrayKey(k) && v.is_array() && !root) {  // top-level "nodes" holds objects
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!validIndexNumber(v[i]))
+        return Error{pathOf(stack, key, index, false) + "/" + std::to_string(i) + ": " + v[i].dump() +
+                     " is not an integer in [0, 2^31)"};
+  }
+  return {};
+}
+
 }  // namespace
 
 Result<JsonScan> prescanJson(const std::uint8_t* data, std::size_t size, bool glb) {
@@ -283,7 +350,6 @@ Result<JsonScan> prescanJson(const std::uint8_t* data, std::size_t size, bool gl
   }
   if (!doc.is_object()) return Error{"the JSON root is not an object"};
   JsonScan scan;
-  std::uint64_t& est = scan.modelEstimate;
   std::vector<Frame> stack;
   Frame top;
   top.v = &doc;
@@ -310,55 +376,11 @@ Result<JsonScan> prescanJson(const std::uint8_t* data, std::size_t size, bool gl
     }
     const json& v = *vp;
     const bool root = stack.size() == 1;
-    Frame child;
-    child.v = &v;
-    child.key = key;
-    child.index = index;
-    child.inArray = !isObject;
-    child.freeForm = f.freeForm || (isObject && key == "extras");
-    child.valueTree = f.valueTree || (isObject && (key == "extras" || key == "extensions"));
-    child.attributeMap = (isObject && !f.freeForm && key == "attributes") || (!isObject && f.inTargets);
-    child.inTargets = isObject && !f.freeForm && key == "targets";
-
-    // ---- the estimate of tinygltf's model ----
-    if (child.valueTree) {
-      est += kValueCost + (isObject ? kStringCost + key.size() : 0);
-    } else if (!isObject) {
-      est += f.elementCost != 0 ? f.elementCost : 8;  // a struct, or a number/index in a plain array
-    } else if (f.attributeMap) {
-      est += kSlot + kStringCost + key.size() + 8;  // std::map<std::string, int> entry
-    }
-    if (v.is_string()) {
-      const std::string& str = v.get_ref<const std::string&>();
-      est += kStringCost + str.size();
-      if (str.rfind("data:", 0) == 0) est += str.size() / 4 * 3;  // the decoded bytes beside the URI
-    }
-    if (v.is_array() && !child.freeForm && !child.valueTree) {
-      if (root) child.elementCost = topLevelCost(key);
-      else if (isObject && key == "primitives") child.elementCost = sizeof(tinygltf::Primitive) + kSlot;
-      else if (isObject && key == "channels") child.elementCost = sizeof(tinygltf::AnimationChannel) + kSlot;
-      else if (isObject && key == "samplers") child.elementCost = sizeof(tinygltf::AnimationSampler) + kSlot;
-    }
-
-    // ---- the type rules ----
-    if (!f.freeForm && isObject && key != "extras") {
-      const std::string k(key.size() <= 32 ? key : std::string_view{});  // every rule key is short
-      if (f.attributeMap || isIntegerKey(k)) {
-        if (v.is_number() && !validIndexNumber(v))
-          return Error{pathOf(stack, key, index, false) + ": " + v.dump() + " is not an integer in [0, 2^31)"};
-        if (f.attributeMap && !v.is_number())
-          return Error{pathOf(stack, key, index, false) + ": attribute must be an accessor index"};
-        // Objects are legitimate under some of these names (channel "target", sparse "indices") and are
-        // walked; strings, booleans and null never are.
-        if (!v.is_number() && !v.is_object() && !v.is_array())
-          return Error{pathOf(stack, key, index, false) + ": expected an integer"};
-      } else if (isIndexArrayKey(k) && v.is_array() && !root) {  // top-level "nodes" holds objects
-        for (std::size_t i = 0; i < v.size(); ++i)
-          if (!validIndexNumber(v[i]))
-            return Error{pathOf(stack, key, index, false) + "/" + std::to_string(i) + ": " + v[i].dump() +
-                         " is not an integer in [0, 2^31)"};
-      }
-    }
+    Frame child = childFrame(f, isObject, key, index, v);
+    scan.modelEstimate += itemModelCost(f, child, isObject, key, v);
+    child.elementCost = arrayElementCost(child, root, isObject, key, v);
+    if (!f.freeForm && isObject && key != "extras")
+      if (auto typed = checkItemType(stack, f, key, index, v, root); !typed) return typed.error();
     // glTF 2.0, GLB-stored buffer: only buffers[0] may omit its uri. tinygltf would copy the whole BIN
     // chunk into every buffer without one, a product of two counts.
     if (glb && stack.size() == 2 && f.key == "buffers" && !f.inArray && !isObject && index > 0 && v.is_object() &&
