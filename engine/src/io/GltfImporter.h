@@ -81,6 +81,9 @@ class Importer {
   }
   Result<std::shared_ptr<const std::vector<float>>> attribute(int accessor);
   Result<void> buildMaterials();
+  Result<void> scaleByMetallicRoughnessMap(const tinygltf::Material& g, const std::string& id, float& metallic,
+                                           float& rough);
+  Result<void> attachMaterialTextures(Material& mat, const tinygltf::Material& g, const std::string& id);
   int texture(int gltfTexture, bool srgb, const std::string& usage);
   int fallbackTexture();
   Result<int> meshFor(int mesh, int prim, bool flip);

@@ -120,6 +120,144 @@ glm::mat3 textureTransform(const tinygltf::ExtensionMap& e) {
   return T * R * S;
 }
 
+namespace {
+
+// What the supported KHR_materials_* extensions add to a metallic-roughness material, at their defaults
+// when absent.
+struct MaterialExtensions {
+  float ior = 1.5f;
+  float specular = 1.0f;
+  glm::vec3 specularColor{1.0f};
+  float transmission = 0.0f;
+  bool thick = false;
+  float emissiveStrength = 1.0f;
+};
+
+MaterialExtensions readMaterialExtensions(const tinygltf::Material& g, const std::string& id, Warn& warn) {
+  MaterialExtensions x;
+  if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_ior")) {
+    const double v = num(*e, "ior", 1.5);
+    // The extension allows 0 (meaning "no refraction"); anything else must be >= 1. Clamp the rest.
+    x.ior = v == 0.0 ? 1.0f : float(std::clamp(v, 1.0, 5.0));
+    if (v != 0.0 && (v < 1.0 || v > 5.0)) warn(id + ": ior " + std::to_string(v) + " clamped to [1, 5]");
+  }
+  if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_specular")) {
+    x.specular = float(std::clamp(num(*e, "specularFactor", 1.0), 0.0, 1.0));
+    x.specularColor = glm::clamp(vec3Of(*e, "specularColorFactor", glm::vec3(1.0f)), 0.0f, 1e3f);
+  }
+  if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_transmission"))
+    x.transmission = float(std::clamp(num(*e, "transmissionFactor", 0.0), 0.0, 1.0));
+  if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_volume")) x.thick = num(*e, "thicknessFactor", 0.0) > 0.0;
+  if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_emissive_strength"))
+    x.emissiveStrength = float(std::clamp(num(*e, "emissiveStrength", 1.0), 0.0, 1e6));
+  return x;
+}
+
+// Metallic-roughness mapped onto the Phong/Whitted material's coefficients.
+void setPhongTerms(Material& mat, const tinygltf::Material& g, glm::vec3 base, float metallic, float rough,
+                   const MaterialExtensions& x) {
+  const auto& pbr = g.pbrMetallicRoughness;
+  // Fresnel reflectance at normal incidence: dielectric F0 from the IOR, scaled by KHR_materials_specular;
+  // metals reflect their base colour.
+  const float f0d = std::pow((x.ior - 1.0f) / (x.ior + 1.0f), 2.0f);
+  const glm::vec3 f0Dielectric = glm::min(glm::vec3(f0d) * x.specularColor * x.specular, glm::vec3(1.0f));
+  mat.ks = glm::mix(f0Dielectric, base, metallic);
+  // Energy that is not reflected specularly by metals or transmitted goes to the diffuse lobe.
+  mat.kd = base * (1.0f - metallic) * (1.0f - x.transmission);
+  mat.ka = mat.kd;
+  // Phong exponent from GGX roughness: α = roughness², ns = 2/α² − 2 (Walter et al. 2007, Beckmann↔Phong).
+  const float alpha = std::max(rough * rough, 1e-3f);
+  mat.ns = std::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 10000.0f);
+  // Mirror rays only for smooth surfaces: rough ones would need blurred reflections we do not trace.
+  const float smooth = (1.0f - rough) * (1.0f - rough);
+  const float f0Max = std::max({f0Dielectric.x, f0Dielectric.y, f0Dielectric.z});
+  mat.kr = std::clamp(smooth * (metallic + (1.0f - metallic) * f0Max), 0.0f, 1.0f);
+  mat.kt = x.transmission * (1.0f - metallic);
+  // Without KHR_materials_volume a transmissive surface is thin-walled: light passes without bending.
+  mat.ior = (mat.kt > 0.0f && !x.thick) ? 1.0f : x.ior;
+  // glTF tints transmitted light by the base colour (KHR_materials_transmission); texture not included.
+  mat.transmissionTint = base;
+  if (g.emissiveFactor.size() == 3)
+    mat.emission = glm::vec3(float(g.emissiveFactor[0]), float(g.emissiveFactor[1]), float(g.emissiveFactor[2])) *
+                   x.emissiveStrength;
+  mat.opacity = float(pbr.baseColorFactor[3]);
+  mat.alphaMode = g.alphaMode == "MASK" ? AlphaMode::Mask : g.alphaMode == "BLEND" ? AlphaMode::Blend : AlphaMode::Opaque;
+  mat.alphaCutoff = float(g.alphaCutoff);
+  // BLEND is thin transmission: the uncovered fraction passes straight through (IOR 1). A refracting
+  // BLEND material would need two transmitted rays (bent and straight); it keeps one, unbent.
+  if (mat.alphaMode == AlphaMode::Blend && mat.ior != 1.0f) mat.ior = 1.0f;
+  mat.doubleSided = g.doubleSided;
+  if (ext(g.extensions, "KHR_materials_unlit")) {
+    mat.unlit = true;
+    mat.kd = base;
+    mat.ka = glm::vec3(0.0f);
+    mat.ks = glm::vec3(0.0f);
+    mat.kr = mat.kt = 0.0f;
+  }
+}
+
+int texCoordOf(const tinygltf::ExtensionMap& e, int texCoord) {
+  const tinygltf::Value* tt = ext(e, "KHR_texture_transform");
+  return tt ? intOf(*tt, "texCoord", texCoord) : texCoord;
+}
+
+}  // namespace
+
+// The metallic-roughness texture is not sampled per pixel (one Phong lobe per material): its mean
+// blue (metal) and green (roughness) channels scale the factors, so a mostly dielectric surface
+// with a few metal parts is not shaded as solid metal (glTF's default metallicFactor is 1).
+Result<void> Importer::scaleByMetallicRoughnessMap(const tinygltf::Material& g, const std::string& id, float& metallic,
+                                                   float& rough) {
+  const auto& pbr = g.pbrMetallicRoughness;
+  if (pbr.metallicRoughnessTexture.index < 0) return {};
+  const int mr = texture(pbr.metallicRoughnessTexture.index, false, id + " metallic-roughness");
+  if (budgetRefusal_) return *budgetRefusal_;
+  if (mr < 0) return {};
+  // Once per texture, not per material: many materials may share one large map.
+  auto [it, fresh] = textureMeans_.try_emplace(mr, glm::dvec2(1.0));
+  const Texture& t = out_.scene.textures[std::size_t(mr)];
+  const std::size_t texels = t.rgba8.size() / 4;
+  if (fresh && texels > 0) {
+    double green = 0.0, blue = 0.0;
+    for (std::size_t k = 0; k < texels; ++k) {
+      green += t.rgba8[4 * k + 1];
+      blue += t.rgba8[4 * k + 2];
+    }
+    it->second = glm::dvec2(green, blue) / (255.0 * double(texels));
+  }
+  rough *= float(it->second.x);
+  metallic *= float(it->second.y);
+  return {};
+}
+
+Result<void> Importer::attachMaterialTextures(Material& mat, const tinygltf::Material& g, const std::string& id) {
+  const auto& pbr = g.pbrMetallicRoughness;
+  if (pbr.baseColorTexture.index >= 0) {
+    mat.kdTexture = texture(pbr.baseColorTexture.index, true, id + " base colour");
+    if (budgetRefusal_) return *budgetRefusal_;
+    mat.uvTransform = textureTransform(pbr.baseColorTexture.extensions);
+    if (texCoordOf(pbr.baseColorTexture.extensions, pbr.baseColorTexture.texCoord) != 0)
+      warn_(id + ": base colour texture uses a TEXCOORD other than 0; TEXCOORD_0 is used");
+  }
+  if (g.normalTexture.index >= 0) {
+    mat.normalTexture = texture(g.normalTexture.index, false, id + " normal map");
+    if (budgetRefusal_) return *budgetRefusal_;
+    mat.normalScale = float(g.normalTexture.scale);
+    if (pbr.baseColorTexture.index < 0) mat.uvTransform = textureTransform(g.normalTexture.extensions);
+    if (texCoordOf(g.normalTexture.extensions, g.normalTexture.texCoord) != 0)
+      warn_(id + ": normal map uses a TEXCOORD other than 0; TEXCOORD_0 is used");
+  }
+  if (g.emissiveTexture.index >= 0) {
+    mat.emissiveTexture = texture(g.emissiveTexture.index, true, id + " emissive");
+    if (budgetRefusal_) return *budgetRefusal_;
+    if (texCoordOf(g.emissiveTexture.extensions, g.emissiveTexture.texCoord) != 0)
+      warn_(id + ": emissive texture uses a TEXCOORD other than 0; TEXCOORD_0 is used");
+  }
+  if (g.occlusionTexture.index >= 0)
+    warnOnce("unusedTextures", "occlusion textures are not used; metallic-roughness textures only through their mean");
+  return {};
+}
+
 Result<void> Importer::buildMaterials() {
   for (std::size_t i = 0; i < m_.materials.size(); ++i) {
     const tinygltf::Material& g = m_.materials[i];
@@ -129,115 +267,10 @@ Result<void> Importer::buildMaterials() {
     mat.name = g.name;
     const glm::vec3 base(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]), float(pbr.baseColorFactor[2]));
     float metallic = float(pbr.metallicFactor), rough = float(pbr.roughnessFactor);
-    // The metallic-roughness texture is not sampled per pixel (one Phong lobe per material): its mean
-    // blue (metal) and green (roughness) channels scale the factors, so a mostly dielectric surface
-    // with a few metal parts is not shaded as solid metal (glTF's default metallicFactor is 1).
-    if (pbr.metallicRoughnessTexture.index >= 0) {
-      const int mr = texture(pbr.metallicRoughnessTexture.index, false, id + " metallic-roughness");
-      if (budgetRefusal_) return *budgetRefusal_;
-      if (mr >= 0) {
-        // Once per texture, not per material: many materials may share one large map.
-        auto [it, fresh] = textureMeans_.try_emplace(mr, glm::dvec2(1.0));
-        const Texture& t = out_.scene.textures[std::size_t(mr)];
-        const std::size_t texels = t.rgba8.size() / 4;
-        if (fresh && texels > 0) {
-          double green = 0.0, blue = 0.0;
-          for (std::size_t k = 0; k < texels; ++k) {
-            green += t.rgba8[4 * k + 1];
-            blue += t.rgba8[4 * k + 2];
-          }
-          it->second = glm::dvec2(green, blue) / (255.0 * double(texels));
-        }
-        rough *= float(it->second.x);
-        metallic *= float(it->second.y);
-      }
-    }
-    float ior = 1.5f;
-    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_ior")) {
-      const double v = num(*e, "ior", 1.5);
-      // The extension allows 0 (meaning "no refraction"); anything else must be >= 1. Clamp the rest.
-      ior = v == 0.0 ? 1.0f : float(std::clamp(v, 1.0, 5.0));
-      if (v != 0.0 && (v < 1.0 || v > 5.0)) warn_(id + ": ior " + std::to_string(v) + " clamped to [1, 5]");
-    }
-    float specular = 1.0f;
-    glm::vec3 specularColor(1.0f);
-    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_specular")) {
-      specular = float(std::clamp(num(*e, "specularFactor", 1.0), 0.0, 1.0));
-      specularColor = glm::clamp(vec3Of(*e, "specularColorFactor", glm::vec3(1.0f)), 0.0f, 1e3f);
-    }
-    float transmission = 0.0f;
-    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_transmission"))
-      transmission = float(std::clamp(num(*e, "transmissionFactor", 0.0), 0.0, 1.0));
-    bool thick = false;
-    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_volume")) thick = num(*e, "thicknessFactor", 0.0) > 0.0;
-    float emissiveStrength = 1.0f;
-    if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_emissive_strength"))
-      emissiveStrength = float(std::clamp(num(*e, "emissiveStrength", 1.0), 0.0, 1e6));
-
-    // Fresnel reflectance at normal incidence: dielectric F0 from the IOR, scaled by KHR_materials_specular;
-    // metals reflect their base colour.
-    const float f0d = std::pow((ior - 1.0f) / (ior + 1.0f), 2.0f);
-    const glm::vec3 f0Dielectric = glm::min(glm::vec3(f0d) * specularColor * specular, glm::vec3(1.0f));
-    mat.ks = glm::mix(f0Dielectric, base, metallic);
-    // Energy that is not reflected specularly by metals or transmitted goes to the diffuse lobe.
-    mat.kd = base * (1.0f - metallic) * (1.0f - transmission);
-    mat.ka = mat.kd;
-    // Phong exponent from GGX roughness: α = roughness², ns = 2/α² − 2 (Walter et al. 2007, Beckmann↔Phong).
-    const float alpha = std::max(rough * rough, 1e-3f);
-    mat.ns = std::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 10000.0f);
-    // Mirror rays only for smooth surfaces: rough ones would need blurred reflections we do not trace.
-    const float smooth = (1.0f - rough) * (1.0f - rough);
-    const float f0Max = std::max({f0Dielectric.x, f0Dielectric.y, f0Dielectric.z});
-    mat.kr = std::clamp(smooth * (metallic + (1.0f - metallic) * f0Max), 0.0f, 1.0f);
-    mat.kt = transmission * (1.0f - metallic);
-    // Without KHR_materials_volume a transmissive surface is thin-walled: light passes without bending.
-    mat.ior = (mat.kt > 0.0f && !thick) ? 1.0f : ior;
-    // glTF tints transmitted light by the base colour (KHR_materials_transmission); texture not included.
-    mat.transmissionTint = base;
-    if (g.emissiveFactor.size() == 3)
-      mat.emission = glm::vec3(float(g.emissiveFactor[0]), float(g.emissiveFactor[1]), float(g.emissiveFactor[2])) *
-                     emissiveStrength;
-    mat.opacity = float(pbr.baseColorFactor[3]);
-    mat.alphaMode = g.alphaMode == "MASK" ? AlphaMode::Mask : g.alphaMode == "BLEND" ? AlphaMode::Blend : AlphaMode::Opaque;
-    mat.alphaCutoff = float(g.alphaCutoff);
-    // BLEND is thin transmission: the uncovered fraction passes straight through (IOR 1). A refracting
-    // BLEND material would need two transmitted rays (bent and straight); it keeps one, unbent.
-    if (mat.alphaMode == AlphaMode::Blend && mat.ior != 1.0f) mat.ior = 1.0f;
-    mat.doubleSided = g.doubleSided;
-    if (ext(g.extensions, "KHR_materials_unlit")) {
-      mat.unlit = true;
-      mat.kd = base;
-      mat.ka = glm::vec3(0.0f);
-      mat.ks = glm::vec3(0.0f);
-      mat.kr = mat.kt = 0.0f;
-    }
-    auto texCoordOf = [&](const tinygltf::ExtensionMap& e, int texCoord) {
-      const tinygltf::Value* tt = ext(e, "KHR_texture_transform");
-      return tt ? intOf(*tt, "texCoord", texCoord) : texCoord;
-    };
-    if (pbr.baseColorTexture.index >= 0) {
-      mat.kdTexture = texture(pbr.baseColorTexture.index, true, id + " base colour");
-      if (budgetRefusal_) return *budgetRefusal_;
-      mat.uvTransform = textureTransform(pbr.baseColorTexture.extensions);
-      if (texCoordOf(pbr.baseColorTexture.extensions, pbr.baseColorTexture.texCoord) != 0)
-        warn_(id + ": base colour texture uses a TEXCOORD other than 0; TEXCOORD_0 is used");
-    }
-    if (g.normalTexture.index >= 0) {
-      mat.normalTexture = texture(g.normalTexture.index, false, id + " normal map");
-      if (budgetRefusal_) return *budgetRefusal_;
-      mat.normalScale = float(g.normalTexture.scale);
-      if (pbr.baseColorTexture.index < 0) mat.uvTransform = textureTransform(g.normalTexture.extensions);
-      if (texCoordOf(g.normalTexture.extensions, g.normalTexture.texCoord) != 0)
-        warn_(id + ": normal map uses a TEXCOORD other than 0; TEXCOORD_0 is used");
-    }
-    if (g.emissiveTexture.index >= 0) {
-      mat.emissiveTexture = texture(g.emissiveTexture.index, true, id + " emissive");
-      if (budgetRefusal_) return *budgetRefusal_;
-      if (texCoordOf(g.emissiveTexture.extensions, g.emissiveTexture.texCoord) != 0)
-        warn_(id + ": emissive texture uses a TEXCOORD other than 0; TEXCOORD_0 is used");
-    }
-    if (g.occlusionTexture.index >= 0)
-      warnOnce("unusedTextures", "occlusion textures are not used; metallic-roughness textures only through their mean");
+    if (auto scaled = scaleByMetallicRoughnessMap(g, id, metallic, rough); !scaled) return scaled;
+    const MaterialExtensions x = readMaterialExtensions(g, id, warn_);
+    setPhongTerms(mat, g, base, metallic, rough, x);
+    if (auto attached = attachMaterialTextures(mat, g, id); !attached) return attached;
     wantsTangents_.push_back(mat.normalTexture >= 0);
     materialOf_.push_back(int(out_.scene.materials.size()));
     out_.scene.materials.push_back(std::move(mat));
