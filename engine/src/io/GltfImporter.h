@@ -88,6 +88,12 @@ class Importer {
   int fallbackTexture();
   Result<int> meshFor(int mesh, int prim, bool flip);
   Result<Mesh> convertPrimitive(int mesh, int prim);
+  Result<void> readNormals(const tinygltf::Primitive& p, const std::string& id, const std::vector<std::uint32_t>& used,
+                           std::size_t n, Mesh& mesh);
+  Result<void> readUvsAndColours(const tinygltf::Primitive& p, const std::string& id,
+                                 const std::vector<std::uint32_t>& used, std::size_t n, Mesh& mesh);
+  Result<void> readTangents(const tinygltf::Primitive& p, const std::string& id, const std::vector<std::uint32_t>& used,
+                            std::size_t n, Mesh& mesh);
   Result<std::vector<std::uint32_t>> triangleList(const tinygltf::Primitive& p, std::size_t vertexCount,
                                                   const std::string& id);
   Result<void> traverse(const std::vector<int>& roots);

@@ -161,17 +161,22 @@ Result<std::vector<std::uint32_t>> Importer::triangleList(const tinygltf::Primit
   return std::vector<std::uint32_t>{};  // fewer than 3 vertices: nothing to draw
 }
 
+namespace {
+int attributeAccessor(const tinygltf::Primitive& p, const char* name) {
+  auto it = p.attributes.find(name);
+  return it == p.attributes.end() ? -1 : it->second;
+}
+}  // namespace
+
+// Each attribute: read through the cache, charged, then copied for the used vertices; a value the mesh
+// cannot take (NaN, infinity) rejects the file, naming it.
 Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
   const tinygltf::Primitive& p = m_.meshes[std::size_t(meshIndex)].primitives[std::size_t(primIndex)];
   const std::string id = "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(primIndex) + "]";
   Mesh mesh;
   mesh.name = m_.meshes[std::size_t(meshIndex)].name;
   if (m_.meshes[std::size_t(meshIndex)].primitives.size() > 1) mesh.name.append("#").append(std::to_string(primIndex));
-  auto attr = [&](const char* name) {
-    auto it = p.attributes.find(name);
-    return it == p.attributes.end() ? -1 : it->second;
-  };
-  const int posAcc = attr("POSITION");
+  const int posAcc = attributeAccessor(p, "POSITION");
   auto pos = attribute(posAcc);
   if (!pos) return pos.error();
   const std::size_t vertexCount = (*pos)->size() / 3;
@@ -184,36 +189,48 @@ Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
   if (auto c = charge(id + " vertex list", u64(mesh.indices.size()) * sizeof(std::uint32_t)); !c) return c.error();
   const std::vector<std::uint32_t> used = keepUsedVertices(mesh.indices, vertexCount);
   const std::size_t n = used.empty() ? vertexCount : used.size();
-  // Each attribute: read through the cache, charged, then copied for the used vertices; a value the mesh
-  // cannot take (NaN, infinity) rejects the file, naming it.
   std::size_t bad = 0;
-  auto nonFinite = [&](const char* what, std::size_t i) { return err(id + ": " + what + " " + std::to_string(i) + " is NaN or infinite"); };
   if (auto c = charge(id + " vertices", u64(n) * sizeof(glm::vec3)); !c) return c.error();
   if (!gatherVertices(**pos, 3, used, n, mesh.positions, &bad, [](const float* v, glm::vec3& out) {
         out = glm::vec3(v[0], v[1], v[2]);
         return finite3(out);
       }))
     return err(id + ": POSITION " + std::to_string(bad) + " is NaN or infinite (accessors[" + std::to_string(posAcc) + "])");
+  if (auto r = readNormals(p, id, used, n, mesh); !r) return r.error();
+  if (auto r = readUvsAndColours(p, id, used, n, mesh); !r) return r.error();
+  if (auto r = readTangents(p, id, used, n, mesh); !r) return r.error();
+  return mesh;
+}
 
+Result<void> Importer::readNormals(const tinygltf::Primitive& p, const std::string& id,
+                                   const std::vector<std::uint32_t>& used, std::size_t n, Mesh& mesh) {
   if (auto c = charge(id + " normals", u64(n) * sizeof(glm::vec3)); !c) return c.error();
-  if (int a = attr("NORMAL"); a >= 0) {
-    auto r = attribute(a);
-    if (!r) return r.error();
-    bool zero = false;
-    if (!gatherVertices(**r, 3, used, n, mesh.normals, &bad, [&zero](const float* v, glm::vec3& out) {
-          out = glm::vec3(v[0], v[1], v[2]);
-          if (!finite3(out)) return false;
-          const float len = glm::length(out);
-          zero = zero || !(len > 1e-20f);
-          out = len > 1e-20f ? out / len : glm::vec3(0, 0, 1);
-          return true;
-        }))
-      return nonFinite("NORMAL", bad);
-    if (zero) warn_(id + ": zero-length normals replaced");
-  } else {
+  const int a = attributeAccessor(p, "NORMAL");
+  if (a < 0) {
     generateNormals(mesh);
+    return {};
   }
-  if (int a = attr("TEXCOORD_0"); a >= 0) {
+  auto r = attribute(a);
+  if (!r) return r.error();
+  std::size_t bad = 0;
+  bool zero = false;
+  if (!gatherVertices(**r, 3, used, n, mesh.normals, &bad, [&zero](const float* v, glm::vec3& out) {
+        out = glm::vec3(v[0], v[1], v[2]);
+        if (!finite3(out)) return false;
+        const float len = glm::length(out);
+        zero = zero || !(len > 1e-20f);
+        out = len > 1e-20f ? out / len : glm::vec3(0, 0, 1);
+        return true;
+      }))
+    return err(id + ": NORMAL " + std::to_string(bad) + " is NaN or infinite");
+  if (zero) warn_(id + ": zero-length normals replaced");
+  return {};
+}
+
+Result<void> Importer::readUvsAndColours(const tinygltf::Primitive& p, const std::string& id,
+                                         const std::vector<std::uint32_t>& used, std::size_t n, Mesh& mesh) {
+  std::size_t bad = 0;
+  if (int a = attributeAccessor(p, "TEXCOORD_0"); a >= 0) {
     auto r = attribute(a);
     if (!r) return r.error();
     if (auto c = charge(id + " uvs", u64(n) * sizeof(glm::vec2)); !c) return c.error();
@@ -221,9 +238,9 @@ Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
           out = glm::vec2(v[0], v[1]);
           return std::isfinite(out.x) && std::isfinite(out.y);
         }))
-      return nonFinite("TEXCOORD_0", bad);
+      return err(id + ": TEXCOORD_0 " + std::to_string(bad) + " is NaN or infinite");
   }
-  if (int a = attr("COLOR_0"); a >= 0) {
+  if (int a = attributeAccessor(p, "COLOR_0"); a >= 0) {
     auto r = attribute(a);
     if (!r) return r.error();
     const std::size_t nc = std::size_t(componentCount(m_.accessors[std::size_t(a)].type));
@@ -235,14 +252,21 @@ Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
           out = glm::clamp(out, 0.0f, 1.0f);
           return true;
         }))
-      return nonFinite("COLOR_0", bad);
+      return err(id + ": COLOR_0 " + std::to_string(bad) + " is NaN or infinite");
   }
+  return {};
+}
+
+// Tangents only for primitives drawn with a normal map, their only reader.
+Result<void> Importer::readTangents(const tinygltf::Primitive& p, const std::string& id,
+                                    const std::vector<std::uint32_t>& used, std::size_t n, Mesh& mesh) {
   const bool normalMap = p.material >= 0 && wantsTangents_[std::size_t(p.material)];
-  if (normalMap)
-    if (auto c = charge(id + " tangents", u64(n) * (sizeof(glm::vec4) + sizeof(glm::vec2))); !c) return c.error();
-  if (int a = attr("TANGENT"); a >= 0 && normalMap) {
+  if (!normalMap) return {};
+  if (auto c = charge(id + " tangents", u64(n) * (sizeof(glm::vec4) + sizeof(glm::vec2))); !c) return c.error();
+  if (int a = attributeAccessor(p, "TANGENT"); a >= 0) {
     auto r = attribute(a);
     if (!r) return r.error();
+    std::size_t bad = 0;
     if (!gatherVertices(**r, 4, used, n, mesh.tangents, &bad, [](const float* v, glm::vec4& out) {
           const glm::vec4 t(v[0], v[1], v[2], v[3]);
           if (!finite3(glm::vec3(t)) || !std::isfinite(t.w)) return false;
@@ -250,8 +274,8 @@ Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
           out = len > 1e-20f ? glm::vec4(glm::vec3(t) / len, t.w < 0 ? -1.0f : 1.0f) : glm::vec4(1, 0, 0, 1);
           return true;
         }))
-      return nonFinite("TANGENT", bad);
-  } else if (normalMap) {
+      return err(id + ": TANGENT " + std::to_string(bad) + " is NaN or infinite");
+  } else {
     if (mesh.uvs.empty()) warn_(id + ": normal map without TEXCOORD_0; tangents are arbitrary");
     else generateTangents(mesh);
     if (mesh.uvs.empty()) {
@@ -259,7 +283,7 @@ Result<Mesh> Importer::convertPrimitive(int meshIndex, int primIndex) {
       generateTangents(mesh);
     }
   }
-  return mesh;
+  return {};
 }
 
 Result<int> Importer::meshFor(int meshIndex, int primIndex, bool flip) {
