@@ -1,6 +1,7 @@
 // Node-transform animation: keyframe extraction from a validated model and the evaluator.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -116,6 +117,96 @@ glm::mat4 nodeLocalMatrix(const tinygltf::Node& n) {
   return m;
 }
 
+namespace {
+
+// The channel's target and sampler, checked before anything is read: nullopt for a channel to skip
+// (with a warning, unless glTF says to ignore it).
+std::optional<AnimChannel> channelTarget(const tinygltf::Model& m, const tinygltf::Animation& a,
+                                         const tinygltf::AnimationChannel& c, const std::string& id,
+                                         const std::vector<int>& animIndexOfNode, const SceneAnimation& anim,
+                                         Warn& warn) {
+  if (c.target_node < 0) return std::nullopt;  // glTF: a channel without a node is ignored
+  if (c.target_path == "weights") {
+    warn(id + ": morph-target weights are not animated (morph targets are ignored)");
+    return std::nullopt;
+  }
+  AnimChannel out;
+  if (c.target_path == "translation") out.path = AnimPath::Translation;
+  else if (c.target_path == "rotation") out.path = AnimPath::Rotation;
+  else if (c.target_path == "scale") out.path = AnimPath::Scale;
+  else {
+    warn(id + ": unknown path '" + c.target_path + "', channel skipped");
+    return std::nullopt;
+  }
+  const int animNode = animIndexOfNode[std::size_t(c.target_node)];
+  if (animNode < 0) return std::nullopt;  // node not in the loaded scene
+  if (anim.nodes[std::size_t(animNode)].hasMatrix) {
+    warn(id + ": targets node " + std::to_string(c.target_node) + ", which has a matrix; channel skipped");
+    return std::nullopt;
+  }
+  out.node = std::uint32_t(animNode);
+  const tinygltf::AnimationSampler& s = a.samplers[std::size_t(c.sampler)];
+  out.interpolation = s.interpolation == "STEP"          ? AnimInterpolation::Step
+                      : s.interpolation == "CUBICSPLINE" ? AnimInterpolation::CubicSpline
+                                                         : AnimInterpolation::Linear;
+  const tinygltf::Accessor& in = m.accessors[std::size_t(s.input)];
+  const tinygltf::Accessor& ou = m.accessors[std::size_t(s.output)];
+  if (in.type != TINYGLTF_TYPE_SCALAR || in.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+    warn(id + ": input accessor is not SCALAR float; channel skipped");
+    return std::nullopt;
+  }
+  const int want = out.path == AnimPath::Rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3;
+  if (ou.type != want || (ou.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !ou.normalized)) {
+    warn(id + ": output accessor has the wrong type for " + c.target_path + "; channel skipped");
+    return std::nullopt;
+  }
+  const std::size_t per = out.interpolation == AnimInterpolation::CubicSpline ? 3 : 1;
+  if (ou.count != in.count * per) {
+    warn(id + ": " + std::to_string(ou.count) + " output values for " + std::to_string(in.count) +
+         " keys; channel skipped");
+    return std::nullopt;
+  }
+  return out;
+}
+
+// The key times and values into `out`: false for a channel to skip (warned), an error when the budget
+// refuses them.
+Result<bool> readKeyframes(const tinygltf::Model& m, const tinygltf::AnimationSampler& s, const std::string& id,
+                           AnimChannel& out, Warn& warn, const std::string& file, LoadBudget& budget) {
+  const tinygltf::Accessor& ou = m.accessors[std::size_t(s.output)];
+  // Many channels may share one sampler's accessors: each read is charged, so a small file cannot
+  // make the keyframes a product of two counts.
+  auto times = readFloats(m, s.input, file, &budget);
+  if (!times) return times.error();
+  auto values = readFloats(m, s.output, file, &budget);
+  if (!values) return values.error();
+  if (!budget.charge(ou.count * sizeof(glm::vec4)))
+    return Error{file + ": " + budget.refusal(id + " keyframes", ou.count * sizeof(glm::vec4))};
+  bool ok = true;
+  for (std::size_t k = 0; k < times->size() && ok; ++k)
+    ok = std::isfinite((*times)[k]) && (k == 0 || (*times)[k] > (*times)[k - 1]);
+  if (!ok) {
+    warn(id + ": key times are not finite and strictly increasing; channel skipped");
+    return false;
+  }
+  const std::size_t nc = out.path == AnimPath::Rotation ? 4 : 3;
+  out.values.resize(ou.count);
+  for (std::size_t k = 0; k < ou.count && ok; ++k) {
+    glm::vec4 v(0.0f);
+    for (std::size_t j = 0; j < nc; ++j) v[int(j)] = (*values)[k * nc + j];
+    ok = std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w);
+    out.values[k] = v;
+  }
+  if (!ok) {
+    warn(id + ": a keyframe value is NaN or infinite; channel skipped");
+    return false;
+  }
+  out.times = std::move(*times);
+  return true;
+}
+
+}  // namespace
+
 Result<void> buildAnimationClips(const tinygltf::Model& m, const std::vector<int>& animIndexOfNode, SceneAnimation& anim,
                                  Warn& warn, const std::string& file, LoadBudget& budget) {
   for (std::size_t ai = 0; ai < m.animations.size(); ++ai) {
@@ -125,77 +216,13 @@ Result<void> buildAnimationClips(const tinygltf::Model& m, const std::vector<int
     for (std::size_t ci = 0; ci < a.channels.size(); ++ci) {
       const tinygltf::AnimationChannel& c = a.channels[ci];
       const std::string id = "animations[" + std::to_string(ai) + "].channels[" + std::to_string(ci) + "]";
-      if (c.target_node < 0) continue;  // glTF: a channel without a node is ignored
-      if (c.target_path == "weights") {
-        warn(id + ": morph-target weights are not animated (morph targets are ignored)");
-        continue;
-      }
-      AnimChannel out;
-      if (c.target_path == "translation") out.path = AnimPath::Translation;
-      else if (c.target_path == "rotation") out.path = AnimPath::Rotation;
-      else if (c.target_path == "scale") out.path = AnimPath::Scale;
-      else {
-        warn(id + ": unknown path '" + c.target_path + "', channel skipped");
-        continue;
-      }
-      const int animNode = animIndexOfNode[std::size_t(c.target_node)];
-      if (animNode < 0) continue;  // node not in the loaded scene
-      if (anim.nodes[std::size_t(animNode)].hasMatrix) {
-        warn(id + ": targets node " + std::to_string(c.target_node) + ", which has a matrix; channel skipped");
-        continue;
-      }
-      out.node = std::uint32_t(animNode);
-      const tinygltf::AnimationSampler& s = a.samplers[std::size_t(c.sampler)];
-      out.interpolation = s.interpolation == "STEP"          ? AnimInterpolation::Step
-                          : s.interpolation == "CUBICSPLINE" ? AnimInterpolation::CubicSpline
-                                                             : AnimInterpolation::Linear;
-      const tinygltf::Accessor& in = m.accessors[std::size_t(s.input)];
-      const tinygltf::Accessor& ou = m.accessors[std::size_t(s.output)];
-      if (in.type != TINYGLTF_TYPE_SCALAR || in.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) {
-        warn(id + ": input accessor is not SCALAR float; channel skipped");
-        continue;
-      }
-      const int want = out.path == AnimPath::Rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3;
-      if (ou.type != want || (ou.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !ou.normalized)) {
-        warn(id + ": output accessor has the wrong type for " + c.target_path + "; channel skipped");
-        continue;
-      }
-      const std::size_t per = out.interpolation == AnimInterpolation::CubicSpline ? 3 : 1;
-      if (ou.count != in.count * per) {
-        warn(id + ": " + std::to_string(ou.count) + " output values for " + std::to_string(in.count) +
-             " keys; channel skipped");
-        continue;
-      }
-      // Many channels may share one sampler's accessors: each read is charged, so a small file cannot
-      // make the keyframes a product of two counts.
-      auto times = readFloats(m, s.input, file, &budget);
-      if (!times) return times.error();
-      auto values = readFloats(m, s.output, file, &budget);
-      if (!values) return values.error();
-      if (!budget.charge(ou.count * sizeof(glm::vec4)))
-        return Error{file + ": " + budget.refusal(id + " keyframes", ou.count * sizeof(glm::vec4))};
-      bool ok = true;
-      for (std::size_t k = 0; k < times->size() && ok; ++k)
-        ok = std::isfinite((*times)[k]) && (k == 0 || (*times)[k] > (*times)[k - 1]);
-      if (!ok) {
-        warn(id + ": key times are not finite and strictly increasing; channel skipped");
-        continue;
-      }
-      const std::size_t nc = out.path == AnimPath::Rotation ? 4 : 3;
-      out.values.resize(ou.count);
-      for (std::size_t k = 0; k < ou.count && ok; ++k) {
-        glm::vec4 v(0.0f);
-        for (std::size_t j = 0; j < nc; ++j) v[int(j)] = (*values)[k * nc + j];
-        ok = std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w);
-        out.values[k] = v;
-      }
-      if (!ok) {
-        warn(id + ": a keyframe value is NaN or infinite; channel skipped");
-        continue;
-      }
-      out.times = std::move(*times);
-      clip.duration = std::max(clip.duration, out.times.back());
-      clip.channels.push_back(std::move(out));
+      std::optional<AnimChannel> out = channelTarget(m, a, c, id, animIndexOfNode, anim, warn);
+      if (!out) continue;
+      auto read = readKeyframes(m, a.samplers[std::size_t(c.sampler)], id, *out, warn, file, budget);
+      if (!read) return read.error();
+      if (!*read) continue;
+      clip.duration = std::max(clip.duration, out->times.back());
+      clip.channels.push_back(std::move(*out));
     }
     if (!clip.channels.empty()) anim.clips.push_back(std::move(clip));
   }
