@@ -505,63 +505,80 @@ class Builder {
       keepLights = s == "keep";
     }
     Placed& placed = loadGltfCached(j.at("gltf"), gltfPath);
-    const Scene& g = placed.scene;
-
-    // materialOverrides: glTF material name (or "*" for all) → material of this file.
-    std::optional<std::uint32_t> overrideAll;
-    std::map<std::string, std::uint32_t> overrides;
-    if (const Json* v = Reader::find(j, "materialOverrides")) {
-      const std::string p = child(path, "materialOverrides");
-      r_.object(*v, p);
-      std::set<std::string> known;
-      for (const Material& m : g.materials) known.insert(m.name);
-      for (const auto& [key, value] : v->items()) {
-        const std::string kp = child(p, key);
-        const std::uint32_t target = materialByName(value, kp);
-        if (key == "*") {
-          overrideAll = target;
-        } else {
-          if (!known.count(key)) {
-            std::vector<std::string> names;
-            for (const Material& m : g.materials)
-              if (std::find(names.begin(), names.end(), m.name) == names.end()) names.push_back(m.name);
-            r_.fail(kp, "no material named '" + key + "' in the glTF file (known: " + joinNames(names) + ")");
-          }
-          overrides[key] = target;
-        }
-      }
-    }
-
+    const MaterialOverrides overrides = materialOverrides(j, path, placed.scene);
     const std::string prefix = name + "/";
-    if (!placed.placed) {
-      // The file's meshes and textures join the scene once, named after its first placement.
-      std::uint64_t bytes = 0;
-      for (const Mesh& m : g.meshes) bytes += m.bytes() + prefix.size();
-      for (const Texture& t : g.textures) bytes += t.rgba8.size() + prefix.size();
-      charge(gltfPath, "the glTF file's meshes and textures", bytes);
-      placed.placed = true;
-      placed.meshBase = static_cast<std::uint32_t>(scene_.meshes.size());
-      placed.textureBase = static_cast<int>(scene_.textures.size());
-      placed.materialCopy.assign(g.materials.size(), -1);
-      for (const Mesh& m : g.meshes) {
-        scene_.meshes.push_back(m);
-        scene_.meshes.back().name = prefix + m.name;
-      }
-      for (const Texture& t : g.textures) {
-        scene_.textures.push_back(t);
-        scene_.textures.back().name = prefix + t.name;
+    if (!placed.placed) addPlacedFile(placed, prefix, gltfPath);
+    const std::vector<std::uint32_t> materialMap = placedMaterials(placed, overrides, prefix, gltfPath);
+    addPlacedInstances(placed, materialMap, prefix, gltfPath, xf, dynamic);
+    if (keepLights) addPlacedLights(placed.scene, prefix, path, xf);
+  }
+
+  // materialOverrides: glTF material name (or "*" for all) → material of this file.
+  struct MaterialOverrides {
+    std::optional<std::uint32_t> all;
+    std::map<std::string, std::uint32_t> byName;
+  };
+
+  MaterialOverrides materialOverrides(const Json& j, const std::string& path, const Scene& g) const {
+    MaterialOverrides out;
+    const Json* v = Reader::find(j, "materialOverrides");
+    if (!v) return out;
+    const std::string p = child(path, "materialOverrides");
+    r_.object(*v, p);
+    std::set<std::string> known;
+    for (const Material& m : g.materials) known.insert(m.name);
+    for (const auto& [key, value] : v->items()) {
+      const std::string kp = child(p, key);
+      const std::uint32_t target = materialByName(value, kp);
+      if (key == "*") {
+        out.all = target;
+      } else {
+        if (!known.count(key)) {
+          std::vector<std::string> names;
+          for (const Material& m : g.materials)
+            if (std::find(names.begin(), names.end(), m.name) == names.end()) names.push_back(m.name);
+          r_.fail(kp, "no material named '" + key + "' in the glTF file (known: " + joinNames(names) + ")");
+        }
+        out.byName[key] = target;
       }
     }
-    // Overridden materials map to the scene's material; the others to one shared copy with the texture
-    // indices shifted, made when a placement first needs it.
+    return out;
+  }
+
+  // The file's meshes and textures join the scene once, named after its first placement.
+  void addPlacedFile(Placed& placed, const std::string& prefix, const std::string& gltfPath) {
+    const Scene& g = placed.scene;
+    std::uint64_t bytes = 0;
+    for (const Mesh& m : g.meshes) bytes += m.bytes() + prefix.size();
+    for (const Texture& t : g.textures) bytes += t.rgba8.size() + prefix.size();
+    charge(gltfPath, "the glTF file's meshes and textures", bytes);
+    placed.placed = true;
+    placed.meshBase = static_cast<std::uint32_t>(scene_.meshes.size());
+    placed.textureBase = static_cast<int>(scene_.textures.size());
+    placed.materialCopy.assign(g.materials.size(), -1);
+    for (const Mesh& m : g.meshes) {
+      scene_.meshes.push_back(m);
+      scene_.meshes.back().name = prefix + m.name;
+    }
+    for (const Texture& t : g.textures) {
+      scene_.textures.push_back(t);
+      scene_.textures.back().name = prefix + t.name;
+    }
+  }
+
+  // Overridden materials map to the scene's material; the others to one shared copy with the texture
+  // indices shifted, made when a placement first needs it.
+  std::vector<std::uint32_t> placedMaterials(Placed& placed, const MaterialOverrides& overrides,
+                                             const std::string& prefix, const std::string& gltfPath) {
+    const Scene& g = placed.scene;
     std::vector<std::uint32_t> materialMap(g.materials.size());
     for (std::size_t i = 0; i < g.materials.size(); ++i) {
       const Material& gm = g.materials[i];
-      auto o = overrides.find(gm.name);
-      if (o != overrides.end()) {
+      auto o = overrides.byName.find(gm.name);
+      if (o != overrides.byName.end()) {
         materialMap[i] = o->second;
-      } else if (overrideAll) {
-        materialMap[i] = *overrideAll;
+      } else if (overrides.all) {
+        materialMap[i] = *overrides.all;
       } else {
         if (placed.materialCopy[i] < 0) {
           charge(gltfPath, "a copy of the glTF file's material", sizeof(Material) + prefix.size() + gm.name.size());
@@ -576,6 +593,13 @@ class Builder {
         materialMap[i] = static_cast<std::uint32_t>(placed.materialCopy[i]);
       }
     }
+    return materialMap;
+  }
+
+  void addPlacedInstances(const Placed& placed, const std::vector<std::uint32_t>& materialMap,
+                          const std::string& prefix, const std::string& gltfPath, const glm::mat4& worldFromFile,
+                          bool dynamic) {
+    const Scene& g = placed.scene;
     for (const Instance& gi : g.instances) {
       if (gi.mesh >= g.meshes.size() || gi.material >= g.materials.size())
         r_.fail(gltfPath, "the glTF loader returned an instance with an out-of-range index");
@@ -584,22 +608,24 @@ class Builder {
       inst.name = prefix + gi.name;
       inst.mesh = placed.meshBase + gi.mesh;
       inst.material = materialMap[gi.material];
-      inst.worldFromObject = xf * gi.worldFromObject;
+      inst.worldFromObject = worldFromFile * gi.worldFromObject;
       inst.dynamic = gi.dynamic || dynamic;
       scene_.instances.push_back(std::move(inst));
     }
-    if (keepLights) {
-      const glm::mat3 linear(xf);
-      for (const Light& gl : g.lights) {
-        Light l = gl;
-        l.name = prefix + gl.name;
-        l.posW = glm::vec3(xf * glm::vec4(gl.posW, 1.0f));
-        // Directions move with the placement; range and attenuation stay in the file's units.
-        glm::vec3 d = linear * gl.dirW;
-        const float len = glm::length(d);
-        l.dirW = len > 0.0f ? d / len : gl.dirW;
-        addLight(std::move(l), path);
-      }
+  }
+
+  void addPlacedLights(const Scene& g, const std::string& prefix, const std::string& path,
+                       const glm::mat4& worldFromFile) {
+    const glm::mat3 linear(worldFromFile);
+    for (const Light& gl : g.lights) {
+      Light l = gl;
+      l.name = prefix + gl.name;
+      l.posW = glm::vec3(worldFromFile * glm::vec4(gl.posW, 1.0f));
+      // Directions move with the placement; range and attenuation stay in the file's units.
+      glm::vec3 d = linear * gl.dirW;
+      const float len = glm::length(d);
+      l.dirW = len > 0.0f ? d / len : gl.dirW;
+      addLight(std::move(l), path);
     }
   }
 
