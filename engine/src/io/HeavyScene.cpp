@@ -89,25 +89,7 @@ void place(Scene& s, std::uint32_t mesh, std::uint32_t material, glm::mat4 world
 }
 glm::mat4 at(glm::vec3 t) { return glm::translate(glm::mat4(1.0f), t); }
 
-}  // namespace
-
-std::size_t heavySceneMinTriangles(const HeavySceneOptions& options) {
-  return fixedTriangles(options) + gridCount(options) * sphereTriangles(kMinSegments) + kMinFloorTriangles;
-}
-
-Scene makeHeavyScene(std::size_t targetTriangles, const HeavySceneOptions& options) {
-  const std::size_t target = std::max(targetTriangles, heavySceneMinTriangles(options));
-  const std::size_t grid = gridCount(options);
-  const std::size_t free = target - fixedTriangles(options) - kMinFloorTriangles;
-  float share = std::clamp(options.sphereShare, 0.0f, 1.0f);
-  int segments = segmentsFor(static_cast<std::size_t>(static_cast<double>(free) * static_cast<double>(share)) / grid);
-  // The floor takes whatever the spheres leave, so the total is exact.
-  std::size_t floorTriangles = target - fixedTriangles(options) - grid * sphereTriangles(segments);
-
-  Scene s;
-  s.name = "heavy-" + std::to_string(target);
-  s.background = {0.05f, 0.07f, 0.10f};
-
+void addFloor(Scene& s, std::size_t floorTriangles, float side) {
   Material floor;
   floor.name = "checker";
   floor.kd = {0.85f, 0.85f, 0.85f};
@@ -115,12 +97,13 @@ Scene makeHeavyScene(std::size_t targetTriangles, const HeavySceneOptions& optio
   floor.checkerFrequency = 0.5f;
   floor.ks = glm::vec3(0.1f);
   std::uint32_t floorMaterial = add(s.materials, floor);
-  const float side = static_cast<float>(std::max(1, options.gridSide));
   place(s, add(s.meshes, makeExactFloor(floorTriangles, 6.0f * side + 20.0f)), floorMaterial, glm::mat4(1.0f),
         "floor");
+}
 
-  // The grid, shading models mixed. Each sphere gets its own mesh (no instancing), so the triangle count
-  // is also what Embree builds and stores, not only what the rasterizer draws.
+// The grid, shading models mixed. Each sphere gets its own mesh (no instancing), so the triangle count
+// is also what Embree builds and stores, not only what the rasterizer draws.
+void addSphereGrid(Scene& s, int segments, int gridSide) {
   const Mesh sphere = makeSphere(1.0f, segments, segments / 2);
   const glm::vec3 colours[] = {{0.8f, 0.25f, 0.2f}, {0.2f, 0.6f, 0.3f}, {0.25f, 0.35f, 0.85f}, {0.85f, 0.7f, 0.2f}};
   const ShadingModel models[] = {ShadingModel::Phong, ShadingModel::Gouraud, ShadingModel::Toon, ShadingModel::Flat};
@@ -134,43 +117,45 @@ Scene makeHeavyScene(std::size_t targetTriangles, const HeavySceneOptions& optio
     m.shading = models[i];
     gridMaterials[i] = add(s.materials, m);
   }
-  const int g = std::max(1, options.gridSide);
+  const int g = std::max(1, gridSide);
   for (int j = 0; j < g; ++j)
     for (int i = 0; i < g; ++i) {
       glm::vec3 p(3.0f * (static_cast<float>(i) - 0.5f * static_cast<float>(g - 1)), 1.0f,
                   3.0f * (static_cast<float>(j) - 0.5f * static_cast<float>(g - 1)) - 2.0f);
       place(s, add(s.meshes, sphere), gridMaterials[(i + j) % 4], at(p), "sphere-" + std::to_string(j * g + i));
     }
+}
 
-  const float front = 1.5f * side + 1.0f;
-  if (options.mirrors) {
-    Material mirror;
-    mirror.name = "mirror";
-    mirror.kd = glm::vec3(0.05f);
-    mirror.ks = glm::vec3(0.8f);
-    mirror.ns = 200.0f;
-    mirror.kr = 0.85f;
-    std::uint32_t mm = add(s.materials, mirror);
-    place(s, add(s.meshes, makeSphere(1.5f, kFixedSegments, kFixedSegments / 2)), mm, at({-2.5f, 1.5f, front}),
-          "mirror-sphere");
-    place(s, add(s.meshes, makeBox({3.0f * side + 2.0f, 4.0f, 0.2f})), mm, at({0.0f, 2.0f, -1.5f * side - 5.0f}),
-          "mirror-panel");
-  }
-  if (options.glass) {
-    Material glass;
-    glass.name = "glass";
-    glass.kd = glm::vec3(0.0f);
-    glass.ka = glm::vec3(0.0f);
-    glass.ks = glm::vec3(0.9f);
-    glass.ns = 300.0f;
-    glass.kr = 0.0f;
-    glass.kt = 0.95f;
-    glass.ior = 1.5f;
-    std::uint32_t gm = add(s.materials, glass);
-    place(s, add(s.meshes, makeSphere(1.5f, kFixedSegments, kFixedSegments / 2)), gm, at({2.5f, 1.5f, front}),
-          "glass-sphere");
-  }
+void addMirrors(Scene& s, float side, float front) {
+  Material mirror;
+  mirror.name = "mirror";
+  mirror.kd = glm::vec3(0.05f);
+  mirror.ks = glm::vec3(0.8f);
+  mirror.ns = 200.0f;
+  mirror.kr = 0.85f;
+  std::uint32_t mm = add(s.materials, mirror);
+  place(s, add(s.meshes, makeSphere(1.5f, kFixedSegments, kFixedSegments / 2)), mm, at({-2.5f, 1.5f, front}),
+        "mirror-sphere");
+  place(s, add(s.meshes, makeBox({3.0f * side + 2.0f, 4.0f, 0.2f})), mm, at({0.0f, 2.0f, -1.5f * side - 5.0f}),
+        "mirror-panel");
+}
 
+void addGlassSphere(Scene& s, float front) {
+  Material glass;
+  glass.name = "glass";
+  glass.kd = glm::vec3(0.0f);
+  glass.ka = glm::vec3(0.0f);
+  glass.ks = glm::vec3(0.9f);
+  glass.ns = 300.0f;
+  glass.kr = 0.0f;
+  glass.kt = 0.95f;
+  glass.ior = 1.5f;
+  std::uint32_t gm = add(s.materials, glass);
+  place(s, add(s.meshes, makeSphere(1.5f, kFixedSegments, kFixedSegments / 2)), gm, at({2.5f, 1.5f, front}),
+        "glass-sphere");
+}
+
+std::vector<Light> heavySceneLights() {
   Light ambient;
   ambient.name = "ambient";
   ambient.type = LightType::Ambient;
@@ -193,7 +178,34 @@ Scene makeHeavyScene(std::size_t targetTriangles, const HeavySceneOptions& optio
   sun.type = LightType::Directional;
   sun.dirW = glm::normalize(glm::vec3(0.3f, -1.0f, -0.4f));
   sun.intensity = 0.5f;
-  s.lights = {ambient, point, spot, sun};
+  return {ambient, point, spot, sun};
+}
+
+}  // namespace
+
+std::size_t heavySceneMinTriangles(const HeavySceneOptions& options) {
+  return fixedTriangles(options) + gridCount(options) * sphereTriangles(kMinSegments) + kMinFloorTriangles;
+}
+
+Scene makeHeavyScene(std::size_t targetTriangles, const HeavySceneOptions& options) {
+  const std::size_t target = std::max(targetTriangles, heavySceneMinTriangles(options));
+  const std::size_t grid = gridCount(options);
+  const std::size_t free = target - fixedTriangles(options) - kMinFloorTriangles;
+  float share = std::clamp(options.sphereShare, 0.0f, 1.0f);
+  int segments = segmentsFor(static_cast<std::size_t>(static_cast<double>(free) * static_cast<double>(share)) / grid);
+  // The floor takes whatever the spheres leave, so the total is exact.
+  std::size_t floorTriangles = target - fixedTriangles(options) - grid * sphereTriangles(segments);
+
+  Scene s;
+  s.name = "heavy-" + std::to_string(target);
+  s.background = {0.05f, 0.07f, 0.10f};
+  const float side = static_cast<float>(std::max(1, options.gridSide));
+  addFloor(s, floorTriangles, side);
+  addSphereGrid(s, segments, options.gridSide);
+  const float front = 1.5f * side + 1.0f;
+  if (options.mirrors) addMirrors(s, side, front);
+  if (options.glass) addGlassSphere(s, front);
+  s.lights = heavySceneLights();
 
   s.camera.posW = {0.0f, 6.0f, front + 9.0f};
   s.camera.targetW = {0.0f, 1.0f, -1.0f};
