@@ -526,42 +526,6 @@ TEST(RayPassWhitted, WavefrontEqualsTheRecursionBitForBit) {
   }
 }
 
-// The hybrid pass sets a triangle up once per run of equal ids (TriangleCache): a hit on a set-up triangle
-// is bit-identical to resolveHit's, and neither the same triangle index of another instance of the same
-// mesh nor another triangle of the same instance reuses a set-up.
-TEST(RayPassHits, TriangleCacheNeverReusesAnotherTrianglesSetUp) {
-  Scene scene;
-  const std::uint32_t sphere = addMesh(scene, makeSphere(0.5f, 16, 8));
-  const std::uint32_t material = addMaterial(scene, diffuse(glm::vec3(0.5f)));
-  addInstance(scene, sphere, material, translate({-1.0f, 0.0f, 0.0f}));
-  addInstance(scene, sphere, material, translate({1.0f, 0.25f, 0.0f}) * glm::scale(glm::mat4(1.0f), glm::vec3(2.0f)));
-  const std::vector<InstanceTransform> transforms = {makeInstanceTransform(scene.instances[0].worldFromObject),
-                                                     makeInstanceTransform(scene.instances[1].worldFromObject)};
-  const std::uint32_t sequence[][2] = {{0, 5}, {0, 5}, {1, 5}, {1, 5}, {1, 6}, {0, 6}, {0, 5}, {1, 5}};
-  TriangleCache cache;
-  for (const auto& [instance, triangle] : sequence) {
-    const InstanceTransform& transform = transforms[instance];
-    const Mesh& mesh = scene.meshes[sphere];
-    glm::vec3 centroidW(0.0f);
-    for (int i = 0; i < 3; ++i)
-      centroidW += glm::vec3(transform.worldFromObject *
-                             glm::vec4(mesh.positions[mesh.indices[3 * triangle + static_cast<std::uint32_t>(i)]], 1.0f)) /
-                   3.0f;
-    const Ray ray{glm::vec3(0.0f, 0.0f, 6.0f), glm::normalize(centroidW - glm::vec3(0.0f, 0.0f, 6.0f))};
-    const SurfaceHit direct = resolveHit(scene, transform, instance, triangle, ray);
-    const SurfaceHit cached = resolveHit(scene, transform, cache.get(scene, transform, instance, triangle), ray);
-    SCOPED_TRACE("instance " + std::to_string(instance) + " triangle " + std::to_string(triangle));
-    EXPECT_EQ(cached.instance, instance);
-    EXPECT_EQ(cached.triangle, triangle);
-    for (int i = 0; i < 3; ++i) EXPECT_EQ(cached.vertexW[i], direct.vertexW[i]);
-    EXPECT_EQ(cached.posW, direct.posW);
-    EXPECT_EQ(cached.posMagnitude, direct.posMagnitude);
-    EXPECT_EQ(cached.geomNormalW, direct.geomNormalW);
-    EXPECT_EQ(cached.normalW, direct.normalW);
-    EXPECT_EQ(cached.backFace, direct.backFace);
-  }
-}
-
 // BLEND (docs/gltf.md "Alpha modes"): a quad of coverage a with no kt in front of nothing transmits
 // (1 − a) of the background straight through, and reflects a·kr.
 TEST(RayPassWhitted, BlendSurfacePassesOneMinusCoverageStraightThrough) {

@@ -154,8 +154,6 @@ struct HybridTiles {
     thread_local Wavefront::Buffers wavefrontBuffers;
     shadows.clear();
     Wavefront wavefront(whitted, wavefrontBuffers);
-    // Most pixels see the triangle their left neighbour saw: its set-up is made once per run.
-    TriangleCache triangles;
     for (int gy = y0; gy < y1; ++gy)
       for (int gx = x0; gx < x1; ++gx) {
         std::size_t g = static_cast<std::size_t>(gy) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(gx);
@@ -169,8 +167,7 @@ struct HybridTiles {
         assert(embree.hasTriangle(instance, id.y) && "trace: visibility id not in the scene");
         if (!embree.hasTriangle(instance, id.y)) continue;
         Ray ray = cameraRays.through(glm::vec2(p) + 0.5f);
-        const InstanceTransform& transform = embree.transform(instance);
-        SurfaceHit hit = resolveHit(scene, transform, triangles.get(scene, transform, instance, id.y), ray);
+        SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, id.y, ray);
         ++counts.primary;
         if constexpr (Capture::kRecords) capture.rasterPrimary(ray.origin, ray.dir);
         if (modes.primaryShadowRays)

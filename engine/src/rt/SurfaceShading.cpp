@@ -100,56 +100,38 @@ glm::vec4 sampleBilinear(const Texture& texture, glm::vec2 uv) {
   return glm::mix(top, bottom, ty);
 }
 
-TriangleSetup setupTriangle(const Scene& scene, const InstanceTransform& transform, std::uint32_t instance,
-                            std::uint32_t triangle) {
-  assert(instance < scene.instances.size());
-  const Mesh& mesh = scene.meshes[scene.instances[instance].mesh];
-  assert(triangle < mesh.triangleCount());
-  TriangleSetup s;
-  s.instance = instance;
-  s.triangle = triangle;
-  for (int i = 0; i < 3; ++i) {
-    s.vertex[i] = mesh.indices[3 * static_cast<std::size_t>(triangle) + static_cast<std::size_t>(i)];
-    s.vertexW[i] = glm::vec3(transform.worldFromObject * glm::vec4(mesh.positions[s.vertex[i]], 1.0f));
-    // The transform's share of a hit's error scale (|M|·|p| + |t|, larger than |vertexW| when the
-    // transform cancels a large object-space coordinate).
-    s.magnitude[i] = transform.absLinear * glm::abs(mesh.positions[s.vertex[i]]) + transform.absTranslation;
-  }
-  // The plane's normal in double: a needle triangle's edge vectors are nearly parallel and their float
-  // cross product can point anywhere, sending offsets and the inside/outside test the wrong way.
-  glm::dvec3 ngD = glm::cross(glm::dvec3(s.vertexW[1]) - glm::dvec3(s.vertexW[0]),
-                              glm::dvec3(s.vertexW[2]) - glm::dvec3(s.vertexW[0]));
-  double ngLen = glm::length(ngD);
-  s.hasPlane = ngLen > 0.0 && std::isfinite(ngLen);
-  if (s.hasPlane) s.planeNormalW = glm::vec3(ngD / ngLen);
-  return s;
-}
-
 SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, std::uint32_t instance,
                       std::uint32_t triangle, const Ray& ray) {
-  return resolveHit(scene, transform, setupTriangle(scene, transform, instance, triangle), ray);
-}
-
-SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, const TriangleSetup& setup,
-                      const Ray& ray) {
-  const Instance& inst = scene.instances[setup.instance];
+  assert(instance < scene.instances.size());
+  const Instance& inst = scene.instances[instance];
   const Mesh& mesh = scene.meshes[inst.mesh];
+  assert(triangle < mesh.triangleCount());
   SurfaceHit h;
-  h.instance = setup.instance;
-  h.triangle = setup.triangle;
+  h.instance = instance;
+  h.triangle = triangle;
   h.material = inst.material;
   for (int i = 0; i < 3; ++i) {
-    h.vertex[i] = setup.vertex[i];
-    h.vertexW[i] = setup.vertexW[i];
+    h.vertex[i] = mesh.indices[3 * static_cast<std::size_t>(triangle) + static_cast<std::size_t>(i)];
+    h.vertexW[i] = glm::vec3(transform.worldFromObject * glm::vec4(mesh.positions[h.vertex[i]], 1.0f));
   }
   h.bary = triangleBarycentrics(ray.origin, ray.dir, h.vertexW[0], h.vertexW[1], h.vertexW[2]);
   h.posW = h.bary.x * h.vertexW[0] + h.bary.y * h.vertexW[1] + h.bary.z * h.vertexW[2];
-  // Error scale of posW: the interpolation's terms and, before them, the transform's.
-  h.posMagnitude = interpolationMagnitude(h.bary, setup.magnitude[0], setup.magnitude[1], setup.magnitude[2]);
+  // Error scale of posW: the interpolation's terms and, before them, the transform's (|M|·|p| + |t|,
+  // larger than |vertexW| when the transform cancels a large object-space coordinate).
+  glm::vec3 mag[3];
+  for (int i = 0; i < 3; ++i)
+    mag[i] = transform.absLinear * glm::abs(mesh.positions[h.vertex[i]]) + transform.absTranslation;
+  h.posMagnitude = interpolationMagnitude(h.bary, mag[0], mag[1], mag[2]);
   h.eyeW = ray.origin;
   h.toEyeW = -ray.dir;
+
+  // The plane's normal in double: a needle triangle's edge vectors are nearly parallel and their float
+  // cross product can point anywhere, sending offsets and the inside/outside test the wrong way.
+  glm::dvec3 ngD = glm::cross(glm::dvec3(h.vertexW[1]) - glm::dvec3(h.vertexW[0]),
+                              glm::dvec3(h.vertexW[2]) - glm::dvec3(h.vertexW[0]));
+  double ngLen = glm::length(ngD);
   // A zero-area triangle has no plane: face the ray so shading and offsets stay finite.
-  h.geomNormalW = setup.hasPlane ? setup.planeNormalW : h.toEyeW;
+  h.geomNormalW = ngLen > 0.0 && std::isfinite(ngLen) ? glm::vec3(ngD / ngLen) : h.toEyeW;
   h.normalW = h.geomNormalW;
   if (!mesh.normals.empty()) {
     glm::vec3 n = transform.normalWorldFromObject * interpolate(mesh.normals, h);

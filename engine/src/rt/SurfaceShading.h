@@ -112,44 +112,10 @@ struct SurfaceHit {
   std::uint32_t material = 0;
 };
 
-/// What a hit needs of its triangle that does not depend on the ray: the hybrid pass's neighbouring
-/// pixels mostly see the same triangle, so a tile makes this once per run of equal ids (TriangleCache).
-struct TriangleSetup {
-  std::uint32_t instance = 0;
-  std::uint32_t triangle = 0;
-  std::uint32_t vertex[3] = {0, 0, 0};
-  glm::vec3 vertexW[3];  // p0, p1, p2 in world (render) space
-  glm::vec3 magnitude[3];  // |M|·|p| + |t| per vertex: the transform's error scale (resolveHit)
-  glm::vec3 planeNormalW{0.0f};  // unit Ng, counter-clockwise front; valid only when hasPlane
-  bool hasPlane = false;         // false for a zero-area (or non-finite) triangle
-};
-TriangleSetup setupTriangle(const Scene& scene, const InstanceTransform& transform, std::uint32_t instance,
-                            std::uint32_t triangle);
-
 /// Exact hit of `ray` on triangle `triangle` of `instance`: watertight barycentrics (clamped onto the
 /// triangle when the ray grazes past it), the position interpolated from the world-space vertices.
 SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, std::uint32_t instance,
                       std::uint32_t triangle, const Ray& ray);
-/// The same on a triangle already set up (bit-identical: resolveHit is setupTriangle then this).
-SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, const TriangleSetup& setup,
-                      const Ray& ray);
-
-/// The last triangle set up, kept while the pixels of a tile row keep seeing it.
-class TriangleCache {
- public:
-  const TriangleSetup& get(const Scene& scene, const InstanceTransform& transform, std::uint32_t instance,
-                           std::uint32_t triangle) {
-    if (!valid_ || setup_.instance != instance || setup_.triangle != triangle) {
-      setup_ = setupTriangle(scene, transform, instance, triangle);
-      valid_ = true;
-    }
-    return setup_;
-  }
-
- private:
-  TriangleSetup setup_;
-  bool valid_ = false;
-};
 
 /// The origin of a ray leaving `hit` towards the side of unit normal `side` (±geomNormalW): offset by the
 /// hit's own rounding error (RayMath.h, the scale-aware offsetRayOrigin).
