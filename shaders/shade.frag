@@ -130,8 +130,12 @@ layout(binding = TD_UNIT_TANGENTS_TEX) uniform samplerBuffer tangentsBuf;   // R
 layout(binding = TD_UNIT_NORMAL_MAPS) uniform sampler2DArray normalMaps;   // linear RGBA8, layer = Scene::textures index
 #endif
 #define debugView TD_DEBUG_VIEW
-#define rayInputs TD_RAY_INPUTS
 layout(location = 12) uniform ivec2 rayGridSize;
+// The ray results uploaded this frame (TD_RAY_* bits): the variant is compiled for the channels the
+// frame's plan can produce (TD_RAY_INPUTS), and a frame whose rays left one empty says so here instead
+// of switching to another variant.
+layout(location = 13) uniform int rayPresent;
+#define rayInputs (TD_RAY_INPUTS & rayPresent)
 
 
 // DebugView values (Settings.h).

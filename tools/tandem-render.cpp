@@ -190,6 +190,10 @@ int main(int argc, char** argv) {
                      {"rayScale", settings.rayScale},
                      {"reference", settings.reference},
                      {"referenceSpp", settings.referenceSpp}};
+    // Compiles after the first frame are stalls a game would see mid-run; a steady loop has none.
+    int laterCompiles = 0;
+    for (std::size_t i = 1; i < stats.size(); ++i) laterCompiles += stats[i].shaderCompiles;
+    j["shader_compiles"] = {{"first_frame", stats.front().shaderCompiles}, {"later_frames", laterCompiles}};
     j["rays"] = {{"primary", last.rays.primary},
                  {"shadow", last.rays.shadow},
                  {"reflection", last.rays.reflection},

@@ -125,5 +125,48 @@ TEST(FrameDecisions, RasterShadowsKeepShadowRaysAtSecondaryHits) {
   EXPECT_NE(without.rgba, withRays.rgba) << "the test scene has shadows in its reflections";
 }
 
+// A game that turns away from everything reflective must not stall on a shader compile (up to a second
+// on a software GL): the shade variant follows what the frame's plan can produce, and the ray results a
+// frame left empty are a uniform. Turning back shows the first frame again, exactly.
+TEST(FrameDecisions, FramesWhoseRaysLeaveChannelsEmptyCompileNoShader) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(renderer);
+  auto loaded = loadDefaultScene();
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  Scene scene = std::move(*loaded);
+  ASSERT_TRUE(renderer->setScene(scene).ok());
+  FrameSettings s = *presetSettings("hybrid-full");
+  s.width = 160;
+  s.height = 90;
+  const Camera towards = scene.camera;
+  Camera away = scene.camera;  // straight up from the camera: sky only
+  away.targetW = away.posW + glm::vec3(0.0f, 1.0f, 0.0f);
+  away.upW = glm::vec3(0.0f, 0.0f, -1.0f);
+
+  const FrameStats first = renderer->render(towards, s);
+  ASSERT_TRUE(first.error.empty()) << first.error;
+  const Image firstImage = renderer->readImage();
+  ASSERT_GT(first.rays.shadow, 0u);
+  ASSERT_GT(first.rays.reflection, 0u);
+  ASSERT_GT(first.rays.refraction, 0u);
+  EXPECT_GT(first.shaderCompiles, 0) << "a new renderer's first frame compiles its variants";
+
+  const FrameStats up = renderer->render(away, s);
+  EXPECT_EQ(up.rays.total(), 0u) << "the view was meant to hold nothing but sky";
+  EXPECT_EQ(up.shaderCompiles, 0);
+
+  const FrameStats back = renderer->render(towards, s);
+  EXPECT_EQ(back.shaderCompiles, 0);
+  EXPECT_EQ(back.rays.total(), first.rays.total());
+  const Image backImage = renderer->readImage();
+  EXPECT_EQ(backImage.rgba, firstImage.rgba);
+
+  // Another view of the same plan compiles nothing either; another preset may.
+  Camera side = scene.camera;
+  side.posW += glm::vec3(1.5f, 0.0f, 0.0f);
+  EXPECT_EQ(renderer->render(side, s).shaderCompiles, 0);
+}
+
 }  // namespace
 }  // namespace tandem

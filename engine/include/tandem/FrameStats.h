@@ -26,6 +26,9 @@ struct FrameStats {
   int rayWidth = 0;        // resolution the ray pass ran at
   int rayHeight = 0;
   int threads = 0;         // worker threads of the ray pass
+  /// Shader programs compiled during this frame: a variant first needed by a new scene, view or preset
+  /// (each a stall of up to a second on a software GL). Zero in a steady game loop.
+  int shaderCompiles = 0;
   /// Empty when the frame was drawn. Otherwise why it was not: the GL could not hold this frame size
   /// (a limit it exceeds, or an allocation the driver refused, named as Renderer::resize names them).
   /// readImage() is then empty when the frame's own targets failed, else it keeps the last frame drawn.

@@ -82,8 +82,16 @@ Result<std::string> expandShaderSource(std::string_view path, std::string_view d
   return std::move(e.out);
 }
 
+namespace {
+// Per thread: GL work happens on the thread whose context is current, so a Renderer counts its own.
+thread_local std::uint64_t tProgramsBuilt = 0;
+}  // namespace
+
+std::uint64_t programsBuilt() { return tProgramsBuilt; }
+
 Result<Program> buildProgram(std::string_view label, std::initializer_list<ShaderSource> sources,
                              std::string_view defines) {
+  ++tProgramsBuilt;
   Program program = createProgram(label);
   std::vector<Shader> shaders;
   for (const ShaderSource& s : sources) {

@@ -83,7 +83,7 @@ void ShadePass::releaseFrame() { sampledDepth_.reset(); }
 
 const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in) {
   std::string defines = "#define TD_DEBUG_VIEW " + std::to_string(static_cast<int>(in.debugView)) +
-                        "\n#define TD_RAY_INPUTS " + std::to_string(in.rayInputs) +
+                        "\n#define TD_RAY_INPUTS " + std::to_string(in.rayChannels) +
                         "\n#define TD_RAY_SCALED " + std::to_string(in.rayScale > 1 ? 1 : 0) +
                         "\n#define TD_USE_GOURAUD " + std::to_string(f.gouraud) +
                         "\n#define TD_USE_TOON " + std::to_string(f.toon) +
@@ -155,6 +155,8 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   glProgramUniform3fv(p, 7, 1, glm::value_ptr(in.ambient));
   glProgramUniform1i(p, 11, in.rayScale);
   glProgramUniform2i(p, 12, std::max(in.rayWidth, 1), std::max(in.rayHeight, 1));
+  assert((in.rayInputs & ~in.rayChannels) == 0 && "shade: a ray result the variant was not compiled for");
+  glProgramUniform1i(p, 13, in.rayInputs & in.rayChannels);
 
   scene.bind(kUnitKd, kUnitRamps);
   scene.bindShading();

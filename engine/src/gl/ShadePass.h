@@ -24,7 +24,10 @@ namespace tandem::gl {
 struct ShadeInputs {
   glm::vec3 background{0.0f};
   glm::vec3 ambient{0.0f};  // Ia
-  int rayInputs = 0;        // RayInput bits uploaded this frame
+  /// RayInput bits the frame's plan can produce: the variant is compiled for these, so a frame whose
+  /// rays leave a channel empty (nothing reflective in view) does not switch variants mid-game.
+  int rayChannels = 0;
+  int rayInputs = 0;        // RayInput bits uploaded this frame (a subset of rayChannels): a uniform
   int rayScale = 1;
   int rayWidth = 0, rayHeight = 0;
   DebugView debugView = DebugView::Final;

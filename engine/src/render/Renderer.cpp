@@ -10,6 +10,7 @@
 #include "core/RenderSpace.h"
 #include "core/Timer.h"
 #include "gl/OutputPass.h"
+#include "gl/Program.h"
 #include "gl/ShadePass.h"
 #include "gl/FrameLimits.h"
 #include "gl/Gl.h"
@@ -215,27 +216,26 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   Impl& r = *impl_;
   FrameStats stats;
   Timer total;
+  const std::uint64_t compiledBefore = gl::programsBuilt();
+  auto finished = [&] {
+    stats.totalMs = total.ms();
+    stats.shaderCompiles = static_cast<int>(gl::programsBuilt() - compiledBefore);
+    return stats;
+  };
   r.last.drawn = false;  // until this frame is drawn
   FramePlan plan = planFrame(sceneFacts(r.scene), requested);
-  if (!timed(stats.prepareMs, [&] { return r.prepare(plan, stats); })) {
-    stats.totalMs = total.ms();
-    return stats;
-  }
+  if (!timed(stats.prepareMs, [&] { return r.prepare(plan, stats); })) return finished();
   // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
   const Camera glCamera = toRenderSpace(camera, r.caches.gpu().anchor());
   gl::ShadeInputs in;
   timed(stats.rasterMs, [&] { r.raster(plan, glCamera, in); });
   timed(stats.readbackMs, [&] { r.readback(plan); });
   timed(stats.raysMs, [&] { r.traceRays(plan, camera, stats); });
-  if (!timed(stats.uploadMs, [&] { return r.upload(plan, in, stats); })) {
-    stats.totalMs = total.ms();
-    return stats;
-  }
+  if (!timed(stats.uploadMs, [&] { return r.upload(plan, in, stats); })) return finished();
   timed(stats.compositeMs, [&] { r.shade(plan, glCamera, in); });
   timed(stats.presentMs, [&] { r.present(); });
-  stats.totalMs = total.ms();
   r.remember(plan, camera, in);
-  return stats;
+  return finished();
 }
 
 // prepare: the frame's GL targets, the GL copy, and (when rays run) the Embree scene — the only place
@@ -307,6 +307,9 @@ void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, Fram
 bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats) {
   if (plan.rayPass) {
     const std::size_t n = static_cast<std::size_t>(rays.width) * static_cast<std::size_t>(rays.height);
+    // The shade variant follows what the plan can produce, not what this frame's rays left non-empty.
+    in.rayChannels = (plan.rays.primaryShadows ? gl::kRayLightMask : 0) | (plan.rays.reflections ? gl::kRayReflected : 0) |
+                     (plan.rays.refraction ? gl::kRayTransmitted : 0);
     in.rayWidth = rays.width;
     in.rayHeight = rays.height;
     std::string refused;
