@@ -588,4 +588,112 @@ int runHeavy(const SweepOptions& o) {
   return 0;
 }
 
+namespace {
+
+/// One preset × scene × size of the summary table.
+struct SummaryRow {
+  std::string scene, preset;
+  Size size;
+  Stat total;
+  double stageMs[kStageCount]{};
+  double worstMs = 0;   // the slowest measured frame: what a player feels as a hitch
+  int compiles = 0;     // shader programs compiled in the measured frames (after the warm-up)
+  double mraysPerS = 0;
+  double passOverFloor = 0;  // 0: no ray pass
+};
+
+void printSummary(std::FILE* out, const std::vector<SummaryRow>& rows, bool markdown) {
+  const char* sep = markdown ? " | " : "  ";
+  if (markdown) std::fprintf(out, "| ");
+  std::fprintf(out, "%-16s%s%-9s%s%-11s%s%7s%s%6s%s%7s", "scene", sep, "size", sep, "preset", sep, "frame", sep, "fps", sep,
+               "worst");
+  for (const StageField& f : kStages) std::fprintf(out, "%s%9s", sep, f.name);
+  std::fprintf(out, "%s%7s%s%10s%s%8s%s\n", sep, "Mrays/s", sep, "pass/floor", sep, "compiles", markdown ? " |" : "");
+  if (markdown) {
+    std::fprintf(out, "|");
+    for (std::size_t k = 0; k < 9 + kStageCount; ++k) std::fprintf(out, "---|");
+    std::fprintf(out, "\n");
+  }
+  for (const SummaryRow& r : rows) {
+    if (markdown) std::fprintf(out, "| ");
+    std::fprintf(out, "%-16s%s%-9s%s%-11s%s%7.1f%s%6.1f%s%7.1f", r.scene.c_str(), sep, r.size.label().c_str(), sep,
+                 r.preset.c_str(), sep, r.total.median, sep, r.total.median > 0 ? 1000.0 / r.total.median : 0.0, sep,
+                 r.worstMs);
+    for (std::size_t k = 0; k < kStageCount; ++k) std::fprintf(out, "%s%9.1f", sep, r.stageMs[k]);
+    if (r.passOverFloor > 0)
+      std::fprintf(out, "%s%7.2f%s%10.2f", sep, r.mraysPerS, sep, r.passOverFloor);
+    else
+      std::fprintf(out, "%s%7s%s%10s", sep, "-", sep, "-");
+    std::fprintf(out, "%s%8d%s\n", sep, r.compiles, markdown ? " |" : "");
+  }
+}
+
+}  // namespace
+
+int runSummary(const SweepOptions& o) {
+  Setup setup;
+  if (int rc = makeSetup(o, setup)) return rc;
+  Renderer& renderer = *setup.renderer;
+  std::vector<SummaryRow> rows;
+  for (const std::string& spec : o.scenes) {
+    auto loaded = loadBenchScene(spec);
+    if (!loaded) {
+      std::printf("  skipping %s: %s\n", spec.c_str(), loaded.error().message.c_str());
+      continue;
+    }
+    const Scene& scene = *loaded;
+    if (auto r = renderer.setScene(scene); !r) {
+      std::printf("  skipping %s: %s\n", spec.c_str(), r.error().message.c_str());
+      continue;
+    }
+    for (Size size : o.sizes) {
+      FrameSettings base;
+      base.width = size.width;
+      base.height = size.height;
+      for (const char* preset : {"raster", "hybrid-fast", "hybrid-full"}) {
+        const FrameSettings s = *presetSettings(preset, base);
+        FrameRun run = renderFrames(renderer, scene.camera, s, o.warmup, o.frames);
+        SummaryRow row;
+        row.scene = sceneLabel(spec);
+        row.preset = preset;
+        row.size = size;
+        row.total = stageStat(run.stats, &FrameStats::totalMs);
+        for (std::size_t k = 0; k < kStageCount; ++k) row.stageMs[k] = stageStat(run.stats, kStages[k].field).median;
+        for (const FrameStats& f : run.stats) {
+          row.worstMs = std::max(row.worstMs, f.totalMs);
+          row.compiles += f.shaderCompiles;
+        }
+        const FrameStats& last = run.stats.back();
+        const double raysMs = stageStat(run.stats, &FrameStats::raysMs).median;
+        if (last.rays.total() > 0 && raysMs > 0) {
+          row.mraysPerS = static_cast<double>(last.rays.total()) / (raysMs * 1e3);
+          // The floor of this preset's own rays: captured and re-traced through raw Embree.
+          const Ceiling c = measureCeiling(scene, size, s, o.threads, o.frames);
+          if (c.floorMs > 0) row.passOverFloor = c.passMs / c.floorMs;
+        }
+        rows.push_back(row);
+        std::printf("  %s %s %s: %.1f ms\n", row.scene.c_str(), size.label().c_str(), preset, row.total.median);
+        std::fflush(stdout);
+      }
+    }
+  }
+  if (rows.empty()) {
+    std::fprintf(stderr, "tandem-bench: no scene could be rendered\n");
+    return 1;
+  }
+  std::printf("\nframe, worst and stages in ms (medians of %d frames after %d warm-up; worst = slowest measured "
+              "frame); compiles = shader programs compiled in the measured frames\n",
+              o.frames, o.warmup);
+  printSummary(stdout, rows, false);
+  const std::string path = (fs::path(o.out) / "summary.md").string();
+  if (std::FILE* f = std::fopen(path.c_str(), "w")) {
+    std::fprintf(f, "tandem-bench --summary on %s (%d logical CPUs); GL: %s\n\n", setup.machine.cpu.c_str(),
+                 setup.machine.logicalCpus, setup.context->describe().c_str());
+    printSummary(f, rows, true);
+    std::fclose(f);
+    std::printf("\nwritten: %s\n", path.c_str());
+  }
+  return 0;
+}
+
 }  // namespace tandem::bench

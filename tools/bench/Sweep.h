@@ -1,5 +1,5 @@
 #pragma once
-// tandem-bench --sweep / --heavy: the speed-for-accuracy table, the ceiling, the heavy-scene table and
+// tandem-bench --sweep / --heavy / --summary: the speed-for-accuracy table, the ceiling, the heavy-scene table and
 // their plots (docs/bench.md).
 #include <string>
 #include <vector>
@@ -28,5 +28,8 @@ struct SweepOptions {
 /// Both return the process exit code.
 int runSweep(const SweepOptions& options);
 int runHeavy(const SweepOptions& options);
+/// The one-screen table of this machine: each preset × scene × size → frame ms, fps, the worst frame,
+/// each stage, Mrays/s, pass/floor and shader compiles; also written as summary.md in options.out.
+int runSummary(const SweepOptions& options);
 
 }  // namespace tandem::bench

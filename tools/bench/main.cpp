@@ -1,5 +1,6 @@
 // tandem-bench: what each render setting costs and buys (docs/bench.md).
 //   tandem-bench --sweep [--scenes a.json,b.gltf] [--sizes 640x360,1280x720] [--frames N] [--warmup W] [--out DIR]
+//   tandem-bench --summary [--scenes ...] [--sizes 640x360,1280x720,1920x1080] [--frames N] [--warmup W]
 //   tandem-bench --heavy [--heavy-counts 10000,100000,500000,2000000] [--heavy-sizes 640x360,1280x720]
 //   tandem-bench [--benchmark_filter=REGEX ...]     (Google Benchmark micro-benchmarks, the default)
 #include <cstdio>
@@ -45,7 +46,7 @@ bool parseSizes(const std::string& s, std::vector<Size>& out, std::string& error
 
 int sweepMain(int argc, char** argv) {
   CLI::App app{"tandem-bench: the speed-for-accuracy sweep, the ceiling and the heavy-scene table"};
-  bool sweep = false, heavy = false, noPlots = false;
+  bool sweep = false, heavy = false, summary = false, noPlots = false;
   std::string scenes, sizes = "640x360,1280x720", heavyCounts = "10000,100000,500000,2000000",
                       heavySizes = "640x360,1280x720";
   SweepOptions o;
@@ -54,6 +55,9 @@ int sweepMain(int argc, char** argv) {
            shared + "TransmissionTest/glTF/TransmissionTest.gltf";
   app.add_flag("--sweep", sweep, "Every preset and effect combination on each scene × size");
   app.add_flag("--heavy", heavy, "The heavy-scene table: stage cost against triangle count");
+  app.add_flag("--summary", summary,
+               "One screen for this machine: each preset x scene x size -> frame ms, fps, worst frame, stages, "
+               "Mrays/s, pass/floor, shader compiles (defaults: whitted.json; 640x360,1280x720,1920x1080; 10 frames)");
   app.add_option("--scenes", scenes, "Comma-separated scenes (.json, .gltf, .glb, heavy:N); missing ones are skipped")
       ->capture_default_str();
   app.add_option("--sizes", sizes, "Comma-separated WxH")->capture_default_str();
@@ -72,6 +76,13 @@ int sweepMain(int argc, char** argv) {
     return app.exit(e);
   }
   o.plots = !noPlots;
+  if (summary) {
+    // The summary's own defaults: the Whitted scene, three sizes, enough frames for a median and a worst.
+    if (app.count("--scenes") == 0) scenes = sourceDir() + "/assets/scenes/whitted.json";
+    if (app.count("--sizes") == 0) sizes = "640x360,1280x720,1920x1080";
+    if (app.count("--frames") == 0) o.frames = 10;
+    if (app.count("--warmup") == 0) o.warmup = 2;
+  }
   o.scenes = split(scenes);
   std::string error;
   if (!parseSizes(sizes, o.sizes, error) || !parseSizes(heavySizes, o.heavySizes, error)) {
@@ -89,6 +100,7 @@ int sweepMain(int argc, char** argv) {
   int rc = 0;
   if (sweep) rc = runSweep(o);
   if (rc == 0 && heavy) rc = runHeavy(o);
+  if (rc == 0 && summary) rc = runSummary(o);
   return rc;
 }
 
@@ -96,7 +108,8 @@ int sweepMain(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
-    if (!std::strcmp(argv[i], "--sweep") || !std::strcmp(argv[i], "--heavy")) return sweepMain(argc, argv);
+    if (!std::strcmp(argv[i], "--sweep") || !std::strcmp(argv[i], "--heavy") || !std::strcmp(argv[i], "--summary"))
+      return sweepMain(argc, argv);
   registerMicroBenchmarks();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
