@@ -123,6 +123,40 @@ TEST(RayPassShadows, MovingADynamicInstanceMovesTheShadowWithoutSetScene) {
   EXPECT_GT(darkened, 200);
 }
 
+// A static instance moves the way a dynamic one does, through the top level only (no BVH of a mesh is
+// rebuilt): the frame after updateTransforms is the frame of a tracer built from scratch on the moved
+// scene, to the bit.
+TEST(RayPassWhitted, MovingAStaticInstanceEqualsBuildingTheMovedScene) {
+  Scene scene = makeWhittedScene();
+  std::uint32_t moved = 0;
+  while (moved < scene.instances.size() && scene.materials[scene.instances[moved].material].kt <= 0.0f) ++moved;
+  ASSERT_LT(moved, scene.instances.size()) << "the Whitted scene has a glass sphere";
+  ASSERT_FALSE(scene.instances[moved].dynamic);
+  const int w = 96, h = 72;
+  FrameSettings s = settingsFor(w, h);
+  auto tracer = makeTracer(scene, 2);
+  ASSERT_TRUE(tracer);
+  VisibilityBuffer vis;
+  RayOutputs before;
+  castAndTrace(*tracer, scene, s, vis, before);
+
+  scene.instances[moved].worldFromObject = translate({0.6f, 0.1f, -0.4f}) * scene.instances[moved].worldFromObject;
+  tracer->updateTransforms(scene);
+  RayOutputs updated, rebuilt;
+  castAndTrace(*tracer, scene, s, vis, updated);
+  auto fresh = makeTracer(scene, 2);
+  ASSERT_TRUE(fresh);
+  VisibilityBuffer freshVis;
+  castAndTrace(*fresh, scene, s, freshVis, rebuilt);
+
+  EXPECT_EQ(vis.ids, freshVis.ids);
+  EXPECT_NE(updated.transmitted, before.transmitted) << "the glass sphere did not move";
+  EXPECT_EQ(updated.lightMask, rebuilt.lightMask);
+  EXPECT_EQ(updated.reflected, rebuilt.reflected);
+  EXPECT_EQ(updated.transmitted, rebuilt.transmitted);
+  EXPECT_EQ(updated.counts.total(), rebuilt.counts.total());
+}
+
 // Shadow rays to a point light run from the hit to just short of the light: a sphere between them
 // shadows the floor where the analytic cone says, and the ceiling the light is mounted on (geometry at
 // the light itself) shadows nothing.

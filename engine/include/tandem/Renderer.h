@@ -49,7 +49,8 @@ class Renderer {
   /// Validates and installs a scene. On error the previous scene stays and the error names the reason.
   Result<void> setScene(Scene scene);
   const Scene& scene() const;
-  /// Moves a dynamic instance; the next frame updates its transform without rebuilding static geometry.
+  /// Moves an instance (static or dynamic); the next frame updates the GL instance buffer and Embree's top
+  /// level only: no mesh's BVH is rebuilt. Shadow maps and probes are re-rendered (the scene changed).
   void setInstanceTransform(std::uint32_t instance, const glm::mat4& worldFromObject);
   void setLight(std::uint32_t light, const Light& value);
 

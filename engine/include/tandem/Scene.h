@@ -111,8 +111,9 @@ struct Light {
   bool castShadows = true;
 };
 
-/// A mesh placed in the world with one material. `dynamic` instances may move every frame (their
-/// transform is updated without rebuilding static geometry).
+/// A mesh placed in the world with one material. `dynamic` marks an instance that moves (the loaders set
+/// it for animated nodes); any instance may move (Renderer::setInstanceTransform), which updates the
+/// top level of the ray scene and never rebuilds a mesh's BVH.
 struct Instance {
   std::string name;
   std::uint32_t mesh = 0;

@@ -180,7 +180,7 @@ void Renderer::setInstanceTransform(std::uint32_t instance, const glm::mat4& wor
   }
   Instance& inst = r.scene.instances[instance];
   inst.worldFromObject = worldFromObject;
-  r.caches.instanceMoved(inst.dynamic);
+  r.caches.instanceMoved();
   r.last.sceneChanged = true;
 }
 

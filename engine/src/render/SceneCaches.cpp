@@ -10,9 +10,9 @@ void SceneCaches::sceneChanged() {
   rtBroken_ = false;
 }
 
-void SceneCaches::instanceMoved(bool dynamic) {
+void SceneCaches::instanceMoved() {
   gpuInstancesStale_ = true;
-  (dynamic ? rtTransformsStale_ : rtSceneStale_) = true;
+  rtTransformsStale_ = true;
 }
 
 void SceneCaches::lightChanged() {

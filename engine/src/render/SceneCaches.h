@@ -21,8 +21,9 @@ class SceneCaches {
  public:
   // ---- what changed ----
   void sceneChanged();
-  /// A static instance sits in Embree's bottom level baked in place: moving it needs a rebuild.
-  void instanceMoved(bool dynamic);
+  /// An instance (static or dynamic) moved: the GL instance buffer is patched and Embree's top level
+  /// updated; no mesh's BVH is rebuilt.
+  void instanceMoved();
   void lightChanged();
 
   // ---- syncs ----

@@ -270,7 +270,7 @@ Result<void> EmbreeScene::buildTopLevel(EmbreeDevice& device, const Scene& scene
   RTCDevice dev = device.get();
   top_ = newScene(dev);
   if (!top_) return embreeFailure(device, where, "top level");
-  // The top level is rebuilt whenever a dynamic instance moves: a fast build beats a better tree there.
+  // The top level is rebuilt whenever an instance moves: a fast build beats a better tree there.
   rtcSetSceneFlags(top_.get(), RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(top_.get(), RTC_BUILD_QUALITY_LOW);
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {
@@ -300,7 +300,9 @@ void EmbreeScene::updateTransforms(const Scene& scene) {
   std::size_t n = std::min(scene.instances.size(), transforms_.size());
   for (std::size_t i = 0; i < n; ++i) {
     const Instance& inst = scene.instances[i];
-    if (!inst.dynamic || inst.worldFromObject == worldFromObject_[i]) continue;
+    // Static instances too: every instance is a top-level instance of its mesh's BLAS, so moving one
+    // never needs a BLAS rebuilt (a full build of every mesh was a hitch of a whole frame or more).
+    if (inst.worldFromObject == worldFromObject_[i]) continue;
     bool finite = true;
     for (int c = 0; c < 4; ++c) finite = finite && isFinite(glm::vec3(inst.worldFromObject[c])) && std::isfinite(inst.worldFromObject[c].w);
     // Per-frame code never fails: a non-finite transform keeps the instance where it was.

@@ -1,7 +1,7 @@
 #pragma once
 // The Embree device and the two-level Embree scene built from tandem::Scene: one static BLAS per mesh
-// (built once, high quality), instanced into a top-level scene whose dynamic instances move by
-// rtcSetGeometryTransform + a top-level commit. Owns every Embree handle it makes (RAII, move-only).
+// (built once, high quality), instanced into a top-level scene whose instances (static or dynamic) move
+// by rtcSetGeometryTransform + a top-level commit. Owns every Embree handle it makes (RAII, move-only).
 // Thread safety: const members may run from any number of threads; build/updateTransforms must not run
 // while rays are in flight (Embree v3: never commit a scene that is being traced).
 #include <atomic>
@@ -74,7 +74,7 @@ class EmbreeScene {
   /// Builds every BLAS and the top level. Bad input (non-finite positions, indices out of range) and
   /// Embree errors (out of memory included) come back as an error value; nothing half-built escapes.
   static Result<std::unique_ptr<EmbreeScene>> build(EmbreeDevice& device, const Scene& scene);
-  /// Moves dynamic instances to their current transforms: per-geometry transform + top-level commit.
+  /// Moves instances to their current transforms: per-geometry transform + top-level commit.
   void updateTransforms(const Scene& scene);
 
   RTCScene top() const { return top_.get(); }

@@ -2,7 +2,7 @@
 // The CPU ray pass on Embree 3 (no GL here: its tests need no context).
 //
 // Hybrid use (Renderer, every frame):
-//   prepare:  setScene() once per scene; updateTransforms() when dynamic instances moved (top-level
+//   prepare:  setScene() once per scene; updateTransforms() when instances moved (top-level
 //             commit only). Never called while trace() runs.
 //   rays:     trace(scene, camera, settings, visibility, out)
 // Reference use: renderReference() — primary visibility by camera rays, N×N jittered samples.
