@@ -68,7 +68,9 @@
 #define TD_SAMPLER_TRANSMITTED sampler2D
 #define TD_CHANNEL_LINEAR GL_RGBA32F, GL_RGBA, GL_FLOAT          // linear radiance, full res
 #define TD_SAMPLER_LINEAR sampler2D
+#define TD_OUTPUT_LINEAR vec4                                     // the shade pass's output (probes' too)
 #define TD_CHANNEL_DISPLAY GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE   // tone-mapped sRGB, full res
+#define TD_OUTPUT_DISPLAY vec4
 #define TD_CHANNEL_PROBES GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT     // reflection probe cubes
 #define TD_SAMPLER_PROBES samplerCubeArray
 #define TD_CHANNEL_SHADOW_MAPS GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT  // maps and cube maps

@@ -148,7 +148,7 @@ layout(location = 13) uniform int rayPresent;
 #define TD_VIEW_REFLECTION 6
 #define TD_VIEW_TRANSMISSION 7
 
-layout(location = 0) out vec4 outColor;
+layout(location = 0) out TD_OUTPUT_LINEAR outColor;
 
 // ---- camera rays: the same construction as Camera::rayThroughPixel ----
 void cameraRay(vec2 fragXY, out vec3 origin, out vec3 dir) {

@@ -10,7 +10,7 @@ layout(location = 0) uniform float exposure;
 layout(location = 1) uniform int toneMap;
 layout(location = 2) uniform int passThrough;
 
-layout(location = 0) out vec4 outColor;
+layout(location = 0) out TD_OUTPUT_DISPLAY outColor;
 
 void main() {
   vec3 c = texelFetch(linearColor, ivec2(gl_FragCoord.xy), 0).rgb;

@@ -2,7 +2,8 @@
 """The frame channels are declared once (shaders/bindings.glsl, TD_CHANNEL_* / TD_SAMPLER_* / TD_OUTPUT_*):
 - every channel's GL internal format is the one docs/gbuffer.md gives its row;
 - the passes that make or move those channels name no GL format or pixel-transfer enum of their own;
-- every shader declares a channel's texture unit with the channel's sampler type.
+- every shader declares a channel's texture unit with the channel's sampler type, and its outputs with
+  the table's output types.
 Usage: channel-table.py REPO_ROOT"""
 import os
 import re
@@ -36,21 +37,34 @@ for name, fmt in channels.items():
         fail.append(f"docs/gbuffer.md: row '{row}' says {doc_rows[row]!r}, bindings.glsl says {fmt}")
 
 # The passes that own the channels take every format from the table.
-literal = re.compile(r"\bGL_(RG32UI|R32UI|RGBA32F|RGBA16F|RGBA8|DEPTH_COMPONENT32F|RG_INTEGER|RED_INTEGER)\b")
+# Internal formats and the pixel transfer formats and types of CPU copies; a static_assert that pins a
+# channel's transfer to the C++ type it is read into is the one place such a name may appear.
+literal = re.compile(r"\bGL_(RG32UI|R32UI|RGBA32F|RGBA16F|RGBA8|DEPTH_COMPONENT32F|RG_INTEGER|RED_INTEGER|RGBA|"
+                     r"FLOAT|HALF_FLOAT|UNSIGNED_BYTE|UNSIGNED_INT|DEPTH_COMPONENT)\b")
 for f in ["VisibilityPass.cpp", "ShadePass.cpp", "OutputPass.cpp", "ReflectionProbes.cpp", "RasterEffects.cpp"]:
     path = os.path.join(root, "engine", "src", "gl", f)
+    in_assert = False
     for n, line in enumerate(open(path), 1):
-        if literal.search(line.split("//")[0]):
+        code = line.split("//")[0]
+        in_assert = in_assert or "static_assert" in code
+        if not in_assert and literal.search(code):
             fail.append(f"{path}:{n}: a channel format written by hand: {line.strip()}")
+        if in_assert and ";" in code:
+            in_assert = False
 
-# Shaders: a unit that is a channel is declared with the channel's sampler type.
-unit_decl = re.compile(r"layout\(binding = TD_UNIT_(\w+)\) uniform (\w+) ")
+# Shaders: a unit that is a channel is declared with the channel's sampler type, and every fragment
+# output with a TD_OUTPUT_ type.
+unit_decl = re.compile(r"layout\s*\(\s*binding\s*=\s*TD_UNIT_(\w+)\s*\)\s*uniform\s+(\w+)\s")
+out_decl = re.compile(r"layout\s*\(\s*location\s*=\s*\d+\s*\)\s*out\s+(\w+)\s")
 for f in sorted(os.listdir(os.path.join(root, "shaders"))):
     path = os.path.join(root, "shaders", f)
     for n, line in enumerate(open(path), 1):
         m = unit_decl.search(line)
         if m and m.group(1) in samplers and m.group(2) != f"TD_SAMPLER_{m.group(1)}":
             fail.append(f"{path}:{n}: TD_UNIT_{m.group(1)} declared as {m.group(2)}, not TD_SAMPLER_{m.group(1)}")
+        o = out_decl.search(line)
+        if o and not o.group(1).startswith("TD_OUTPUT_"):
+            fail.append(f"{path}:{n}: a fragment output typed by hand ({o.group(1)}), not by a TD_OUTPUT_ of bindings.glsl")
 
 for f in fail:
     print(f)

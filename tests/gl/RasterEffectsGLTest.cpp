@@ -328,4 +328,45 @@ TEST(RasterEffectsGLTest, TogglesChangeTheWhittedScene) {
 }
 
 }  // namespace
+// FrameSettings::probesPerFrame: after an instance moves, a frame re-renders only that many probes
+// (oldest first), so a mirror may show the old scene for a frame or two; once every probe has had its
+// turn the frame is the exact one, to the bit. A budget of 0 re-renders them all at once.
+TEST(RasterEffectsGLTest, ProbesPerFrameCatchUpWithTheExactFrame) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto loaded = loadDefaultScene();
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  const Scene scene = std::move(*loaded);
+  const Camera camera = scene.camera;
+  std::uint32_t box = 0;
+  while (box < scene.instances.size() && scene.instances[box].name != "matte-box") ++box;
+  ASSERT_LT(box, scene.instances.size());
+  auto exact = gltest::makeRenderer(*glContext_), budgeted = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(exact && budgeted);
+  ASSERT_TRUE(exact->setScene(scene).ok());
+  ASSERT_TRUE(budgeted->setScene(scene).ok());
+  FrameSettings all = *presetSettings("raster");  // raster reflections and refraction: two probes here
+  all.width = 320;
+  all.height = 180;
+  FrameSettings one = all;
+  one.probesPerFrame = 1;
+  exact->render(camera, all);
+  budgeted->render(camera, one);
+  EXPECT_EQ(budgeted->readImage().rgba, exact->readImage().rgba) << "a new scene makes every probe at once";
+
+  // The box moves into both spheres' view: the exact frame re-renders both probes.
+  const glm::mat4 moved = glm::translate(glm::mat4(1.0f), glm::vec3(1.6f, 0.3f, 1.2f)) * scene.instances[box].worldFromObject;
+  exact->setInstanceTransform(box, moved);
+  budgeted->setInstanceTransform(box, moved);
+  exact->render(camera, all);
+  const Image truth = exact->readImage();
+  budgeted->render(camera, one);
+  const Image lagging = budgeted->readImage();
+  int differing = 0;
+  for (std::size_t i = 0; i < truth.rgba.size(); ++i) differing += truth.rgba[i] != lagging.rgba[i];
+  EXPECT_GT(differing, 100) << "one probe still shows the box where it was";
+  // No further change: the next frame re-renders the other probe and the frame is exact.
+  budgeted->render(camera, one);
+  EXPECT_EQ(budgeted->readImage().rgba, truth.rgba);
+}
+
 }  // namespace tandem

@@ -76,6 +76,11 @@ int sweepMain(int argc, char** argv) {
     return app.exit(e);
   }
   o.plots = !noPlots;
+  if (summary && (sweep || heavy)) {
+    // The summary has its own defaults (scenes, sizes, frames): run it on its own.
+    std::fprintf(stderr, "tandem-bench: --summary runs alone, not with --sweep or --heavy\n");
+    return 1;
+  }
   if (summary) {
     // The summary's own defaults: the Whitted scene, three sizes, enough frames for a median and a worst.
     if (app.count("--scenes") == 0) scenes = sourceDir() + "/assets/scenes/whitted.json";

@@ -49,6 +49,11 @@ struct FrameSettings {
   int referenceSpp = 1;           // reference mode: N×N jittered samples per pixel (converged images to
                                   // measure the other presets against, docs/bench.md)
   bool reference = false;         // primary visibility by Embree rays instead of rasterization
+  /// Raster reflections/refraction: how many reflection probes a frame re-renders when instances moved or
+  /// lights changed since they were made. 0 (the default): every probe, every such frame (exact). N > 0:
+  /// at most N, oldest first, so a moving scene's probes lag by up to ceil(probes / N) frames: a game's
+  /// trade (each probe is six views of the scene). A new scene, material or shadowing still re-renders all.
+  int probesPerFrame = 0;
 
   /// Clamps ranges and applies dependencies (e.g. rayScale rounded to 1, 2 or 4).
   FrameSettings resolved() const;

@@ -14,6 +14,7 @@ FrameSettings FrameSettings::resolved() const {
   s.rayScale = s.rayScale >= 4 ? 4 : s.rayScale >= 2 ? 2 : 1;
   s.exposure = std::isfinite(s.exposure) && s.exposure > 0.0f ? s.exposure : 1.0f;
   s.referenceSpp = std::clamp(s.referenceSpp, 1, 64);
+  s.probesPerFrame = std::max(s.probesPerFrame, 0);
   return s;
 }
 

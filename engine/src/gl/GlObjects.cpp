@@ -68,20 +68,12 @@ const char* formatName(GLenum internalFormat) {
     case GL_RG32UI: return "GL_RG32UI";
     case GL_R32UI: return "GL_R32UI";
     case GL_DEPTH_COMPONENT32F: return "GL_DEPTH_COMPONENT32F";
+    case GL_RGBA16F: return "GL_RGBA16F";
     default: return "?";
   }
 }
 
 }  // namespace
-
-std::size_t texelBytes(GLenum internalFormat) {
-  switch (internalFormat) {
-    case GL_RGBA32F: return 16;
-    case GL_RG32UI: return 8;
-    case GL_RGBA8: case GL_R32UI: case GL_DEPTH_COMPONENT32F: return 4;
-    default: assert(false && "texelBytes: a format frame targets do not use"); return 0;
-  }
-}
 
 std::string glErrorName(GLenum error) {
   switch (error) {

@@ -7,6 +7,7 @@
 #include <string_view>
 #include <utility>
 
+#include "gl/Bindings.h"
 #include "gl/Gl.h"
 #include "tandem/Result.h"
 
@@ -76,8 +77,22 @@ Texture createTexture2D(std::string_view label, GLenum internalFormat, int width
 /// size, format and bytes, and the GL error. Errors already pending are logged and cleared first, so
 /// they are not taken for this one.
 Result<Texture> tryCreateTexture2D(std::string_view label, GLenum internalFormat, int width, int height);
-/// Bytes per texel of the formats tryCreateTexture2D takes (asserts on others).
-std::size_t texelBytes(GLenum internalFormat);
+/// Bytes per texel of the formats tryCreateTexture2D takes (0 for others).
+constexpr std::size_t texelBytes(GLenum internalFormat) {
+  switch (internalFormat) {
+    case GL_RGBA32F: return 16;
+    case GL_RG32UI: case GL_RGBA16F: return 8;
+    case GL_RGBA8: case GL_R32UI: case GL_DEPTH_COMPONENT32F: return 4;
+    default: return 0;  // not a format of the frame's targets
+  }
+}
+// Every frame channel's format is one the frame-size check (targetBytes) can count.
+static_assert(texelBytes(kChannelIds.internal) > 0 && texelBytes(kChannelDepth.internal) > 0 &&
+              texelBytes(kChannelLightMask.internal) > 0 && texelBytes(kChannelReflected.internal) > 0 &&
+              texelBytes(kChannelTransmitted.internal) > 0 && texelBytes(kChannelLinear.internal) > 0 &&
+              texelBytes(kChannelDisplay.internal) > 0 && texelBytes(kChannelProbes.internal) > 0 &&
+              texelBytes(kChannelShadowMaps.internal) > 0,
+              "texelBytes: a frame channel's format is missing");
 /// Completeness of a framebuffer whose attachments are made: an error naming `label` and the status.
 Result<void> checkFramebufferComplete(const Framebuffer& framebuffer, std::string_view label);
 /// "GL_OUT_OF_MEMORY", ..., or the value in hex for an error GL 4.5 does not define.

@@ -89,6 +89,12 @@ void OutputPass::output(float exposure, ToneMap toneMap, DebugView view) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
+// The CPU side of the output channels is what their transfer format and type say (bindings.glsl).
+static_assert(kChannelDisplay.transfer == GL_RGBA && kChannelDisplay.type == GL_UNSIGNED_BYTE,
+              "the display travels as Image's 4 bytes per pixel");
+static_assert(kChannelLinear.transfer == GL_RGBA && kChannelLinear.type == GL_FLOAT,
+              "linear radiance travels as one glm::vec4 per pixel");
+
 Image OutputPass::readImage() const {
   Image image;
   image.width = width_;

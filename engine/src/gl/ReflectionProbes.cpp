@@ -1,6 +1,7 @@
 #include "gl/ReflectionProbes.h"
 
 #include <algorithm>
+#include <cassert>
 #include <limits>
 
 namespace tandem::gl {
@@ -39,18 +40,29 @@ void ReflectionProbes::update(const Scene& scene, const GpuScene& gpu, const Vis
     glNamedFramebufferDrawBuffer(rasterFbo_.id(), GL_COLOR_ATTACHMENT0);
     shadeFbo_ = createFramebuffer("probe shade");
   }
+  probes_ = std::move(probes);
+  std::vector<int> all(probes_.size());
+  for (std::size_t slot = 0; slot < all.size(); ++slot) all[slot] = static_cast<int>(slot);
+  updateSlots(gpu, raster, shade, local, instances, all);
+}
+
+void ReflectionProbes::updateSlots(const GpuScene& gpu, const VisibilityPass& raster, ShadePass& shade,
+                                   const ShadeInputs& local, const std::vector<Bounds>& instances,
+                                   const std::vector<int>& slots) {
+  assert(cubes_ && static_cast<int>(probes_.size()) == count_ && "updateSlots before update()");
   // Filtering across face edges, so the seams of a 128² probe do not show in a smooth mirror.
   glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
   Bounds world;
   for (const Bounds& b : instances) world.add(b);
   float nearZ = std::max(1e-5f * glm::length(world.hi - world.lo), 1e-6f);
-  for (std::size_t slot = 0; slot < probes.size(); ++slot) {
-    glm::vec3 eye = instances[probes[slot]].centre();
+  for (int slot : slots) {
+    assert(slot >= 0 && slot < count_);
+    const std::uint32_t probe = probes_[static_cast<std::size_t>(slot)];
+    glm::vec3 eye = instances[probe].centre();
     for (int face = 0; face < 6; ++face) {
       Camera c = cubeFaceCamera(eye, face, nearZ, std::numeric_limits<float>::infinity());
-      raster.renderInto(rasterFbo_.id(), kFaceSize, kFaceSize, gpu, c, probes[slot]);
-      glNamedFramebufferTextureLayer(shadeFbo_.id(), GL_COLOR_ATTACHMENT0, cubes_.id(), 0,
-                                     static_cast<GLint>(6 * slot) + face);
+      raster.renderInto(rasterFbo_.id(), kFaceSize, kFaceSize, gpu, c, probe);
+      glNamedFramebufferTextureLayer(shadeFbo_.id(), GL_COLOR_ATTACHMENT0, cubes_.id(), 0, 6 * slot + face);
       shade.shadeInto(shadeFbo_.id(), kFaceSize, kFaceSize, gpu, ids_, depth_, &sampledDepth_, c, local);
     }
   }
@@ -63,6 +75,7 @@ void ReflectionProbes::release() {
   sampledDepth_.reset();
   rasterFbo_.reset();
   shadeFbo_.reset();
+  probes_.clear();
   count_ = 0;
 }
 

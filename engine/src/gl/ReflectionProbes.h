@@ -20,9 +20,14 @@ class ReflectionProbes {
  public:
   static constexpr int kFaceSize = 128;
 
-  /// `local` are the inputs of the probes' shade pass (no ray results, no probes: one bounce).
+  /// Re-renders every probe (made anew when their number changed). `local` are the inputs of the probes'
+  /// shade pass (no ray results, no probes: one bounce).
   void update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, ShadePass& shade,
               const ShadeInputs& local, const std::vector<Bounds>& instances);
+  /// Re-renders only the probes in `slots` (all six faces each); their number must be unchanged since
+  /// the last update().
+  void updateSlots(const GpuScene& gpu, const VisibilityPass& raster, ShadePass& shade, const ShadeInputs& local,
+                   const std::vector<Bounds>& instances, const std::vector<int>& slots);
   void release();
   /// The cube-map array (layer = probe slot) the shade pass looks reflected directions up in.
   const Texture& cubes() const { return cubes_; }
@@ -32,6 +37,7 @@ class ReflectionProbes {
   Texture cubes_, ids_, depth_;
   Texture sampledDepth_;  // what toon outlines read while depth_ is attached to the face (64 KiB)
   Framebuffer rasterFbo_, shadeFbo_;
+  std::vector<std::uint32_t> probes_;  // the instance of each slot (GpuScene's probeInstances order)
   int count_ = 0;
 };
 

@@ -46,6 +46,13 @@ Result<ShadePass> ShadePass::create() {
   return pass;
 }
 
+// The CPU side of each ray channel is what its transfer format and type say (bindings.glsl).
+static_assert(kChannelLightMask.transfer == GL_RED_INTEGER && kChannelLightMask.type == GL_UNSIGNED_INT,
+              "the light mask travels as one std::uint32_t per grid pixel");
+static_assert(kChannelReflected.transfer == GL_RGBA && kChannelReflected.type == GL_FLOAT &&
+                  kChannelTransmitted.transfer == GL_RGBA && kChannelTransmitted.type == GL_FLOAT,
+              "reflected and transmitted travel as one glm::vec4 per grid pixel");
+
 Result<void> ShadePass::uploadLightMask(int width, int height, const std::uint32_t* mask) {
   return uploadGrid(lightMask_, "ray light mask", kChannelLightMask, width, height, mask);
 }

@@ -100,6 +100,9 @@ void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
+static_assert(kChannelIds.transfer == GL_RG_INTEGER && kChannelIds.type == GL_UNSIGNED_INT,
+              "ids travel as one glm::uvec2 per pixel (rt::VisibilityBuffer)");
+
 void VisibilityPass::readIds(std::vector<glm::uvec2>& ids) const {
   std::size_t rowLength = static_cast<std::size_t>(width_);
   ids.resize(rowLength * static_cast<std::size_t>(height_));

@@ -1,5 +1,7 @@
 #include "render/SceneCaches.h"
 
+#include <algorithm>
+
 #include "tandem/Log.h"
 
 namespace tandem {
@@ -26,10 +28,12 @@ void SceneCaches::syncGpu(const Scene& scene, std::optional<ShadingModel> shadin
     meshBounds_ = gl::meshBounds(scene);
     gpuStale_ = gpuInstancesStale_ = gpuLightsStale_ = false;
     ++gpuVersion_;
+    ++gpuLayoutVersion_;
   }
   if (gpuInstancesStale_) gpu_.updateInstances(scene), ++gpuVersion_;
   if (gpuLightsStale_) gpu_.updateLights(scene), ++gpuVersion_;
-  if (gpu_.shadingOverride() != shadingOverride) gpu_.updateMaterials(scene, shadingOverride), ++gpuVersion_;
+  if (gpu_.shadingOverride() != shadingOverride)
+    gpu_.updateMaterials(scene, shadingOverride), ++gpuVersion_, ++gpuLayoutVersion_;
   gpuInstancesStale_ = gpuLightsStale_ = false;
 }
 
@@ -68,12 +72,18 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
   }
   if (probeEffects != 0) {
     const bool shadowed = in.shadowMaps != nullptr;
-    if (probeVersion_ != gpuVersion_ || probesShadowed_ != shadowed) {
-      // The probes see local shading only (no ray results, no probes): one bounce.
-      gl::ShadeInputs local = in;
+    // The probes see local shading only (no ray results, no probes): one bounce.
+    const gl::ShadeInputs local = in;
+    const int budget = plan.settings.probesPerFrame;
+    if (probeLayoutVersion_ != gpuLayoutVersion_ || probesShadowed_ != shadowed || probeVersion_ == 0 ||
+        (budget <= 0 && probeVersion_ != gpuVersion_)) {
       probes_.update(scene, gpu_, raster, shade, local, instanceBounds);
+      probeSlotVersions_.assign(static_cast<std::size_t>(probes_.probeCount()), gpuVersion_);
       probeVersion_ = gpuVersion_;
+      probeLayoutVersion_ = gpuLayoutVersion_;
       probesShadowed_ = shadowed;
+    } else if (probeVersion_ != gpuVersion_) {
+      refreshOldestProbes(budget, raster, shade, local, instanceBounds);
     }
     if (probes_.probeCount() > 0) {
       in.probeCubes = &probes_.cubes();
@@ -81,8 +91,28 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     }
   } else if (probeVersion_ != 0) {
     probes_.release();
+    probeSlotVersions_.clear();
     probeVersion_ = 0;
   }
+}
+
+// Instances moved or lights changed: the `budget` probes made longest ago, oldest first (a round robin
+// while everything keeps moving). probeVersion_ catches up once every probe has been re-rendered since.
+void SceneCaches::refreshOldestProbes(int budget, const gl::VisibilityPass& raster, gl::ShadePass& shade,
+                                      const gl::ShadeInputs& local, const std::vector<gl::Bounds>& instanceBounds) {
+  std::vector<int> stale;
+  for (std::size_t slot = 0; slot < probeSlotVersions_.size(); ++slot)
+    if (probeSlotVersions_[slot] != gpuVersion_) stale.push_back(static_cast<int>(slot));
+  // Oldest first; ties by slot, so the order does not depend on anything but the versions.
+  std::stable_sort(stale.begin(), stale.end(), [&](int a, int b) {
+    return probeSlotVersions_[static_cast<std::size_t>(a)] < probeSlotVersions_[static_cast<std::size_t>(b)];
+  });
+  if (stale.size() > static_cast<std::size_t>(budget)) stale.resize(static_cast<std::size_t>(budget));
+  probes_.updateSlots(gpu_, raster, shade, local, instanceBounds, stale);
+  for (int slot : stale) probeSlotVersions_[static_cast<std::size_t>(slot)] = gpuVersion_;
+  std::uint64_t oldest = gpuVersion_;
+  for (std::uint64_t v : probeSlotVersions_) oldest = std::min(oldest, v);
+  if (oldest == gpuVersion_) probeVersion_ = gpuVersion_;
 }
 
 }  // namespace tandem

@@ -59,6 +59,13 @@ class SceneCaches {
   std::uint64_t gpuVersion_ = 1;
   std::uint64_t shadowVersion_ = 0, probeVersion_ = 0;
   bool probesShadowed_ = false;
+  // What decides which probes exist and how they shade (a new GL copy, the shading override): a change
+  // re-renders every probe whatever FrameSettings::probesPerFrame says.
+  std::uint64_t gpuLayoutVersion_ = 1, probeLayoutVersion_ = 0;
+  std::vector<std::uint64_t> probeSlotVersions_;  // gpuVersion_ each probe was last rendered at
+
+  void refreshOldestProbes(int budget, const gl::VisibilityPass& raster, gl::ShadePass& shade,
+                           const gl::ShadeInputs& local, const std::vector<gl::Bounds>& instanceBounds);
 };
 
 }  // namespace tandem

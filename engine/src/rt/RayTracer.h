@@ -43,7 +43,8 @@ class RayTracer {
   /// Builds the two-level Embree scene: one static BLAS per mesh, instanced. Embree errors (out of
   /// memory included) come back as an error value and leave the previous scene in place.
   Result<void> setScene(const Scene& scene);
-  /// Re-reads the transforms of dynamic instances and lights; commits the top level only.
+  /// Re-reads every instance's transform (static or dynamic) and commits the top level only: no mesh's
+  /// BVH is rebuilt.
   void updateTransforms(const Scene& scene);
 
   /// The hybrid ray pass: per grid pixel, the exact primary hit of the visible triangle, then shadow

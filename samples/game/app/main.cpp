@@ -47,6 +47,7 @@ struct Options {
   int depth = -1;
   int scale = 0;
   int threads = 0;
+  int probesPerFrame = 2;
   double dt = 1.0 / 60.0;
   bool noVsync = false;
   bool fullscreen = false;
@@ -442,6 +443,10 @@ int run(int argc, char** argv) {
   app.add_option("--depth", o.depth, "Recursion depth 0..16")->check(CLI::Range(0, 16));
   app.add_option("--scale", o.scale, "Ray-pass scale divisor 1, 2 or 4");
   app.add_option("--threads", o.threads, "Ray-pass threads (0 = all)")->check(CLI::Range(0, 1024));
+  app.add_option("--probes-per-frame", o.probesPerFrame,
+                 "Raster reflections: probes re-rendered per frame while things move (0 = all, exact)")
+      ->check(CLI::Range(0, 1000000))
+      ->capture_default_str();
   app.add_option("--dt", o.dt, "Fixed simulation step in seconds (default 1/60)")->check(CLI::Range(0.001, 0.1));
   app.add_flag("--no-vsync", o.noVsync, "Start with vsync off");
   app.add_flag("--fullscreen", o.fullscreen, "Start fullscreen");
@@ -480,6 +485,8 @@ int run(int argc, char** argv) {
     if (!m) return fail("--shading: expected flat, gouraud, phong or toon, got '" + o.shading + "'");
     view.settings.shadingOverride = *m;
   }
+  // A game's trade: a mirror's probe may lag a few frames behind moving marbles (FrameSettings).
+  view.settings.probesPerFrame = o.probesPerFrame;
   if (o.depth >= 0) {
     view.settings.maxDepth = o.depth;
     view.preset = "custom";
