@@ -76,6 +76,9 @@ void Hud::draw(const HudInfo& info) {
       ImGui::Text("composite %7.2f ms", st.compositeMs);
       ImGui::Text("present   %7.2f ms", info.presentMs);
       ImGui::Text("renderer  %7.2f ms total", st.totalMs);
+      // A frame that compiled a shader stalled on it: worth seeing when it happens mid-game.
+      if (st.shaderCompiles > 0) ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "shader compiles %d", st.shaderCompiles);
+      ImGui::Text("probes/frame %d (0 = all)", s.probesPerFrame);
       ImGui::Separator();
       auto k = [](std::uint64_t n) { return static_cast<double>(n) / 1000.0; };
       ImGui::Text("rays/frame %.1fk: primary %.1fk", k(st.rays.total()), k(st.rays.primary));
