@@ -213,10 +213,18 @@ void printTimes(const std::vector<tandem::FrameStats>& frames, const std::vector
     composite.push_back(f.compositeMs);
   }
   const tandem::FrameStats& last = frames.back();
+  // The hitches a player feels: the slowest frame after the first (which sets everything up), and the
+  // shader programs compiled after the first frame.
+  std::size_t worst = frames.size() > 1 ? 1 : 0;
+  int compiles = 0;
+  for (std::size_t i = 1; i < frames.size(); ++i) {
+    if (frames[i].totalMs > frames[worst].totalMs) worst = i;
+    compiles += frames[i].shaderCompiles;
+  }
   std::printf("times: size=%dx%d frames=%zu median_ms total=%.2f raster=%.2f rays=%.2f composite=%.2f loop=%.2f "
-              "rays_per_frame=%llu\n",
+              "rays_per_frame=%llu worst_after_first_ms=%.2f worst_frame=%zu compiles_after_first=%d\n",
               w, h, frames.size(), median(total), median(raster), median(rays), median(composite), median(loopMs),
-              static_cast<unsigned long long>(last.rays.total()));
+              static_cast<unsigned long long>(last.rays.total()), frames[worst].totalMs, worst, compiles);
 }
 
 // ---- Headless: fixed dt, scripted input, no wall clock in the simulation. ----
