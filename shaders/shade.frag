@@ -382,7 +382,7 @@ bool isEdge(ivec2 p, uvec2 id, vec3 ngUnflipped) {
   return false;
 }
 
-void main() {
+void shadePixel() {
   ivec2 pix = ivec2(gl_FragCoord.xy);
   ivec2 pTop = ivec2(pix.x, frameSize.y - 1 - pix.y);
   uvec2 id = texelFetch(idsTex, pix, 0).xy;
@@ -590,4 +590,24 @@ void main() {
   if (model == TD_MODEL_TOON && m.emissionFlags.w < 0.5 && isEdge(pix, id, ngRaw)) I = vec3(0.0);
 #endif
   outColor = vec4(I, 1.0);
+}
+
+// The frame's shade pass also writes the display value (TD_FUSED_OUTPUT): one full-screen pass instead of
+// a second one that reads the RGBA32F target back (on llvmpipe ~6 ms at 1280x720). Sky pixels never run
+// this shader; their display value is the clear of attachment 1.
+#ifndef TD_FUSED_OUTPUT
+#define TD_FUSED_OUTPUT 0
+#endif
+#if TD_FUSED_OUTPUT
+layout(location = 1) out TD_OUTPUT_DISPLAY outDisplay;
+layout(location = 14) uniform float exposure;
+layout(location = 15) uniform int toneMap;
+layout(location = 16) uniform int passThrough;
+#endif
+
+void main() {
+  shadePixel();
+#if TD_FUSED_OUTPUT
+  outDisplay = vec4(tdDisplay(outColor.rgb, exposure, toneMap, passThrough != 0), 1.0);
+#endif
 }

@@ -273,6 +273,13 @@ TD_FN vec3 tdSrgbEncode(vec3 c) {
   return vec3(tdSrgbEncode1(c.x), tdSrgbEncode1(c.y), tdSrgbEncode1(c.z));
 }
 
+// Linear radiance to the display value the RGBA8 target stores: exposure, tone map, sRGB encode. Debug
+// views that are already display values pass through (clamped). The output pass and the fused shade pass
+// both write this.
+TD_FN vec3 tdDisplay(vec3 c, float exposure, int toneMap, bool passThrough) {
+  return passThrough ? clamp(c, vec3(0.0f), vec3(1.0f)) : tdSrgbEncode(tdToneMap(exposure * c, toneMap));
+}
+
 TD_FN float tdSrgbDecode1(float x) {
   return x <= 0.04045f ? x / 12.92f : pow((x + 0.055f) / 1.055f, 2.4f);
 }

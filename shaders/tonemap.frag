@@ -14,5 +14,5 @@ layout(location = 0) out TD_OUTPUT_DISPLAY outColor;
 
 void main() {
   vec3 c = texelFetch(linearColor, ivec2(gl_FragCoord.xy), 0).rgb;
-  outColor = vec4(passThrough != 0 ? clamp(c, 0.0, 1.0) : tdSrgbEncode(tdToneMap(exposure * c, toneMap)), 1.0);
+  outColor = vec4(tdDisplay(c, exposure, toneMap, passThrough != 0), 1.0);
 }

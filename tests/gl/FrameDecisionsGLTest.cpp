@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "GlTestUtil.h"
+#include "core/Shading.h"
 #include "tandem/SceneFile.h"
 
 namespace tandem {
@@ -166,6 +167,58 @@ TEST(FrameDecisions, FramesWhoseRaysLeaveChannelsEmptyCompileNoShader) {
   Camera side = scene.camera;
   side.posW += glm::vec3(1.5f, 0.0f, 0.0f);
   EXPECT_EQ(renderer->render(side, s).shaderCompiles, 0);
+}
+
+// The frame's shade pass writes the display values itself (fused output) instead of a second pass over
+// the linear target: for every view and tone map, each displayed pixel is tdDisplay of the linear pixel
+// the renderer keeps (computed here by the C++ twin of that formula), the sky included.
+TEST(FrameDecisions, DisplayIsTheToneMappedLinearFrameInEveryView) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(renderer);
+  auto loaded = loadDefaultScene();
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  Scene scene = std::move(*loaded);
+  const Camera camera = scene.camera;
+  ASSERT_TRUE(renderer->setScene(std::move(scene)).ok());
+  struct Case {
+    const char* preset;
+    DebugView view;
+    ToneMap toneMap;
+    float exposure;
+  } cases[] = {{"hybrid-full", DebugView::Final, ToneMap::Aces, 1.0f},
+               {"raster", DebugView::Final, ToneMap::Reinhard, 2.0f},
+               {"hybrid-fast", DebugView::Reflection, ToneMap::None, 0.5f},
+               {"hybrid-full", DebugView::NormalW, ToneMap::Aces, 1.0f},
+               {"raster", DebugView::Depth, ToneMap::Aces, 1.0f}};
+  for (const Case& k : cases) {
+    SCOPED_TRACE(std::string(k.preset) + " " + std::string(toString(k.view)));
+    FrameSettings s = *presetSettings(k.preset);
+    s.width = 96;
+    s.height = 54;
+    s.debugView = k.view;
+    s.toneMap = k.toneMap;
+    s.exposure = k.exposure;
+    ASSERT_TRUE(renderer->render(camera, s).error.empty());
+    const Image display = renderer->readImage();
+    const ImageF linear = renderer->readLinear();
+    ASSERT_EQ(linear.rgb.size(), static_cast<std::size_t>(s.width * s.height));
+    int off = 0, maxDiff = 0;
+    for (int y = 0; y < s.height; ++y)
+      for (int x = 0; x < s.width; ++x) {
+        const glm::vec3 want = shading::tdDisplay(linear.at(x, y), s.exposure, static_cast<int>(s.toneMap),
+                                                  !isRadianceView(s.debugView)) * 255.0f;
+        const glm::u8vec4 got = display.at(x, y);
+        for (int c = 0; c < 3; ++c) {
+          const int d = std::abs(int(got[c]) - int(std::lround(want[c])));
+          maxDiff = std::max(maxDiff, d);
+          off += d > 0;
+        }
+      }
+    // The GL's pow and the C++ one may round a value on a half step differently: one level, rarely.
+    EXPECT_LE(maxDiff, 1);
+    EXPECT_LE(off, s.width * s.height * 3 / 100);
+  }
 }
 
 }  // namespace

@@ -66,6 +66,9 @@ std::vector<std::string> presetNames();
 std::optional<EffectMode> parseEffectMode(std::string_view s);  // off | raster | ray
 std::optional<ShadingModel> parseShadingModel(std::string_view s);  // flat | gouraud | phong | toon
 std::optional<DebugView> parseDebugView(std::string_view s);
+/// Final, Reflection and Transmission show radiance (exposed and tone mapped); the other views are
+/// display values already.
+bool isRadianceView(DebugView v);
 std::optional<ToneMap> parseToneMap(std::string_view s);  // none | reinhard | aces
 std::string_view toString(EffectMode m);
 std::string_view toString(ToneMap m);

@@ -117,4 +117,8 @@ std::string_view toString(ShadingModel m) {
   return "?";
 }
 
+bool isRadianceView(DebugView v) {
+  return v == DebugView::Final || v == DebugView::Reflection || v == DebugView::Transmission;
+}
+
 }  // namespace tandem

@@ -36,10 +36,17 @@ Result<void> OutputPass::resize(int width, int height) {
   Framebuffer displayFbo = createFramebuffer("display");
   glNamedFramebufferTexture(displayFbo.id(), GL_COLOR_ATTACHMENT0, display->id(), 0);
   if (auto complete = checkFramebufferComplete(displayFbo, "display"); !complete) return complete;
+  Framebuffer fusedFbo = createFramebuffer("linear radiance + display");
+  glNamedFramebufferTexture(fusedFbo.id(), GL_COLOR_ATTACHMENT0, linear->id(), 0);
+  glNamedFramebufferTexture(fusedFbo.id(), GL_COLOR_ATTACHMENT1, display->id(), 0);
+  const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(fusedFbo.id(), 2, both);
+  if (auto complete = checkFramebufferComplete(fusedFbo, "linear radiance + display"); !complete) return complete;
   linear_ = std::move(*linear);
   display_ = std::move(*display);
   linearFbo_ = std::move(linearFbo);
   displayFbo_ = std::move(displayFbo);
+  fusedFbo_ = std::move(fusedFbo);
   width_ = width;
   height_ = height;
   return {};
@@ -48,6 +55,7 @@ Result<void> OutputPass::resize(int width, int height) {
 void OutputPass::release() {
   linearFbo_.reset();
   displayFbo_.reset();
+  fusedFbo_.reset();
   linear_.reset();
   display_.reset();
   width_ = height_ = 0;
@@ -70,7 +78,7 @@ void OutputPass::uploadLinear(const ImageF& image) {
 }
 
 void OutputPass::output(float exposure, ToneMap toneMap, DebugView view) {
-  bool radiance = view == DebugView::Final || view == DebugView::Reflection || view == DebugView::Transmission;
+  const bool radiance = isRadianceView(view);
   glBindFramebuffer(GL_FRAMEBUFFER, displayFbo_.id());
   glViewport(0, 0, width_, height_);
   glDisable(GL_DEPTH_TEST);

@@ -29,6 +29,9 @@ class OutputPass {
 
   /// The linear radiance target the shade pass draws into.
   GLuint linearFramebuffer() const { return linearFbo_.id(); }
+  /// The linear target and the display at colour attachments 0 and 1: a shade pass with
+  /// ShadeInputs::fusedOutput fills both, and output() is not needed for that frame.
+  GLuint fusedFramebuffer() const { return fusedFbo_.id(); }
   /// A finished linear frame (reference mode), row 0 = top; replaces the shade pass's output.
   void uploadLinear(const ImageF& image);
   /// Exposure, tone map and sRGB encoding into the RGBA8 target; debug views that are already display
@@ -44,7 +47,7 @@ class OutputPass {
   Program toneMap_;
   VertexArray emptyVao_;
   Texture linear_, display_;
-  Framebuffer linearFbo_, displayFbo_;
+  Framebuffer linearFbo_, displayFbo_, fusedFbo_;
   int width_ = 0, height_ = 0;
 };
 

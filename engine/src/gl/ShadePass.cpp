@@ -6,6 +6,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "core/Shading.h"
 #include "gl/FeedbackLoop.h"
 #include "tandem/Log.h"
 
@@ -105,7 +106,8 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in)
                         "\n#define TD_SHADOW_MAPS " + std::to_string(in.shadowMaps ? 1 : 0) +
                         "\n#define TD_PROBES " + std::to_string(in.probeCubes ? in.probeEffects : 0) +
                         "\n#define TD_FRESNEL_SCHLICK " + std::to_string(in.fresnel == FresnelMode::Schlick ? 1 : 0) +
-                        "\n#define TD_FRESNEL_WEIGHTED " + std::to_string(in.fresnelWeighted ? 1 : 0) + "\n";
+                        "\n#define TD_FRESNEL_WEIGHTED " + std::to_string(in.fresnelWeighted ? 1 : 0) +
+                        "\n#define TD_FUSED_OUTPUT " + std::to_string(in.fusedOutput ? 1 : 0) + "\n";
   auto found = variants_.find(defines);
   if (found != variants_.end()) return found->second;
   auto built = buildProgram("shade", {{GL_VERTEX_SHADER, "shaders/fullscreen.vert"},
@@ -138,6 +140,13 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   glViewport(0, 0, width, height);
   glm::vec4 clear(in.debugView == DebugView::Final ? in.background : glm::vec3(0.0f), 1.0f);
   glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, glm::value_ptr(clear));
+  const bool passThrough = !isRadianceView(in.debugView);
+  if (in.fusedOutput) {
+    // The sky's display value, by the shader's formula (its C++ twin): the pixels the shader skips.
+    const glm::vec4 display(shading::tdDisplay(glm::vec3(clear), in.exposure, static_cast<int>(in.toneMap), passThrough),
+                            1.0f);
+    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 1, glm::value_ptr(display));
+  }
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_FALSE);
@@ -164,6 +173,11 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   glProgramUniform2i(p, 12, std::max(in.rayWidth, 1), std::max(in.rayHeight, 1));
   assert((in.rayInputs & ~in.rayChannels) == 0 && "shade: a ray result the variant was not compiled for");
   glProgramUniform1i(p, 13, in.rayInputs & in.rayChannels);
+  if (in.fusedOutput) {
+    glProgramUniform1f(p, 14, in.exposure);
+    glProgramUniform1i(p, 15, static_cast<int>(in.toneMap));
+    glProgramUniform1i(p, 16, passThrough ? 1 : 0);
+  }
 
   scene.bind(kUnitKd, kUnitRamps);
   scene.bindShading();

@@ -36,6 +36,11 @@ struct ShadeInputs {
   int probeEffects = 0;                    // ProbeEffect bits (with probeCubes)
   FresnelMode fresnel = FresnelMode::Exact;
   bool fresnelWeighted = true;             // wR = kr + kt·F, wT = kt·(1 − F); else wR = kr, wT = kt
+  /// The frame's pass (not the probes'): the target has the display at colour attachment 1 too, which
+  /// the shader fills with tdDisplay(exposure, toneMap) of what it writes (OutputPass::fusedFramebuffer).
+  bool fusedOutput = false;
+  float exposure = 1.0f;
+  ToneMap toneMap = ToneMap::Aces;
 };
 
 class ShadePass {

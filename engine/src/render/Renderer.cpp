@@ -338,8 +338,16 @@ bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameSta
 // shade: the visibility buffer shaded with the ray results added, then exposure + tone map + sRGB once.
 void Renderer::Impl::shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in) {
   const FrameSettings& s = plan.settings;
-  if (!plan.reference) shadePass.shade(outputPass.linearFramebuffer(), caches.gpu(), visibilityPass, glCamera, in);
-  outputPass.output(s.exposure, s.toneMap, s.debugView);
+  if (plan.reference) {
+    outputPass.output(s.exposure, s.toneMap, s.debugView);  // the reference's linear frame was uploaded
+  } else {
+    // One pass writes the linear frame and its display values (the output pass's formula, tdDisplay).
+    gl::ShadeInputs fused = in;
+    fused.fusedOutput = true;
+    fused.exposure = s.exposure;
+    fused.toneMap = s.toneMap;
+    shadePass.shade(outputPass.fusedFramebuffer(), caches.gpu(), visibilityPass, glCamera, fused);
+  }
   glFinish();
 }
 
