@@ -131,12 +131,9 @@ TEST(FrameDecisions, RasterShadowsKeepShadowRaysAtSecondaryHits) {
 // frame left empty are a uniform. Turning back shows the first frame again, exactly.
 TEST(FrameDecisions, FramesWhoseRaysLeaveChannelsEmptyCompileNoShader) {
   TD_REQUIRE_GL_CONTEXT();
-  auto renderer = gltest::makeRenderer(*glContext_);
+  Scene scene;
+  auto renderer = gltest::whittedRenderer(*glContext_, scene);
   ASSERT_TRUE(renderer);
-  auto loaded = loadDefaultScene();
-  ASSERT_TRUE(loaded) << loaded.error().message;
-  Scene scene = std::move(*loaded);
-  ASSERT_TRUE(renderer->setScene(scene).ok());
   FrameSettings s = *presetSettings("hybrid-full");
   s.width = 160;
   s.height = 90;
@@ -174,13 +171,10 @@ TEST(FrameDecisions, FramesWhoseRaysLeaveChannelsEmptyCompileNoShader) {
 // the renderer keeps (computed here by the C++ twin of that formula), the sky included.
 TEST(FrameDecisions, DisplayIsTheToneMappedLinearFrameInEveryView) {
   TD_REQUIRE_GL_CONTEXT();
-  auto renderer = gltest::makeRenderer(*glContext_);
+  Scene scene;
+  auto renderer = gltest::whittedRenderer(*glContext_, scene);
   ASSERT_TRUE(renderer);
-  auto loaded = loadDefaultScene();
-  ASSERT_TRUE(loaded) << loaded.error().message;
-  Scene scene = std::move(*loaded);
   const Camera camera = scene.camera;
-  ASSERT_TRUE(renderer->setScene(std::move(scene)).ok());
   struct Case {
     const char* preset;
     DebugView view;

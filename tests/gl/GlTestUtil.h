@@ -15,6 +15,7 @@
 #include "tandem/Primitives.h"
 #include "tandem/Renderer.h"
 #include "tandem/Scene.h"
+#include "tandem/SceneFile.h"
 
 namespace tandem::gltest {
 
@@ -93,6 +94,20 @@ inline std::unique_ptr<Renderer> makeRenderer(GlContext& context) {
   auto r = Renderer::create(context);
   EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
   return r.ok() ? std::move(*r) : nullptr;
+}
+
+/// A renderer holding the embedded Whitted scene, and that scene (for its camera and instances); a null
+/// renderer (with the failure recorded) when either cannot be made.
+inline std::unique_ptr<Renderer> whittedRenderer(GlContext& context, Scene& scene) {
+  auto loaded = loadDefaultScene();
+  EXPECT_TRUE(loaded.ok()) << (loaded.ok() ? "" : loaded.error().message);
+  if (!loaded.ok()) return nullptr;
+  scene = std::move(*loaded);
+  auto renderer = makeRenderer(context);
+  if (!renderer) return nullptr;
+  auto set = renderer->setScene(scene);
+  EXPECT_TRUE(set.ok()) << (set.ok() ? "" : set.error().message);
+  return set.ok() ? std::move(renderer) : nullptr;
 }
 
 }  // namespace tandem::gltest

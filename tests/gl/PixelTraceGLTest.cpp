@@ -16,12 +16,6 @@ namespace {
 // The glass sphere of the Whitted scene at 320x180 (tests/rt/PixelTraceTest.cpp traces the same pixel).
 constexpr int kGlassX = 132, kGlassY = 87;
 
-Scene whitted() {
-  auto s = loadDefaultScene();
-  EXPECT_TRUE(s) << s.error().message;
-  return s ? std::move(*s) : Scene{};
-}
-
 FrameSettings preset(const char* name) {
   FrameSettings s = *presetSettings(name);
   s.width = 320;
@@ -45,11 +39,10 @@ void expectFrameColour(const PixelTrace& t, const ImageF& frame, int x, int y, f
 
 TEST(PixelTraceGL, GlassPixelSumIsTheFramesColour) {
   TD_REQUIRE_GL_CONTEXT();
-  auto renderer = gltest::makeRenderer(*glContext_);
+  Scene scene;
+  auto renderer = gltest::whittedRenderer(*glContext_, scene);
   ASSERT_TRUE(renderer);
-  Scene scene = whitted();
   const Camera camera = scene.camera;
-  ASSERT_TRUE(renderer->setScene(std::move(scene)).ok());
   FrameSettings s = preset("hybrid-full");
   FrameStats stats = renderer->render(camera, s);
   ASSERT_TRUE(stats.error.empty()) << stats.error;
@@ -84,11 +77,10 @@ TEST(PixelTraceGL, GlassPixelSumIsTheFramesColour) {
 
 TEST(PixelTraceGL, ReferencePixelIsTheFramesPixel) {
   TD_REQUIRE_GL_CONTEXT();
-  auto renderer = gltest::makeRenderer(*glContext_);
+  Scene scene;
+  auto renderer = gltest::whittedRenderer(*glContext_, scene);
   ASSERT_TRUE(renderer);
-  Scene scene = whitted();
   const Camera camera = scene.camera;
-  ASSERT_TRUE(renderer->setScene(std::move(scene)).ok());
   FrameSettings s = preset("reference");
   s.toneMap = ToneMap::None;
   ASSERT_TRUE(renderer->render(camera, s).error.empty());
@@ -103,11 +95,10 @@ TEST(PixelTraceGL, ReferencePixelIsTheFramesPixel) {
 
 TEST(PixelTraceGL, RasterFrameNamesWhatTheGlMade) {
   TD_REQUIRE_GL_CONTEXT();
-  auto renderer = gltest::makeRenderer(*glContext_);
+  Scene scene;
+  auto renderer = gltest::whittedRenderer(*glContext_, scene);
   ASSERT_TRUE(renderer);
-  Scene scene = whitted();
   const Camera camera = scene.camera;
-  ASSERT_TRUE(renderer->setScene(std::move(scene)).ok());
   ASSERT_TRUE(renderer->render(camera, preset("raster")).error.empty());
   auto trace = renderer->tracePixel(kGlassX, kGlassY);
   ASSERT_TRUE(trace) << trace.error().message;
@@ -128,11 +119,10 @@ TEST(PixelTraceGL, RasterFrameNamesWhatTheGlMade) {
 
 TEST(PixelTraceGL, RefusesWhatItCannotTrace) {
   TD_REQUIRE_GL_CONTEXT();
-  auto renderer = gltest::makeRenderer(*glContext_);
+  Scene scene;
+  auto renderer = gltest::whittedRenderer(*glContext_, scene);
   ASSERT_TRUE(renderer);
-  Scene scene = whitted();
   const Camera camera = scene.camera;
-  ASSERT_TRUE(renderer->setScene(std::move(scene)).ok());
   auto none = renderer->tracePixel(0, 0);
   ASSERT_FALSE(none);
   EXPECT_NE(none.error().message.find("no frame"), std::string::npos) << none.error().message;

@@ -333,17 +333,13 @@ TEST(RasterEffectsGLTest, TogglesChangeTheWhittedScene) {
 // turn the frame is the exact one, to the bit. A budget of 0 re-renders them all at once.
 TEST(RasterEffectsGLTest, ProbesPerFrameCatchUpWithTheExactFrame) {
   TD_REQUIRE_GL_CONTEXT();
-  auto loaded = loadDefaultScene();
-  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-  const Scene scene = std::move(*loaded);
+  Scene scene;
+  auto exact = gltest::whittedRenderer(*glContext_, scene), budgeted = gltest::whittedRenderer(*glContext_, scene);
+  ASSERT_TRUE(exact && budgeted);
   const Camera camera = scene.camera;
   std::uint32_t box = 0;
   while (box < scene.instances.size() && scene.instances[box].name != "matte-box") ++box;
   ASSERT_LT(box, scene.instances.size());
-  auto exact = gltest::makeRenderer(*glContext_), budgeted = gltest::makeRenderer(*glContext_);
-  ASSERT_TRUE(exact && budgeted);
-  ASSERT_TRUE(exact->setScene(scene).ok());
-  ASSERT_TRUE(budgeted->setScene(scene).ok());
   FrameSettings all = *presetSettings("raster");  // raster reflections and refraction: two probes here
   all.width = 320;
   all.height = 180;
