@@ -29,6 +29,15 @@ layout(binding = TD_UNIT_UV_TRANSFORMS_TEX) uniform samplerBuffer uvTransformsBu
 #define TD_UNIFORM_MATERIALS 0        // material count when they are in a uniform block, 0: SSBO
 #endif
 layout(std140, binding = TD_BLOCK_LIGHTS) uniform LightBlock { GpuLight lights[TD_MAX_LIGHTS]; };
+// Each direct light's type and shadow-map kind, 4 bits per light (gl::lightKindCode): bits 0-1 TD_LIGHT_*,
+// bits 2-3 TD_SHADOW_*. llvmpipe runs both sides of a branch on a uniform, so without these every light
+// would evaluate the spot cone and both the cube and the 2D map lookups. 0: read them from the records.
+#ifndef TD_LIGHT_KINDS
+#define TD_LIGHT_KINDS 0u
+#endif
+int lightType(int j) {
+  return TD_LIGHT_KINDS != 0u ? int((TD_LIGHT_KINDS >> uint(4 * j)) & 3u) : int(lights[j].posType.w + 0.5);
+}
 #if TD_UNIFORM_MATERIALS > 0
 layout(std140, binding = TD_BLOCK_MATERIALS) uniform MaterialBlock { GpuMaterial materials[TD_UNIFORM_MATERIALS]; };
 #else
@@ -316,8 +325,8 @@ RaySample gatherRays(ivec2 pTop, uint instance) {
 // texel apart (a 3×3-texel PCF) soften the one-texel staircase.
 float shadowVisibility(int j, vec3 posW, vec3 Ng) {
   GpuShadow s = shadows[j];
-  int kind = int(s.originKind.w + 0.5);
-  if (kind == TD_SHADOW_NONE) return 1.0;
+  if (int(s.originKind.w + 0.5) == TD_SHADOW_NONE) return 1.0;  // this light casts no shadow
+  int kind = TD_LIGHT_KINDS != 0u ? int((TD_LIGHT_KINDS >> uint(4 * j + 2)) & 3u) : int(s.originKind.w + 0.5);
   vec3 rel = posW - s.originKind.xyz;
   float texel = s.params.w * (kind == TD_SHADOW_ORTHO ? 1.0 : length(rel));
   rel += Ng * (1.5 * texel);
@@ -484,9 +493,12 @@ void shadePixel() {
 
   RaySample rays = gatherRays(pTop, id.x);
 #if TD_SHADOW_MAPS
-  // Raster shadows stand where the ray pass's light mask would (the two are never both on).
-  for (int j = 0; j < TD_LIGHT_COUNT; ++j)
-    rays.vis[j] = lights[j].radiance.w > 0.5 ? shadowVisibility(j, posW, Ng) : 1.0;
+  // Raster shadows stand where the ray pass's light mask would (the two are never both on). The final
+  // view looks a map up only where its light adds something (the light loop below), as the ray pass
+  // traces a shadow ray only where the light can reach.
+  if (debugView == TD_VIEW_LIGHT_MASK)
+    for (int j = 0; j < TD_LIGHT_COUNT; ++j)
+      rays.vis[j] = lights[j].radiance.w > 0.5 ? shadowVisibility(j, posW, Ng) : 1.0;
 #endif
 #if TD_PROBES != 0
   if (tri.probe != 0u) {
@@ -561,24 +573,31 @@ void shadePixel() {
     }
     for (int j = 0; j < TD_LIGHT_COUNT; ++j) {
       GpuLight L = lights[j];
-      float vis = ((rayInputs & TD_RAY_LIGHT_MASK) != 0 || TD_SHADOW_MAPS != 0) && L.radiance.w > 0.5 ? rays.vis[j] : 1.0;
+      int type = lightType(j);
+      float vis = (rayInputs & TD_RAY_LIGHT_MASK) != 0 && L.radiance.w > 0.5 ? rays.vis[j] : 1.0;
       if (vis <= 0.0) continue;
       vec3 Lj;
       vec3 toLight;
       float dist;
       if (TD_USE_GOURAUD != 0 && model == TD_MODEL_GOURAUD) {
-        vec3 E0 = tdLightIncident(L, tri.p0, toLight, dist);
+        vec3 E0 = tdLightIncidentOfType(L, type, tri.p0, toLight, dist);
         vec3 L0 = tdShadeLight(C, ks, ns, model, N0, normalize(origin - tri.p0), E0, toLight, 0.0);
-        vec3 E1 = tdLightIncident(L, tri.p1, toLight, dist);
+        vec3 E1 = tdLightIncidentOfType(L, type, tri.p1, toLight, dist);
         vec3 L1 = tdShadeLight(C, ks, ns, model, N1, normalize(origin - tri.p1), E1, toLight, 0.0);
-        vec3 E2 = tdLightIncident(L, tri.p2, toLight, dist);
+        vec3 E2 = tdLightIncidentOfType(L, type, tri.p2, toLight, dist);
         vec3 L2 = tdShadeLight(C, ks, ns, model, N2, normalize(origin - tri.p2), E2, toLight, 0.0);
         Lj = b.x * L0 + b.y * L1 + b.z * L2;
       } else {
-        vec3 E = tdLightIncident(L, posW, toLight, dist);
+        vec3 E = tdLightIncidentOfType(L, type, posW, toLight, dist);
         float level = TD_USE_TOON != 0 && model == TD_MODEL_TOON ? toonLevel(m, dot(Ns, toLight)) : 0.0;
         Lj = tdShadeLight(C, ks, ns, model, Ns, V, E, toLight, level);
       }
+#if TD_SHADOW_MAPS
+      // A light that adds nothing here needs no map lookup (4 depth-compare taps, a third of the pass on
+      // llvmpipe); skipping it is exact, since vis · 0 would add nothing either.
+      if (L.radiance.w > 0.5 && (Lj.x != 0.0 || Lj.y != 0.0 || Lj.z != 0.0)) vis = shadowVisibility(j, posW, Ng);
+      if (vis <= 0.0) continue;
+#endif
       local += vis * Lj;
     }
   }

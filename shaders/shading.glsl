@@ -48,8 +48,9 @@ struct GpuMaterial {
 // ---- Lights ----
 // Radiance arriving at posW from light L, the unit direction towards the light and its distance
 // (directional: infinite, reported as -1). Zero outside a spot cone or beyond the range.
-TD_FN vec3 tdLightIncident(GpuLight L, vec3 posW, TD_OUT(vec3) toLight, TD_OUT(float) dist) {
-  int type = int(L.posType.w + 0.5f);
+// `type` is L's TD_LIGHT_* (tdLightIncident reads it from the record); a shader that knows it at compile
+// time passes a constant, and the other types' code folds away.
+TD_FN vec3 tdLightIncidentOfType(GpuLight L, int type, vec3 posW, TD_OUT(vec3) toLight, TD_OUT(float) dist) {
   if (type == TD_LIGHT_DIRECTIONAL) {
     toLight = -vec3(L.dirRange);
     dist = -1.0f;
@@ -70,6 +71,10 @@ TD_FN vec3 tdLightIncident(GpuLight L, vec3 posW, TD_OUT(vec3) toLight, TD_OUT(f
     falloff *= cosInner > cosOuter ? smoothstep(cosOuter, cosInner, cosAngle) : (cosAngle >= cosOuter ? 1.0f : 0.0f);
   }
   return vec3(L.radiance) * falloff;
+}
+
+TD_FN vec3 tdLightIncident(GpuLight L, vec3 posW, TD_OUT(vec3) toLight, TD_OUT(float) dist) {
+  return tdLightIncidentOfType(L, int(L.posType.w + 0.5f), posW, toLight, dist);
 }
 
 // Whether light arriving with radiance E from direction toLight (tdLightIncident's results) can light

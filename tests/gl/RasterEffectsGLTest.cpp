@@ -142,6 +142,74 @@ TEST(RasterEffectsGLTest, DirectionalShadowMapMatchesRayMask) {
 }
 TEST(RasterEffectsGLTest, PointShadowCubeMatchesRayMask) { checkShadowMaps(LightType::Point, "point"); }
 
+// Every kind of shadow map in one frame: the shade pass is compiled for the scene's light types and map
+// kinds (GpuScene's lightKinds, shade.frag's TD_LIGHT_KINDS), light by light. Each light's share of the
+// frame must be what a frame with that light alone gets: a type or map kind given to the wrong light, or
+// a map slot read for the wrong light, changes the light's share far beyond the sums' rounding.
+TEST(RasterEffectsGLTest, MixedLightKindsAddUpLightByLight) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene = sphereOverPlane(LightType::Point);
+  Light point = scene.lights[1];
+  point.intensity = 0.5f;
+  Light narrowSpot = sphereOverPlane(LightType::Spot).lights[1];  // 40°: a perspective map
+  narrowSpot.intensity = 0.6f;
+  Light wideSpot = narrowSpot;  // 70°: a cube map, the second cube of the frame
+  wideSpot.posW = {-1.5f, 3.5f, 1.0f};
+  wideSpot.dirW = glm::normalize(glm::vec3(0.2f, 1.0f, -0.2f) - wideSpot.posW);
+  wideSpot.innerConeDeg = 55.0f;
+  wideSpot.outerConeDeg = 70.0f;
+  wideSpot.color = {0.4f, 0.6f, 1.0f};
+  Light sun = sphereOverPlane(LightType::Directional).lights[1];  // an orthographic map
+  sun.intensity = 0.3f;
+  const std::vector<Light> lights = {point, narrowSpot, wideSpot, sun};
+  const Light ambient = scene.lights[0];
+
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(renderer);
+  const int w = 240, h = 180;
+  FrameSettings s = gltest::rasterOnly(w, h);
+  s.shadows = EffectMode::Raster;
+  auto frameWith = [&](std::vector<Light> direct) {
+    Scene one = scene;
+    one.lights = {ambient};
+    one.lights.insert(one.lights.end(), direct.begin(), direct.end());
+    EXPECT_TRUE(renderer->setScene(one).ok());
+    renderer->render(one.camera, s);
+    return renderer->readLinear();
+  };
+  const ImageF all = frameWith(lights);
+  gltest::savePng("shadowmap-mixed-kinds.png", renderer->readImage());
+  const ImageF none = frameWith({});
+  std::vector<ImageF> alone;
+  for (const Light& l : lights) alone.push_back(frameWith({l}));
+
+  int shadowedSomewhere = 0, mismatched = 0;
+  float worst = 0.0f;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      glm::vec3 sum = none.at(x, y);
+      for (const ImageF& one : alone) sum += one.at(x, y) - none.at(x, y);
+      const float err = glm::length(all.at(x, y) - sum);
+      worst = std::max(worst, err);
+      if (err > 1e-4f + 1e-5f * glm::length(sum) && ++mismatched < 8)
+        ADD_FAILURE() << "pixel " << x << "," << y << ": all lights " << all.at(x, y).x << " vs the sum of each alone "
+                      << sum.x;
+    }
+  EXPECT_EQ(mismatched, 0) << "worst " << worst;
+
+  // Each light shadows part of the frame (its map is read), so the sum above tests every kind.
+  s.shadows = EffectMode::Off;
+  for (std::size_t j = 0; j < lights.size(); ++j) {
+    const ImageF unshadowed = frameWith({lights[j]});
+    int darker = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) darker += alone[j].at(x, y).y + 1e-3f < unshadowed.at(x, y).y;
+    EXPECT_GT(darker, w * h / 100) << "light " << j << " casts no visible shadow";
+    shadowedSomewhere += darker > 0;
+  }
+  EXPECT_EQ(shadowedSomewhere, 4);
+}
+
 // A small object over a checkerboard far larger than it: a probe at its centre sees what the object's
 // surface points see, up to a parallax of its radius.
 Scene smallObjectOverCheckers(const Material& surface) {

@@ -296,9 +296,15 @@ void GpuScene::updateInstances(const Scene& scene) {
 
 void GpuScene::updateLights(const Scene& scene) {
   std::vector<shading::GpuLight> packed;
+  features_.lightKinds = 0;
   for (const Light* l : scene.directLights()) {
     packed.push_back(shading::packLight(*l));
-    packed.back().posType = glm::vec4(toRenderSpace(l->posW, anchor_), packed.back().posType.w);
+    const float type = packed.back().posType.w;
+    packed.back().posType = glm::vec4(toRenderSpace(l->posW, anchor_), type);
+    if (packed.size() <= TD_MAX_LIGHTS) {
+      const auto code = static_cast<std::uint32_t>(static_cast<int>(type) | static_cast<int>(shadowMapKind(*l)) << 2);
+      features_.lightKinds |= code << (4 * (packed.size() - 1));
+    }
   }
   lightCount_ = static_cast<int>(packed.size());
   features_.lightCount = lightCount_;

@@ -15,6 +15,17 @@ namespace tandem::gl {
 
 // Binding points and texture units: gl/Bindings.h (shaders/bindings.glsl).
 
+/// The map a direct light gets when it casts shadows (ShadowMaps; shade.frag's TD_SHADOW_*): orthographic
+/// for directional lights, perspective for spots up to kMaxSpotMapDeg, a cube for point lights and wider
+/// spots, since a square frustum around a wider cone wastes most of its texels.
+enum class ShadowMapKind : int { None = 0, Ortho = 1, Perspective = 2, Cube = 3 };
+inline constexpr float kMaxSpotMapDeg = 60.0f;
+inline ShadowMapKind shadowMapKind(const Light& light) {
+  if (light.type == LightType::Directional) return ShadowMapKind::Ortho;
+  if (light.type == LightType::Spot && light.outerConeDeg <= kMaxSpotMapDeg) return ShadowMapKind::Perspective;
+  return ShadowMapKind::Cube;
+}
+
 /// What the scene uses, for choosing the shade pass's variant.
 struct SceneFeatures {
   bool uvs = false, colors = false, kdTextures = false;
@@ -24,6 +35,10 @@ struct SceneFeatures {
   bool alphaBlend = false;     // some material is BLEND: coverage scales local shading
   bool gouraud = false, toon = false;  // after the shading override
   int lightCount = 0;          // direct lights: the shade loop's compile-time bound
+  /// Direct light j's type and shadow-map kind, 4 bits each (shade.frag's TD_LIGHT_KINDS): the shade
+  /// pass compiles only the code of the lights the scene has. Light j's type (TD_LIGHT_*) is in bits
+  /// 4j..4j+1, the kind of map it casts with (shadowMapKind) in bits 4j+2..4j+3.
+  std::uint32_t lightKinds = 0;
   int uniformMaterials = 0;    // material count when they fit a uniform block, else 0 (SSBO)
 };
 

@@ -11,10 +11,9 @@ namespace tandem::gl {
 
 namespace {
 
-// shade.frag's TD_SHADOW_* kinds.
-constexpr float kKindOrtho = 1.0f, kKindPerspective = 2.0f, kKindCube = 3.0f;
-// Spots wider than this get a cube map: a square frustum around a wider cone wastes most of its texels.
-constexpr float kMaxSpotMapDeg = 60.0f;
+// shade.frag's TD_SHADOW_* kinds, as GpuShadow stores them.
+constexpr float kKindOrtho = float(ShadowMapKind::Ortho), kKindPerspective = float(ShadowMapKind::Perspective),
+                kKindCube = float(ShadowMapKind::Cube);
 
 // Cube-map faces in GL's order (+X, −X, +Y, −Y, +Z, −Z), as cameras: looking along `forward` with `up`,
 // a camera's pixel (x, y) (y up, as framebuffer rows run) lands on the face texel (s, t) that GL's cube
@@ -174,7 +173,7 @@ void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const Visibilit
   for (std::size_t j = 0; j < lights.size() && j < TD_MAX_LIGHTS; ++j) {
     const Light& l = *lights[j];
     if (!l.castShadows) continue;
-    bool cube = l.type == LightType::Point || (l.type == LightType::Spot && l.outerConeDeg > kMaxSpotMapDeg);
+    bool cube = shadowMapKind(l) == ShadowMapKind::Cube;
     jobs.push_back({static_cast<int>(j), cube, cube ? cubes++ : layers++});
   }
   if (jobs.empty() || world.empty()) {

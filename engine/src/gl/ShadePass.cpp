@@ -102,6 +102,7 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in)
                         "\n#define TD_USE_EMISSIVE " + std::to_string(f.emissiveTextures) +
                         "\n#define TD_USE_ALPHA_BLEND " + std::to_string(f.alphaBlend) +
                         "\n#define TD_LIGHT_COUNT " + std::to_string(f.lightCount) +
+                        "\n#define TD_LIGHT_KINDS " + std::to_string(f.lightKinds) + "u" +
                         "\n#define TD_UNIFORM_MATERIALS " + std::to_string(f.uniformMaterials) +
                         "\n#define TD_SHADOW_MAPS " + std::to_string(in.shadowMaps ? 1 : 0) +
                         "\n#define TD_PROBES " + std::to_string(in.probeCubes ? in.probeEffects : 0) +
