@@ -497,6 +497,46 @@ TEST(RayPassWhitted, ImagesAreIdenticalWithOneAndTwoThreads) {
   writeDebugPng(r1, "rt-whitted-reference-spp2.png");
 }
 
+// The upload sends only the tiles the pass flags (RayOutputs::reflectedTiles): a tile flagged empty must be
+// zero to the bit, or the shade pass would miss radiance. Every flag is checked against the texels, at a
+// grid size that leaves partial tiles at the edges and at a half-resolution grid.
+TEST(RayPassWhitted, TileFlagsSayExactlyWhichTilesHoldRayResults) {
+  Scene scene = makeWhittedScene();
+  auto tracer = makeTracer(scene, 2);
+  ASSERT_TRUE(tracer);
+  for (int scale : {1, 2}) {
+    SCOPED_TRACE("ray scale " + std::to_string(scale));
+    const int w = 150, h = 83;
+    FrameSettings s = settingsFor(w, h);
+    s.rayScale = scale;
+    VisibilityBuffer vis;
+    tracer->castVisibility(scene.camera, w, h, vis);
+    RayOutputs out;
+    tracer->trace(scene, scene.camera, s, vis, out);
+    ASSERT_GT(out.counts.reflection, 0u);
+    ASSERT_GT(out.counts.refraction, 0u);
+    ASSERT_GT(out.tileSize, 0);
+    const int tilesX = (out.width + out.tileSize - 1) / out.tileSize, tilesY = (out.height + out.tileSize - 1) / out.tileSize;
+    for (const auto& [channel, flags] : {std::pair{&out.reflected, &out.reflectedTiles}, std::pair{&out.transmitted, &out.transmittedTiles}}) {
+      ASSERT_EQ(flags->size(), static_cast<std::size_t>(tilesX * tilesY));
+      int flagged = 0;
+      for (int ty = 0; ty < tilesY; ++ty)
+        for (int tx = 0; tx < tilesX; ++tx) {
+          bool any = false;
+          for (int y = ty * out.tileSize; y < std::min((ty + 1) * out.tileSize, out.height); ++y)
+            for (int x = tx * out.tileSize; x < std::min((tx + 1) * out.tileSize, out.width); ++x) {
+              const glm::vec4 v = (*channel)[at(x, y, out.width)];
+              for (int c = 0; c < 4; ++c) any = any || std::signbit(v[c]) || v[c] != 0.0f;
+            }
+          EXPECT_EQ((*flags)[static_cast<std::size_t>(ty * tilesX + tx)] != 0, any) << "tile " << tx << "," << ty;
+          flagged += any ? 1 : 0;
+        }
+      EXPECT_GT(flagged, 0);
+      EXPECT_LT(flagged, tilesX * tilesY) << "some tiles see nothing reflective: the flags must tell them apart";
+    }
+  }
+}
+
 // The hybrid pass traces secondary rays breadth first (Wavefront) and sums them bottom up; its S and T
 // must be the recursion's (Whitted::secondary), bit for bit, with the same ray counts, at the default
 // depth and at a deep one with a contribution cut-off.
@@ -549,8 +589,9 @@ TEST(RayPassWhitted, WavefrontEqualsTheRecursionBitForBit) {
         glm::vec3 reflected, transmitted;
         bool tracedR, tracedT;
         whitted.secondary(hit, 0, 1.0f, reflected, transmitted, tracedR, tracedT, counts);
-        differing += glm::vec4(reflected, 1.0f) != out.reflected[at(x, y, w)] ||
-                     glm::vec4(transmitted, 1.0f) != out.transmitted[at(x, y, w)];
+        // Alpha marks a pixel whose ray was traced (RayOutputs); untraced pixels are zero throughout.
+        differing += glm::vec4(reflected, tracedR ? 1.0f : 0.0f) != out.reflected[at(x, y, w)] ||
+                     glm::vec4(transmitted, tracedT ? 1.0f : 0.0f) != out.transmitted[at(x, y, w)];
       }
     EXPECT_EQ(differing, 0) << "depth " << depth;
     EXPECT_EQ(counts.reflection, out.counts.reflection) << "depth " << depth;

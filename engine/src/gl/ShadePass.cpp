@@ -15,22 +15,79 @@ namespace tandem::gl {
 namespace {
 
 // Recreates `texture` only when the size changes: the ray grid is the same every frame in practice.
-Result<void> uploadGrid(Texture& texture, const char* label, ChannelFormat channel, int width, int height,
-                        const void* data) {
+// True when it was made again (its contents are undefined).
+Result<bool> reserveGrid(Texture& texture, const char* label, ChannelFormat channel, int width, int height) {
   GLint w = 0, h = 0;
   if (texture) {
     glGetTextureLevelParameteriv(texture.id(), 0, GL_TEXTURE_WIDTH, &w);
     glGetTextureLevelParameteriv(texture.id(), 0, GL_TEXTURE_HEIGHT, &h);
   }
-  if (!texture || w != width || h != height) {
-    texture.reset();
-    auto made = tryCreateTexture2D(label, channel.internal, width, height);
-    if (!made) return made.error();
-    texture = std::move(*made);
-    setSampling(texture, GL_NEAREST, GL_NEAREST);
-  }
+  if (texture && w == width && h == height) return false;
+  texture.reset();
+  auto made = tryCreateTexture2D(label, channel.internal, width, height);
+  if (!made) return made.error();
+  texture = std::move(*made);
+  setSampling(texture, GL_NEAREST, GL_NEAREST);
+  return true;
+}
+
+Result<void> uploadGrid(Texture& texture, const char* label, ChannelFormat channel, int width, int height,
+                        const void* data) {
+  auto reserved = reserveGrid(texture, label, channel, width, height);
+  if (!reserved) return reserved.error();
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, channel.transfer, channel.type, data);
+  return {};
+}
+
+// The tile's action: send its texels, zero it in the texture, or leave it.
+enum class TileUpload { Keep, Clear, Send };
+
+// Sends only the tiles that hold something and zeroes the ones that held something last time, so the
+// texture ends equal to `data` (every other tile is zero in both). `resident` remembers, per tile, whether
+// the texture may hold a non-zero value there. Without tile flags it sends everything.
+Result<void> uploadSparseGrid(Texture& texture, std::vector<std::uint8_t>& resident, const char* label,
+                              ChannelFormat channel, int width, int height, const glm::vec4* data,
+                              const GridTiles& tiles) {
+  auto reserved = reserveGrid(texture, label, channel, width, height);
+  if (!reserved) return reserved.error();
+  const int tilesX = tiles.size > 0 ? (width + tiles.size - 1) / tiles.size : 0;
+  const int tilesY = tiles.size > 0 ? (height + tiles.size - 1) / tiles.size : 0;
+  const std::size_t count = static_cast<std::size_t>(tilesX) * static_cast<std::size_t>(tilesY);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  if (tiles.nonZero.size() != count || count == 0) {
+    glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, channel.transfer, channel.type, data);
+    resident.assign(count, 1);
+    return {};
+  }
+  if (*reserved || resident.size() != count) {
+    glClearTexImage(texture.id(), 0, channel.transfer, channel.type, nullptr);
+    resident.assign(count, 0);
+  }
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, width);
+  for (int ty = 0; ty < tilesY; ++ty) {
+    const std::size_t row = static_cast<std::size_t>(ty) * static_cast<std::size_t>(tilesX);
+    auto action = [&](int tx) {
+      const std::size_t i = row + static_cast<std::size_t>(tx);
+      return tiles.nonZero[i] ? TileUpload::Send : resident[i] ? TileUpload::Clear : TileUpload::Keep;
+    };
+    // Runs of neighbouring tiles with the same action: one call each.
+    for (int tx = 0; tx < tilesX;) {
+      const TileUpload a = action(tx);
+      int end = tx + 1;
+      while (end < tilesX && action(end) == a) ++end;
+      const int x0 = tx * tiles.size, x1 = std::min(end * tiles.size, width);
+      const int y0 = ty * tiles.size, y1 = std::min(y0 + tiles.size, height);
+      if (a == TileUpload::Send)
+        glTextureSubImage2D(texture.id(), 0, x0, y0, x1 - x0, y1 - y0, channel.transfer, channel.type,
+                            data + static_cast<std::size_t>(y0) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x0));
+      else if (a == TileUpload::Clear)
+        glClearTexSubImage(texture.id(), 0, x0, y0, 0, x1 - x0, y1 - y0, 1, channel.transfer, channel.type, nullptr);
+      tx = end;
+    }
+  }
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  resident.assign(tiles.nonZero.begin(), tiles.nonZero.end());
   return {};
 }
 
@@ -58,12 +115,13 @@ Result<void> ShadePass::uploadLightMask(int width, int height, const std::uint32
   return uploadGrid(lightMask_, "ray light mask", kChannelLightMask, width, height, mask);
 }
 
-Result<void> ShadePass::uploadReflected(int width, int height, const glm::vec4* rgba) {
-  return uploadGrid(reflected_, "ray reflected", kChannelReflected, width, height, rgba);
+Result<void> ShadePass::uploadReflected(int width, int height, const glm::vec4* rgba, const GridTiles& tiles) {
+  return uploadSparseGrid(reflected_, reflectedResident_, "ray reflected", kChannelReflected, width, height, rgba, tiles);
 }
 
-Result<void> ShadePass::uploadTransmitted(int width, int height, const glm::vec4* rgba) {
-  return uploadGrid(transmitted_, "ray transmitted", kChannelTransmitted, width, height, rgba);
+Result<void> ShadePass::uploadTransmitted(int width, int height, const glm::vec4* rgba, const GridTiles& tiles) {
+  return uploadSparseGrid(transmitted_, transmittedResident_, "ray transmitted", kChannelTransmitted, width, height,
+                          rgba, tiles);
 }
 
 bool ShadePass::samplesDepth(const SceneFeatures& features, DebugView view) {

@@ -5,6 +5,7 @@
 // probe's face). Channel table: docs/gbuffer.md; binding points: gl/Bindings.h.
 #include <cstdint>
 #include <map>
+#include <span>
 #include <string>
 
 #include <glm/glm.hpp>
@@ -43,6 +44,13 @@ struct ShadeInputs {
   ToneMap toneMap = ToneMap::Aces;
 };
 
+/// Which square tiles of a ray grid hold a non-zero value (RayOutputs::reflectedTiles): `size` texels a
+/// side, row-major, one flag per tile; the rest of the grid is zero. Empty: unknown, the whole grid is sent.
+struct GridTiles {
+  std::span<const std::uint8_t> nonZero;
+  int size = 0;
+};
+
 class ShadePass {
  public:
   static Result<ShadePass> create();
@@ -50,8 +58,13 @@ class ShadePass {
   /// Ray results on the ray grid (row 0 = top, as RayOutputs holds them). The grid's texture is made
   /// again when the grid's size changes: an error names it when the GL refuses, and nothing is uploaded.
   Result<void> uploadLightMask(int width, int height, const std::uint32_t* mask);
-  Result<void> uploadReflected(int width, int height, const glm::vec4* rgba);
-  Result<void> uploadTransmitted(int width, int height, const glm::vec4* rgba);
+  /// With `tiles`, only the tiles that hold something, and those that held something the last time, are
+  /// sent (a reflective surface covers a fraction of the frame); the texture still equals `rgba` to the bit.
+  Result<void> uploadReflected(int width, int height, const glm::vec4* rgba, const GridTiles& tiles = {});
+  Result<void> uploadTransmitted(int width, int height, const glm::vec4* rgba, const GridTiles& tiles = {});
+  /// The textures those uploads fill (for tests: the grid they hold must be what was uploaded).
+  const Texture& reflectedTexture() const { return reflected_; }
+  const Texture& transmittedTexture() const { return transmitted_; }
 
   /// Whether the shade pass for these scene features and this view reads depth in the shader (the toon
   /// outlines' depth test, the depth view). Such a pass samples a copy of the depth: the depth itself
@@ -81,6 +94,7 @@ class ShadePass {
   std::map<std::string, Program> variants_;
   VertexArray emptyVao_;  // core profile draws need a VAO even with no attributes
   Texture lightMask_, reflected_, transmitted_;
+  std::vector<std::uint8_t> reflectedResident_, transmittedResident_;  // per tile: may be non-zero (uploadSparseGrid)
   Texture sampledDepth_;  // frame size, with reserveSampledDepth()
 };
 

@@ -289,6 +289,8 @@ void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, Fram
   rays.lightMask.clear();
   rays.reflected.clear();
   rays.transmitted.clear();
+  rays.reflectedTiles.clear();
+  rays.transmittedTiles.clear();
   rays.counts = {};
   if (plan.rayPass) {
     tracer->trace(scene, camera, plan.raySettings, visibility, rays);
@@ -320,9 +322,12 @@ bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameSta
     if (rays.lightMask.size() == n && n > 0)
       take(shadePass.uploadLightMask(rays.width, rays.height, rays.lightMask.data()), gl::kRayLightMask);
     if (rays.reflected.size() == n && n > 0)
-      take(shadePass.uploadReflected(rays.width, rays.height, rays.reflected.data()), gl::kRayReflected);
+      take(shadePass.uploadReflected(rays.width, rays.height, rays.reflected.data(), {rays.reflectedTiles, rays.tileSize}),
+           gl::kRayReflected);
     if (rays.transmitted.size() == n && n > 0)
-      take(shadePass.uploadTransmitted(rays.width, rays.height, rays.transmitted.data()), gl::kRayTransmitted);
+      take(shadePass.uploadTransmitted(rays.width, rays.height, rays.transmitted.data(),
+                                       {rays.transmittedTiles, rays.tileSize}),
+           gl::kRayTransmitted);
     if (!refused.empty()) {
       // A ray grid's texture the GL refused: the frame would miss an effect, so it is not drawn.
       stats.error = frameError(plan.settings, refused);

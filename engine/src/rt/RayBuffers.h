@@ -28,8 +28,16 @@ struct RayOutputs {
   // a spot cone, beyond range: the shading formula gives them nothing anyway, toon's lowest band aside,
   // which therefore looks as with shadows off). So an empty mask means exactly "all lights visible".
   std::vector<std::uint32_t> lightMask;
-  std::vector<glm::vec4> reflected;      // rgb: weighted reflected radiance (wR·S), linear
-  std::vector<glm::vec4> transmitted;    // rgb: weighted transmitted radiance (wT·T), linear
+  // rgb: weighted reflected radiance (wR·S), linear; a = 1 where a ray was traced. Zero elsewhere.
+  std::vector<glm::vec4> reflected;
+  std::vector<glm::vec4> transmitted;    // the same for the weighted transmitted radiance (wT·T)
+  // Per kTile × kTile tile of the grid (rt/Parallel.h; row-major, tileCount(width) tiles a row), whether
+  // the tile holds a non-zero texel in reflected / transmitted: the rest of the channel is exactly zero, so
+  // the upload sends only these tiles (reflective surfaces cover a fraction of a frame). Sized with
+  // their channel; empty when the channel is, or when whoever filled the channel did not say.
+  std::vector<std::uint8_t> reflectedTiles;
+  std::vector<std::uint8_t> transmittedTiles;
+  int tileSize = 0;  // texels per tile side (kTile)
   RayCounts counts;
   int threads = 0;
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -173,12 +174,26 @@ struct HybridTiles {
         if (modes.primaryShadowRays)
           out.lightMask[g] = batched ? shadows.add(whitted, frame.lights.size(), hit, g, capture)
                                      : whitted.lightMask(hit, counts, capture.recorder());
-        // (wR·S, 1) and (wT·T, 1) of a visible pixel: zero until the wavefront writes a traced one.
-        out.reflected[g] = out.transmitted[g] = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
         wavefront.addPrimary(hit, g, counts, capture);
       }
     shadows.trace(embree.top(), out.lightMask.data(), counts, capture);
     wavefront.run(counts, out.reflected.data(), out.transmitted.data(), capture);
+    const std::size_t tile = tileIndex(x0, y0, gw);
+    out.reflectedTiles[tile] = anyBits(out.reflected, x0, y0, x1, y1);
+    out.transmittedTiles[tile] = anyBits(out.transmitted, x0, y0, x1, y1);
+  }
+
+  // Whether any texel of the tile is not all +0 (a -0 counts: the upload must not change a bit).
+  std::uint8_t anyBits(const std::vector<glm::vec4>& channel, int x0, int y0, int x1, int y1) const {
+    std::uint32_t bits = 0;
+    for (int gy = y0; gy < y1; ++gy)
+      for (int gx = x0; gx < x1; ++gx) {
+        const glm::vec4& v = channel[static_cast<std::size_t>(gy) * static_cast<std::size_t>(out.width) +
+                                     static_cast<std::size_t>(gx)];
+        bits |= std::bit_cast<std::uint32_t>(v.x) | std::bit_cast<std::uint32_t>(v.y) |
+                std::bit_cast<std::uint32_t>(v.z) | std::bit_cast<std::uint32_t>(v.w);
+      }
+    return bits != 0 ? 1 : 0;
   }
 };
 
@@ -212,8 +227,8 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   // Cost follows the scene: an effect that traced no ray leaves its channel empty. The mask is the primary
   // points' only: with raster shadows, the shadow rays of secondary hits leave it to the shadow maps.
   if (out.counts.shadow == 0 || !whitted.modes().primaryShadowRays) out.lightMask.clear();
-  if (out.counts.reflection == 0) out.reflected.clear();
-  if (out.counts.refraction == 0) out.transmitted.clear();
+  if (out.counts.reflection == 0) out.reflected.clear(), out.reflectedTiles.clear();
+  if (out.counts.refraction == 0) out.transmitted.clear(), out.transmittedTiles.clear();
 }
 
 void RayTracer::hybridPass(const Scene& scene, const Camera& camera, const FrameSettings& settings,
@@ -232,10 +247,16 @@ void RayTracer::hybridPass(const Scene& scene, const Camera& camera, const Frame
   out.lightMask.resize(n);
   out.reflected.resize(n);
   out.transmitted.resize(n);
+  const std::size_t tiles = static_cast<std::size_t>(tileCount(out.width)) * static_cast<std::size_t>(tileCount(out.height));
+  out.reflectedTiles.resize(tiles);
+  out.transmittedTiles.resize(tiles);
+  out.tileSize = kTile;
   if (!impl_->scene || n == 0) {
     out.lightMask.clear();
     out.reflected.clear();
     out.transmitted.clear();
+    out.reflectedTiles.clear();
+    out.transmittedTiles.clear();
     return;
   }
   // One branch per frame: the frame's loops are compiled without any capture code.
