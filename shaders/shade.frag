@@ -264,7 +264,7 @@ struct RaySample {
 void accumulate(inout RaySample acc, ivec2 g, float w) {
   if ((rayInputs & TD_RAY_LIGHT_MASK) != 0) {
     uint mask = texelFetch(lightMaskTex, g, 0).x;
-    for (int j = 0; j < TD_MAX_LIGHTS; ++j) acc.vis[j] += ((mask >> uint(j)) & 1u) != 0u ? w : 0.0;
+    for (int j = 0; j < TD_LIGHT_COUNT; ++j) acc.vis[j] += ((mask >> uint(j)) & 1u) != 0u ? w : 0.0;
   }
   if ((rayInputs & TD_RAY_REFLECTED) != 0) acc.reflected += w * texelFetch(reflectedTex, g, 0).rgb;
   if ((rayInputs & TD_RAY_TRANSMITTED) != 0) acc.transmitted += w * texelFetch(transmittedTex, g, 0).rgb;
@@ -312,7 +312,7 @@ RaySample gatherRays(ivec2 pTop, uint instance) {
     accumulate(sum, best, 1.0);
     total = 1.0;
   }
-  for (int j = 0; j < TD_MAX_LIGHTS; ++j) acc.vis[j] = sum.vis[j] / total;
+  for (int j = 0; j < TD_LIGHT_COUNT; ++j) acc.vis[j] = sum.vis[j] / total;
   acc.reflected = sum.reflected / total;
   acc.transmitted = sum.transmitted / total;
   return acc;

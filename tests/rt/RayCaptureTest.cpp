@@ -1,5 +1,7 @@
 // The bench's ray capture (RayTracerBench::trace) and raw re-trace (RayTracerBench::retrace): the capture
 // holds exactly the rays the pass counted, tile by tile, and Embree alone gives the same answers.
+#include <array>
+
 #include <gtest/gtest.h>
 
 #include "rt/RayCapture.h"
@@ -57,6 +59,23 @@ TEST(RayCapture, HybridCaptureHoldsExactlyTheCountedRays) {
     EXPECT_FALSE(capture.primaryTraced);
     EXPECT_EQ(capture.width, 160);
     EXPECT_EQ(capture.height, 90);
+    // Each shadow ray names the light it heads for (the floor's packets group by it): the Whitted scene's
+    // two direct lights (a point and a spot), both present. Rays of one group end at one point, the light
+    // (in the tracer's render space, and just short of it), and the two groups' points are far apart.
+    const std::size_t lights = f.scene.directLights().size();
+    ASSERT_EQ(lights, 2u);
+    std::array<std::uint64_t, 2> perLight{};
+    std::array<glm::vec3, 2> end{};
+    for (const auto& tile : capture.tiles)
+      for (const CapturedRay& r : tile.rays[static_cast<std::size_t>(RayKind::Shadow)]) {
+        ASSERT_LT(r.group, lights);
+        const glm::vec3 e = r.origin + r.dir * r.tfar;
+        if (perLight[r.group]++ == 0) end[r.group] = e;
+        EXPECT_LT(glm::distance(e, end[r.group]), 2e-2f) << "light " << int(r.group);
+      }
+    EXPECT_GT(perLight[0], 0u);
+    EXPECT_GT(perLight[1], 0u);
+    EXPECT_GT(glm::distance(end[0], end[1]), 1.0f);
   }
 }
 
@@ -109,7 +128,7 @@ TEST(RayCapture, WithoutACaptureNothingIsRecorded) {
   expectCounts(capture.counts(), before);  // the previous capture is left as it was
 }
 
-TEST(RayCapture, RetraceGivesTheSameAnswersWithEitherApi) {
+TEST(RayCapture, RetraceGivesTheSameAnswersWithEveryApi) {
   Frame f;
   ASSERT_TRUE(f.tracer);
   RayCapture capture;
@@ -123,8 +142,8 @@ TEST(RayCapture, RetraceGivesTheSameAnswersWithEitherApi) {
   }
   EXPECT_GT(occluded, 0u);
   EXPECT_GT(escaped, 0u);
-  for (RetraceApi api : {RetraceApi::Single, RetraceApi::Stream}) {
-    SCOPED_TRACE(api == RetraceApi::Single ? "rtc*1" : "rtc*1M");
+  for (RetraceApi api : {RetraceApi::Single, RetraceApi::Stream, RetraceApi::Packet}) {
+    SCOPED_TRACE(std::string("rtc*") + toString(api));
     RetraceOptions options;
     options.api.fill(api);
     RetraceStats s = RayTracerBench::retrace(*f.tracer, capture, options);

@@ -16,6 +16,15 @@ const char* toString(RayKind kind) {
   return "?";
 }
 
+const char* toString(RetraceApi api) {
+  switch (api) {
+    case RetraceApi::Single: return "1";
+    case RetraceApi::Stream: return "1M";
+    case RetraceApi::Packet: return "8";
+  }
+  return "?";
+}
+
 void RayCapture::clear() {
   tiles.clear();
   width = height = 0;

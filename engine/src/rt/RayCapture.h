@@ -30,6 +30,9 @@ struct CapturedRay {
   /// False when the pass counted the ray but Embree was not called (a non-finite origin or direction,
   /// which makeEmbreeRay refuses): re-tracing skips it too.
   bool traced = true;
+  /// Shadow rays: the light they head for (the pass traces a tile's rays towards one light together, in
+  /// packets, and so may the floor). 0 for other kinds.
+  std::uint8_t group = 0;
 };
 
 struct RayCaptureTile {
@@ -52,8 +55,12 @@ struct RayCapture {
   RayCounts counts() const;
 };
 
-/// How a kind is re-traced: one rtc*1 call per ray, or one rtc*1M call per tile (Embree's stream API).
-enum class RetraceApi : std::uint8_t { Single = 0, Stream = 1 };
+/// How a kind is re-traced: one rtc*1 call per ray, one rtc*1M call per tile (Embree's stream API), or
+/// rtc*8 packets of a tile's rays, grouped by CapturedRay::group in capture order (as the pass traces
+/// its shadow rays).
+enum class RetraceApi : std::uint8_t { Single = 0, Stream = 1, Packet = 2 };
+inline constexpr int kRetraceApis = 3;
+const char* toString(RetraceApi api);
 
 struct RetraceOptions {
   std::array<RetraceApi, kRayKinds> api{RetraceApi::Single, RetraceApi::Stream, RetraceApi::Single,

@@ -1,7 +1,9 @@
 #include "rt/RayTracerBench.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cassert>
+#include <type_traits>
 #include <vector>
 
 #include <embree3/rtcore.h>
@@ -44,6 +46,53 @@ void traceMany(RTCScene scene, RTCIntersectContext& ctx, RTCRayHit* rh, unsigned
   rtcIntersect1M(scene, &ctx, rh, n, sizeof(RTCRayHit));
 }
 
+// Packets: lane k of RTCRay8 / RTCRayHit8 from a ray made by toEmbree, traced, and its answer.
+void setLane(RTCRay8& p, int k, const RTCRay& r) { setPacketLane(p, k, r); }
+void setLane(RTCRayHit8& p, int k, const RTCRayHit& rh) {
+  setPacketLane(p.ray, k, rh.ray);
+  p.hit.geomID[k] = kInvalid;
+  p.hit.instID[0][k] = kInvalid;
+}
+void tracePacket(const int* valid, RTCScene scene, RTCIntersectContext& ctx, RTCRay8& p) {
+  rtcOccluded8(valid, scene, &ctx, &p);
+}
+void tracePacket(const int* valid, RTCScene scene, RTCIntersectContext& ctx, RTCRayHit8& p) {
+  rtcIntersect8(valid, scene, &ctx, &p);
+}
+bool answered(const RTCRay8& p, int k) { return p.tfar[k] < 0.0f; }
+bool answered(const RTCRayHit8& p, int k) { return p.hit.geomID[k] != kInvalid && p.hit.instID[0][k] != kInvalid; }
+
+/// One tile's rays in packets of kPacket, grouped by CapturedRay::group (stable: capture order within a
+/// group), as ShadowBatch::trace sends a tile's shadow rays.
+template <class EmbreeRay, class Packet>
+std::uint64_t retracePackets(RTCScene scene, RTCIntersectContext& ctx, const std::vector<CapturedRay>& rays,
+                             std::uint64_t& traced) {
+  thread_local std::vector<const CapturedRay*> order;
+  order.clear();
+  for (const CapturedRay& c : rays)
+    if (c.traced) order.push_back(&c);
+  std::stable_sort(order.begin(), order.end(), [](const CapturedRay* a, const CapturedRay* b) { return a->group < b->group; });
+  std::uint64_t mismatches = 0;
+  Packet packet;
+  alignas(32) int valid[kPacket];
+  const CapturedRay* lane[kPacket];
+  for (std::size_t next = 0; next < order.size();) {
+    int lanes = 0;
+    for (; lanes < kPacket && next < order.size(); ++next) {
+      EmbreeRay r;
+      if (!toEmbree(*order[next], r)) continue;
+      setLane(packet, lanes, r);
+      lane[lanes++] = order[next];
+    }
+    for (int k = 0; k < kPacket; ++k) valid[k] = k < lanes ? -1 : 0;
+    if (lanes == 0) break;
+    tracePacket(valid, scene, ctx, packet);
+    traced += static_cast<std::uint64_t>(lanes);
+    for (int k = 0; k < lanes; ++k) mismatches += answered(packet, k) != lane[k]->hit;
+  }
+  return mismatches;
+}
+
 /// One tile's rays of one kind through Embree; returns the answers that differ from the capture. The
 /// conversion to Embree's layout is part of the floor: any caller of Embree pays it.
 template <class EmbreeRay>
@@ -52,6 +101,10 @@ std::uint64_t retraceTile(RTCScene scene, const std::vector<CapturedRay>& rays, 
   std::uint64_t mismatches = 0;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
+  if (api == RetraceApi::Packet) {
+    if constexpr (std::is_same_v<EmbreeRay, RTCRay>) return retracePackets<RTCRay, RTCRay8>(scene, ctx, rays, traced);
+    else return retracePackets<RTCRayHit, RTCRayHit8>(scene, ctx, rays, traced);
+  }
   if (api == RetraceApi::Single) {
     for (const CapturedRay& c : rays) {
       if (!c.traced) continue;

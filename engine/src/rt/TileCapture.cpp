@@ -8,9 +8,10 @@ namespace {
 std::vector<CapturedRay>& raysOf(RayCaptureTile& tile, RayKind kind) { return tile.rays[static_cast<std::size_t>(kind)]; }
 }  // namespace
 
-std::size_t TileCapture::deferred(RayKind kind, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar) {
+std::size_t TileCapture::deferred(RayKind kind, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar,
+                                  std::uint8_t group) {
   std::vector<CapturedRay>& rays = raysOf(tile_, kind);
-  rays.push_back(CapturedRay{originW, tNear, dirW, tFar, false, true});
+  rays.push_back(CapturedRay{originW, tNear, dirW, tFar, false, true, group});
   return rays.size() - 1;
 }
 
@@ -47,8 +48,9 @@ void TileCapture::notTraced() {
   if (CapturedRay* r = pending()) r->traced = false;
 }
 
-void TileCapture::shadowRay(std::size_t, const ShadowRay& ray, bool occluded) {
-  answer(RayKind::Shadow, deferred(RayKind::Shadow, ray.originW, ray.dirW, 0.0f, ray.tFar), occluded);
+void TileCapture::shadowRay(std::size_t light, const ShadowRay& ray, bool occluded) {
+  answer(RayKind::Shadow, deferred(RayKind::Shadow, ray.originW, ray.dirW, 0.0f, ray.tFar, static_cast<std::uint8_t>(light)),
+         occluded);
 }
 
 }  // namespace tandem::rt

@@ -18,7 +18,7 @@ namespace tandem::rt {
 /// The frame's policy: nothing is recorded.
 struct NoCapture {
   static constexpr bool kRecords = false;
-  std::size_t deferred(RayKind, glm::vec3, glm::vec3, float, float) const { return 0; }
+  std::size_t deferred(RayKind, glm::vec3, glm::vec3, float, float, std::uint8_t = 0) const { return 0; }
   void answer(RayKind, std::size_t, bool, bool = true) const {}
   /// The recorder the recursion takes under this policy.
   NoRecorder recorder() const { return {}; }
@@ -33,7 +33,7 @@ class TileCapture final : public RayRecorder {
   TileCapture& operator=(const TileCapture&) = delete;
 
   /// A ray whose answer comes later (batched): returns its index among the tile's rays of `kind`.
-  std::size_t deferred(RayKind kind, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar);
+  std::size_t deferred(RayKind kind, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, std::uint8_t group = 0);
   /// The answer of a deferred ray; traced = false: Embree was not called for it.
   void answer(RayKind kind, std::size_t index, bool hit, bool traced = true);
   /// A hybrid frame's primary ray: counted, but intersected on the CPU against the rasterized triangle,

@@ -15,8 +15,9 @@
 
 namespace tandem::rt {
 
-/// Shadow rays gathered from many hits and traced by one rtcOccluded1M call: each ray answers one
-/// (slot, light bit). Reused across tiles (clear() keeps the capacity), so a tile allocates nothing.
+/// Shadow rays gathered from many hits and traced in packets of kPacket rays towards one light: each ray
+/// answers one (slot, light bit). Reused across tiles (clear() keeps the capacity), so a tile allocates
+/// nothing.
 class ShadowBatch {
  public:
   void clear();
@@ -37,6 +38,7 @@ class ShadowBatch {
   std::vector<std::size_t> slots_;
   std::vector<std::uint32_t> bits_;
   std::vector<std::size_t> captured_;  // under a recording Capture: each ray's index there
+  std::vector<std::uint32_t> order_;   // ray indices grouped by light, in the order they were added
 };
 
 /// The reflection and refraction rays of a tile's primary hits, traced breadth first (a wavefront):

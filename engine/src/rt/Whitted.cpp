@@ -49,6 +49,21 @@ bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, 
   return true;
 }
 
+void setPacketLane(RTCRay8& packet, int k, const RTCRay& ray) {
+  packet.org_x[k] = ray.org_x;
+  packet.org_y[k] = ray.org_y;
+  packet.org_z[k] = ray.org_z;
+  packet.tnear[k] = ray.tnear;
+  packet.dir_x[k] = ray.dir_x;
+  packet.dir_y[k] = ray.dir_y;
+  packet.dir_z[k] = ray.dir_z;
+  packet.time[k] = ray.time;
+  packet.tfar[k] = ray.tfar;
+  packet.mask[k] = ray.mask;
+  packet.id[k] = ray.id;
+  packet.flags[k] = ray.flags;
+}
+
 template <class Recorder>
 ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins, Recorder rec) const {
   ShadowRay r;
