@@ -26,7 +26,7 @@
 #define TD_UNIT_DEPTH 1         // a copy of the visibility depth (never the attached one)
 #define TD_UNIT_KD 2            // sRGB texture array (base colour, emissive); the visibility pass's too
 #define TD_UNIT_RAMPS 3         // toon ramps, R32F
-#define TD_UNIT_LIGHT_MASK 4    // ray grid, R32UI
+#define TD_UNIT_LIGHT_MASK 4    // ray grid, R8UI
 #define TD_UNIT_REFLECTED 5     // ray grid, RGBA32F
 #define TD_UNIT_TRANSMITTED 6   // ray grid, RGBA32F
 #define TD_UNIT_LINEAR 0        // the tone-map pass's linear radiance
@@ -60,7 +60,7 @@
 #define TD_OUTPUT_IDS uvec2
 #define TD_CHANNEL_DEPTH GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT  // reversed-Z, and its sampled copy
 #define TD_SAMPLER_DEPTH sampler2D
-#define TD_CHANNEL_LIGHT_MASK GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT  // ray grid
+#define TD_CHANNEL_LIGHT_MASK GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE  // ray grid, bit j = light j (≤ 8)
 #define TD_SAMPLER_LIGHT_MASK usampler2D
 #define TD_CHANNEL_REFLECTED GL_RGBA32F, GL_RGBA, GL_FLOAT       // ray grid, wR·S
 #define TD_SAMPLER_REFLECTED sampler2D

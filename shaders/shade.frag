@@ -29,9 +29,10 @@ layout(binding = TD_UNIT_UV_TRANSFORMS_TEX) uniform samplerBuffer uvTransformsBu
 #define TD_UNIFORM_MATERIALS 0        // material count when they are in a uniform block, 0: SSBO
 #endif
 layout(std140, binding = TD_BLOCK_LIGHTS) uniform LightBlock { GpuLight lights[TD_MAX_LIGHTS]; };
-// Each direct light's type and shadow-map kind, 4 bits per light (gl::lightKindCode): bits 0-1 TD_LIGHT_*,
-// bits 2-3 TD_SHADOW_*. llvmpipe runs both sides of a branch on a uniform, so without these every light
-// would evaluate the spot cone and both the cube and the 2D map lookups. 0: read them from the records.
+// Each direct light's type and shadow-map kind, 4 bits per light (SceneFeatures::lightKinds, filled by
+// GpuScene::updateLights): bits 0-1 TD_LIGHT_*, bits 2-3 TD_SHADOW_* (0 in a frame without shadow maps).
+// llvmpipe runs both sides of a branch on a uniform, so without these every light would evaluate the spot
+// cone and both the cube and the 2D map lookups. 0: read them from the records.
 #ifndef TD_LIGHT_KINDS
 #define TD_LIGHT_KINDS 0u
 #endif

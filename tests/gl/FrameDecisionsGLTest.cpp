@@ -166,6 +166,45 @@ TEST(FrameDecisions, FramesWhoseRaysLeaveChannelsEmptyCompileNoShader) {
   EXPECT_EQ(renderer->render(side, s).shaderCompiles, 0);
 }
 
+// The shade variant is compiled for each light's type and, with raster shadows, its map kind: a spot
+// whose cone widens past 60° (a cube map instead of a 2D one) compiles its variants once under raster
+// shadows, and nothing under ray-traced shadows, where the map kind does not matter. The frame after the
+// change equals a renderer that had the wide cone from the start.
+TEST(FrameDecisions, ASpotWideningPastTheMapLimitCompilesOnlyWhereMapsAreUsed) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene;
+  auto renderer = gltest::whittedRenderer(*glContext_, scene);
+  ASSERT_TRUE(renderer);
+  const std::uint32_t spot = 2;  // whitted.json: sky (ambient), key (point), spot
+  ASSERT_EQ(scene.lights[spot].type, LightType::Spot);
+  Light wide = scene.lights[spot];
+  wide.innerConeDeg = 62.0f;
+  wide.outerConeDeg = 70.0f;
+  for (const char* preset : {"hybrid-full", "raster"}) {
+    SCOPED_TRACE(preset);
+    FrameSettings s = *presetSettings(preset);
+    s.width = 96;
+    s.height = 54;
+    renderer->setLight(spot, scene.lights[spot]);
+    ASSERT_TRUE(renderer->render(scene.camera, s).error.empty());
+    EXPECT_EQ(renderer->render(scene.camera, s).shaderCompiles, 0);
+    renderer->setLight(spot, wide);
+    const FrameStats widened = renderer->render(scene.camera, s);
+    // Raster: the frame's variant and the probes' (their faces are shaded with the same maps).
+    EXPECT_EQ(widened.shaderCompiles, std::string(preset) == "raster" ? 2 : 0);
+    EXPECT_EQ(renderer->render(scene.camera, s).shaderCompiles, 0);
+    const ImageF got = renderer->readLinear();
+
+    Scene wideScene = scene;
+    wideScene.lights[spot] = wide;
+    auto fresh = gltest::makeRenderer(*glContext_);
+    ASSERT_TRUE(fresh);
+    ASSERT_TRUE(fresh->setScene(wideScene).ok());
+    ASSERT_TRUE(fresh->render(wideScene.camera, s).error.empty());
+    EXPECT_EQ(got.rgb, fresh->readLinear().rgb);
+  }
+}
+
 // The frame's shade pass writes the display values itself (fused output) instead of a second pass over
 // the linear target: for every view and tone map, each displayed pixel is tdDisplay of the linear pixel
 // the renderer keeps (computed here by the C++ twin of that formula), the sky included.

@@ -15,8 +15,9 @@
 namespace tandem {
 namespace {
 
-// A sphere of radius 0.5 floating over a plane, one direct light of the given type, a camera above.
-Scene sphereOverPlane(LightType type) {
+// A sphere of radius 0.5 floating over a plane, one direct light of the given type, a camera above. A spot
+// cone wider than kMaxSpotMapDeg gets a cube map instead of a 2D one.
+Scene sphereOverPlane(LightType type, float spotOuterDeg = 40.0f) {
   Scene s = gltest::boxScene();
   s.meshes = {makePlane(glm::vec2(8.0f), 8), makeSphere(0.5f, 48, 24)};
   s.materials = {gltest::plainMaterial({0.8f, 0.8f, 0.8f}), gltest::plainMaterial({0.7f, 0.3f, 0.2f})};
@@ -31,8 +32,8 @@ Scene sphereOverPlane(LightType type) {
   if (type == LightType::Spot) {
     l.posW = {1.0f, 4.0f, 1.5f};
     l.dirW = glm::normalize(glm::vec3(0.0f) - l.posW);
-    l.innerConeDeg = 30.0f;
-    l.outerConeDeg = 40.0f;
+    l.innerConeDeg = spotOuterDeg - 10.0f;
+    l.outerConeDeg = spotOuterDeg;
   } else if (type == LightType::Directional) {
     l.dirW = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
   } else {
@@ -83,9 +84,9 @@ MaskComparison compareMasks(const Scene& scene, const Image& raster, const Image
   return c;
 }
 
-void checkShadowMaps(LightType type, const char* name) {
+void checkShadowMaps(LightType type, const char* name, float spotOuterDeg = 40.0f) {
   TD_REQUIRE_GL_CONTEXT();
-  Scene scene = sphereOverPlane(type);
+  Scene scene = sphereOverPlane(type, spotOuterDeg);
   auto renderer = gltest::makeRenderer(*glContext_);
   ASSERT_TRUE(renderer);
   ASSERT_TRUE(renderer->setScene(scene).ok());
@@ -137,6 +138,10 @@ void checkShadowMaps(LightType type, const char* name) {
 }
 
 TEST(RasterEffectsGLTest, SpotShadowMapMatchesRayMask) { checkShadowMaps(LightType::Spot, "spot"); }
+TEST(RasterEffectsGLTest, WideSpotShadowCubeMatchesRayMask) {
+  ASSERT_EQ(gl::shadowMapKind(sphereOverPlane(LightType::Spot, 70.0f).lights[1]), gl::ShadowMapKind::Cube);
+  checkShadowMaps(LightType::Spot, "wide-spot", 70.0f);
+}
 TEST(RasterEffectsGLTest, DirectionalShadowMapMatchesRayMask) {
   checkShadowMaps(LightType::Directional, "directional");
 }
@@ -183,7 +188,7 @@ TEST(RasterEffectsGLTest, MixedLightKindsAddUpLightByLight) {
   std::vector<ImageF> alone;
   for (const Light& l : lights) alone.push_back(frameWith({l}));
 
-  int shadowedSomewhere = 0, mismatched = 0;
+  int mismatched = 0;
   float worst = 0.0f;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -205,9 +210,7 @@ TEST(RasterEffectsGLTest, MixedLightKindsAddUpLightByLight) {
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) darker += alone[j].at(x, y).y + 1e-3f < unshadowed.at(x, y).y;
     EXPECT_GT(darker, w * h / 100) << "light " << j << " casts no visible shadow";
-    shadowedSomewhere += darker > 0;
   }
-  EXPECT_EQ(shadowedSomewhere, 4);
 }
 
 // A small object over a checkerboard far larger than it: a probe at its centre sees what the object's

@@ -668,9 +668,9 @@ TEST(RayPassShadows, ShadowThroughAMaskCutOutReachesTheFloor) {
   RayCounts counts;
   for (float x : {-0.8f, -0.7f, -0.6f}) {
     EXPECT_EQ(whitted.lightMask(floorHit(x), counts), 1u) << x;  // through the holes
-    ShadowBatch batch;  // and batched (rtcOccluded1M)
-    std::uint32_t mask = 0;
-    mask |= batch.add(whitted, 1, floorHit(x), 0);
+    ShadowBatch batch;  // and batched (rtcOccluded8 packets)
+    LightMask mask = 0;
+    mask = static_cast<LightMask>(mask | batch.add(whitted, 1, floorHit(x), 0));
     batch.trace((*embree)->top(), &mask, counts);
     EXPECT_EQ(mask, 1u) << x;
   }

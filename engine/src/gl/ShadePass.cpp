@@ -35,7 +35,7 @@ Result<void> uploadGrid(Texture& texture, const char* label, ChannelFormat chann
                         const void* data) {
   auto reserved = reserveGrid(texture, label, channel, width, height);
   if (!reserved) return reserved.error();
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // rows tightly packed, whatever the texel size
   glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, channel.transfer, channel.type, data);
   return {};
 }
@@ -46,7 +46,7 @@ enum class TileUpload { Keep, Clear, Send };
 // Sends only the tiles that hold something and zeroes the ones that held something last time, so the
 // texture ends equal to `data` (every other tile is zero in both). `resident` remembers, per tile, whether
 // the texture may hold a non-zero value there. Without tile flags it sends everything.
-Result<void> uploadSparseGrid(Texture& texture, std::vector<std::uint8_t>& resident, const char* label,
+Result<void> uploadSparseGrid(Texture& texture, GridResidency& resident, const char* label,
                               ChannelFormat channel, int width, int height, const glm::vec4* data,
                               const GridTiles& tiles) {
   auto reserved = reserveGrid(texture, label, channel, width, height);
@@ -54,22 +54,24 @@ Result<void> uploadSparseGrid(Texture& texture, std::vector<std::uint8_t>& resid
   const int tilesX = tiles.size > 0 ? (width + tiles.size - 1) / tiles.size : 0;
   const int tilesY = tiles.size > 0 ? (height + tiles.size - 1) / tiles.size : 0;
   const std::size_t count = static_cast<std::size_t>(tilesX) * static_cast<std::size_t>(tilesY);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // rows tightly packed, whatever the texel size
   if (tiles.nonZero.size() != count || count == 0) {
     glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, channel.transfer, channel.type, data);
-    resident.assign(count, 1);
+    resident.mayBeNonZero.assign(count, 1);
+    resident.size = tiles.size;
     return {};
   }
-  if (*reserved || resident.size() != count) {
+  if (*reserved || resident.mayBeNonZero.size() != count || resident.size != tiles.size) {
     glClearTexImage(texture.id(), 0, channel.transfer, channel.type, nullptr);
-    resident.assign(count, 0);
+    resident.mayBeNonZero.assign(count, 0);
+    resident.size = tiles.size;
   }
   glPixelStorei(GL_UNPACK_ROW_LENGTH, width);
   for (int ty = 0; ty < tilesY; ++ty) {
     const std::size_t row = static_cast<std::size_t>(ty) * static_cast<std::size_t>(tilesX);
     auto action = [&](int tx) {
       const std::size_t i = row + static_cast<std::size_t>(tx);
-      return tiles.nonZero[i] ? TileUpload::Send : resident[i] ? TileUpload::Clear : TileUpload::Keep;
+      return tiles.nonZero[i] ? TileUpload::Send : resident.mayBeNonZero[i] ? TileUpload::Clear : TileUpload::Keep;
     };
     // Runs of neighbouring tiles with the same action: one call each.
     for (int tx = 0; tx < tilesX;) {
@@ -87,7 +89,7 @@ Result<void> uploadSparseGrid(Texture& texture, std::vector<std::uint8_t>& resid
     }
   }
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-  resident.assign(tiles.nonZero.begin(), tiles.nonZero.end());
+  resident.mayBeNonZero.assign(tiles.nonZero.begin(), tiles.nonZero.end());
   return {};
 }
 
@@ -105,13 +107,13 @@ Result<ShadePass> ShadePass::create() {
 }
 
 // The CPU side of each ray channel is what its transfer format and type say (bindings.glsl).
-static_assert(kChannelLightMask.transfer == GL_RED_INTEGER && kChannelLightMask.type == GL_UNSIGNED_INT,
-              "the light mask travels as one std::uint32_t per grid pixel");
+static_assert(kChannelLightMask.transfer == GL_RED_INTEGER && kChannelLightMask.type == GL_UNSIGNED_BYTE,
+              "the light mask travels as one std::uint8_t per grid pixel (rt::LightMask)");
 static_assert(kChannelReflected.transfer == GL_RGBA && kChannelReflected.type == GL_FLOAT &&
                   kChannelTransmitted.transfer == GL_RGBA && kChannelTransmitted.type == GL_FLOAT,
               "reflected and transmitted travel as one glm::vec4 per grid pixel");
 
-Result<void> ShadePass::uploadLightMask(int width, int height, const std::uint32_t* mask) {
+Result<void> ShadePass::uploadLightMask(int width, int height, const std::uint8_t* mask) {
   return uploadGrid(lightMask_, "ray light mask", kChannelLightMask, width, height, mask);
 }
 
@@ -148,6 +150,9 @@ Result<void> ShadePass::reserveSampledDepth(int width, int height) {
 void ShadePass::releaseFrame() { sampledDepth_.reset(); }
 
 const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in) {
+  // The map kinds matter only with shadow maps: without them a spot whose cone crosses kMaxSpotMapDeg
+  // must not compile another variant.
+  const std::uint32_t lightKinds = in.shadowMaps ? f.lightKinds : f.lightKinds & 0x33333333u;
   std::string defines = "#define TD_DEBUG_VIEW " + std::to_string(static_cast<int>(in.debugView)) +
                         "\n#define TD_RAY_INPUTS " + std::to_string(in.rayChannels) +
                         "\n#define TD_RAY_SCALED " + std::to_string(in.rayScale > 1 ? 1 : 0) +
@@ -160,7 +165,7 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in)
                         "\n#define TD_USE_EMISSIVE " + std::to_string(f.emissiveTextures) +
                         "\n#define TD_USE_ALPHA_BLEND " + std::to_string(f.alphaBlend) +
                         "\n#define TD_LIGHT_COUNT " + std::to_string(f.lightCount) +
-                        "\n#define TD_LIGHT_KINDS " + std::to_string(f.lightKinds) + "u" +
+                        "\n#define TD_LIGHT_KINDS " + std::to_string(lightKinds) + "u" +
                         "\n#define TD_UNIFORM_MATERIALS " + std::to_string(f.uniformMaterials) +
                         "\n#define TD_SHADOW_MAPS " + std::to_string(in.shadowMaps ? 1 : 0) +
                         "\n#define TD_PROBES " + std::to_string(in.probeCubes ? in.probeEffects : 0) +

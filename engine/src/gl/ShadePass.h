@@ -51,13 +51,20 @@ struct GridTiles {
   int size = 0;
 };
 
+/// What a ray-grid texture may hold, per tile of `size` texels (uploadReflected with GridTiles): 1 where
+/// the tile may be non-zero, 0 where it is zero.
+struct GridResidency {
+  std::vector<std::uint8_t> mayBeNonZero;
+  int size = 0;
+};
+
 class ShadePass {
  public:
   static Result<ShadePass> create();
 
   /// Ray results on the ray grid (row 0 = top, as RayOutputs holds them). The grid's texture is made
   /// again when the grid's size changes: an error names it when the GL refuses, and nothing is uploaded.
-  Result<void> uploadLightMask(int width, int height, const std::uint32_t* mask);
+  Result<void> uploadLightMask(int width, int height, const std::uint8_t* mask);
   /// With `tiles`, only the tiles that hold something, and those that held something the last time, are
   /// sent (a reflective surface covers a fraction of the frame); the texture still equals `rgba` to the bit.
   Result<void> uploadReflected(int width, int height, const glm::vec4* rgba, const GridTiles& tiles = {});
@@ -94,7 +101,7 @@ class ShadePass {
   std::map<std::string, Program> variants_;
   VertexArray emptyVao_;  // core profile draws need a VAO even with no attributes
   Texture lightMask_, reflected_, transmitted_;
-  std::vector<std::uint8_t> reflectedResident_, transmittedResident_;  // per tile: may be non-zero (uploadSparseGrid)
+  GridResidency reflectedResident_, transmittedResident_;
   Texture sampledDepth_;  // frame size, with reserveSampledDepth()
 };
 

@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include "tandem/FrameStats.h"
+#include "tandem/Scene.h"
 
 namespace tandem::rt {
 
@@ -18,6 +19,11 @@ struct VisibilityBuffer {
   std::vector<glm::uvec2> ids;
 };
 
+/// Bit j: direct light j visible. Eight bits are enough: a scene has at most kMaxLights (8) lights, and
+/// the GL channel is 8 bits too (bindings.glsl), a quarter of the bytes a 32-bit mask would upload.
+using LightMask = std::uint8_t;
+static_assert(kMaxLights <= 8, "a light mask holds one bit per light");
+
 /// Ray results on the ray grid. A vector is empty when its effect traced no ray this frame
 /// (cost follows the scene and the settings).
 struct RayOutputs {
@@ -27,7 +33,7 @@ struct RayOutputs {
   // lights with castShadows = false, and lights that cannot reach the point (behind the surface, outside
   // a spot cone, beyond range: the shading formula gives them nothing anyway, toon's lowest band aside,
   // which therefore looks as with shadows off). So an empty mask means exactly "all lights visible".
-  std::vector<std::uint32_t> lightMask;
+  std::vector<LightMask> lightMask;
   // rgb: weighted reflected radiance (wR·S), linear; a = 1 where a ray was traced. Zero elsewhere.
   std::vector<glm::vec4> reflected;
   std::vector<glm::vec4> transmitted;    // the same for the weighted transmitted radiance (wT·T)

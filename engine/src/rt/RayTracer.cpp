@@ -151,7 +151,7 @@ struct HybridTiles {
     const TraceModes& modes = whitted.modes();
     const int width = visibility.width, height = visibility.height, gw = out.width;
     // Per-thread scratch, kept from tile to tile so a tile allocates nothing once warm.
-    thread_local ShadowBatch shadows;  // the tile's primary shadow rays, one rtcOccluded1M
+    thread_local ShadowBatch shadows;  // the tile's primary shadow rays, in packets per light
     thread_local Wavefront::Buffers wavefrontBuffers;
     shadows.clear();
     Wavefront wavefront(whitted, wavefrontBuffers);
@@ -172,8 +172,8 @@ struct HybridTiles {
         ++counts.primary;
         if constexpr (Capture::kRecords) capture.rasterPrimary(ray.origin, ray.dir);
         if (modes.primaryShadowRays)
-          out.lightMask[g] = batched ? shadows.add(whitted, frame.lights.size(), hit, g, capture)
-                                     : whitted.lightMask(hit, counts, capture.recorder());
+          out.lightMask[g] = static_cast<LightMask>(batched ? shadows.add(whitted, frame.lights.size(), hit, g, capture)
+                                                            : whitted.lightMask(hit, counts, capture.recorder()));
         wavefront.addPrimary(hit, g, counts, capture);
       }
     shadows.trace(embree.top(), out.lightMask.data(), counts, capture);

@@ -73,7 +73,7 @@ std::uint64_t retracePackets(RTCScene scene, RTCIntersectContext& ctx, const std
     if (c.traced) order.push_back(&c);
   std::stable_sort(order.begin(), order.end(), [](const CapturedRay* a, const CapturedRay* b) { return a->group < b->group; });
   std::uint64_t mismatches = 0;
-  Packet packet;
+  Packet packet{};
   alignas(32) int valid[kPacket];
   const CapturedRay* lane[kPacket];
   for (std::size_t next = 0; next < order.size();) {

@@ -9,6 +9,7 @@
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
 
+#include "rt/RayBuffers.h"
 #include "rt/SurfaceShading.h"
 #include "rt/Whitted.h"
 #include "tandem/FrameStats.h"
@@ -28,10 +29,10 @@ class ShadowBatch {
                     Capture& capture);
   /// Traces the queued rays and ORs the bit of every unoccluded one into masks[its slot].
   template <class Capture>
-  void trace(RTCScene scene, std::uint32_t* masks, RayCounts& counts, Capture& capture);
+  void trace(RTCScene scene, LightMask* masks, RayCounts& counts, Capture& capture);
   // The same with nothing recorded (the frame's policy, rt/TileCapture.h).
   std::uint32_t add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot);
-  void trace(RTCScene scene, std::uint32_t* masks, RayCounts& counts);
+  void trace(RTCScene scene, LightMask* masks, RayCounts& counts);
 
  private:
   std::vector<RTCRay> rays_;
@@ -43,7 +44,7 @@ class ShadowBatch {
 
 /// The reflection and refraction rays of a tile's primary hits, traced breadth first (a wavefront):
 /// every ray of one depth goes to Embree in one rtcIntersect1M call (measured about 1.8× faster than
-/// rtcIntersect1 per ray on the Whitted scene), the shadow rays of their hits in one rtcOccluded1M, and
+/// rtcIntersect1 per ray on the Whitted scene), the shadow rays of their hits in a ShadowBatch, and
 /// the hits spawn the next depth. It traces exactly the rays Whitted::secondary's recursion would (the
 /// same decisions on the same numbers) and sums them in the recursion's order, bottom up over the path
 /// tree, so S and T are bit-identical to the recursive result and do not depend on the thread count.
@@ -70,7 +71,7 @@ class Wavefront {
     std::vector<std::size_t> rayNodes;
     std::vector<SurfaceHit> hits;
     std::vector<std::size_t> hitNodes;
-    std::vector<std::uint32_t> masks;
+    std::vector<LightMask> masks;
     ShadowBatch shadows;
   };
 

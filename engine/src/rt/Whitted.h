@@ -248,8 +248,8 @@ class Whitted {
 /// Debian's Embree does not filter out.
 bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar);
 
-/// Packets of this many rays (rtcOccluded8 / rtcIntersect8): AVX2's width, and on this project's machines
-/// faster than 16 (docs/bench.md).
+/// Packets of this many rays (rtcOccluded8 / rtcIntersect8): AVX2's width; 16-wide packets measured no
+/// faster on this project's 2-core machine, which has AVX-512 (docs/bench.md).
 inline constexpr int kPacket = 8;
 /// Copies a ray made by makeEmbreeRay into lane k of a packet.
 void setPacketLane(RTCRay8& packet, int k, const RTCRay& ray);
