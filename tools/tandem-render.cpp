@@ -62,6 +62,7 @@ int main(int argc, char** argv) {
   bool quiet = false;
   std::optional<std::string> tracePixel;
   double progressAfter = 2.0;
+  std::string reuse = "off";
   cli::FrameOptions frameOptions;
   app.add_option("scene", scenePath, "Scene: .json, .gltf or .glb (default: the embedded Whitted scene)");
   app.add_option("-o,--output", outPath, "Output image: .png, or .jpg / .jpeg for JPEG")->capture_default_str();
@@ -72,6 +73,12 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "Ray-pass threads (0 = all)")->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--context", contextName, "headless | egl-device | surfaceless | osmesa")->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "Print errors only: no progress line, no summary (default: both)");
+  app.add_option("--reuse", reuse,
+                 "on | off: with on, a frame whose camera, scene and ray settings equal the last frame's reuses its "
+                 "rays (FrameSettings::reuseRays; the renderer's and the game's default). Off here by default: "
+                 "--frames times every frame's full cost with the camera standing still")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
   app.add_option("--progress-after", progressAfter,
                  "Seconds a render runs before a progress line (percent, elapsed, ETA) appears on stderr")
       ->check(CLI::NonNegativeNumber)
@@ -100,7 +107,8 @@ int main(int argc, char** argv) {
 
   Result<cli::ResolvedFrame> resolved = cli::resolveFrame(frameOptions, scene->render);
   if (!resolved) return fail(resolved.error().message);
-  const FrameSettings& settings = resolved->settings;
+  FrameSettings settings = resolved->settings;
+  settings.reuseRays = reuse == "on";
   // Checked against the frame before anything renders, like every other value.
   std::optional<glm::ivec2> tracedPixel;
   if (tracePixel) {
@@ -142,7 +150,14 @@ int main(int argc, char** argv) {
   Image image = (*renderer)->readImage();
   if (auto r = writeImage(outPath, image); !r) return fail(r.error().message);
 
+  // The ray counts of the last frame that traced (a reused frame traces nothing).
   const FrameStats& last = stats.back();
+  int reused = 0;
+  const FrameStats* traced = &stats.front();
+  for (const FrameStats& s : stats) {
+    reused += s.raysReused ? 1 : 0;
+    if (!s.raysReused) traced = &s;
+  }
   nlohmann::json j;
   for (const Column& c : kColumns) {
     std::vector<double> v;
@@ -171,9 +186,11 @@ int main(int argc, char** argv) {
                   ms["max"].get<double>());
     }
     std::printf("  rays/frame: primary %llu, shadow %llu, reflection %llu, refraction %llu\n",
-                static_cast<unsigned long long>(last.rays.primary), static_cast<unsigned long long>(last.rays.shadow),
-                static_cast<unsigned long long>(last.rays.reflection),
-                static_cast<unsigned long long>(last.rays.refraction));
+                static_cast<unsigned long long>(traced->rays.primary), static_cast<unsigned long long>(traced->rays.shadow),
+                static_cast<unsigned long long>(traced->rays.reflection),
+                static_cast<unsigned long long>(traced->rays.refraction));
+    if (reused > 0)
+      std::printf("  %d of %d frame(s) reused the frame before's rays (--reuse on: nothing moved)\n", reused, frames);
   }
   if (!statsPath.empty()) {
     j["scene"] = sceneName;
@@ -194,10 +211,12 @@ int main(int argc, char** argv) {
     int laterCompiles = 0;
     for (std::size_t i = 1; i < stats.size(); ++i) laterCompiles += stats[i].shaderCompiles;
     j["shader_compiles"] = {{"first_frame", stats.front().shaderCompiles}, {"later_frames", laterCompiles}};
-    j["rays"] = {{"primary", last.rays.primary},
-                 {"shadow", last.rays.shadow},
-                 {"reflection", last.rays.reflection},
-                 {"refraction", last.rays.refraction}};
+    j["rays"] = {{"primary", traced->rays.primary},
+                 {"shadow", traced->rays.shadow},
+                 {"reflection", traced->rays.reflection},
+                 {"refraction", traced->rays.refraction}};
+    j["reuse"] = settings.reuseRays;
+    j["frames_reusing_rays"] = reused;
     std::ofstream f(statsPath);
     if (!f) return fail("--stats: cannot write " + statsPath);
     f << j.dump(2) << "\n";

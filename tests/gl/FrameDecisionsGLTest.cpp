@@ -3,6 +3,8 @@
 //    under TIR: the frame must trace those reflection rays.
 //  - Raster shadows cover the primary points only; secondary hits have no shadow map and keep their
 //    shadow rays.
+#include <functional>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -202,6 +204,74 @@ TEST(FrameDecisions, ASpotWideningPastTheMapLimitCompilesOnlyWhereMapsAreUsed) {
     ASSERT_TRUE(fresh->setScene(wideScene).ok());
     ASSERT_TRUE(fresh->render(wideScene.camera, s).error.empty());
     EXPECT_EQ(got.rgb, fresh->readLinear().rgb);
+  }
+}
+
+// A frame whose camera, scene and ray settings equal the last frame's reuses its rays (FrameSettings::
+// reuseRays): it traces nothing and must equal, to the bit, the frame a renderer that traces every frame
+// draws. Anything the rays depend on — the camera, a light, an instance, a ray setting, the frame size —
+// makes the next frame trace again; what they do not depend on (tone map, exposure, debug view) does not.
+TEST(FrameDecisions, AStillFrameReusesItsRaysAndEqualsATracedOne) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene;
+  auto renderer = gltest::whittedRenderer(*glContext_, scene);
+  ASSERT_TRUE(renderer);
+  Scene same = scene;
+  auto tracing = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(tracing);
+  ASSERT_TRUE(tracing->setScene(same).ok());
+  for (const char* preset : {"hybrid-full", "hybrid-fast", "reference"}) {
+    SCOPED_TRACE(preset);
+    FrameSettings s = *presetSettings(preset);
+    s.width = 120;
+    s.height = 68;
+    FrameSettings always = s;
+    always.reuseRays = false;
+    Camera camera = scene.camera;
+    // Each step: what changes before the frame, and whether that frame may reuse the last one's rays.
+    struct Step {
+      const char* what;
+      std::function<void()> change;
+      bool reuses;
+    } steps[] = {
+        {"first frame", [] {}, false},
+        {"nothing", [] {}, true},
+        {"tone map and exposure", [&] { s.toneMap = ToneMap::Reinhard, s.exposure = 1.7f; }, true},
+        {"camera", [&] { camera.posW.x += 0.25f; }, false},
+        {"nothing again", [] {}, true},
+        {"a light", [&] {
+           Light l = scene.lights[1];
+           l.intensity *= 0.5f;
+           scene.lights[1] = l;
+           same.lights[1] = l;
+           renderer->setLight(1, l);
+           tracing->setLight(1, l);
+         }, false},
+        {"an instance", [&] {
+           const glm::mat4 moved = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.1f, 0.0f)) *
+                                   scene.instances.back().worldFromObject;
+           scene.instances.back().worldFromObject = moved;
+           renderer->setInstanceTransform(static_cast<std::uint32_t>(scene.instances.size() - 1), moved);
+           tracing->setInstanceTransform(static_cast<std::uint32_t>(scene.instances.size() - 1), moved);
+         }, false},
+        {"depth", [&] { s.maxDepth = 3; }, false},
+        {"size", [&] { s.width = 100; }, false},
+        {"nothing at the end", [] {}, true},
+    };
+    for (const Step& step : steps) {
+      SCOPED_TRACE(step.what);
+      step.change();
+      always = s;
+      always.reuseRays = false;
+      const FrameStats got = renderer->render(camera, s);
+      ASSERT_TRUE(got.error.empty()) << got.error;
+      EXPECT_EQ(got.raysReused, step.reuses);
+      EXPECT_EQ(got.rays.total() == 0, step.reuses) << "a reused frame traces nothing; a traced one something";
+      const FrameStats want = tracing->render(camera, always);
+      EXPECT_FALSE(want.raysReused);
+      EXPECT_EQ(renderer->readLinear().rgb, tracing->readLinear().rgb);
+      EXPECT_EQ(renderer->readImage().rgba, tracing->readImage().rgba);
+    }
   }
 }
 

@@ -106,5 +106,36 @@ TEST(FramePlan, WithoutRaysDropsThePassAndTheReference) {
   EXPECT_FALSE(p.needsRayScene());
 }
 
+// A frame may reuse the last one's rays only when the ray pass would do the same work (the Renderer checks
+// the camera and the scene besides): every setting the pass reads counts, the display's do not.
+TEST(FramePlan, SameRayInputsComparesWhatTheRayPassReads) {
+  const FrameSettings base = *presetSettings("hybrid-full");
+  auto same = [&](auto change) {
+    FrameSettings s = base;
+    change(s);
+    return sameRayInputs(planFrame(everything(), base), planFrame(everything(), s));
+  };
+  EXPECT_TRUE(same([](FrameSettings&) {}));
+  EXPECT_TRUE(same([](FrameSettings& s) { s.toneMap = ToneMap::None; }));
+  EXPECT_TRUE(same([](FrameSettings& s) { s.exposure = 3.0f; }));
+  EXPECT_TRUE(same([](FrameSettings& s) { s.debugView = DebugView::Reflection; }));
+  EXPECT_TRUE(same([](FrameSettings& s) { s.probesPerFrame = 2; }));
+  EXPECT_TRUE(same([](FrameSettings& s) { s.reuseRays = false; }));
+  EXPECT_FALSE(same([](FrameSettings& s) { s.width += 1; }));
+  EXPECT_FALSE(same([](FrameSettings& s) { s.maxDepth = 2; }));
+  EXPECT_FALSE(same([](FrameSettings& s) { s.minContribution = 0.5f; }));
+  EXPECT_FALSE(same([](FrameSettings& s) { s.rayScale = 2; }));
+  EXPECT_FALSE(same([](FrameSettings& s) { s.fresnel = FresnelMode::Schlick; }));
+  EXPECT_FALSE(same([](FrameSettings& s) { s.fresnelWeighted = false; }));
+  EXPECT_FALSE(same([](FrameSettings& s) { s.shadingOverride = ShadingModel::Flat; }));
+  EXPECT_FALSE(same([](FrameSettings& s) { s.shadows = EffectMode::Raster; }));
+  // A frame without rays has nothing to reuse; the reference frame only its own kind.
+  const FramePlan raster = planFrame(everything(), *presetSettings("raster"));
+  EXPECT_FALSE(sameRayInputs(raster, raster));
+  const FramePlan reference = planFrame(everything(), *presetSettings("reference"));
+  EXPECT_TRUE(sameRayInputs(reference, reference));
+  EXPECT_FALSE(sameRayInputs(reference, planFrame(everything(), base)));
+}
+
 }  // namespace
 }  // namespace tandem

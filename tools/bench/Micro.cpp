@@ -227,6 +227,7 @@ GlFrame& glFrame(std::int64_t arg) {
   base.width = kWidth;
   base.height = kHeight;
   FrameSettings full = *presetSettings("hybrid-full", base);
+  full.reuseRays = false;  // a still camera: every frame must read back and trace
   std::vector<double> rb;
   for (int i = 0; i < 3; ++i) rb.push_back(slot->renderer->render(slot->camera, full).readbackMs);
   slot->readbackMs = summarize(rb).median;

@@ -165,7 +165,10 @@ struct FrameRun {
   Image image;
 };
 
-FrameRun renderFrames(Renderer& r, const Camera& camera, const FrameSettings& s, int warmup, int frames) {
+// Every frame traces: the camera stands still, and reusing the last frame's rays would time a still frame,
+// not the frame's cost.
+FrameRun renderFrames(Renderer& r, const Camera& camera, FrameSettings s, int warmup, int frames) {
+  s.reuseRays = false;
   FrameRun run;
   for (int i = 0; i < warmup; ++i) (void)r.render(camera, s);
   for (int i = 0; i < frames; ++i) run.stats.push_back(r.render(camera, s));

@@ -31,6 +31,9 @@ struct Camera {
   /// The ray through a point of the image plane; `pixel` is in pixels with y down, so the centre of
   /// pixel (x, y) is (x + 0.5, y + 0.5). This is the ray the rasterizer samples at that pixel.
   Ray rayThroughPixel(glm::vec2 pixel, glm::ivec2 size) const;
+
+  /// Field by field, exactly: a frame can reuse the last one's rays only for the very same camera.
+  bool operator==(const Camera&) const = default;
 };
 
 }  // namespace tandem

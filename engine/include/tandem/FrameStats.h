@@ -29,6 +29,9 @@ struct FrameStats {
   /// Shader programs compiled during this frame: a variant first needed by a new scene, view or preset
   /// (each a stall of up to a second on a software GL). Zero in a steady game loop.
   int shaderCompiles = 0;
+  /// The ray results are the last frame's (FrameSettings::reuseRays: nothing they depend on changed):
+  /// `rays` is then all zero, since nothing was traced, and the readback and ray pass cost nothing.
+  bool raysReused = false;
   /// Empty when the frame was drawn. Otherwise why it was not: the GL could not hold this frame size
   /// (a limit it exceeds, or an allocation the driver refused, named as Renderer::resize names them).
   /// readImage() is then empty when the frame's own targets failed, else it keeps the last frame drawn.

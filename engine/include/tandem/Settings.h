@@ -54,9 +54,16 @@ struct FrameSettings {
   /// at most N, oldest first, so a moving scene's probes lag by up to ceil(probes / N) frames: a game's
   /// trade (each probe is six views of the scene). A new scene, material or shadowing still re-renders all.
   int probesPerFrame = 0;
+  /// A frame whose ray inputs equal the last frame's (the same camera, scene and ray settings: nothing moved,
+  /// no light changed) reuses that frame's ray results instead of tracing them again: they would be the
+  /// same to the bit. FrameStats::raysReused says when. Off: every frame traces (what a benchmark of
+  /// per-frame cost must use with a still camera).
+  bool reuseRays = true;
 
   /// Clamps ranges and applies dependencies (e.g. rayScale rounded to 1, 2 or 4).
   FrameSettings resolved() const;
+  /// Every field compared; sameRayInputs (render/FramePlan.h) compares only what the ray pass reads.
+  bool operator==(const FrameSettings&) const = default;
 };
 
 /// Named presets: "raster", "hybrid-fast", "hybrid-full", "reference". Size and debug view untouched.

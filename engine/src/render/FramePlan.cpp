@@ -53,4 +53,19 @@ FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested) {
   return p;
 }
 
+bool sameRayInputs(const FramePlan& a, const FramePlan& b) {
+  if (a.rayPass != b.rayPass || a.reference != b.reference || !(a.rayPass || a.reference)) return false;
+  // What the ray pass reads: raySettings for the hybrid pass, settings for the reference frame.
+  auto rayPart = [](const FramePlan& p) {
+    FrameSettings s = p.reference ? p.settings : p.raySettings;
+    s.toneMap = FrameSettings{}.toneMap;
+    s.exposure = FrameSettings{}.exposure;
+    s.debugView = FrameSettings{}.debugView;
+    s.probesPerFrame = FrameSettings{}.probesPerFrame;
+    s.reuseRays = FrameSettings{}.reuseRays;
+    return s;
+  };
+  return rayPart(a) == rayPart(b);
+}
+
 }  // namespace tandem

@@ -64,6 +64,7 @@ struct Renderer::Impl {
   void raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
   void readback(const FramePlan& plan);
   void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats);
+  void reuseRays(const FramePlan& plan, FrameStats& stats) const;
   bool upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats);
   void shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in);
   void present();
@@ -222,6 +223,7 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
     stats.shaderCompiles = static_cast<int>(gl::programsBuilt() - compiledBefore);
     return stats;
   };
+  const bool lastDrawn = r.last.drawn;
   r.last.drawn = false;  // until this frame is drawn
   FramePlan plan = planFrame(sceneFacts(r.scene), requested);
   if (!timed(stats.prepareMs, [&] { return r.prepare(plan, stats); })) return finished();
@@ -229,8 +231,15 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   const Camera glCamera = toRenderSpace(camera, r.caches.gpu().anchor());
   gl::ShadeInputs in;
   timed(stats.rasterMs, [&] { r.raster(plan, glCamera, in); });
-  timed(stats.readbackMs, [&] { r.readback(plan); });
-  timed(stats.raysMs, [&] { r.traceRays(plan, camera, stats); });
+  // Nothing the rays depend on changed since the last frame drawn: its ids and ray results still hold.
+  const bool reuse = plan.settings.reuseRays && lastDrawn && !r.last.sceneChanged && r.last.camera == camera &&
+                     sameRayInputs(r.last.plan, plan);
+  if (reuse) {
+    r.reuseRays(plan, stats);
+  } else {
+    timed(stats.readbackMs, [&] { r.readback(plan); });
+    timed(stats.raysMs, [&] { r.traceRays(plan, camera, stats); });
+  }
   if (!timed(stats.uploadMs, [&] { return r.upload(plan, in, stats); })) return finished();
   timed(stats.compositeMs, [&] { r.shade(plan, glCamera, in); });
   timed(stats.presentMs, [&] { r.present(); });
@@ -302,6 +311,14 @@ void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, Fram
     stats.rayWidth = reference.width;
     stats.rayHeight = reference.height;
   }
+  stats.threads = tracer->threads();
+}
+
+// rays, again: the last frame's results, kept as they were (the frame traces nothing).
+void Renderer::Impl::reuseRays(const FramePlan& plan, FrameStats& stats) const {
+  stats.raysReused = true;
+  stats.rayWidth = plan.reference ? reference.width : rays.width;
+  stats.rayHeight = plan.reference ? reference.height : rays.height;
   stats.threads = tracer->threads();
 }
 

@@ -71,7 +71,8 @@ void Hud::draw(const HudInfo& info) {
       ImGui::Text("prepare   %7.2f ms", st.prepareMs);
       ImGui::Text("raster    %7.2f ms", st.rasterMs);
       ImGui::Text("readback  %7.2f ms", st.readbackMs);
-      ImGui::Text("rays      %7.2f ms  (%dx%d, %d thr)", st.raysMs, st.rayWidth, st.rayHeight, st.threads);
+      ImGui::Text("rays      %7.2f ms  (%dx%d, %d thr)%s", st.raysMs, st.rayWidth, st.rayHeight, st.threads,
+                  st.raysReused ? "  reused: nothing moved" : "");
       ImGui::Text("upload    %7.2f ms", st.uploadMs);
       ImGui::Text("composite %7.2f ms", st.compositeMs);
       ImGui::Text("present   %7.2f ms", info.presentMs);

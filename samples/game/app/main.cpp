@@ -48,6 +48,7 @@ struct Options {
   int scale = 0;
   int threads = 0;
   int probesPerFrame = 2;
+  std::string reuse = "on";
   double dt = 1.0 / 60.0;
   bool noVsync = false;
   bool fullscreen = false;
@@ -455,6 +456,10 @@ int run(int argc, char** argv) {
                  "Raster reflections: probes re-rendered per frame while things move (0 = all, exact)")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
+  app.add_option("--reuse", o.reuse,
+                 "on | off: a frame where nothing moved reuses the last frame's rays (FrameSettings::reuseRays)")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
   app.add_option("--dt", o.dt, "Fixed simulation step in seconds (default 1/60)")->check(CLI::Range(0.001, 0.1));
   app.add_flag("--no-vsync", o.noVsync, "Start with vsync off");
   app.add_flag("--fullscreen", o.fullscreen, "Start fullscreen");
@@ -495,6 +500,7 @@ int run(int argc, char** argv) {
   }
   // A game's trade: a mirror's probe may lag a few frames behind moving marbles (FrameSettings).
   view.settings.probesPerFrame = o.probesPerFrame;
+  view.settings.reuseRays = o.reuse == "on";
   if (o.depth >= 0) {
     view.settings.maxDepth = o.depth;
     view.preset = "custom";
