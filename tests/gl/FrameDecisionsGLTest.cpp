@@ -209,8 +209,9 @@ TEST(FrameDecisions, ASpotWideningPastTheMapLimitCompilesOnlyWhereMapsAreUsed) {
 
 // A frame whose camera, scene and ray settings equal the last frame's reuses its rays (FrameSettings::
 // reuseRays): it traces nothing and must equal, to the bit, the frame a renderer that traces every frame
-// draws. Anything the rays depend on — the camera, a light, an instance, a ray setting, the frame size —
-// makes the next frame trace again; what they do not depend on (tone map, exposure, debug view) does not.
+// draws. Anything the rays depend on — the camera, a light, an instance, a new scene, a ray setting, the
+// frame size — makes the next frame trace again; what they do not depend on (tone map, exposure, setting a
+// transform or light to the value it has) does not.
 TEST(FrameDecisions, AStillFrameReusesItsRaysAndEqualsATracedOne) {
   TD_REQUIRE_GL_CONTEXT();
   Scene scene;
@@ -253,6 +254,17 @@ TEST(FrameDecisions, AStillFrameReusesItsRaysAndEqualsATracedOne) {
            scene.instances.back().worldFromObject = moved;
            renderer->setInstanceTransform(static_cast<std::uint32_t>(scene.instances.size() - 1), moved);
            tracing->setInstanceTransform(static_cast<std::uint32_t>(scene.instances.size() - 1), moved);
+         }, false},
+        {"the same transform and light again", [&] {
+           const auto last = static_cast<std::uint32_t>(scene.instances.size() - 1);
+           renderer->setInstanceTransform(last, scene.instances.back().worldFromObject);
+           tracing->setInstanceTransform(last, scene.instances.back().worldFromObject);
+           renderer->setLight(1, scene.lights[1]);
+           tracing->setLight(1, scene.lights[1]);
+         }, true},
+        {"the same scene set again", [&] {
+           ASSERT_TRUE(renderer->setScene(scene).ok());
+           ASSERT_TRUE(tracing->setScene(scene).ok());
          }, false},
         {"depth", [&] { s.maxDepth = 3; }, false},
         {"size", [&] { s.width = 100; }, false},

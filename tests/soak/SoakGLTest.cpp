@@ -42,6 +42,7 @@ TEST(Soak, TwoThousandFramesWithReloadsKeepResourcesFlat) {
   FrameSettings settings = *presetSettings("hybrid-full");
   settings.width = 160;
   settings.height = 90;
+  settings.reuseRays = false;  // the camera stands still: without this only the first frame would trace
 
   constexpr int kFrames = 2000, kReloadEvery = 100, kWarmupFrames = 300, kFailingReload = 1000;
   std::vector<ResourceStats> resources;

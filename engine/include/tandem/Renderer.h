@@ -35,7 +35,8 @@ struct ResourceStats {
 struct RendererDesc {
   int threads = 0;  // ray-pass worker threads; 0 = all hardware threads
   /// Optional: told as each tile of a frame's ray pass finishes (Progress.h says from which threads).
-  /// Frames without a ray pass (every effect raster or off) make no calls.
+  /// Frames without a ray pass (every effect raster or off) make no calls, nor do frames that reuse the
+  /// last frame's rays (FrameSettings::reuseRays).
   RayPassProgressCallback progress = {};
 };
 
@@ -51,6 +52,7 @@ class Renderer {
   const Scene& scene() const;
   /// Moves an instance (static or dynamic); the next frame updates the GL instance buffer and Embree's top
   /// level only: no mesh's BVH is rebuilt. Shadow maps and probes are re-rendered (the scene changed).
+  /// Setting the transform (or, with setLight, the light) it already has changes nothing.
   void setInstanceTransform(std::uint32_t instance, const glm::mat4& worldFromObject);
   void setLight(std::uint32_t light, const Light& value);
 

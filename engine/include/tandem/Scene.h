@@ -109,6 +109,8 @@ struct Light {
   float innerConeDeg = 20.0f;
   float outerConeDeg = 30.0f;
   bool castShadows = true;
+
+  bool operator==(const Light&) const = default;
 };
 
 /// A mesh placed in the world with one material. `dynamic` marks an instance that moves (the loaders set

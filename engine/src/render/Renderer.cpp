@@ -180,6 +180,9 @@ void Renderer::setInstanceTransform(std::uint32_t instance, const glm::mat4& wor
     return;
   }
   Instance& inst = r.scene.instances[instance];
+  // A game may set every transform every frame: one that did not change leaves the caches, the shadow maps
+  // and the last frame's rays valid.
+  if (inst.worldFromObject == worldFromObject) return;
   inst.worldFromObject = worldFromObject;
   r.caches.instanceMoved();
   r.last.sceneChanged = true;
@@ -198,6 +201,7 @@ void Renderer::setLight(std::uint32_t light, const Light& value) {
                (finite ? " would exceed the light limit" : " has a NaN or infinite value") + "; kept the previous one");
     return;
   }
+  if (r.scene.lights[light] == value) return;  // unchanged: as for setInstanceTransform
   r.scene.lights[light] = value;
   r.caches.lightChanged();
   r.last.sceneChanged = true;
