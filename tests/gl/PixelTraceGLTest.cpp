@@ -133,8 +133,12 @@ TEST(PixelTraceGL, RefusesWhatItCannotTrace) {
     EXPECT_NE(outside.error().message.find("outside the 320x180 frame"), std::string::npos) << outside.error().message;
   }
   EXPECT_TRUE(renderer->tracePixel(319, 179));
-  // The frame's ids would not be the scene's any more.
+  // The frame's ids would not be the scene's any more (a light set to the value it has changes nothing).
   renderer->setLight(1, renderer->scene().lights[1]);
+  EXPECT_TRUE(renderer->tracePixel(kGlassX, kGlassY));
+  Light dimmer = renderer->scene().lights[1];
+  dimmer.intensity *= 0.5f;
+  renderer->setLight(1, dimmer);
   auto stale = renderer->tracePixel(kGlassX, kGlassY);
   ASSERT_FALSE(stale);
   EXPECT_NE(stale.error().message.find("changed since the last frame"), std::string::npos) << stale.error().message;
