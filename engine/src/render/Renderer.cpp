@@ -65,7 +65,7 @@ struct Renderer::Impl {
   void readback(const FramePlan& plan);
   void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats);
   void reuseRays(const FramePlan& plan, FrameStats& stats) const;
-  bool upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats);
+  bool upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats, bool reused);
   void shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in);
   void present();
   void remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in);
@@ -244,7 +244,7 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
     timed(stats.readbackMs, [&] { r.readback(plan); });
     timed(stats.raysMs, [&] { r.traceRays(plan, camera, stats); });
   }
-  if (!timed(stats.uploadMs, [&] { return r.upload(plan, in, stats); })) return finished();
+  if (!timed(stats.uploadMs, [&] { return r.upload(plan, in, stats, reuse); })) return finished();
   timed(stats.compositeMs, [&] { r.shade(plan, glCamera, in); });
   timed(stats.presentMs, [&] { r.present(); });
   r.remember(plan, camera, in);
@@ -326,8 +326,9 @@ void Renderer::Impl::reuseRays(const FramePlan& plan, FrameStats& stats) const {
   stats.threads = tracer->threads();
 }
 
-// upload: only the ray results that exist this frame.
-bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats) {
+// upload: only the ray results that exist this frame. Reused results are in the ray textures already (only
+// this stage writes them), so they are named as inputs without being sent again.
+bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats, bool reused) {
   if (plan.rayPass) {
     const std::size_t n = static_cast<std::size_t>(rays.width) * static_cast<std::size_t>(rays.height);
     // The shade variant follows what the plan can produce, not what this frame's rays left non-empty.
@@ -336,19 +337,22 @@ bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameSta
     in.rayWidth = rays.width;
     in.rayHeight = rays.height;
     std::string refused;
-    auto take = [&](const Result<void>& uploaded, int input) {
+    auto take = [&](auto send, int input) {
+      const Result<void> uploaded = reused ? Result<void>{} : send();
       if (uploaded) in.rayInputs |= input;
       else if (refused.empty()) refused = uploaded.error().message;
     };
     if (rays.lightMask.size() == n && n > 0)
-      take(shadePass.uploadLightMask(rays.width, rays.height, rays.lightMask.data()), gl::kRayLightMask);
+      take([&] { return shadePass.uploadLightMask(rays.width, rays.height, rays.lightMask.data()); }, gl::kRayLightMask);
     if (rays.reflected.size() == n && n > 0)
-      take(shadePass.uploadReflected(rays.width, rays.height, rays.reflected.data(), {rays.reflectedTiles, rays.tileSize}),
-           gl::kRayReflected);
+      take([&] {
+        return shadePass.uploadReflected(rays.width, rays.height, rays.reflected.data(), {rays.reflectedTiles, rays.tileSize});
+      }, gl::kRayReflected);
     if (rays.transmitted.size() == n && n > 0)
-      take(shadePass.uploadTransmitted(rays.width, rays.height, rays.transmitted.data(),
-                                       {rays.transmittedTiles, rays.tileSize}),
-           gl::kRayTransmitted);
+      take([&] {
+        return shadePass.uploadTransmitted(rays.width, rays.height, rays.transmitted.data(),
+                                           {rays.transmittedTiles, rays.tileSize});
+      }, gl::kRayTransmitted);
     if (!refused.empty()) {
       // A ray grid's texture the GL refused: the frame would miss an effect, so it is not drawn.
       stats.error = frameError(plan.settings, refused);
