@@ -28,7 +28,9 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
   app.add_option("--preset", o.preset, "raster | hybrid-fast | hybrid-full | reference" + preset);
   app.add_option("--shading", o.shading,
                  "Override every material's model: flat | gouraud | phong | toon (default: each material's own)");
-  app.add_option("--shadows", o.shadows, "off | raster | ray (default: the preset's)");
+  app.add_option("--shadows", o.shadows,
+                 "off | raster | ray | hybrid (rays only where the light-space maps cannot prove the answer; "
+                 "the same image) (default: the preset's)");
   app.add_option("--reflections", o.reflections, "off | raster | ray (default: the preset's)");
   app.add_option("--refraction", o.refraction, "off | raster | ray (default: the preset's)");
   app.add_option("--depth", o.depth,
@@ -83,7 +85,8 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
     out = *m;
     return {};
   };
-  if (auto r = effect("--shadows", o.shadows, s.shadows); !r) return r.error();
+  if (o.shadows && !applyShadowMode(*o.shadows, s))
+    return Error{"--shadows: expected off, raster, ray or hybrid, got " + inQuotes(*o.shadows)};
   if (auto r = effect("--reflections", o.reflections, s.reflections); !r) return r.error();
   if (auto r = effect("--refraction", o.refraction, s.refraction); !r) return r.error();
   if (o.depth) {
@@ -181,7 +184,7 @@ Result<glm::ivec2> parseTracePixel(const std::string& text, int width, int heigh
 }
 
 std::string describeSettings(const FrameSettings& s) {
-  std::string d = "shadows " + std::string(toString(s.shadows)) + ", reflections " +
+  std::string d = "shadows " + std::string(shadowModeName(s)) + ", reflections " +
                   std::string(toString(s.reflections)) + ", refraction " + std::string(toString(s.refraction)) +
                   ", depth " + std::to_string(s.maxDepth);
   if (s.reference)

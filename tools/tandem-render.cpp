@@ -189,6 +189,15 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(traced->rays.primary), static_cast<unsigned long long>(traced->rays.shadow),
                 static_cast<unsigned long long>(traced->rays.reflection),
                 static_cast<unsigned long long>(traced->rays.refraction));
+    if (settings.hybridShadows && settings.shadows == EffectMode::Ray) {
+      // The maps are built by the first frame (and again after a move or a light change).
+      double buildMs = 0;
+      for (const FrameStats& s : stats) buildMs = std::max(buildMs, s.shadowMapsMs);
+      std::printf("  hybrid shadows: %llu shadow rays answered by the light-space maps instead; maps %.1f MB, "
+                  "built in %.1f ms (first frame)\n",
+                  static_cast<unsigned long long>(traced->rays.shadowByMap),
+                  static_cast<double>(traced->shadowMapBytes) / 1e6, buildMs);
+    }
     if (reused > 0)
       std::printf("  %d of %d frame(s) reused the frame before's rays (--reuse on: nothing moved)\n", reused, frames);
   }
@@ -200,7 +209,7 @@ int main(int argc, char** argv) {
     j["frames"] = frames;
     j["threads"] = last.threads;
     j["context"] = (*context)->describe();
-    j["settings"] = {{"shadows", toString(settings.shadows)},
+    j["settings"] = {{"shadows", shadowModeName(settings)},
                      {"reflections", toString(settings.reflections)},
                      {"refraction", toString(settings.refraction)},
                      {"maxDepth", settings.maxDepth},
@@ -214,7 +223,13 @@ int main(int argc, char** argv) {
     j["rays"] = {{"primary", traced->rays.primary},
                  {"shadow", traced->rays.shadow},
                  {"reflection", traced->rays.reflection},
-                 {"refraction", traced->rays.refraction}};
+                 {"refraction", traced->rays.refraction},
+                 {"shadow_by_map", traced->rays.shadowByMap}};
+    if (settings.hybridShadows && settings.shadows == EffectMode::Ray) {
+      double buildMs = 0;
+      for (const FrameStats& s : stats) buildMs = std::max(buildMs, s.shadowMapsMs);
+      j["hybrid_shadows"] = {{"map_bytes", traced->shadowMapBytes}, {"build_ms_max", buildMs}};
+    }
     j["reuse"] = settings.reuseRays;
     j["frames_reusing_rays"] = reused;
     std::ofstream f(statsPath);

@@ -59,7 +59,7 @@ TEST(FrameOptions, OutOfRangeValuesAreErrorsNamingTheFlagAndValue) {
       {{"--exposure", "nan"}, "--exposure: must be a finite number > 0"},
       {{"--size", "0x0"}, "--size: expected WxH"},
       {{"--preset", ""}, "--preset: unknown preset ''"},
-      {{"--shadows", ""}, "--shadows: expected off, raster or ray, got ''"},
+      {{"--shadows", ""}, "--shadows: expected off, raster, ray or hybrid, got ''"},
       {{"--tonemap", "filmic"}, "--tonemap: expected none, reinhard or aces, got 'filmic'"},
       {{"--debug-view", "albedo"}, "--debug-view: unknown view 'albedo'"},
   };

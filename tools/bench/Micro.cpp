@@ -116,6 +116,27 @@ void BM_RayPass(benchmark::State& state) {
   // The ceiling: the performance target is the ray pass within 1.3× of this floor (docs/bench.md).
   state.counters["pass/floor"] = floor > 0 ? pass / floor : 0.0;
   state.counters["threads"] = f.tracer->threads();
+  state.counters["shadow_rays"] = static_cast<double>(out.counts.shadow);
+}
+
+// The same pass with hybrid shadows (hybrid-full, --shadows hybrid; docs/shadows.md): the maps are built
+// by the first iteration and kept, so this is the per-frame cost of a scene where nothing moves.
+void BM_RayPassHybridShadows(benchmark::State& state) {
+  RtFrame& f = rtFrame(state.range(0));
+  if (!f.tracer) return state.SkipWithError(f.error.c_str());
+  rt::RayOutputs out;
+  FrameSettings settings = f.settings;
+  settings.hybridShadows = true;
+  std::vector<double> ms;
+  for (auto _ : state) {
+    Timer t;
+    f.tracer->trace(f.scene, f.scene.camera, settings, f.visibility, out);
+    ms.push_back(t.ms());
+  }
+  state.counters["shadow_rays"] = static_cast<double>(out.counts.shadow);
+  state.counters["shadow_by_map"] = static_cast<double>(out.counts.shadowByMap);
+  state.counters["pass_ms"] = summarize(ms).median;
+  state.counters["map_MB"] = static_cast<double>(f.tracer->shadowMapBytes()) / 1e6;
 }
 
 void BM_RetraceFloor(benchmark::State& state) {
@@ -261,6 +282,7 @@ void BM_VisibilityCastRays(benchmark::State& state) {
 void registerMicroBenchmarks() {
   auto scenes = [](benchmark::internal::Benchmark* b) { b->ArgName("heavy")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond); };
   scenes(benchmark::RegisterBenchmark("BM_RayPass", BM_RayPass)->MinTime(2.0));
+  scenes(benchmark::RegisterBenchmark("BM_RayPassHybridShadows", BM_RayPassHybridShadows)->MinTime(2.0));
   scenes(benchmark::RegisterBenchmark("BM_RetraceFloor", BM_RetraceFloor));
   scenes(benchmark::RegisterBenchmark("BM_ShadowOccluded1", BM_ShadowOccluded1));
   scenes(benchmark::RegisterBenchmark("BM_ShadowOccluded1M", BM_ShadowOccluded1M));

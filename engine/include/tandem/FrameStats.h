@@ -1,5 +1,6 @@
 #pragma once
 // What one frame cost: time per stage (milliseconds, wall clock) and rays of each kind, or why it was not drawn.
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -10,6 +11,8 @@ struct RayCounts {
   std::uint64_t shadow = 0;
   std::uint64_t reflection = 0;
   std::uint64_t refraction = 0;
+  /// Hybrid shadows: shadow rays the light-space maps answered instead (not traced, not in total()).
+  std::uint64_t shadowByMap = 0;
   std::uint64_t total() const { return primary + shadow + reflection + refraction; }
 };
 
@@ -26,6 +29,10 @@ struct FrameStats {
   int rayWidth = 0;        // resolution the ray pass ran at
   int rayHeight = 0;
   int threads = 0;         // worker threads of the ray pass
+  /// Hybrid shadows: the part of raysMs spent building the light-space maps (after the geometry or a light
+  /// changed; 0 on a frame that kept them), and the bytes they hold.
+  double shadowMapsMs = 0;
+  std::size_t shadowMapBytes = 0;
   /// Shader programs compiled during this frame: a variant first needed by a new scene, view or preset
   /// (each a stall of up to a second on a software GL). Zero in a steady game loop.
   int shaderCompiles = 0;

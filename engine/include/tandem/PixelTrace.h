@@ -31,6 +31,8 @@ enum class LightVisibility : std::uint8_t {
   CannotReach,     // behind the surface, outside a spot cone or beyond range: no ray (it adds nothing)
   AtThePoint,      // a point light at the point itself: visible, no ray
   NotFinite,       // the ray's origin or direction was not finite: visible, no ray
+  MapSaysLit,      // hybrid shadows: the light-space map proves the ray reaches the light: visible, no ray
+  MapSaysShadowed, // hybrid shadows: the map proves something blocks it: not visible, no ray
   NotTraced,       // this hit's shadows are not by rays this frame (shadows off, or the shadow map's at a
                    // primary hit with raster shadows): the rays' shading counts the light as visible
 };

@@ -38,6 +38,9 @@ struct FrameSettings {
   EffectMode shadows = EffectMode::Ray;
   EffectMode reflections = EffectMode::Ray;
   EffectMode refraction = EffectMode::Ray;
+  /// Hybrid shadows (with shadows = Ray; `--shadows hybrid`): light-space maps answer the shadow rays they
+  /// can prove, the rest are traced; the light mask is the all-rays one, bit for bit (docs/shadows.md).
+  bool hybridShadows = false;
   int maxDepth = 5;               // reflection/refraction bounces after the primary hit, [0, 64]
   float minContribution = 0.01f;  // stop a path when the product of its weights falls under this, [0, 1]
   int rayScale = 1;               // ray pass at 1/rayScale resolution: 1, 2 or 4 (edge-aware upsampling)
@@ -71,6 +74,11 @@ std::optional<FrameSettings> presetSettings(std::string_view name, FrameSettings
 std::vector<std::string> presetNames();
 
 std::optional<EffectMode> parseEffectMode(std::string_view s);  // off | raster | ray
+/// The shadows' mode by name: off | raster | ray (every shadow ray traced) | hybrid (ray, with
+/// hybridShadows). False, and `settings` untouched, for any other name.
+bool applyShadowMode(std::string_view s, FrameSettings& settings);
+/// The name applyShadowMode takes for the settings' shadows: "hybrid" for rays with hybridShadows.
+std::string_view shadowModeName(const FrameSettings& s);
 std::optional<ShadingModel> parseShadingModel(std::string_view s);  // flat | gouraud | phong | toon
 std::optional<DebugView> parseDebugView(std::string_view s);
 /// Final, Reflection and Transmission show radiance (exposed and tone mapped); the other views are

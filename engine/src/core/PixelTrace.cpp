@@ -25,6 +25,8 @@ std::string_view toString(LightVisibility visibility) {
       return "no ray: cannot light the point (behind the surface, outside its cone or beyond its range)";
     case LightVisibility::AtThePoint: return "visible, no ray: the light is at the point";
     case LightVisibility::NotFinite: return "visible, no ray: origin or direction not finite";
+    case LightVisibility::MapSaysLit: return "visible, no ray: the hybrid shadow map proves it";
+    case LightVisibility::MapSaysShadowed: return "occluded, no ray: the hybrid shadow map proves it";
     case LightVisibility::NotTraced: return "not by rays at this hit";
   }
   return "?";
@@ -105,7 +107,7 @@ class Writer {
     }
     line(0, where);
     const FrameSettings& s = t.settings;
-    line(0, "settings: shadows " + std::string(toString(s.shadows)) + ", reflections " +
+    line(0, "settings: shadows " + std::string(shadowModeName(s)) + ", reflections " +
                 std::string(toString(s.reflections)) + ", refraction " + std::string(toString(s.refraction)) +
                 ", maxDepth " + std::to_string(s.maxDepth) + ", minContribution " + num(s.minContribution) +
                 ", Fresnel " + (s.fresnel == FresnelMode::Schlick ? "Schlick" : "exact") +

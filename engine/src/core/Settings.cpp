@@ -28,6 +28,7 @@ std::optional<FrameSettings> presetSettings(std::string_view name, FrameSettings
     // Ray-traced hard shadows and reflections (up to two bounces: a mirror seen in a mirror) at half
     // resolution; refraction by raster.
     s.shadows = EffectMode::Ray;
+    s.hybridShadows = false;
     s.reflections = EffectMode::Ray;
     s.refraction = EffectMode::Raster;
     s.maxDepth = 2;
@@ -36,12 +37,14 @@ std::optional<FrameSettings> presetSettings(std::string_view name, FrameSettings
     s.reference = false;
   } else if (name == "hybrid-full") {
     s.shadows = s.reflections = s.refraction = EffectMode::Ray;
+    s.hybridShadows = false;
     s.maxDepth = 8;
     s.minContribution = 0.005f;
     s.rayScale = 1;
     s.reference = false;
   } else if (name == "reference") {
     s.shadows = s.reflections = s.refraction = EffectMode::Ray;
+    s.hybridShadows = false;
     s.maxDepth = 16;
     s.minContribution = 0.0f;
     s.rayScale = 1;
@@ -59,6 +62,23 @@ std::optional<EffectMode> parseEffectMode(std::string_view s) {
   if (s == "raster") return EffectMode::Raster;
   if (s == "ray") return EffectMode::Ray;
   return std::nullopt;
+}
+
+bool applyShadowMode(std::string_view s, FrameSettings& settings) {
+  if (s == "hybrid") {
+    settings.shadows = EffectMode::Ray;
+    settings.hybridShadows = true;
+    return true;
+  }
+  auto m = parseEffectMode(s);
+  if (!m) return false;
+  settings.shadows = *m;
+  settings.hybridShadows = false;
+  return true;
+}
+
+std::string_view shadowModeName(const FrameSettings& s) {
+  return s.shadows == EffectMode::Ray && s.hybridShadows ? "hybrid" : toString(s.shadows);
 }
 
 std::optional<ShadingModel> parseShadingModel(std::string_view s) {

@@ -308,6 +308,10 @@ void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, Fram
   if (plan.rayPass) {
     tracer->trace(scene, camera, plan.raySettings, visibility, rays);
     stats.rays = rays.counts;
+    if (plan.raySettings.hybridShadows) {
+      stats.shadowMapsMs = tracer->lastShadowMapMs();
+      stats.shadowMapBytes = tracer->shadowMapBytes();
+    }
     stats.rayWidth = rays.width;
     stats.rayHeight = rays.height;
   } else if (plan.reference) {

@@ -90,6 +90,10 @@ class EmbreeScene {
   }
   /// Whether any geometry carries the alpha-mask filter (a MASK material with a kd texture and uvs).
   bool hasAlphaMaskFilter() const { return !maskMaterials_.empty(); }
+  /// Whether rays may pass through some of the instance's triangles (its alpha-mask filter rejects hits).
+  bool letsRaysThrough(std::size_t instance) const {
+    return instance < instanceMask_.size() && instanceMask_[instance] >= 0;
+  }
   /// Alpha MASK test at a hit with Embree's barycentrics (u, v): false where the point is a cut-out hole
   /// (tdCoverage of the kd texture's alpha, sampled as shading samples it, below the cutoff).
   bool maskCovers(std::uint32_t instance, std::uint32_t mesh, std::uint32_t triangle, float u, float v) const;

@@ -28,6 +28,8 @@ LightVisibility visibilityWithoutRay(NoShadowRay why) {
     case NoShadowRay::CastsNoShadows: return LightVisibility::CastsNoShadows;
     case NoShadowRay::CannotReach: return LightVisibility::CannotReach;
     case NoShadowRay::AtThePoint: return LightVisibility::AtThePoint;
+    case NoShadowRay::MapSaysLit: return LightVisibility::MapSaysLit;
+    case NoShadowRay::MapSaysShadowed: return LightVisibility::MapSaysShadowed;
     case NoShadowRay::NotFinite:
     case NoShadowRay::None: break;
   }
@@ -87,7 +89,7 @@ class TreeRecorder final : public RayRecorder {
     TraceLight l;
     l.light = static_cast<std::uint32_t>(light);
     l.visibility = visibilityWithoutRay(why);
-    l.visible = true;  // every reason leaves the bit set (Whitted::shadowRay)
+    l.visible = why != NoShadowRay::MapSaysShadowed;  // every other reason leaves the bit set (Whitted::shadowRay)
     current().lights.push_back(l);
   }
 
@@ -199,7 +201,8 @@ void summarise(PixelTrace& trace) {
 }  // namespace
 
 PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const Camera& camera,
-                            const FrameSettings& settings, const VisibilityBuffer& visibility, int gx, int gy) {
+                            const FrameSettings& settings, const VisibilityBuffer& visibility, int gx, int gy,
+                            const ShadowCertainty* shadowMaps) {
   PixelTrace trace;
   const int scale = std::max(1, settings.rayScale);
   const int width = visibility.width, height = visibility.height;
@@ -213,7 +216,7 @@ PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const
   // RayTracer::trace's set-up and per-pixel steps, for this one pixel.
   const Camera cam = toRenderSpace(camera, embree.anchor());
   FrameShading frame(scene, settings.shadingOverride, embree.anchor());
-  Whitted whitted(scene, embree, frame, TraceModes::hybrid(settings));
+  Whitted whitted(scene, embree, frame, TraceModes::hybrid(settings), shadowMaps);
   const CameraRays cameraRays(cam, {width, height});
   const glm::ivec2 p = fullPixelOfGridPixel(gx, gy, scale, width, height);
   trace.x = trace.tracedX = p.x;

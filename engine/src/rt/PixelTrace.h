@@ -7,6 +7,7 @@
 // frame calls it directly.
 #include "rt/EmbreeScene.h"
 #include "rt/RayBuffers.h"
+#include "rt/ShadowCertainty.h"
 #include "tandem/Camera.h"
 #include "tandem/PixelTrace.h"
 #include "tandem/Scene.h"
@@ -21,7 +22,8 @@ namespace tandem::rt {
 /// PixelTrace::settings are `settings` and rayPass is true; a caller that knows more of the frame (the
 /// Renderer: its raster effects) replaces them and adds the notes.
 PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const Camera& camera,
-                            const FrameSettings& settings, const VisibilityBuffer& visibility, int gx, int gy);
+                            const FrameSettings& settings, const VisibilityBuffer& visibility, int gx, int gy,
+                            const ShadowCertainty* shadowMaps = nullptr);
 
 /// RayTracer::renderReference's work for pixel (x, y) of a settings.width × settings.height frame: every
 /// sample's camera ray, recorded; `color` is the frame's pixel.

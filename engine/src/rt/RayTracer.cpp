@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <chrono>
 #include <thread>
 
 #include "rt/EmbreeScene.h"
@@ -24,14 +25,17 @@ namespace tandem::rt {
 namespace {
 
 struct AtomicCounts {
-  std::atomic<std::uint64_t> primary{0}, shadow{0}, reflection{0}, refraction{0};
+  std::atomic<std::uint64_t> primary{0}, shadow{0}, reflection{0}, refraction{0}, shadowByMap{0};
   void add(const RayCounts& c) {
     primary += c.primary;
     shadow += c.shadow;
     reflection += c.reflection;
     refraction += c.refraction;
+    shadowByMap += c.shadowByMap;
   }
-  RayCounts get() const { return {primary.load(), shadow.load(), reflection.load(), refraction.load()}; }
+  RayCounts get() const {
+    return {primary.load(), shadow.load(), reflection.load(), refraction.load(), shadowByMap.load()};
+  }
 };
 
 /// Counts the tiles of one pass and tells the progress callback, if any, as each finishes. Without a
@@ -92,6 +96,8 @@ Result<void> RayTracer::setScene(const Scene& scene) {
     return built.error();
   }
   impl_->scene = std::move(*built);
+  impl_->shadowMaps.clear();  // of the old geometry
+  impl_->shadowMapsStale = true;
   return {};
 }
 
@@ -99,12 +105,30 @@ void RayTracer::updateTransforms(const Scene& scene) {
   assert(impl_->scene && "updateTransforms before a successful setScene");
   if (!impl_->scene) return;
   impl_->arena.execute([&] { impl_->scene->updateTransforms(scene); });
+  impl_->shadowMapsStale = true;
 }
 
 void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSettings& settings,
                       const VisibilityBuffer& visibility, RayOutputs& out) {
   hybridPass(scene, camera, settings, visibility, out, nullptr, true);
 }
+
+const ShadowCertainty& RayTracer::updateShadowMaps(const Scene& scene, const FrameShading& frame) {
+  RayTracerState& s = *impl_;
+  s.lastShadowMapMs = 0.0;
+  if (s.shadowMapsStale || !s.shadowMaps.builtFor(frame)) {
+    const auto start = std::chrono::steady_clock::now();
+    s.arena.execute([&] { s.shadowMaps.build(scene, *s.scene, frame, s.threads); });
+    s.lastShadowMapMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    s.shadowMapsStale = false;
+    ++s.shadowMapBuilds;
+  }
+  return s.shadowMaps;
+}
+
+std::size_t RayTracer::shadowMapBuilds() const { return impl_->shadowMapBuilds; }
+std::size_t RayTracer::shadowMapBytes() const { return impl_->shadowMaps.bytes(); }
+double RayTracer::lastShadowMapMs() const { return impl_->lastShadowMapMs; }
 
 void RayTracer::renderReference(const Scene& scene, const Camera& camera, const FrameSettings& settings, ImageF& out,
                                 RayCounts& counts) {
@@ -207,7 +231,10 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   // Camera-relative rendering (docs/numerics.md): rays and lights in the Embree scene's render space.
   const Camera cam = toRenderSpace(camera, embree.anchor());
   FrameShading frame(scene, settings.shadingOverride, embree.anchor());
-  Whitted whitted(scene, embree, frame, TraceModes::hybrid(settings));
+  const TraceModes modes = TraceModes::hybrid(settings);
+  const ShadowCertainty* shadowMaps =
+      settings.hybridShadows && (modes.primaryShadowRays || modes.secondaryShadowRays) ? &updateShadowMaps(scene, frame) : nullptr;
+  Whitted whitted(scene, embree, frame, modes, shadowMaps);
   const CameraRays cameraRays(cam, {visibility.width, visibility.height});
   const HybridTiles<Capture> tiles{scene,      embree, frame, whitted, cameraRays, visibility,
                                    out,        std::max(1, settings.rayScale), batchedShadowRays};
@@ -226,7 +253,7 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   out.counts = total.get();
   // Cost follows the scene: an effect that traced no ray leaves its channel empty. The mask is the primary
   // points' only: with raster shadows, the shadow rays of secondary hits leave it to the shadow maps.
-  if (out.counts.shadow == 0 || !whitted.modes().primaryShadowRays) out.lightMask.clear();
+  if (out.counts.shadow + out.counts.shadowByMap == 0 || !whitted.modes().primaryShadowRays) out.lightMask.clear();
   if (out.counts.reflection == 0) out.reflected.clear(), out.reflectedTiles.clear();
   if (out.counts.refraction == 0) out.transmitted.clear(), out.transmittedTiles.clear();
 }
@@ -332,7 +359,9 @@ PixelTrace RayTracer::tracePixel(const Scene& scene, const Camera& camera, const
   assert(gx >= 0 && gy >= 0 && gx < gridSize(visibility.width, std::max(1, settings.rayScale)) &&
          gy < gridSize(visibility.height, std::max(1, settings.rayScale)) && "tracePixel: outside the ray grid");
   if (!impl_->scene) return {};
-  return traceHybridPixel(scene, *impl_->scene, camera, settings, visibility, gx, gy);
+  // Hybrid shadows with the maps the last pass used (a stale map would still be exact, but not the frame's).
+  const ShadowCertainty* maps = settings.hybridShadows && !impl_->shadowMapsStale ? &impl_->shadowMaps : nullptr;
+  return traceHybridPixel(scene, *impl_->scene, camera, settings, visibility, gx, gy, maps);
 }
 
 PixelTrace RayTracer::tracePixelReference(const Scene& scene, const Camera& camera, const FrameSettings& settings,

@@ -29,6 +29,8 @@ namespace tandem::rt {
 
 struct RayCapture;
 struct RayTracerState;
+class ShadowCertainty;
+struct FrameShading;
 
 // VisibilityBuffer and RayOutputs: rt/RayBuffers.h.
 
@@ -71,6 +73,12 @@ class RayTracer {
   int threads() const;
   /// Bytes Embree reports in use on this tracer's device.
   std::size_t embreeBytes() const;
+  /// Hybrid shadows (FrameSettings::hybridShadows): how many times the light-space maps were built (after
+  /// the geometry or a light changed), and the bytes they hold.
+  std::size_t shadowMapBuilds() const;
+  /// Milliseconds the last trace() spent building them (0 when it did not).
+  double lastShadowMapMs() const;
+  std::size_t shadowMapBytes() const;
 
   /// trace() and renderReference() call `progress` (when set) as each tile finishes (tandem/Progress.h).
   void setProgressCallback(RayPassProgressCallback progress);
@@ -94,6 +102,8 @@ class RayTracer {
   void referencePassWith(const Scene& scene, const Camera& camera, const FrameSettings& settings, ImageF& out,
                          RayCounts& counts, RayCapture* capture);
 
+  // Builds the hybrid shadows' maps when the geometry or a light changed since they were built.
+  const ShadowCertainty& updateShadowMaps(const Scene& scene, const FrameShading& frame);
   explicit RayTracer(std::unique_ptr<RayTracerState> impl);
   std::unique_ptr<RayTracerState> impl_;  // rt/RayTracerState.h
 };

@@ -7,6 +7,7 @@
 #include <tbb/task_arena.h>
 
 #include "rt/EmbreeScene.h"
+#include "rt/ShadowCertainty.h"
 #include "tandem/Progress.h"
 
 namespace tandem::rt {
@@ -17,6 +18,12 @@ struct RayTracerState {
   std::unique_ptr<EmbreeDevice> device;
   std::unique_ptr<EmbreeScene> scene;
   RayPassProgressCallback progress;  // setProgressCallback
+  // Hybrid shadows' light-space maps: built by the first pass that needs them after the geometry
+  // (setScene, updateTransforms) or a light changed.
+  ShadowCertainty shadowMaps;
+  bool shadowMapsStale = true;
+  std::size_t shadowMapBuilds = 0;
+  double lastShadowMapMs = 0.0;  // the last pass's build of them (0: none)
 };
 
 }  // namespace tandem::rt

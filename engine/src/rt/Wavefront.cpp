@@ -10,6 +10,7 @@
 namespace tandem::rt {
 
 void ShadowBatch::clear() {
+  byMap_ = 0;
   rays_.clear();
   slots_.clear();
   bits_.clear();
@@ -25,6 +26,7 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
     ShadowRay s = whitted.shadowRay(hit, j, origins);
     if (!s.needed) {
       if (s.visibleWithoutRay) visible |= 1u << j;
+      if (s.byMap) ++byMap_;
       continue;
     }
     rays_.emplace_back();
@@ -39,6 +41,8 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
 
 template <class Capture>
 void ShadowBatch::trace(RTCScene scene, LightMask* masks, RayCounts& counts, Capture& capture) {
+  counts.shadowByMap += byMap_;
+  byMap_ = 0;
   if (rays_.empty()) return;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);

@@ -40,6 +40,7 @@ class ShadowBatch {
   std::vector<std::uint32_t> bits_;
   std::vector<std::size_t> captured_;  // under a recording Capture: each ray's index there
   std::vector<std::uint32_t> order_;   // ray indices grouped by light, in the order they were added
+  std::uint64_t byMap_ = 0;            // rays the hybrid shadows' maps answered since the last trace()
 };
 
 /// The reflection and refraction rays of a tile's primary hits, traced breadth first (a wavefront):

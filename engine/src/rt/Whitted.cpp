@@ -103,7 +103,20 @@ ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrig
   }
   r.needed = isFinite(r.originW) && isFinite(r.dirW);
   r.visibleWithoutRay = !r.needed;
-  if (!r.needed) rec.noShadowRay(light, NoShadowRay::NotFinite);
+  if (!r.needed) {
+    rec.noShadowRay(light, NoShadowRay::NotFinite);
+    return r;
+  }
+  if (shadowMaps_) {
+    // Hybrid shadows: an answer the map proves is the ray's own (rt/ShadowCertainty.h).
+    ShadowAnswer answer = shadowMaps_->classify(light, hit, r.originW, r.dirW, r.tFar);
+    if (answer != ShadowAnswer::Unknown) {
+      r.needed = false;
+      r.byMap = true;
+      r.visibleWithoutRay = answer == ShadowAnswer::Lit;
+      rec.noShadowRay(light, r.visibleWithoutRay ? NoShadowRay::MapSaysLit : NoShadowRay::MapSaysShadowed);
+    }
+  }
   return r;
 }
 
@@ -115,6 +128,7 @@ std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts, Recor
     ShadowRay s = shadowRay(hit, j, origins, rec);
     if (!s.needed) {
       if (s.visibleWithoutRay) mask |= 1u << j;
+      if (s.byMap) ++counts.shadowByMap;
       continue;
     }
     RTCRay ray;

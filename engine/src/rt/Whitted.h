@@ -13,6 +13,7 @@
 #include "rt/EmbreeScene.h"
 #include "rt/RayCapture.h"
 #include "rt/RayMath.h"
+#include "rt/ShadowCertainty.h"
 #include "rt/SurfaceShading.h"
 #include "tandem/FrameStats.h"
 #include "tandem/Settings.h"
@@ -54,20 +55,23 @@ struct WhittedWeights {
   float transmitMax() const { return std::max(transmit.x, std::max(transmit.y, transmit.z)); }
 };
 
-/// Why no shadow ray was needed towards a light (Whitted::shadowRay tells a recorder). Each case leaves
-/// the light's bit set; the passes only need the bit, PixelTrace names the case.
+/// Why no shadow ray was needed towards a light (Whitted::shadowRay tells a recorder). Each case but
+/// MapSaysShadowed leaves the light's bit set; the passes only need the bit, PixelTrace names the case.
 enum class NoShadowRay : std::uint8_t {
   None = 0,        // a ray is needed
   CastsNoShadows,  // the light's castShadows is off
   CannotReach,     // behind the surface, outside a spot cone or beyond range: it shades nothing here
   AtThePoint,      // a point light at the point itself: nothing can be between them
   NotFinite,       // the origin or direction is not finite: nothing Embree could trace
+  MapSaysLit,      // hybrid shadows: the light-space map proves the ray would reach the light (bit set)
+  MapSaysShadowed, // hybrid shadows: the map proves the ray would be blocked (bit clear)
 };
 
 /// A shadow ray ready for Embree, or none needed.
 struct ShadowRay {
   bool needed = false;
   bool visibleWithoutRay = false;  // when !needed: the mask bit
+  bool byMap = false;              // when !needed: the hybrid shadows' map answered (RayCounts::shadowByMap)
   glm::vec3 originW{0.0f};
   glm::vec3 dirW{0.0f};
   float tFar = 0.0f;
@@ -182,8 +186,10 @@ class Recording {
 
 class Whitted {
  public:
-  Whitted(const Scene& scene, const EmbreeScene& embree, const FrameShading& frame, TraceModes modes)
-      : scene_(scene), embree_(embree), frame_(frame), modes_(modes) {}
+  /// `shadowMaps` (hybrid shadows): answers the shadow rays it can prove, at every hit; null: all traced.
+  Whitted(const Scene& scene, const EmbreeScene& embree, const FrameShading& frame, TraceModes modes,
+          const ShadowCertainty* shadowMaps = nullptr)
+      : scene_(scene), embree_(embree), frame_(frame), modes_(modes), shadowMaps_(shadowMaps) {}
 
   /// The shadow ray from hit towards direct light j (or why none is needed); `origins` is shared by the
   /// calls for one hit, so its lights reuse the offset origins.
@@ -236,12 +242,14 @@ class Whitted {
   const Scene& scene() const { return scene_; }
   const EmbreeScene& embree() const { return embree_; }
   const FrameShading& frame() const { return frame_; }
+  const ShadowCertainty* shadowMaps() const { return shadowMaps_; }
 
  private:
   const Scene& scene_;
   const EmbreeScene& embree_;
   const FrameShading& frame_;
   TraceModes modes_;
+  const ShadowCertainty* shadowMaps_;
 };
 
 /// Fills an Embree ray; false (and nothing to trace) when any component is NaN or infinite, which

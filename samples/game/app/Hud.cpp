@@ -87,7 +87,7 @@ void Hud::draw(const HudInfo& info) {
                   k(st.rays.refraction));
       ImGui::Separator();
       ImGui::Text("preset      %s", view.preset.c_str());
-      ImGui::Text("shadows     %s  [1]", std::string(tandem::toString(s.shadows)).c_str());
+      ImGui::Text("shadows     %s  [1]", std::string(tandem::shadowModeName(s)).c_str());
       ImGui::Text("reflections %s  [2]", std::string(tandem::toString(s.reflections)).c_str());
       ImGui::Text("refraction  %s  [3]", std::string(tandem::toString(s.refraction)).c_str());
       ImGui::Text("shading     %s  [4]", view.shadingName().c_str());

@@ -17,7 +17,7 @@ constexpr const char* kHelp[] = {
     "SPACE              brake",
     "mouse drag, Q / E  orbit the camera;  wheel  zoom",
     "R                  restart",
-    "1 / 2 / 3          shadows / reflections / refraction: off, raster, ray",
+    "1 / 2 / 3          shadows (off, raster, ray, hybrid) / reflections / refraction (off, raster, ray)",
     "4                  shading: material, flat, gouraud, phong, toon",
     "5 / 6              recursion depth - / +",
     "7                  ray-pass scale 1/1, 1/2, 1/4",
@@ -51,7 +51,12 @@ std::string ViewState::shadingName() const {
 WindowAction ViewState::onKey(const std::string& key) {
   using tandem::ShadingModel;
   if (key == "1") {
-    settings.shadows = nextMode(settings.shadows);
+    // off -> raster -> ray -> hybrid -> off
+    if (settings.shadows == tandem::EffectMode::Ray && !settings.hybridShadows) settings.hybridShadows = true;
+    else {
+      settings.shadows = nextMode(settings.shadows);
+      settings.hybridShadows = false;
+    }
     preset = "custom";
   } else if (key == "2") {
     settings.reflections = nextMode(settings.reflections);

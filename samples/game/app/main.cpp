@@ -174,7 +174,7 @@ class Session {
   std::string settingsLine() const {
     const tandem::FrameSettings& s = view_.settings;
     std::ostringstream o;
-    o << "preset=" << view_.preset << " shadows=" << tandem::toString(s.shadows)
+    o << "preset=" << view_.preset << " shadows=" << tandem::shadowModeName(s)
       << " reflections=" << tandem::toString(s.reflections) << " refraction=" << tandem::toString(s.refraction)
       << " shading=" << view_.shadingName() << " depth=" << s.maxDepth << " scale=" << s.rayScale;
     return o.str();
@@ -222,10 +222,15 @@ void printTimes(const std::vector<tandem::FrameStats>& frames, const std::vector
     if (frames[i].totalMs > frames[worst].totalMs) worst = i;
     compiles += frames[i].shaderCompiles;
   }
+  // Over the run: the shadow rays traced and (hybrid shadows) those the light-space maps answered.
+  unsigned long long shadowRays = 0, shadowByMap = 0;
+  for (const auto& f : frames) shadowRays += f.rays.shadow, shadowByMap += f.rays.shadowByMap;
   std::printf("times: size=%dx%d frames=%zu median_ms total=%.2f raster=%.2f rays=%.2f composite=%.2f loop=%.2f "
-              "rays_per_frame=%llu worst_after_first_ms=%.2f worst_frame=%zu compiles_after_first=%d\n",
+              "rays_per_frame=%llu worst_after_first_ms=%.2f worst_frame=%zu compiles_after_first=%d "
+              "shadow_rays=%llu shadow_by_map=%llu\n",
               w, h, frames.size(), median(total), median(raster), median(rays), median(composite), median(loopMs),
-              static_cast<unsigned long long>(last.rays.total()), frames[worst].totalMs, worst, compiles);
+              static_cast<unsigned long long>(last.rays.total()), frames[worst].totalMs, worst, compiles, shadowRays,
+              shadowByMap);
 }
 
 // ---- Headless: fixed dt, scripted input, no wall clock in the simulation. ----
@@ -446,7 +451,7 @@ int run(int argc, char** argv) {
   app.add_option("--size", o.size, "Frame size headless / window size, WxH (default 640x360 / 1280x720)");
   app.add_option("--preset", o.preset, "raster | hybrid-fast | hybrid-full | reference (default hybrid-fast)");
   app.add_option("--shading", o.shading, "Override every material: flat | gouraud | phong | toon");
-  app.add_option("--shadows", o.shadows, "off | raster | ray");
+  app.add_option("--shadows", o.shadows, "off | raster | ray | hybrid");
   app.add_option("--reflections", o.reflections, "off | raster | ray");
   app.add_option("--refraction", o.refraction, "off | raster | ray");
   app.add_option("--depth", o.depth, "Recursion depth 0..16")->check(CLI::Range(0, 16));
@@ -489,8 +494,12 @@ int run(int argc, char** argv) {
     view.preset = "custom";
     return true;
   };
-  if (!effect("--shadows", o.shadows, view.settings.shadows) ||
-      !effect("--reflections", o.reflections, view.settings.reflections) ||
+  if (!o.shadows.empty()) {
+    if (!tandem::applyShadowMode(o.shadows, view.settings))
+      return fail("--shadows: expected off, raster, ray or hybrid, got '" + o.shadows + "'");
+    view.preset = "custom";
+  }
+  if (!effect("--reflections", o.reflections, view.settings.reflections) ||
       !effect("--refraction", o.refraction, view.settings.refraction))
     return 1;
   if (!o.shading.empty()) {

@@ -1,0 +1,234 @@
+// Hybrid shadows (rt/ShadowCertainty.h, docs/shadows.md): the light-space maps answer shadow rays only
+// where they can prove Embree's answer. The oracle is the all-rays pass itself: every frame here is
+// rendered both ways and every output compared bit for bit, on scenes built to break the maps' argument
+// (thin slabs, contacts, grazing light, extreme scales, far from the origin, a light at a surface,
+// alpha-mask holes). Each also checks that the maps did decide most rays, so none passes by deciding none.
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "RtTestScenes.h"
+#include "rt/ShadowCertainty.h"
+
+namespace tandem::rt::test {
+namespace {
+
+struct Both {
+  RayOutputs rays, hybrid;
+  std::size_t maskDiffers = 0;  // pixels whose light mask differs
+};
+
+template <class T>
+bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+// Renders `scene` with every shadow ray traced and with hybrid shadows (two tracers, the same visibility),
+// and compares the outputs.
+Both renderBoth(const Scene& scene, FrameSettings s) {
+  Both b;
+  auto all = makeTracer(scene), hybrid = makeTracer(scene);
+  if (!all || !hybrid) return b;
+  VisibilityBuffer vis;
+  all->castVisibility(scene.camera, s.width, s.height, vis);
+  s.hybridShadows = false;
+  all->trace(scene, scene.camera, s, vis, b.rays);
+  s.hybridShadows = true;
+  hybrid->trace(scene, scene.camera, s, vis, b.hybrid);
+  EXPECT_EQ(b.rays.lightMask.size(), b.hybrid.lightMask.size());
+  for (std::size_t i = 0; i < std::min(b.rays.lightMask.size(), b.hybrid.lightMask.size()); ++i)
+    b.maskDiffers += b.rays.lightMask[i] != b.hybrid.lightMask[i];
+  // Secondary hits use the maps too: what they shade must not change either.
+  EXPECT_TRUE(sameBits(b.rays.reflected, b.hybrid.reflected));
+  EXPECT_TRUE(sameBits(b.rays.transmitted, b.hybrid.transmitted));
+  // Every shadow ray is either traced or answered by a map.
+  EXPECT_EQ(b.hybrid.counts.shadow + b.hybrid.counts.shadowByMap, b.rays.counts.shadow);
+  EXPECT_EQ(b.rays.counts.shadowByMap, 0u);
+  return b;
+}
+
+FrameSettings settings(int w, int h) {
+  FrameSettings s = settingsFor(w, h);
+  s.shadows = s.reflections = s.refraction = EffectMode::Ray;
+  return s;
+}
+
+// A sphere and a box over a floor, under a point light, a spot and a directional light; `scale` and
+// `offset` move the whole scene (camera and lights included).
+Scene objectsOnAFloor(float scale = 1.0f, glm::vec3 offset = glm::vec3(0.0f)) {
+  Scene scene;
+  auto place = [&](glm::vec3 p) { return p * scale + offset; };
+  glm::mat4 s = glm::scale(glm::mat4(1.0f), glm::vec3(scale));
+  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
+  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 8)), mat, translate(offset) * s);
+  addInstance(scene, addMesh(scene, makeSphere(1.0f, 48, 24)), mat, translate(place({-1.5f, 1.2f, 0.0f})) * s);
+  // The box rests on the floor: contact shadows along its base.
+  addInstance(scene, addMesh(scene, makeBox({1.5f, 1.0f, 1.5f})), mat, translate(place({1.5f, 0.5f, 0.5f})) * s);
+  scene.lights.push_back(pointLight(place({-2.0f, 6.0f, 3.0f})));
+  Light spot = pointLight(place({4.0f, 5.0f, 2.0f}));
+  spot.type = LightType::Spot;
+  spot.dirW = glm::normalize(glm::vec3(-4.0f, -5.0f, -2.0f));
+  spot.innerConeDeg = 20.0f;
+  spot.outerConeDeg = 35.0f;
+  scene.lights.push_back(spot);
+  scene.lights.push_back(directional({0.4f, -1.0f, -0.3f}));
+  scene.camera.posW = place({0.0f, 4.0f, 9.0f});
+  scene.camera.targetW = place({0.0f, 0.5f, 0.0f});
+  scene.camera.nearZ = 0.05f * scale;
+  return scene;
+}
+
+void expectMostDecided(const Both& b, double share) {
+  const double all = static_cast<double>(b.rays.counts.shadow);
+  ASSERT_GT(all, 0.0);
+  EXPECT_GE(static_cast<double>(b.hybrid.counts.shadowByMap), share * all)
+      << b.hybrid.counts.shadowByMap << " of " << all << " shadow rays decided by the maps";
+}
+
+TEST(HybridShadows, ObjectsOnAFloorGiveTheAllRaysMaskWithFarFewerRays) {
+  Both b = renderBoth(objectsOnAFloor(), settings(320, 180));
+  EXPECT_EQ(b.maskDiffers, 0u);
+  expectMostDecided(b, 0.8);  // ≥ 5× fewer shadow rays
+  EXPECT_GT(b.hybrid.counts.shadow, 0u);  // the edges and contacts are still traced
+}
+
+TEST(HybridShadows, ExtremeScalesAndFarFromTheOrigin) {
+  for (float scale : {1e-4f, 1e4f}) {
+    Both b = renderBoth(objectsOnAFloor(scale), settings(160, 90));
+    EXPECT_EQ(b.maskDiffers, 0u) << "scale " << scale;
+    expectMostDecided(b, 0.7);
+  }
+  // Render space is camera-relative, so a scene 1e6 from the origin keeps its precision.
+  Both far = renderBoth(objectsOnAFloor(1.0f, glm::vec3(1e6f, -2e5f, 5e5f)), settings(160, 90));
+  EXPECT_EQ(far.maskDiffers, 0u);
+  expectMostDecided(far, 0.7);
+}
+
+// Slabs a thousandth thick over the floor, one just above it: the maps must not confuse their two faces or
+// a slab with the floor under it.
+TEST(HybridShadows, ThinSlabsAndContacts) {
+  Scene scene;
+  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
+  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 4)), mat, glm::mat4(1.0f));
+  addInstance(scene, addMesh(scene, makeBox({2.0f, 1e-3f, 2.0f})), mat, translate({-1.5f, 1.0f, 0.0f}));
+  addInstance(scene, addMesh(scene, makeBox({2.0f, 1e-3f, 2.0f})), mat, translate({1.5f, 1e-3f, 0.0f}));
+  // A needle: thinner than a texel of any map.
+  addInstance(scene, addMesh(scene, makeBox({4.0f, 2e-3f, 2e-3f})), mat, translate({0.0f, 2.0f, 1.5f}));
+  scene.lights.push_back(pointLight({0.5f, 5.0f, 1.0f}));
+  scene.lights.push_back(directional({0.2f, -1.0f, 0.1f}));
+  scene.camera.posW = {0.0f, 5.0f, 7.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.5f};
+  Both b = renderBoth(scene, settings(320, 180));
+  EXPECT_EQ(b.maskDiffers, 0u);
+  expectMostDecided(b, 0.7);
+}
+
+// Light nearly parallel to a bumpy floor: long shadows, rays grazing every face.
+TEST(HybridShadows, GrazingLight) {
+  Scene scene;
+  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
+  Mesh floor = makePlane({20.0f, 20.0f}, 64);
+  for (glm::vec3& p : floor.positions) p.y = 0.02f * std::sin(3.0f * p.x) * std::cos(2.0f * p.z);
+  floor.normals.clear();  // flat faces: the normals would no longer match the bumps
+  addInstance(scene, addMesh(scene, floor), mat, glm::mat4(1.0f));
+  addInstance(scene, addMesh(scene, makeBox({1.0f, 0.3f, 1.0f})), mat, translate({0.0f, 0.15f, 0.0f}));
+  scene.lights.push_back(directional({1.0f, -0.02f, 0.3f}));
+  scene.lights.push_back(pointLight({-8.0f, 0.2f, 0.0f}));
+  scene.camera.posW = {0.0f, 3.0f, 8.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  Both b = renderBoth(scene, settings(320, 180));
+  EXPECT_EQ(b.maskDiffers, 0u);
+  // Grazing rays cross many faces near the plane: fewer can be proved, but not none.
+  expectMostDecided(b, 0.3);
+}
+
+// A point light a hair above a surface and another inside a box: the maps' near region.
+TEST(HybridShadows, LightsAtSurfaces) {
+  Scene scene;
+  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
+  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 4)), mat, glm::mat4(1.0f));
+  addInstance(scene, addMesh(scene, makeBox({1.0f, 1.0f, 1.0f})), mat, translate({2.0f, 0.5f, 0.0f}));
+  addInstance(scene, addMesh(scene, makeSphere(0.5f, 24, 12)), mat, translate({-1.0f, 0.5f, 0.0f}));
+  scene.lights.push_back(pointLight({0.0f, 1e-4f, 0.0f}));      // just above the floor
+  scene.lights.push_back(pointLight({2.0f, 0.5f, 0.0f}));       // inside the box: everything outside is dark
+  scene.lights.push_back(pointLight({0.0f, 3.0f, 0.0f}));
+  // A small plate just under the last light, nearer it than its maps begin: only the rays and the maps'
+  // list of triangles near the light see it; its shadow on the floor is wide.
+  addInstance(scene, addMesh(scene, makeBox({0.3f, 0.01f, 0.3f})), mat, translate({0.0f, 2.9f, 0.0f}));
+  scene.camera.posW = {0.0f, 4.0f, 6.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  Both b = renderBoth(scene, settings(240, 135));
+  EXPECT_EQ(b.maskDiffers, 0u);
+  expectMostDecided(b, 0.5);
+}
+
+// An alpha-mask quad with holes: rays pass through its holes, so its triangles may only ever prove "lit".
+TEST(HybridShadows, AlphaMaskHolesAreNeverProvedShadowed) {
+  Scene scene;
+  Texture tex;  // columns alternate holes and solid
+  tex.width = tex.height = 8;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) tex.rgba8.insert(tex.rgba8.end(), {200, 200, 200, static_cast<std::uint8_t>(x % 2 ? 0 : 255)});
+  scene.textures.push_back(tex);
+  Material cutout = diffuse(glm::vec3(0.8f));
+  cutout.kdTexture = 0;
+  cutout.alphaMode = AlphaMode::Mask;
+  std::uint32_t floorMat = addMaterial(scene, diffuse(glm::vec3(0.7f)));
+  std::uint32_t cutMat = addMaterial(scene, cutout);
+  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 1)), floorMat, glm::mat4(1.0f));
+  addInstance(scene, addMesh(scene, makePlane({3.0f, 3.0f}, 1)), cutMat, translate({0.0f, 1.0f, 0.0f}));
+  scene.lights.push_back(directional({0.1f, -1.0f, 0.05f}));
+  scene.lights.push_back(pointLight({0.5f, 4.0f, 0.5f}));
+  scene.camera.posW = {0.0f, 6.0f, 6.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  Both b = renderBoth(scene, settings(240, 135));
+  EXPECT_EQ(b.maskDiffers, 0u);
+  expectMostDecided(b, 0.5);
+  // Under the quad the hybrid pass still traces: only rays can see the holes.
+  EXPECT_GT(b.hybrid.counts.shadow, 1000u);
+}
+
+// Mirrors and glass: the shadows at their reflected and refracted hits come from the maps too, and what
+// they shade is unchanged (renderBoth compares the reflected and transmitted channels).
+TEST(HybridShadows, SecondaryHitsAgreeInTheWhittedScene) {
+  Scene scene = makeWhittedScene();
+  Both b = renderBoth(scene, settings(320, 180));
+  EXPECT_EQ(b.maskDiffers, 0u);
+  expectMostDecided(b, 0.8);
+  EXPECT_GT(b.rays.counts.reflection, 0u);
+}
+
+// The maps follow the geometry and the lights: a moved instance or light rebuilds them once, and the
+// frame after still equals the all-rays one; an unchanged frame rebuilds nothing.
+TEST(HybridShadows, MapsFollowMovesAndLightChanges) {
+  Scene scene = objectsOnAFloor();
+  scene.instances[1].dynamic = true;
+  auto all = makeTracer(scene), hybrid = makeTracer(scene);
+  ASSERT_TRUE(all && hybrid);
+  FrameSettings s = settings(160, 90);
+  VisibilityBuffer vis;
+  auto frame = [&](std::size_t expectBuilds) {
+    RayOutputs a, h;
+    all->castVisibility(scene.camera, s.width, s.height, vis);
+    s.hybridShadows = false;
+    all->trace(scene, scene.camera, s, vis, a);
+    s.hybridShadows = true;
+    hybrid->trace(scene, scene.camera, s, vis, h);
+    EXPECT_TRUE(sameBits(a.lightMask, h.lightMask));
+    EXPECT_GT(h.counts.shadowByMap, 0u);
+    EXPECT_EQ(hybrid->shadowMapBuilds(), expectBuilds);
+  };
+  frame(1);
+  frame(1);  // nothing changed
+  scene.instances[1].worldFromObject = translate({0.5f, 2.0f, 1.0f});
+  all->updateTransforms(scene);
+  hybrid->updateTransforms(scene);
+  frame(2);
+  scene.lights[0].posW = {1.0f, 4.0f, -2.0f};
+  frame(3);
+  frame(3);
+  EXPECT_GT(hybrid->shadowMapBytes(), 0u);
+}
+
+}  // namespace
+}  // namespace tandem::rt::test
