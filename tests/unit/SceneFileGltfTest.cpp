@@ -18,7 +18,10 @@ namespace fs = std::filesystem;
 /// tri.gltf + tri.bin: mesh "Tri" (one triangle, material "Paint") on a node translated by (0, 0, 1),
 /// and a point light on a node at (0, 2, 0).
 std::string writeTriangleGltf() {
-  const fs::path dir = fs::path(test::outputDir()) / "scene-gltf";
+  // One folder per test: ctest runs the tests of this file as parallel processes, and two writing the same
+  // files made one read a half-written glTF (a flaky PlacementErrors).
+  const fs::path dir = fs::path(test::outputDir()) /
+                       ("scene-gltf-" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
   fs::create_directories(dir);
   const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   const std::uint16_t indices[4] = {0, 1, 2, 0};  // padded to 4 bytes
