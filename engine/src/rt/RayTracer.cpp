@@ -360,7 +360,10 @@ PixelTrace RayTracer::tracePixel(const Scene& scene, const Camera& camera, const
          gy < gridSize(visibility.height, std::max(1, settings.rayScale)) && "tracePixel: outside the ray grid");
   if (!impl_->scene) return {};
   // Hybrid shadows with the maps the last pass used (a stale map would still be exact, but not the frame's).
-  const ShadowCertainty* maps = settings.hybridShadows && !impl_->shadowMapsStale ? &impl_->shadowMaps : nullptr;
+  const ShadowCertainty* maps = nullptr;
+  if (settings.hybridShadows && !impl_->shadowMapsStale &&
+      impl_->shadowMaps.builtFor(FrameShading(scene, settings.shadingOverride, impl_->scene->anchor())))
+    maps = &impl_->shadowMaps;
   return traceHybridPixel(scene, *impl_->scene, camera, settings, visibility, gx, gy, maps);
 }
 

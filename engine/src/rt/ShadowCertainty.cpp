@@ -122,35 +122,58 @@ class FaceRaster {
       lo = glm::min(lo, px[k]);
       hi = glm::max(hi, px[k]);
     }
-    if (!std::isfinite(lo.x) || !std::isfinite(lo.y) || !std::isfinite(hi.x) || !std::isfinite(hi.y)) return;
+    // Rounding scale of the pixel arithmetic: the largest pixel coordinate involved. A corner far outside
+    // the map (a clip point near a small nearZ) or not finite makes the edge functions meaningless at
+    // texel scale: such a polygon is recorded over its whole (clamped) bounding box, in front of
+    // everything — conservative, never dropped.
+    float reach = static_cast<float>(n_);
+    for (int k = 0; k < count; ++k) reach = std::max(reach, std::max(std::abs(px[k].x), std::abs(px[k].y)));
+    const bool wild = !(reach <= 64.0f * static_cast<float>(n_));
+    if (wild || !std::isfinite(depthLo)) {
+      depthLo = -kInf;
+      lo = glm::vec2(-kInf);
+      hi = glm::vec2(kInf);
+    }
+    lo = glm::clamp(lo, glm::vec2(-4.0f), glm::vec2(static_cast<float>(n_) + 4.0f));
+    hi = glm::clamp(hi, glm::vec2(-4.0f), glm::vec2(static_cast<float>(n_) + 4.0f));
     const float h = 0.5f + ShadowCertainty::kMarginTexels;  // half-side of a grown texel square
     int x0 = std::max(0, static_cast<int>(std::floor(lo.x - h - kTexelSlack)));
     int x1 = std::min(n_ - 1, static_cast<int>(std::floor(hi.x + h + kTexelSlack)));
     int y0 = std::max(row0_, static_cast<int>(std::floor(lo.y - h - kTexelSlack)));
     int y1 = std::min(row1_ - 1, static_cast<int>(std::floor(hi.y + h + kTexelSlack)));
     if (x0 > x1 || y0 > y1) return;
-    // Edges as inward unit normals: e(p) = n·p − c ≥ 0 inside. A polygon with (almost) no area is
-    // kept by its bounding box only (conservative).
-    float area = 0.0f;
-    for (int k = 0; k < count; ++k) {
-      const glm::vec2 &a = px[k], &b = px[(k + 1) % count];
+    // Edges as inward unit normals: e(p) = n·p − c ≥ 0 inside. A polygon whose area or an edge is within
+    // the rounding of the pixel arithmetic of nothing is kept by its bounding box only (conservative);
+    // so is one whose orientation rounding could flip.
+    // The area from corner 0 (translation-free): its rounding is a few 1e-7 of the product of the edge
+    // vectors' lengths plus their own rounding (1e-7·reach each).
+    float area = 0.0f, longest = 0.0f;
+    for (int k = 1; k + 1 < count; ++k) {
+      const glm::vec2 a = px[k] - px[0], b = px[k + 1] - px[0];
       area += a.x * b.y - a.y * b.x;
+      longest = std::max(longest, std::max(glm::length(a), glm::length(b)));
     }
     std::array<glm::vec3, 4> edges;  // xy normal, z offset
-    bool solid = std::abs(area) > 1e-6f;
+    const float tiny = 1e-5f * reach;
+    bool solid = !wild && std::isfinite(depthLo) && std::abs(area) > 1e-5f * longest * (longest + reach);
     for (int k = 0; solid && k < count; ++k) {
       glm::vec2 e = px[(k + 1) % count] - px[k];
       glm::vec2 nrm = area > 0.0f ? glm::vec2(-e.y, e.x) : glm::vec2(e.y, -e.x);
       float len = glm::length(nrm);
-      if (!(len > 1e-12f)) continue;  // a repeated corner: the other edges bound the polygon
+      if (!(len > tiny)) {
+        // A (nearly) repeated corner: its normal is rounding noise. Leaving the edge out only widens the
+        // polygon (the other edges bound it): still conservative.
+        edges[k] = glm::vec3(0.0f, 0.0f, -1.0f);
+        continue;
+      }
       nrm /= len;
       edges[k] = glm::vec3(nrm, glm::dot(nrm, px[k]));
     }
-    for (int k = 0; solid && k < count; ++k)
-      if (!(glm::length(px[(k + 1) % count] - px[k]) > 1e-12f)) edges[k] = glm::vec3(0.0f, 0.0f, -1.0f);
     // The triangle's plane in face coordinates: depth along the ray through any map pixel.
-    glm::vec3 planeN = glm::cross(q[1] - q[0], q[2] - q[0]);
-    float planeC = glm::dot(planeN, q[0]);
+    // (In double: a needle's float cross product can point far enough off to move the bound.)
+    const glm::dvec3 normalD = glm::cross(glm::dvec3(q[1]) - glm::dvec3(q[0]), glm::dvec3(q[2]) - glm::dvec3(q[0]));
+    glm::vec3 planeN(normalD);
+    float planeC = static_cast<float>(glm::dot(normalD, glm::dvec3(q[0])));
     // As an affine function of map pixels (x, y): on a cube face, c/depth = n·(s, t, 1) with s, t affine
     // in the pixel, scaled here so that it is c'/depth with c' = |planeC| > 0; on the orthographic map,
     // the depth itself.
@@ -174,8 +197,8 @@ class FaceRaster {
         if (solid) {
           bool touches = true;
           for (int k = 0; k < count && touches; ++k) {
-            float reach = h * (std::abs(edges[k].x) + std::abs(edges[k].y));
-            touches = edges[k].x * c.x + edges[k].y * c.y - edges[k].z >= -reach - kTexelSlack;
+            const float grown = h * (std::abs(edges[k].x) + std::abs(edges[k].y));
+            touches = edges[k].x * c.x + edges[k].y * c.y - edges[k].z >= -grown - kTexelSlack;
           }
           if (!touches) continue;
         }
@@ -186,8 +209,9 @@ class FaceRaster {
         const float g = lin.x * c.x + lin.y * c.y + lin.z, spread = h * (std::abs(lin.x) + std::abs(lin.y));
         if (linValid) {
           if (m_.kind == ShadowCertainty::Kind::Cube) {
-            if (g - spread > 0.0f) nearest = std::max(nearest, planeC / (g + spread));  // 1/depth at most g + spread
-          } else {
+            const float bound = planeC / (g + spread);  // 1/depth is at most g + spread over the square
+            if (g - spread > 0.0f && std::isfinite(bound)) nearest = std::max(nearest, bound);
+          } else if (std::isfinite(g - spread)) {
             nearest = std::max(nearest, g - spread);
           }
         }
@@ -357,6 +381,13 @@ void ShadowCertainty::build(const Scene& scene, const EmbreeScene& embree, const
     const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
     const glm::mat4& m = embree.transform(i).worldFromObject;
     bool blocks = !embree.letsRaysThrough(i);
+    const glm::vec3 tr = embree.transform(i).absTranslation;
+    const glm::mat3& lin = embree.transform(i).absLinear;
+    // The transform's translation (a render-space magnitude) and the largest term it scales by (object-space
+    // rounding, brought to render space).
+    const float translation = std::max({tr.x, tr.y, tr.z});
+    const float scale = std::max({lin[0][0], lin[0][1], lin[0][2], lin[1][0], lin[1][1], lin[1][2], lin[2][0],
+                                  lin[2][1], lin[2][2]});
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
       Triangle tri;
       for (int k = 0; k < 3; ++k) {
@@ -368,6 +399,13 @@ void ShadowCertainty::build(const Scene& scene, const EmbreeScene& embree, const
       tri.blocksAll = blocks;
       tris.push_back(tri);
       tests_.push_back(makeTest(tri.v));
+      // Embree tests rays in object space: its rounding follows the object-space coordinates and the
+      // transform's translation as much as render space's, so the margin does too.
+      for (int k = 0; k < 3; ++k) {
+        const glm::vec3 p = glm::abs(mesh.positions[mesh.indices[3 * t + static_cast<std::size_t>(k)]]);
+        tests_.back().magnitude = std::max(tests_.back().magnitude, scale * std::max(p.x, std::max(p.y, p.z)));
+      }
+      tests_.back().magnitude = std::max(tests_.back().magnitude, translation);
       blocksAll_.push_back(blocks ? 1 : 0);
     }
   }
@@ -479,7 +517,7 @@ ShadowAnswer ShadowCertainty::classify(std::size_t light, const SurfaceHit& hit,
     face = cubeFace(d);
     const glm::vec3* axes = m.axes[face];
     const float a = glm::dot(axes[2], d), along = glm::dot(axes[2], dirW);
-    // The ray's points nearer the light than nearZ (along the face's axis) lie within 2.5·nearZ of it
+    // The ray's points nearer the light than nearZ (along the face's axis) lie within ~3.4·nearZ of it
     // when the origin is within nearZ / 4 of the hit: only the map's nearLight triangles are there, and
     // each is tested below. The rest of the ray, from the origin to tStar, is what the texel answers for.
     const float off = glm::length(originW - hit.posW);

@@ -12,7 +12,7 @@
 //   rasterization (only vendor extensions), and the ray pass's own hit, offset origin and triangle ids are
 //   what the argument needs, so the maps are the CPU's.
 // - The ray itself (origin, direction, length: exactly Embree's) is then tested against the listed
-//   triangles in double precision with a margin far above float rounding: lit when it misses every one
+//   triangles in float with a margin a hundred times the rounding (Embree's, in object space, and ours): lit when it misses every one
 //   but the hit's own and nothing left out lies in front of the hit; shadowed when it crosses the interior
 //   of one that lets no ray through (no alpha-mask filter), which Embree's watertight test cannot miss.
 // - Everything else (grazing rays, texels with too many triangles, points near the light) is unknown.
