@@ -26,7 +26,6 @@ constexpr std::size_t kNearLightMax = 64;
 struct Triangle {
   glm::vec3 v[3];       // render space
   std::uint32_t id;     // global id
-  bool blocksAll;       // no alpha-mask filter: every ray crossing its interior is occluded
 };
 
 // Ericson, Real-Time Collision Detection 5.1.5: the point of triangle abc closest to p.
@@ -396,7 +395,6 @@ void ShadowCertainty::build(const Scene& scene, const EmbreeScene& embree, const
         hi = glm::max(hi, tri.v[k]);
       }
       tri.id = triangleBase_[i] + static_cast<std::uint32_t>(t);
-      tri.blocksAll = blocks;
       tris.push_back(tri);
       tests_.push_back(makeTest(tri.v));
       // Embree tests rays in object space: its rounding follows the object-space coordinates and the

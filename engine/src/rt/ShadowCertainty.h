@@ -83,7 +83,6 @@ class ShadowCertainty {
     // What build() was given for this light, to tell when it must be built again.
     shading::GpuLight light{};
   };
-  const std::vector<Map>& maps() const { return maps_; }
   /// A triangle as classify() tests rays against it: its plane and edges (unit normals, into the triangle)
   /// and the largest magnitude of its coordinates (the tests' rounding scale).
   struct TriangleTest {
