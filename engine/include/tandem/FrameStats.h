@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <string>
 
+#include "tandem/Settings.h"
+
 namespace tandem {
 
 struct RayCounts {
@@ -15,6 +17,22 @@ struct RayCounts {
   std::uint64_t shadowByMap = 0;
   std::uint64_t total() const { return primary + shadow + reflection + refraction; }
 };
+
+/// The frame-time budget's choice for a frame (FrameSettings::targetMs, docs/budget.md).
+struct BudgetStats {
+  bool active = false;       // targetMs > 0 on a hybrid frame
+  int step = 0;              // 0: the settings as requested; 1 .. steps-1: cheaper, by expected error
+  int steps = 0;             // the choices the budget had for these settings and this scene
+  int rayScale = 1;          // what the frame was drawn with
+  int maxDepth = 0;
+  EffectMode shadows = EffectMode::Off, reflections = EffectMode::Off, refraction = EffectMode::Off;
+  double targetMs = 0;
+  double predictedMs = 0;    // what the cost model expected (0 before it had measured a frame)
+  double expectedError = 0;  // FLIP this choice adds over the requested settings (the error table)
+  bool reachable = true;     // false: even the cheapest choice is predicted over the target
+};
+/// "1/2 d2 refraction raster" for a step > 0, "as requested" for step 0, "" when inactive.
+std::string describeBudget(const BudgetStats& b);
 
 struct FrameStats {
   double prepareMs = 0;    // settings, GL buffer and Embree scene sync
@@ -39,6 +57,8 @@ struct FrameStats {
   /// The ray results are the last frame's (FrameSettings::reuseRays: nothing they depend on changed):
   /// `rays` is then all zero, since nothing was traced, and the readback and ray pass cost nothing.
   bool raysReused = false;
+  /// FrameSettings::targetMs: the choice this frame was drawn with.
+  BudgetStats budget;
   /// Empty when the frame was drawn. Otherwise why it was not: the GL could not hold this frame size
   /// (a limit it exceeds, or an allocation the driver refused, named as Renderer::resize names them).
   /// readImage() is then empty when the frame's own targets failed, else it keeps the last frame drawn.

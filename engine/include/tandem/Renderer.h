@@ -64,7 +64,9 @@ class Renderer {
   /// The targets are then released. render() resizes by itself when the size changes; call this where the
   /// size comes from outside (a window resize, a command-line flag) and before the first frame.
   Result<void> resize(int width, int height);
-  /// Renders one frame into the renderer's offscreen target. Bad settings are clamped; the one failure
+  /// Renders one frame into the renderer's offscreen target. With settings.targetMs > 0 the frame is drawn
+  /// with the settings or a cheaper choice that fits the target (FrameStats::budget says which;
+  /// docs/budget.md). Bad settings are clamped; the one failure
   /// is a frame size the GL cannot hold: nothing is drawn and FrameStats::error says why (the same
   /// message resize() gives; a size that failed is not tried again by render() until resize() is called
   /// or another size is rendered).

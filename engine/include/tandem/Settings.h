@@ -62,6 +62,12 @@ struct FrameSettings {
   /// same to the bit. FrameStats::raysReused says when. Off: every frame traces (what a benchmark of
   /// per-frame cost must use with a still camera).
   bool reuseRays = true;
+  /// A frame-time budget in milliseconds (0: none, the settings are drawn as they are). The Renderer then
+  /// draws each frame with these settings or the cheaper choice (coarser ray grid, capped depth, raster
+  /// fallbacks) expected to be least wrong among those its cost model predicts within the target; the
+  /// model is measured on the first frames and refined every frame (docs/budget.md). FrameStats::budget
+  /// says what it chose. Ignored by the reference frame. [0, 10000]
+  float targetMs = 0.0f;
 
   /// Clamps ranges and applies dependencies (e.g. rayScale rounded to 1, 2 or 4).
   FrameSettings resolved() const;

@@ -15,6 +15,7 @@ FrameSettings FrameSettings::resolved() const {
   s.exposure = std::isfinite(s.exposure) && s.exposure > 0.0f ? s.exposure : 1.0f;
   s.referenceSpp = std::clamp(s.referenceSpp, 1, 64);
   s.probesPerFrame = std::max(s.probesPerFrame, 0);
+  s.targetMs = std::isfinite(s.targetMs) ? std::clamp(s.targetMs, 0.0f, 10000.0f) : 0.0f;
   return s;
 }
 

@@ -63,6 +63,7 @@ bool sameRayInputs(const FramePlan& a, const FramePlan& b) {
     s.debugView = FrameSettings{}.debugView;
     s.probesPerFrame = FrameSettings{}.probesPerFrame;
     s.reuseRays = FrameSettings{}.reuseRays;
+    s.targetMs = FrameSettings{}.targetMs;  // the budget's choice is in the other fields
     return s;
   };
   return rayPart(a) == rayPart(b);

@@ -39,7 +39,7 @@ struct FramePlan {
 FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested);
 
 /// Whether two plans' rays are the same work: the same kind of ray pass with the same ray settings, up to
-/// the settings the ray pass does not read (tone map, exposure, debug view, probes per frame, reuse).
+/// the settings the ray pass does not read (tone map, exposure, debug view, probes per frame, reuse, target).
 /// Every other field counts, so a setting added later is compared until someone decides otherwise.
 bool sameRayInputs(const FramePlan& a, const FramePlan& b);
 

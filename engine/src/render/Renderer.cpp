@@ -20,6 +20,7 @@
 #include "gl/GlObjects.h"
 #include "rt/EmbreeScene.h"
 #include "rt/RayTracer.h"
+#include "render/FrameBudget.h"
 #include "render/FramePlan.h"
 #include "render/SceneCaches.h"
 #include "tandem/Log.h"
@@ -33,6 +34,7 @@ struct Renderer::Impl {
   gl::ShadePass shadePass;
   gl::OutputPass outputPass;
   SceneCaches caches;  // the GL copy, the raster effects and the Embree scene, with what they miss
+  FrameBudget budget;  // FrameSettings::targetMs: what each frame is drawn with
   Scene scene;
 
   rt::VisibilityBuffer visibility;
@@ -166,6 +168,7 @@ Result<void> Renderer::setScene(Scene scene) {
   impl_->scene = std::move(scene);
   impl_->caches.sceneChanged();
   impl_->last.sceneChanged = true;
+  impl_->budget.reset();
   return {};
 }
 
@@ -225,11 +228,15 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   auto finished = [&] {
     stats.totalMs = total.ms();
     stats.shaderCompiles = static_cast<int>(gl::programsBuilt() - compiledBefore);
+    stats.budget = r.budget.stats();
+    r.budget.observe(stats);
     return stats;
   };
   const bool lastDrawn = r.last.drawn;
   r.last.drawn = false;  // until this frame is drawn
-  FramePlan plan = planFrame(sceneFacts(r.scene), requested);
+  // With a frame-time budget, the settings this frame can afford; otherwise the requested ones.
+  const SceneFacts facts = sceneFacts(r.scene);
+  FramePlan plan = planFrame(facts, r.budget.choose(requested.resolved(), facts));
   if (!timed(stats.prepareMs, [&] { return r.prepare(plan, stats); })) return finished();
   // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
   const Camera glCamera = toRenderSpace(camera, r.caches.gpu().anchor());

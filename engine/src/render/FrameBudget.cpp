@@ -1,0 +1,285 @@
+#include "render/FrameBudget.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace tandem {
+
+namespace {
+
+// Thresholds of the hysteresis (fractions of the target) and the quiet spell before a better choice.
+constexpr double kOver = 1.05;       // a choice whose smoothed frame runs over this is left at once
+constexpr double kFarOver = 1.5;     // ... or, on its first frame, over this
+constexpr double kFitDown = 0.92;    // ... for one predicted to fit in this
+constexpr double kFitUp = 0.85;      // a better choice is taken only when predicted to fit in this
+constexpr double kQuietUp = 0.95;    // ... and the current one runs under this
+constexpr int kQuietFrames = 10;     // ... for this many frames since the last change
+constexpr int kLearnFrames = 3;
+constexpr double kClearlyCheaper = 0.95;  // out of reach: a move must save this much      // a choice's first frames teach its work, later ones the scene's drift
+
+// Priors for a choice not yet run: its ray cost per ray-grid pixel relative to the requested settings.
+// Only the first move down rests on them: each choice's own frames replace them.
+double priorWork(int rayScale, int requestedScale, int depthCap, int requestedDepth, int fallback) {
+  auto gridOverhead = [](int s) { return s == 4 ? 1.5 : s == 2 ? 1.2 : 1.0; };  // upsampling, fixed costs
+  auto depthWork = [](int d) { return d >= 3 ? 1.0 : d == 2 ? 0.8 : d == 1 ? 0.65 : 0.5; };
+  // What each effect's rays are of the pass, roughly; a set that leaves no ray effect has no ray pass at
+  // all (BudgetChoice::rays), whatever this says.
+  double fallbackWork = 1.0;
+  if (fallback & kRefractionRaster) fallbackWork *= 0.8;
+  if (fallback & kReflectionsRaster) fallbackWork *= 0.6;
+  if (fallback & kShadowsRaster) fallbackWork *= 0.7;
+  const double w = gridOverhead(rayScale) / gridOverhead(requestedScale) * depthWork(depthCap) /
+                   depthWork(requestedDepth) * fallbackWork;
+  return std::log(std::max(w, 1e-3));
+}
+
+double scaleError(const BudgetErrorTable& t, int s) { return s >= 4 ? t.rayScale4 : s == 2 ? t.rayScale2 : 0.0; }
+double depthError(const BudgetErrorTable& t, int d) { return d >= 3 ? 0.0 : d == 2 ? t.depth2 : t.depth1; }
+
+// What a frame would do, for telling apart two choices that differ in name only (a fallback for an
+// effect the scene cannot show, a depth cap without reflection or refraction rays).
+bool samePlan(const FramePlan& a, const FramePlan& b) {
+  if (a.rayPass != b.rayPass || a.rasterShadows != b.rasterShadows || a.probeReflections != b.probeReflections ||
+      a.probeRefraction != b.probeRefraction)
+    return false;
+  if (!a.rayPass) return a.settings.maxDepth == b.settings.maxDepth || !(a.probeReflections || a.probeRefraction);
+  return sameRayInputs(a, b);
+}
+
+}  // namespace
+
+const BudgetErrorTable& budgetErrorTable() {
+  // Mean FLIP added over hybrid-full by each knob alone, against the 4×4/8×8-spp reference: tandem-bench
+  // --sweep on whitted.json, LightsPunctualLamp and TransmissionTest at 640×360 and 1280×720 (docs/budget.md
+  // gives the run; the sweep prints its own measurement of this table to compare).
+  static const BudgetErrorTable t{
+      /*rayScale2*/ 0.0040, /*rayScale4*/ 0.0110,
+      /*depth2*/ 0.0015,    /*depth1*/ 0.0060,
+      /*refractionRaster*/ 0.0100,
+      /*reflectionsRaster*/ 0.0150,
+      /*shadowsRaster*/ 0.0050,
+  };
+  return t;
+}
+
+std::string describeBudget(const BudgetStats& b) {
+  if (!b.active) return {};
+  if (b.step == 0) return "as requested";
+  std::string s = "1/" + std::to_string(b.rayScale) + " d" + std::to_string(b.maxDepth);
+  auto mode = [&](const char* name, EffectMode m) {
+    if (m == EffectMode::Raster) s += std::string(" ") + name + " raster";
+  };
+  mode("refraction", b.refraction);
+  mode("reflections", b.reflections);
+  mode("shadows", b.shadows);
+  return s;
+}
+
+void FrameBudget::reset() {
+  *this = FrameBudget{};
+}
+
+void FrameBudget::makeLadder(const FrameSettings& r, const SceneFacts& facts) {
+  const BudgetErrorTable& table = budgetErrorTable();
+  std::vector<BudgetChoice> all;
+  std::vector<int> scales{r.rayScale};
+  for (int s = r.rayScale * 2; s <= 4; s *= 2) scales.push_back(s);
+  std::vector<int> depths{r.maxDepth};
+  for (int d : {2, 1})
+    if (d < r.maxDepth) depths.push_back(d);
+  // Each ray-traced effect may fall back to raster on its own: which loses least is the table's to say.
+  for (int fallback = 0; fallback < kFallbackSets; ++fallback) {
+    FrameSettings f = r;
+    double fallbackError = 0;
+    if (fallback & kRefractionRaster) {
+      if (f.refraction != EffectMode::Ray) continue;
+      f.refraction = EffectMode::Raster;
+      fallbackError += table.refractionRaster;
+    }
+    if (fallback & kReflectionsRaster) {
+      if (f.reflections != EffectMode::Ray) continue;
+      f.reflections = EffectMode::Raster;
+      fallbackError += table.reflectionsRaster;
+    }
+    if (fallback & kShadowsRaster) {
+      if (f.shadows != EffectMode::Ray) continue;
+      f.shadows = EffectMode::Raster;
+      f.hybridShadows = false;
+      fallbackError += table.shadowsRaster;
+    }
+    for (int s : scales)
+      for (int d : depths) {
+        BudgetChoice c;
+        c.settings = f;
+        c.settings.rayScale = s;
+        c.settings.maxDepth = d;
+        c.rayScale = s;
+        c.depthCap = d;
+        c.fallback = fallback;
+        c.error = fallbackError + scaleError(table, s) - scaleError(table, r.rayScale) + depthError(table, d) -
+                  depthError(table, r.maxDepth);
+        c.work = priorWork(s, r.rayScale, d, r.maxDepth, fallback);
+        all.push_back(c);
+      }
+  }
+  // Least wrong first; among equals the cheaper by prior. Then drop choices that do what a kept one does:
+  // the kept one is as good and (by prior) no dearer.
+  std::stable_sort(all.begin(), all.end(), [](const BudgetChoice& a, const BudgetChoice& b) {
+    return a.error != b.error ? a.error < b.error : a.work > b.work;
+  });
+  choices_.clear();
+  std::vector<FramePlan> plans;
+  for (BudgetChoice& c : all) {
+    FramePlan p = planFrame(facts, c.settings);
+    c.rays = p.rayPass;
+    bool dup = false;
+    for (std::size_t i = 0; i < plans.size() && !dup; ++i) {
+      if (!samePlan(plans[i], p)) continue;
+      dup = true;
+      // Same frame: keep the lower error, and the lower prior work of the two (the cheaper name for it).
+      choices_[i].work = std::min(choices_[i].work, c.work);
+    }
+    if (dup) continue;
+    plans.push_back(p);
+    choices_.push_back(c);
+  }
+  assert(!choices_.empty() && choices_[0].error == 0.0);
+}
+
+double FrameBudget::predictMs(int i) const {
+  const BudgetChoice& c = choices_[static_cast<std::size_t>(i)];
+  double fixed = std::numeric_limits<double>::quiet_NaN();
+  if (haveFixed_[c.fallback]) {
+    fixed = fixedMs_[c.fallback];
+  } else {
+    // Not yet run: the dearest fixed part seen (a raster fallback adds GL passes, never removes them).
+    for (int f = 0; f < kFallbackSets; ++f)
+      if (haveFixed_[f]) fixed = std::isnan(fixed) ? fixedMs_[f] : std::max(fixed, fixedMs_[f]);
+  }
+  if (std::isnan(fixed)) return fixed;
+  if (!c.rays) return fixed;
+  if (!haveRho_) return std::numeric_limits<double>::quiet_NaN();
+  const double pixels = static_cast<double>((width_ + c.rayScale - 1) / c.rayScale) *
+                        static_cast<double>((height_ + c.rayScale - 1) / c.rayScale);
+  return fixed + std::exp(logRho_ + c.work) * pixels;
+}
+
+int FrameBudget::pick(double meanMs) {
+  const int n = static_cast<int>(choices_.size());
+  std::vector<double> pred(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) pred[static_cast<std::size_t>(i)] = predictMs(i);
+  auto fits = [&](int i, double fraction) {
+    const double p = pred[static_cast<std::size_t>(i)];
+    return !std::isnan(p) && p <= fraction * targetMs_;
+  };
+  stats_.reachable = false;
+  for (int i = 0; i < n; ++i) stats_.reachable = stats_.reachable || fits(i, 1.0);
+  if (framesOnCurrent_ == 0) return current_;  // nothing measured on it yet
+  // A choice's first frame may carry the switch itself (maps, probes, buffers at a new size): it is left
+  // after one frame only when that frame ran far over.
+  const bool over = framesOnCurrent_ >= 2 ? meanMs > kOver * targetMs_ : meanMs > kFarOver * targetMs_;
+  if (over) {
+    // Over: the least wrong choice predicted to fit with margin, and cheaper than what ran over.
+    for (int i = 0; i < n; ++i) {
+      const double p = pred[static_cast<std::size_t>(i)];
+      if (i != current_ && fits(i, kFitDown) && p < meanMs) return i;
+    }
+    // None fits: the cheapest predicted, if it is clearly cheaper than this one by the model (not by a noisy
+    // frame: at an unreachable target the cheapest choice itself runs over, and must stay).
+    const double now = pred[static_cast<std::size_t>(current_)];
+    int best = current_;
+    double bestMs = std::isnan(now) ? meanMs : std::min(now, meanMs);
+    for (int i = 0; i < n; ++i) {
+      const double p = pred[static_cast<std::size_t>(i)];
+      if (!std::isnan(p) && p < kClearlyCheaper * bestMs) best = i, bestMs = p / kClearlyCheaper;
+    }
+    return best;
+  }
+  if (framesOnCurrent_ >= kQuietFrames && meanMs <= kQuietUp * targetMs_) {
+    // Headroom: the least wrong choice better than this one that fits with the wider margin.
+    for (int i = 0; i < current_; ++i)
+      if (fits(i, kFitUp)) return i;
+  }
+  return current_;
+}
+
+FrameSettings FrameBudget::choose(const FrameSettings& requested, const SceneFacts& facts) {
+  if (requested.targetMs <= 0.0f || requested.reference) {
+    stats_ = {};
+    return requested;
+  }
+  // The ladder belongs to the requested settings (all but size and target): any other change makes a new one.
+  FrameSettings key = requested;
+  key.width = key.height = 0;
+  key.targetMs = 0;
+  if (!haveLadder_ || !(key == requested_)) {
+    reset();
+    requested_ = key;
+    makeLadder(requested, facts);
+    haveLadder_ = true;
+  }
+  width_ = requested.width;
+  height_ = requested.height;
+  targetMs_ = requested.targetMs;
+  const int next = pick(meanMs_);
+  if (next != current_) {
+    current_ = next;
+    framesOnCurrent_ = 0;
+    meanMs_ = 0;
+  }
+  const BudgetChoice& c = choices_[static_cast<std::size_t>(current_)];
+  FrameSettings s = c.settings;
+  s.width = requested.width;
+  s.height = requested.height;
+  s.targetMs = requested.targetMs;
+  stats_.active = true;
+  stats_.step = current_;
+  stats_.steps = static_cast<int>(choices_.size());
+  stats_.rayScale = s.rayScale;
+  stats_.maxDepth = s.maxDepth;
+  stats_.shadows = s.shadows;
+  stats_.reflections = s.reflections;
+  stats_.refraction = s.refraction;
+  stats_.targetMs = targetMs_;
+  const double p = predictMs(current_);
+  stats_.predictedMs = std::isnan(p) ? 0.0 : p;
+  stats_.expectedError = c.error;
+  return s;
+}
+
+void FrameBudget::observe(const FrameStats& frame) {
+  if (!stats_.active || !haveLadder_) return;
+  // A frame that compiled shaders or failed says nothing about the steady cost.
+  if (!frame.error.empty() || frame.shaderCompiles > 0) return;
+  BudgetChoice& c = choices_[static_cast<std::size_t>(current_)];
+  const double total = frame.totalMs;
+  const double rayMs = frame.readbackMs + frame.raysMs + frame.uploadMs;
+  const double fixed = std::max(total - rayMs, 0.0);
+  // The fixed part: every frame teaches it, reused ones too (they skip only the rays).
+  double& f = fixedMs_[c.fallback];
+  f = haveFixed_[c.fallback] ? 0.7 * f + 0.3 * fixed : fixed;
+  haveFixed_[c.fallback] = true;
+  if (c.rays && !frame.raysReused && rayMs > 0) {
+    const double pixels = static_cast<double>(std::max(frame.rayWidth, 1)) * std::max(frame.rayHeight, 1);
+    const double measured = std::log(rayMs / pixels);
+    if (!haveRho_) {
+      logRho_ = measured - c.work;  // the first frame anchors the scale of every choice's work
+      haveRho_ = true;
+    } else if (c.framesRun < kLearnFrames) {
+      const double delta = measured - logRho_ - c.work;
+      c.work += c.framesRun == 0 ? delta : 0.5 * delta;
+    } else {
+      logRho_ += 0.3 * (measured - logRho_ - c.work);  // the scene's drift moves every choice alike
+    }
+    ++c.framesRun;
+  }
+  // The smoothed frame time of the current choice decides when to move (reused frames count: they are
+  // what the player gets).
+  meanMs_ = framesOnCurrent_ == 0 ? total : 0.5 * meanMs_ + 0.5 * total;
+  ++framesOnCurrent_;
+}
+
+}  // namespace tandem

@@ -1,0 +1,85 @@
+#pragma once
+// The frame-time budget (FrameSettings::targetMs, docs/budget.md): each frame, the choice of ray-pass scale,
+// recursion depth and raster fallbacks that is expected to be the least wrong among those predicted to fit
+// the target. Pure logic (no GL, no Embree, no clock): the Renderer feeds it each frame's FrameStats, the
+// unit tests feed it synthetic costs.
+//
+// Choices: the requested settings, then every combination of a coarser ray grid (1/2, 1/4), a depth cap
+// (2, 1) and a raster fallback for any set of the ray-traced effects, less those that change nothing the
+// frame would do for this scene. Each has an expected error (the error table, measured
+// by tandem-bench --sweep against the reference) and a predicted cost:
+//   cost = fixed[fallback] + rayMsPerPixel · rayGridPixels · exp(work[choice])
+// fixed = every stage but readback, rays and upload (learned per set of fallbacks); rayMsPerPixel follows
+// the scene from frame to frame; work starts from a prior and is learned the first frames a choice runs.
+// Hysteresis: a choice is left at once when its frames run over 1.05 × target; a better one is taken only
+// after a quiet spell, and only when predicted to fit in 0.85 × target — so a choice that ran over is not
+// taken again until the scene got cheaper by that margin.
+#include <cstdint>
+#include <vector>
+
+#include "render/FramePlan.h"
+#include "tandem/FrameStats.h"
+#include "tandem/Settings.h"
+
+namespace tandem {
+
+/// The expected error of each knob, against the reference (mean FLIP over the bench's scenes, measured at
+/// hybrid-full with the one knob changed). tandem-bench --sweep prints this table next to what it measured.
+struct BudgetErrorTable {
+  double rayScale2 = 0, rayScale4 = 0;      // the ray grid at 1/2, 1/4 of the frame
+  double depth2 = 0, depth1 = 0;            // recursion capped at 2, 1 bounces (vs 3 or more)
+  double refractionRaster = 0;              // refraction by probes instead of rays
+  double reflectionsRaster = 0;             // reflections by probes instead of rays
+  double shadowsRaster = 0;                 // shadow maps instead of shadow rays
+};
+const BudgetErrorTable& budgetErrorTable();
+
+/// BudgetChoice::fallback: which ray-traced effects this choice draws by raster instead.
+inline constexpr int kRefractionRaster = 1, kReflectionsRaster = 2, kShadowsRaster = 4, kFallbackSets = 8;
+
+struct BudgetChoice {
+  FrameSettings settings;   // the requested settings with this choice's knobs
+  int rayScale = 1, depthCap = 0;
+  int fallback = 0;          // a set of k*Raster bits
+  double error = 0;          // expected FLIP over the requested settings' own
+  bool rays = false;         // the plan has a ray pass
+  double work = 0;           // log of the ray cost per ray-grid pixel, relative (learned)
+  int framesRun = 0;         // clean frames this choice has run since the ladder was made
+};
+
+class FrameBudget {
+ public:
+  /// The settings for this frame. `requested` is resolved; targetMs 0 (or a reference frame) returns it
+  /// as it is and leaves the budget idle.
+  FrameSettings choose(const FrameSettings& requested, const SceneFacts& facts);
+  /// What the frame drawn with choose()'s last answer cost.
+  void observe(const FrameStats& frame);
+  /// A new scene: what was learned belonged to the old one.
+  void reset();
+  /// The last choice, for FrameStats.
+  const BudgetStats& stats() const { return stats_; }
+  const std::vector<BudgetChoice>& choices() const { return choices_; }
+  int current() const { return current_; }
+  /// Predicted frame ms of choice i (NaN before anything was measured).
+  double predictMs(int i) const;
+
+ private:
+  void makeLadder(const FrameSettings& requested, const SceneFacts& facts);
+  int pick(double meanMs);
+
+  FrameSettings requested_;  // what the ladder was made for (size and target ignored)
+  bool haveLadder_ = false;
+  std::vector<BudgetChoice> choices_;
+  int current_ = 0;
+  int framesOnCurrent_ = 0;  // clean frames on current_ since it was chosen
+  int width_ = 0, height_ = 0;
+  double targetMs_ = 0;
+  double meanMs_ = 0;        // smoothed frame ms of current_ (clean frames only)
+  bool haveRho_ = false;
+  double logRho_ = 0;        // log ms per ray-grid pixel at work 0
+  double fixedMs_[kFallbackSets]{};  // per set of fallbacks
+  bool haveFixed_[kFallbackSets]{};
+  BudgetStats stats_;
+};
+
+}  // namespace tandem

@@ -1,0 +1,101 @@
+// The frame-time budget in the Renderer (FrameSettings::targetMs): it only chooses settings, so a budgeted
+// frame must be, bit for bit, the frame those settings draw without a budget — the one FrameStats::budget
+// reports. The decisions themselves are tested against a simulated machine (tests/unit/FrameBudgetTest.cpp);
+// no test here depends on how fast this machine is, beyond a target no machine can meet.
+#include <gtest/gtest.h>
+
+#include "GlTestUtil.h"
+#include "tandem/SceneFile.h"
+
+namespace tandem {
+namespace {
+
+FrameSettings small(float targetMs) {
+  FrameSettings s = *presetSettings("hybrid-full");
+  s.width = 320;
+  s.height = 180;
+  s.targetMs = targetMs;
+  s.reuseRays = false;  // every frame traces, so every frame is measured
+  return s;
+}
+
+Scene whitted() {
+  auto s = loadDefaultScene();
+  EXPECT_TRUE(s) << s.error().message;
+  return std::move(*s);
+}
+
+TEST(FrameBudgetGL, AGenerousBudgetDrawsTheRequestedFrame) {
+  TD_REQUIRE_GL_CONTEXT();
+  const Scene scene = whitted();
+  auto plain = gltest::makeRenderer(*glContext_);
+  auto budgeted = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(plain && budgeted);
+  ASSERT_TRUE(plain->setScene(scene).ok());
+  ASSERT_TRUE(budgeted->setScene(scene).ok());
+  const FrameStats p = plain->render(scene.camera, small(0.0f));
+  EXPECT_FALSE(p.budget.active);
+  EXPECT_EQ(describeBudget(p.budget), "");
+  FrameStats b;
+  for (int i = 0; i < 4; ++i) b = budgeted->render(scene.camera, small(1e4f));  // 10 s a frame: always fits
+  EXPECT_TRUE(b.budget.active);
+  EXPECT_EQ(b.budget.step, 0);
+  EXPECT_GT(b.budget.steps, 10);
+  EXPECT_TRUE(b.budget.reachable);
+  EXPECT_GT(b.budget.predictedMs, 0.0);
+  EXPECT_EQ(describeBudget(b.budget), "as requested");
+  EXPECT_EQ(plain->readImage().rgba, budgeted->readImage().rgba);
+}
+
+TEST(FrameBudgetGL, AnOutOfReachTargetDrawsExactlyTheChoiceItReports) {
+  TD_REQUIRE_GL_CONTEXT();
+  const Scene scene = whitted();
+  auto budgeted = gltest::makeRenderer(*glContext_);
+  auto plain = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(budgeted && plain);
+  ASSERT_TRUE(budgeted->setScene(scene).ok());
+  ASSERT_TRUE(plain->setScene(scene).ok());
+  // 0.01 ms: no frame fits, so the budget walks down to its cheapest choice and says the target is out of reach.
+  FrameStats b;
+  int changes = 0, lastStep = 0;
+  for (int i = 0; i < 8; ++i) {
+    b = budgeted->render(scene.camera, small(0.01f));
+    ASSERT_TRUE(b.error.empty()) << b.error;
+    changes += b.budget.step != lastStep;
+    lastStep = b.budget.step;
+  }
+  EXPECT_GT(b.budget.step, 0);
+  EXPECT_FALSE(b.budget.reachable);
+  EXPECT_LE(changes, 3) << "the cheapest choice is found in a few moves";
+  // The reported choice, drawn without a budget by another renderer: the same frame to the bit.
+  FrameSettings chosen = small(0.0f);
+  chosen.rayScale = b.budget.rayScale;
+  chosen.maxDepth = b.budget.maxDepth;
+  chosen.shadows = b.budget.shadows;
+  chosen.reflections = b.budget.reflections;
+  chosen.refraction = b.budget.refraction;
+  const FrameStats p = plain->render(scene.camera, chosen);
+  EXPECT_EQ(p.rays.total(), b.rays.total());
+  EXPECT_EQ(plain->readImage().rgba, budgeted->readImage().rgba) << describeBudget(b.budget);
+  // And it is not the requested frame: something was given up.
+  const FrameStats full = plain->render(scene.camera, small(0.0f));
+  EXPECT_GT(full.rays.total(), b.rays.total());
+}
+
+TEST(FrameBudgetGL, ANewSceneStartsFromTheRequest) {
+  TD_REQUIRE_GL_CONTEXT();
+  const Scene scene = whitted();
+  auto r = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(r);
+  ASSERT_TRUE(r->setScene(scene).ok());
+  FrameStats b;
+  for (int i = 0; i < 6; ++i) b = r->render(scene.camera, small(0.01f));
+  ASSERT_GT(b.budget.step, 0);
+  ASSERT_TRUE(r->setScene(scene).ok());  // what was learned belonged to the old scene
+  b = r->render(scene.camera, small(0.01f));
+  EXPECT_EQ(b.budget.step, 0);
+  EXPECT_EQ(b.budget.predictedMs, 0.0);
+}
+
+}  // namespace
+}  // namespace tandem

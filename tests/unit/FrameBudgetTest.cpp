@@ -1,0 +1,289 @@
+// The frame-time budget (render/FrameBudget.h) against a simulated machine: each frame's cost comes from
+// a model whose ray costs differ from the budget's priors (so it has to learn them), with noise, load steps
+// and targets it cannot reach. No clock is read: these check the decisions, tandem-bench --budget the times.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <set>
+
+#include "render/FrameBudget.h"
+
+namespace tandem {
+namespace {
+
+SceneFacts everything() {
+  SceneFacts f;
+  f.shadowLight = f.reflectiveWeighted = f.reflectiveClassic = f.transmissive = true;
+  return f;
+}
+
+FrameSettings full(float targetMs) {
+  FrameSettings s = *presetSettings("hybrid-full");
+  s.width = 640;
+  s.height = 360;
+  s.targetMs = targetMs;
+  return s.resolved();
+}
+
+/// The simulated machine: what a frame drawn with `s` costs. Its ray cost per pixel differs from the
+/// budget's priors on purpose (depth matters more, upsampling less).
+struct Machine {
+  double load = 1.0;         // scales the ray cost: the scene getting busier
+  double noise = 0.05;       // ± fraction, deterministic
+  std::uint32_t seed = 12345;
+  double next() {
+    seed = seed * 1664525u + 1013904223u;
+    return (static_cast<double>(seed >> 8) / static_cast<double>(1u << 24)) * 2.0 - 1.0;
+  }
+  double rayMs(const FrameSettings& s) const {
+    const double depth = s.maxDepth >= 3 ? 1.0 : s.maxDepth == 2 ? 0.6 : 0.4;
+    double effects = 0.2;  // primary hits
+    if (s.shadows == EffectMode::Ray) effects += 0.3;
+    if (s.reflections == EffectMode::Ray) effects += 0.35 * depth;
+    if (s.refraction == EffectMode::Ray) effects += 0.3 * depth;
+    if (s.shadows != EffectMode::Ray && s.reflections != EffectMode::Ray && s.refraction != EffectMode::Ray)
+      return 0.0;
+    const double pixels = (640.0 / s.rayScale) * (360.0 / s.rayScale);
+    return load * effects * pixels * 4e-4 * (s.rayScale == 4 ? 1.2 : 1.0);  // hybrid-full ≈ 108 ms
+  }
+  double fixedMs(const FrameSettings& s) const {
+    double ms = 20.0;
+    if (s.refraction == EffectMode::Raster || s.reflections == EffectMode::Raster) ms += 6.0;  // probes
+    if (s.shadows == EffectMode::Raster) ms += 3.0;
+    return ms;
+  }
+  double trueMs(const FrameSettings& s) const { return fixedMs(s) + rayMs(s); }
+  FrameStats frame(const FrameSettings& s) {
+    FrameStats f;
+    const double ray = rayMs(s) * (1.0 + noise * next());
+    const double fixed = fixedMs(s) * (1.0 + noise * next());
+    f.raysMs = ray * 0.9;
+    f.readbackMs = ray * 0.1;
+    f.rasterMs = fixed;
+    f.totalMs = ray + fixed;
+    f.rayWidth = ray > 0 ? (s.width + s.rayScale - 1) / s.rayScale : 0;
+    f.rayHeight = ray > 0 ? (s.height + s.rayScale - 1) / s.rayScale : 0;
+    return f;
+  }
+};
+
+struct History {
+  std::vector<int> steps;
+  std::vector<double> ms;
+  int switches(std::size_t from = 0) const {
+    int n = 0;
+    for (std::size_t i = std::max<std::size_t>(from, 1); i < steps.size(); ++i) n += steps[i] != steps[i - 1];
+    return n;
+  }
+};
+
+History play(FrameBudget& b, Machine& m, const FrameSettings& requested, int frames, History run = {}) {
+  for (int i = 0; i < frames; ++i) {
+    const FrameSettings s = b.choose(requested, everything());
+    FrameStats f = m.frame(s);
+    f.budget = b.stats();
+    b.observe(f);
+    run.steps.push_back(b.current());
+    run.ms.push_back(f.totalMs);
+  }
+  return run;
+}
+
+/// The least wrong choice whose true cost fits `fraction` of the target.
+int bestFitting(const FrameBudget& b, const Machine& m, double targetMs, double fraction) {
+  for (std::size_t i = 0; i < b.choices().size(); ++i)
+    if (m.trueMs(b.choices()[i].settings) <= fraction * targetMs) return static_cast<int>(i);
+  return -1;
+}
+
+TEST(FrameBudget, NoTargetDrawsTheRequestedSettings) {
+  FrameBudget b;
+  const FrameSettings r = full(0.0f);
+  EXPECT_EQ(b.choose(r, everything()), r);
+  EXPECT_FALSE(b.stats().active);
+  FrameSettings ref = full(10.0f);
+  ref.reference = true;  // the reference frame is never cut down
+  EXPECT_EQ(b.choose(ref, everything()), ref);
+  EXPECT_FALSE(b.stats().active);
+}
+
+TEST(FrameBudget, LadderStartsAtTheRequestAndOrdersByError) {
+  FrameBudget b;
+  const FrameSettings r = full(50.0f);
+  EXPECT_EQ(b.choose(r, everything()), r);  // nothing measured yet: the request itself
+  const auto& c = b.choices();
+  ASSERT_GT(c.size(), 10u);
+  EXPECT_EQ(c[0].error, 0.0);
+  for (std::size_t i = 1; i < c.size(); ++i) {
+    EXPECT_GE(c[i].error, c[i - 1].error) << i;
+    EXPECT_GT(c[i].error, 0.0) << i;
+  }
+  // Every choice is a different frame: no two plans alike.
+  for (std::size_t i = 0; i < c.size(); ++i)
+    for (std::size_t j = i + 1; j < c.size(); ++j)
+      EXPECT_FALSE(c[i].settings == c[j].settings) << i << " " << j;
+  // The cheapest knob set is there: every effect by raster (no ray pass).
+  bool noRays = false;
+  for (const BudgetChoice& x : c) noRays = noRays || !x.rays;
+  EXPECT_TRUE(noRays);
+}
+
+TEST(FrameBudget, ChoicesThatChangeNothingAreDropped) {
+  // No transmissive material: a refraction fallback changes no frame, so it is not a choice of its own.
+  SceneFacts opaque = everything();
+  opaque.transmissive = false;
+  FrameBudget a, b;
+  (void)a.choose(full(50.0f), everything());
+  (void)b.choose(full(50.0f), opaque);
+  EXPECT_LT(b.choices().size(), a.choices().size());
+  for (const BudgetChoice& x : b.choices())
+    EXPECT_EQ(x.fallback & kRefractionRaster, 0) << "a refraction fallback with no glass";
+  // Already at 1/4 and depth 1: only fallbacks remain, one per set of effects.
+  FrameSettings coarse = full(50.0f);
+  coarse.rayScale = 4;
+  coarse.maxDepth = 1;
+  FrameBudget c;
+  (void)c.choose(coarse, everything());
+  EXPECT_EQ(c.choices().size(), static_cast<std::size_t>(kFallbackSets));
+}
+
+TEST(FrameBudget, GenerousTargetKeepsTheRequest) {
+  FrameBudget b;
+  Machine m;
+  const History run = play(b, m, full(1000.0f), 200);
+  EXPECT_EQ(run.switches(), 0);
+  EXPECT_EQ(b.current(), 0);
+  EXPECT_TRUE(b.stats().reachable);
+  EXPECT_EQ(describeBudget(b.stats()), "as requested");
+}
+
+TEST(FrameBudget, ConvergesToTheLeastWrongChoiceThatFitsAndStays) {
+  for (double target : {33.0, 45.0, 60.0, 80.0, 110.0}) {
+    SCOPED_TRACE(target);
+    FrameBudget b;
+    Machine m;
+    const FrameSettings r = full(static_cast<float>(target));
+    const History run = play(b, m, r, 300);
+    // Settled within 40 frames, and then it holds: at most one more change, frames within 10 % of the target.
+    EXPECT_LE(run.switches(40), 1);
+    int within = 0;
+    for (std::size_t i = 40; i < run.ms.size(); ++i) within += run.ms[i] <= 1.1 * target;
+    EXPECT_GE(within, static_cast<int>(0.95 * static_cast<double>(run.ms.size() - 40)));
+    // And it does not leave much image on the table: nothing less wrong fits in 0.8 × target.
+    const int best = bestFitting(b, m, target, 0.8);
+    ASSERT_GE(best, 0);
+    EXPECT_LE(b.current(), best) << "settled on " << describeBudget(b.stats());
+    EXPECT_LE(m.trueMs(b.choices()[static_cast<std::size_t>(b.current())].settings), 1.05 * target);
+    EXPECT_TRUE(b.stats().reachable);
+    // The model learned every choice it ran: its predictions match the machine (the priors are 20–60 % off).
+    for (std::size_t i = 0; i < b.choices().size(); ++i) {
+      if (b.choices()[i].framesRun == 0) continue;
+      const double truth = m.trueMs(b.choices()[i].settings);
+      EXPECT_NEAR(b.predictMs(static_cast<int>(i)), truth, 0.12 * truth) << "choice " << i;
+    }
+  }
+}
+
+TEST(FrameBudget, FollowsALoadStepDownAndBackUp) {
+  FrameBudget b;
+  Machine m;
+  const double target = 60.0;
+  const FrameSettings r = full(static_cast<float>(target));
+  History run = play(b, m, r, 150);
+  const int calm = b.current();
+  m.load = 2.0;  // the scene doubles its ray work
+  run = play(b, m, r, 150, run);
+  // Down within 5 frames: from then on frames fit again.
+  int over = 0;
+  for (std::size_t i = 155; i < 300; ++i) over += run.ms[i] > 1.1 * target;
+  EXPECT_LE(over, 7);
+  EXPECT_GT(b.current(), calm);
+  m.load = 1.0;
+  run = play(b, m, r, 150, run);
+  // Back up once there is headroom (after the quiet spell), to where it was.
+  EXPECT_EQ(b.current(), calm);
+  EXPECT_LE(run.switches(340), 0) << "still moving 40 frames after the load dropped";
+}
+
+TEST(FrameBudget, NeverOscillatesAtTheEdge) {
+  // A target just at the true cost of a choice, with ±10 % noise: that choice runs over and under the target
+  // from frame to frame, and its prediction from the frames of its neighbours wobbles around the target.
+  FrameBudget probe;
+  Machine m;
+  (void)probe.choose(full(60.0f), everything());
+  int tried = 0;
+  for (std::size_t i = 1; i < probe.choices().size(); ++i) {
+    const double edge = m.trueMs(probe.choices()[i].settings);
+    if (edge < 25.0) continue;
+    SCOPED_TRACE(i);
+    for (double at : {0.97, 1.0, 1.03}) {
+      FrameBudget b;
+      Machine mm;
+      mm.noise = 0.1;
+      const History run = play(b, mm, full(static_cast<float>(at * edge)), 400);
+      EXPECT_LE(run.switches(40), 2) << "target " << at << " x the choice's cost";
+      if (run.switches(40) > 2) {
+        for (std::size_t k = 0; k < run.steps.size(); ++k)
+          if (k == 0 || run.steps[k] != run.steps[k - 1])
+            std::printf("frame %zu -> %d (%.1f ms, true %.1f, target %.1f)\n", k, run.steps[k], run.ms[k],
+                        m.trueMs(b.choices()[static_cast<std::size_t>(run.steps[k])].settings), at * edge);
+      }
+      ++tried;
+    }
+  }
+  EXPECT_GT(tried, 30);
+}
+
+TEST(FrameBudget, UnreachableTargetTakesTheCheapestAndSaysSo) {
+  FrameBudget b;
+  Machine m;
+  (void)play(b, m, full(5.0f), 60);  // the fixed part alone is 20 ms
+  EXPECT_FALSE(b.stats().reachable);
+  // The cheapest choice there is (here 1/4 d1 with every effect by rays: raster fallbacks add probes).
+  double cheapest = 1e9;
+  for (const BudgetChoice& c : b.choices()) cheapest = std::min(cheapest, m.trueMs(c.settings));
+  EXPECT_LE(m.trueMs(b.choices()[static_cast<std::size_t>(b.current())].settings), 1.05 * cheapest)
+      << describeBudget(b.stats());
+}
+
+TEST(FrameBudget, NewRequestOrSceneStartsOver) {
+  FrameBudget b;
+  Machine m;
+  (void)play(b, m, full(40.0f), 60);
+  ASSERT_GT(b.current(), 0);
+  FrameSettings other = full(40.0f);
+  other.maxDepth = 3;
+  (void)b.choose(other, everything());
+  EXPECT_EQ(b.current(), 0);  // a new ladder starts at the request
+  (void)play(b, m, other, 60);
+  ASSERT_GT(b.current(), 0);
+  // A new size or target keeps what was learned.
+  FrameSettings bigger = other;
+  bigger.targetMs = 45.0f;
+  (void)b.choose(bigger, everything());
+  EXPECT_GT(b.current(), 0);
+  b.reset();
+  (void)b.choose(other, everything());
+  EXPECT_EQ(b.current(), 0);
+}
+
+TEST(FrameBudget, IgnoresFramesThatCompiledShadersOrFailed) {
+  FrameBudget b;
+  Machine m;
+  const FrameSettings r = full(1000.0f);
+  for (int i = 0; i < 20; ++i) {
+    (void)b.choose(r, everything());
+    FrameStats f = m.frame(r);
+    f.totalMs = 5000.0;  // a shader compile stall
+    f.shaderCompiles = 1;
+    b.observe(f);
+  }
+  (void)b.choose(r, everything());
+  EXPECT_EQ(b.current(), 0);
+  EXPECT_EQ(b.stats().predictedMs, 0.0);  // nothing measured
+}
+
+}  // namespace
+}  // namespace tandem
