@@ -45,6 +45,10 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
                      std::string(toString(d.debugView)) + ")");
   app.add_option("--tonemap", o.toneMap, "none | reinhard | aces (default " + std::string(toString(d.toneMap)) + ")");
   app.add_option("--exposure", o.exposure, "Linear exposure multiplier, finite and > 0 (default " + number(d.exposure) + ")");
+  app.add_option("--target-fps", o.targetFps,
+                 "Frame-time budget: each frame drawn with the settings above or the cheaper choice (coarser ray grid, "
+                 "capped depth, raster fallbacks) expected to be least wrong within 1000/N ms (FrameSettings::targetMs, "
+                 "docs/budget.md); 0.1..1000, not with the reference preset (default: none)");
   app.add_flag("--classic-whitted", o.classicWhitted,
                "I = local + kr·S + kt·T (default: the Fresnel-weighted sum, docs/shading.md)");
   app.add_flag("--schlick", o.schlick, "Schlick's Fresnel approximation (default: the exact dielectric form)");
@@ -120,6 +124,11 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
       return Error{"--exposure: must be a finite number > 0, got " + number(*o.exposure)};
     s.exposure = *o.exposure;
   }
+  if (o.targetFps) {
+    if (!std::isfinite(*o.targetFps) || !(*o.targetFps >= 0.1f) || *o.targetFps > 1000.0f)
+      return Error{"--target-fps: must be 0.1..1000 frames per second, got " + number(*o.targetFps)};
+    s.targetMs = 1000.0f / *o.targetFps;
+  }
   if (o.classicWhitted) s.fresnelWeighted = false;
   if (o.schlick) s.fresnel = FresnelMode::Schlick;
   // Flags the chosen mode would ignore: only the reference frame takes several samples per pixel, and it
@@ -130,6 +139,9 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
   if (o.scale && s.reference)
     return Error{"--scale: the reference preset traces every pixel at full resolution, got --scale " +
                  std::to_string(*o.scale)};
+  if (o.targetFps && s.reference)
+    return Error{"--target-fps: the reference frame is never cut down to a budget, got --target-fps " +
+                 number(*o.targetFps)};
   return s.resolved();
 }
 

@@ -28,6 +28,7 @@ struct FrameOptions {
   std::optional<int> scale;
   std::optional<int> spp;
   std::optional<float> exposure;
+  std::optional<float> targetFps;  // FrameSettings::targetMs = 1000 / fps
   bool classicWhitted = false;
   bool schlick = false;
 };

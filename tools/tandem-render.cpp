@@ -200,6 +200,15 @@ int main(int argc, char** argv) {
     }
     if (reused > 0)
       std::printf("  %d of %d frame(s) reused the frame before's rays (--reuse on: nothing moved)\n", reused, frames);
+    if (last.budget.active) {
+      int changes = 0;
+      for (std::size_t i = 1; i < stats.size(); ++i) changes += stats[i].budget.step != stats[i - 1].budget.step;
+      std::printf("  budget %.1f ms: last frame step %d of %d (%s), predicted %.1f ms, expected FLIP +%.4f; "
+                  "%d change(s) over the run%s\n",
+                  last.budget.targetMs, last.budget.step, last.budget.steps, describeBudget(last.budget).c_str(),
+                  last.budget.predictedMs, last.budget.expectedError, changes,
+                  last.budget.reachable ? "" : "; the target is out of reach (cheapest choice predicted over it)");
+    }
   }
   if (!statsPath.empty()) {
     j["scene"] = sceneName;
@@ -232,6 +241,14 @@ int main(int argc, char** argv) {
     }
     j["reuse"] = settings.reuseRays;
     j["frames_reusing_rays"] = reused;
+    if (last.budget.active) {
+      nlohmann::json steps = nlohmann::json::array();
+      for (const FrameStats& s : stats) steps.push_back(s.budget.step);
+      j["budget"] = {{"target_ms", last.budget.targetMs},       {"steps", last.budget.steps},
+                     {"step", last.budget.step},                {"choice", describeBudget(last.budget)},
+                     {"predicted_ms", last.budget.predictedMs}, {"expected_flip", last.budget.expectedError},
+                     {"reachable", last.budget.reachable},      {"step_per_frame", steps}};
+    }
     std::ofstream f(statsPath);
     if (!f) return fail("--stats: cannot write " + statsPath);
     f << j.dump(2) << "\n";

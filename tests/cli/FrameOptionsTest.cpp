@@ -57,6 +57,10 @@ TEST(FrameOptions, OutOfRangeValuesAreErrorsNamingTheFlagAndValue) {
       {{"--exposure", "-2"}, "--exposure: must be a finite number > 0, got -2"},
       {{"--exposure", "inf"}, "--exposure: must be a finite number > 0, got inf"},
       {{"--exposure", "nan"}, "--exposure: must be a finite number > 0"},
+      {{"--target-fps", "0"}, "--target-fps: must be 0.1..1000 frames per second, got 0"},
+      {{"--target-fps", "1001"}, "--target-fps: must be 0.1..1000 frames per second, got 1001"},
+      {{"--target-fps", "nan"}, "--target-fps: must be 0.1..1000 frames per second"},
+      {{"--preset", "reference", "--target-fps", "30"}, "--target-fps: the reference frame is never cut down"},
       {{"--size", "0x0"}, "--size: expected WxH"},
       {{"--preset", ""}, "--preset: unknown preset ''"},
       {{"--shadows", ""}, "--shadows: expected off, raster, ray or hybrid, got ''"},
@@ -94,6 +98,15 @@ TEST(FrameOptions, ScaleWithTheReferencePresetIsAnError) {
   auto ok = resolveArgs({"--preset", "hybrid-full", "--scale", "4"});
   ASSERT_TRUE(ok) << ok.error().message;
   EXPECT_EQ(ok->rayScale, 4);
+}
+
+TEST(FrameOptions, TargetFpsSetsTheFrameBudget) {
+  auto r = resolveArgs({"--preset", "hybrid-full", "--target-fps", "20"});
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_FLOAT_EQ(r->targetMs, 50.0f);
+  auto none = resolveArgs({"--preset", "hybrid-full"});
+  ASSERT_TRUE(none) << none.error().message;
+  EXPECT_EQ(none->targetMs, 0.0f);
 }
 
 TEST(FrameOptions, ValidValuesAtTheEdgesAreTaken) {

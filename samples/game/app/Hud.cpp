@@ -95,6 +95,16 @@ void Hud::draw(const HudInfo& info) {
       ImGui::Text("view %s [9]  render %d%% [0]", std::string(tandem::toString(s.debugView)).c_str(),
                   view.renderScalePct);
       ImGui::Text("vsync %s [V]  %s [F]", view.vsync ? "on" : "off", view.fullscreen ? "fullscreen" : "windowed");
+      // The budget draws the settings above or a cheaper choice: show which, and what the model expected.
+      ImGui::Text("budget %s [B]", view.budgetName().c_str());
+      if (st.budget.active) {
+        ImGui::Text("  drawn: %s (step %d of %d)", tandem::describeBudget(st.budget).c_str(), st.budget.step,
+                    st.budget.steps);
+        ImGui::Text("  predicted %.1f ms  expected FLIP +%.4f", st.budget.predictedMs, st.budget.expectedError);
+        if (!st.budget.reachable)
+          ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "  out of reach: the cheapest choice is over %.1f ms",
+                             st.budget.targetMs);
+      }
       const glm::vec3 p = game.marblePos();
       ImGui::Text("marble %.2f %.2f  speed %.2f", static_cast<double>(p.x), static_cast<double>(p.z),
                   static_cast<double>(glm::length(game.marbleVelXZ())));

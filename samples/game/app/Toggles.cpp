@@ -1,6 +1,7 @@
 #include "Toggles.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <vector>
 
 namespace marble {
@@ -24,6 +25,7 @@ constexpr const char* kHelp[] = {
     "8                  preset: raster, hybrid-fast, hybrid-full, reference",
     "9                  debug view (final, depth, ids, normals, ray channels)",
     "0                  render scale 100 %, 50 %, 25 % of the window",
+    "B                  frame budget: off, 60, 30, 20, 15, 10 fps (the renderer picks what fits)",
     "V                  vsync on / off",
     "F / F11            fullscreen",
     "P / F12            screenshot (frame, and the window with the HUD)",
@@ -42,6 +44,18 @@ bool ViewState::applyPreset(const std::string& name) {
   settings = *p;
   preset = name;
   return true;
+}
+
+void ViewState::setTargetFps(float fps) {
+  targetFps = fps > 0.0f ? fps : 0.0f;
+  settings.targetMs = targetFps > 0.0f ? 1000.0f / targetFps : 0.0f;
+}
+
+std::string ViewState::budgetName() const {
+  if (targetFps <= 0.0f) return "off";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g fps", static_cast<double>(targetFps));
+  return buf;
 }
 
 std::string ViewState::shadingName() const {
@@ -85,6 +99,16 @@ WindowAction ViewState::onKey(const std::string& key) {
   } else if (key == "9") {
     const int n = static_cast<int>(tandem::DebugView::Transmission) + 1;
     settings.debugView = static_cast<tandem::DebugView>((static_cast<int>(settings.debugView) + 1) % n);
+  } else if (key == "B") {
+    // off -> 60 -> 30 -> 20 -> 15 -> 10 -> off; a target set by --target-fps goes to the next lower one
+    constexpr float kSteps[] = {60.0f, 30.0f, 20.0f, 15.0f, 10.0f};
+    float next = 0.0f;
+    for (float f : kSteps)
+      if (targetFps <= 0.0f || f < targetFps) {
+        next = f;
+        break;
+      }
+    setTargetFps(next);
   } else if (key == "0") {
     renderScalePct = renderScalePct == 100 ? 50 : renderScalePct == 50 ? 25 : 100;
   } else if (key == "F1" || key == "H") {

@@ -18,6 +18,7 @@ struct ViewState {
   bool showHud = true;
   bool vsync = true;
   bool fullscreen = false;
+  float targetFps = 0.0f;          // the frame-time budget (key B); 0 = none. settings.targetMs follows it
 
   /// Applies a preset by name (size and debug view kept). False when the name is unknown.
   bool applyPreset(const std::string& name);
@@ -25,6 +26,10 @@ struct ViewState {
   WindowAction onKey(const std::string& key);
   /// "model override" shown in the HUD: the override's name or "material".
   std::string shadingName() const;
+  /// Sets the budget: settings.targetMs = 1000 / fps, or none for 0.
+  void setTargetFps(float fps);
+  /// "off" or "30 fps".
+  std::string budgetName() const;
 };
 
 /// The help overlay's lines: "KEY  what it does".

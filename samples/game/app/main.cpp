@@ -31,6 +31,7 @@
 #include "Toggles.h"
 #include "tandem/Context.h"
 #include "tandem/Image.h"
+#include "tandem/ImageMetrics.h"
 #include "tandem/Renderer.h"
 
 namespace marble {
@@ -49,6 +50,9 @@ struct Options {
   int threads = 0;
   int probesPerFrame = 2;
   std::string reuse = "on";
+  float targetFps = 0.0f;
+  std::string frameLog;
+  int errorEvery = 0;
   double dt = 1.0 / 60.0;
   bool noVsync = false;
   bool fullscreen = false;
@@ -64,6 +68,12 @@ bool parseSize(const std::string& s, int& w, int& h) {
   char x = 0, extra = 0;
   return std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) == 3 && (x == 'x' || x == 'X') && w >= 1 &&
          h >= 1 && w <= 16384 && h <= 16384;
+}
+
+std::string fpsText(float fps) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", static_cast<double>(fps));
+  return buf;
 }
 
 // ---- GLFW key codes to the names scripts use (Input.h). ----
@@ -123,6 +133,30 @@ class Session {
     return renderer_->setScene(std::move(built.scene));
   }
 
+  /// A second renderer, for --error-every: the same scene drawn with the requested settings and no budget,
+  /// to measure what the budget's choice costs the image.
+  tandem::Result<void> initTruth() {
+    auto r = tandem::Renderer::create(ctx_);
+    if (!r) return r.error();
+    truth_ = std::move(*r);
+    return truth_->setScene(renderer_->scene());
+  }
+
+  /// FLIP of the last frame against the same instant drawn as requested, without the budget.
+  tandem::Result<double> errorAgainstRequested(int w, int h) {
+    syncScene(*truth_, game_, handles_);
+    tandem::FrameSettings s = view_.settings;
+    s.width = w;
+    s.height = h;
+    s.targetMs = 0.0f;
+    s.reuseRays = false;
+    const tandem::FrameStats st = truth_->render(camera_, s);
+    if (!st.error.empty()) return tandem::Error{st.error};
+    auto f = tandem::flip(renderer_->readImage(), truth_->readImage());
+    if (!f) return f.error();
+    return f->mean;
+  }
+
   /// A key's down edge, from GLFW or the script: toggles, then the window-level actions.
   void keyDown(const std::string& key) {
     switch (view_.onKey(key)) {
@@ -176,12 +210,14 @@ class Session {
     std::ostringstream o;
     o << "preset=" << view_.preset << " shadows=" << tandem::shadowModeName(s)
       << " reflections=" << tandem::toString(s.reflections) << " refraction=" << tandem::toString(s.refraction)
-      << " shading=" << view_.shadingName() << " depth=" << s.maxDepth << " scale=" << s.rayScale;
+      << " shading=" << view_.shadingName() << " depth=" << s.maxDepth << " scale=" << s.rayScale
+      << " budget=" << (view_.targetFps > 0.0f ? fpsText(view_.targetFps) : std::string("off"));
     return o.str();
   }
 
   tandem::GlContext& ctx_;
   std::unique_ptr<tandem::Renderer> renderer_;
+  std::unique_ptr<tandem::Renderer> truth_;  // --error-every only
   Game game_;
   ViewState view_;
   CameraRig rig_;
@@ -231,16 +267,56 @@ void printTimes(const std::vector<tandem::FrameStats>& frames, const std::vector
               w, h, frames.size(), median(total), median(raster), median(rays), median(composite), median(loopMs),
               static_cast<unsigned long long>(last.rays.total()), frames[worst].totalMs, worst, compiles, shadowRays,
               shadowByMap);
+  // The budget over the run: how often a frame kept within 10 % of its target, and how often it moved.
+  std::size_t budgeted = 0, within = 0, changes = 0;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const tandem::BudgetStats& b = frames[i].budget;
+    if (!b.active) continue;
+    ++budgeted;
+    within += frames[i].totalMs <= 1.1 * b.targetMs ? 1 : 0;
+    changes += i > 0 && frames[i - 1].budget.active && frames[i - 1].budget.step != b.step ? 1 : 0;
+  }
+  if (budgeted > 0)
+    std::printf("budget: target_ms=%.2f frames=%zu within_10pct=%.3f changes=%zu last_step=%d steps=%d "
+                "reachable=%d\n",
+                last.budget.targetMs, budgeted, static_cast<double>(within) / static_cast<double>(budgeted), changes,
+                last.budget.step, last.budget.steps, last.budget.reachable ? 1 : 0);
 }
 
 // ---- Headless: fixed dt, scripted input, no wall clock in the simulation. ----
 int runHeadless(Session& s, const Options& o, int w, int h) {
   std::vector<tandem::FrameStats> stats;
   std::vector<double> loopMs;
+  std::ofstream log;
+  if (!o.frameLog.empty()) {
+    log.open(o.frameLog);
+    if (!log) return fail("--frame-log: cannot write '" + o.frameLog + "'");
+    log << "frame,total_ms,prepare_ms,raster_ms,readback_ms,rays_ms,upload_ms,composite_ms,rays,target_ms,step,steps,"
+           "choice,predicted_ms,expected_flip,flip\n";
+  }
+  if (o.errorEvery > 0)
+    if (auto r = s.initTruth(); !r) return fail(r.error().message);
   for (int f = 0; f < o.frames && !s.quit_; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
     s.step();
     stats.push_back(s.render(w, h));
+    if (log.is_open()) {
+      // After the frame's own timing: the error frame is drawn by the second renderer, outside it.
+      std::string flip;
+      if (o.errorEvery > 0 && f % o.errorEvery == 0) {
+        auto e = s.errorAgainstRequested(w, h);
+        if (!e) return fail("--error-every: " + e.error().message);
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.6f", *e);
+        flip = buf;
+      }
+      const tandem::FrameStats& st = stats.back();
+      log << f << "," << st.totalMs << "," << st.prepareMs << "," << st.rasterMs << "," << st.readbackMs << ","
+          << st.raysMs << "," << st.uploadMs << "," << st.compositeMs << "," << st.rays.total() << ","
+          << st.budget.targetMs << "," << st.budget.step << "," << st.budget.steps << ",\""
+          << tandem::describeBudget(st.budget) << "\"," << st.budget.predictedMs << "," << st.budget.expectedError << ","
+          << flip << "\n";
+    }
     if (s.wantShot_) {  // a scripted P: same files as in a window, minus the HUD copy
       s.wantShot_ = false;
       auto r = s.saveFrame(s.nextShotPath(""));
@@ -249,6 +325,7 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
     }
     loopMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
   }
+  if (log.is_open() && !log.flush()) return fail("--frame-log: cannot write '" + o.frameLog + "'");
   if (!o.capture.empty())
     if (auto r = s.saveFrame(o.capture); !r) return fail(r.error().message);
   std::printf("game: %s frames=%zu %s\n", s.game_.stateLine().c_str(), stats.size(), s.settingsLine().c_str());
@@ -465,6 +542,15 @@ int run(int argc, char** argv) {
                  "on | off: a frame where nothing moved reuses the last frame's rays (FrameSettings::reuseRays)")
       ->check(CLI::IsMember({"on", "off"}))
       ->capture_default_str();
+  app.add_option("--target-fps", o.targetFps,
+                 "Frame-time budget in frames per second, 0.1..1000 (FrameSettings::targetMs; key B cycles it)")
+      ->check(CLI::Range(0.1, 1000.0));
+  app.add_option("--frame-log", o.frameLog,
+                 "Headless: one CSV row per frame (stage times, rays, the budget's choice; tandem-bench --budget)");
+  app.add_option("--error-every", o.errorEvery,
+                 "Headless with --frame-log: every Nth frame, FLIP against the same instant drawn as requested "
+                 "without the budget (a second renderer)")
+      ->check(CLI::Range(1, 1000000));
   app.add_option("--dt", o.dt, "Fixed simulation step in seconds (default 1/60)")->check(CLI::Range(0.001, 0.1));
   app.add_flag("--no-vsync", o.noVsync, "Start with vsync off");
   app.add_flag("--fullscreen", o.fullscreen, "Start fullscreen");
@@ -479,6 +565,8 @@ int run(int argc, char** argv) {
   int w = o.headless ? 640 : 1280, h = o.headless ? 360 : 720;
   if (!o.size.empty() && !parseSize(o.size, w, h)) return fail("--size: expected WxH, got '" + o.size + "'");
   if (o.headless && o.frames < 1) return fail("--headless needs --frames N (N >= 1)");
+  if (!o.headless && !o.frameLog.empty()) return fail("--frame-log: headless runs only (add --headless)");
+  if (o.errorEvery > 0 && o.frameLog.empty()) return fail("--error-every: needs --frame-log FILE");
 
   ViewState view;
   if (!view.applyPreset(o.preset))
@@ -519,6 +607,7 @@ int run(int argc, char** argv) {
     view.settings.rayScale = o.scale;
     view.preset = "custom";
   }
+  view.setTargetFps(o.targetFps);
   view.vsync = !o.noVsync;
   view.fullscreen = o.fullscreen;
   view.showHelp = !o.headless;

@@ -9,9 +9,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -220,6 +222,53 @@ TEST(GameRun, ToggleKeysReachTheSettings) {
   EXPECT_EQ(s["shading"], "flat");
   EXPECT_EQ(s["scale"], "4");
   EXPECT_EQ(s["depth"], "3");
+  EXPECT_EQ(s["budget"], "60");
+}
+
+TEST(GameRun, BudgetLogsEachFrameAndItsErrorAgainstTheRequest) {
+  // 1000 fps is out of reach: the budget gives things up, and the log says what each frame was drawn with.
+  // Every 3rd frame is also drawn as requested by a second renderer: FLIP 0 where the budget drew the
+  // request itself (the second renderer follows the game exactly), > 0 where it gave something up.
+  const std::string log = outDir() + "/budget-log.csv";
+  Outcome r = runGame("--headless --frames 12 --size 160x90 --preset hybrid-full --target-fps 1000 --frame-log '" +
+                      log + "' --error-every 3 --script '" + src("tests/game/collect3.script") + "'");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(gameState(r.output)["budget"], "1000");
+  EXPECT_NE(r.output.find("budget: target_ms=1.00 frames=12"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("reachable=0"), std::string::npos) << r.output;
+  std::ifstream f(log);
+  std::string line;
+  ASSERT_TRUE(std::getline(f, line));
+  EXPECT_EQ(line.rfind("frame,total_ms,", 0), 0u) << line;
+  int rows = 0, exact = 0, cut = 0;
+  while (std::getline(f, line)) {
+    std::vector<std::string> cells;
+    std::string cell;
+    bool quoted = false;
+    for (char ch : line) {
+      if (ch == '"') quoted = !quoted;
+      else if (ch == ',' && !quoted) cells.push_back(cell), cell.clear();
+      else cell += ch;
+    }
+    cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 16u) << line;
+    EXPECT_EQ(std::stoi(cells[0]), rows);
+    EXPECT_EQ(cells[15].empty(), rows % 3 != 0) << line;
+    if (!cells[15].empty()) {
+      const double flip = std::stod(cells[15]);
+      if (cells[10] == "0") {
+        EXPECT_EQ(flip, 0.0) << "drawn as requested, yet different: " << line;
+        ++exact;
+      } else {
+        EXPECT_GT(flip, 0.0) << "drawn with less, yet identical: " << line;
+        ++cut;
+      }
+    }
+    ++rows;
+  }
+  EXPECT_EQ(rows, 12);
+  EXPECT_GE(exact, 1);  // frame 0: nothing measured yet, the request itself
+  EXPECT_GE(cut, 1);
 }
 
 TEST(GameRun, BadInputFailsWithAMessage) {
@@ -239,6 +288,13 @@ TEST(GameRun, BadInputFailsWithAMessage) {
   r = runGame("--headless");
   EXPECT_NE(r.exitCode, 0);
   EXPECT_NE(r.output.find("--frames"), std::string::npos) << r.output;
+
+  r = runGame("--headless --frames 1 --error-every 2");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("--error-every: needs --frame-log"), std::string::npos) << r.output;
+  r = runGame("--headless --frames 1 --target-fps 0");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.output.find("--target-fps"), std::string::npos) << r.output;
 }
 
 TEST(GameRun, WindowUnderXvfbCapturesFrameAndHud) {
