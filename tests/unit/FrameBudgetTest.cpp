@@ -267,6 +267,15 @@ TEST(FrameBudget, NewRequestOrSceneStartsOver) {
   b.reset();
   (void)b.choose(other, everything());
   EXPECT_EQ(b.current(), 0);
+  // What the scene can show changed (the glass went opaque, setScene not called): a new ladder, without
+  // the refraction fallbacks that now change nothing.
+  (void)play(b, m, other, 60);
+  ASSERT_GT(b.current(), 0);
+  SceneFacts opaque = everything();
+  opaque.transmissive = false;
+  (void)b.choose(other, opaque);
+  EXPECT_EQ(b.current(), 0);
+  for (const BudgetChoice& x : b.choices()) EXPECT_EQ(x.fallback & kRefractionRaster, 0);
 }
 
 TEST(FrameBudget, IgnoresFramesThatCompiledShadersOrFailed) {

@@ -15,6 +15,7 @@
 #include "BenchCommon.h"
 #include "Plots.h"
 #include "core/Timer.h"
+#include "render/FrameBudget.h"
 #include "rt/RayCapture.h"
 #include "rt/RayTracerBench.h"
 #include "rt/RayTracer.h"
@@ -42,23 +43,26 @@ constexpr std::size_t kStageCount = std::size(kStages);
 
 struct Combo {
   std::string name;
-  std::string group;   // "preset" or "effect"
+  std::string group;   // "preset", "effect", "budget-knob" (one knob of the budget alone) or "budget"
   FrameSettings settings;
 };
 
 std::string modes(const FrameSettings& s) {
-  std::string m = std::string(toString(s.shadows)) + "/" + std::string(toString(s.reflections)) + "/" +
+  std::string m = std::string(shadowModeName(s)) + "/" + std::string(toString(s.reflections)) + "/" +
                   std::string(toString(s.refraction));
   if (s.reference) m = "primary by rays, " + m;
   m += " d" + std::to_string(s.maxDepth);
   if (s.rayScale > 1) m += " 1/" + std::to_string(s.rayScale);
+  if (s.targetMs > 0) m += " within " + std::to_string(static_cast<int>(std::lround(s.targetMs))) + " ms";
   return m;
 }
 
 /// The combinations: every preset (reference at 1 spp: the speed competitor, primary visibility by
 /// rays), and per effect the two isolating pairs — only that effect ray traced over the raster preset,
-/// and only that effect rasterized under hybrid-full — plus everything off and hybrid-full at half
-/// resolution. 12 in all: enough to draw a front, few enough for 10 minutes on two cores.
+/// and only that effect rasterized under hybrid-full — plus everything off, hybrid-full at half
+/// resolution, the budget's other knobs alone (1/4 grid, depth 2 and 1) and hybrid shadows. 16 in all, and
+/// two budget runs after them (kBudgetFractions): enough to draw a front and measure the budget's error
+/// table, few enough for about 15 minutes on two cores.
 std::vector<Combo> makeCombos(const FrameSettings& base) {
   std::vector<Combo> c;
   for (const std::string& p : presetNames()) {
@@ -92,8 +96,24 @@ std::vector<Combo> makeCombos(const FrameSettings& base) {
   FrameSettings half = full;
   half.rayScale = 2;
   c.push_back({"hybrid-full-half", "effect", half});
+  // The frame-time budget's knobs, each alone over hybrid-full (its error table, render/FrameBudget.h).
+  FrameSettings quarter = full, d2 = full, d1 = full, hybridShadows = full;
+  quarter.rayScale = 4;
+  d2.maxDepth = 2;
+  d1.maxDepth = 1;
+  c.push_back({"hybrid-full-quarter", "budget-knob", quarter});
+  c.push_back({"hybrid-full-d2", "budget-knob", d2});
+  c.push_back({"hybrid-full-d1", "budget-knob", d1});
+  // Hybrid shadows: the same image as hybrid-full, by fewer shadow rays (docs/shadows.md).
+  hybridShadows.hybridShadows = true;
+  c.push_back({"hybrid-shadows", "effect", hybridShadows});
   return c;
 }
+
+/// The budget's points: hybrid-full with a target of these fractions of its own measured frame time.
+constexpr double kBudgetFractions[] = {0.75, 0.5};
+/// Frames a budget run gets to settle before it is measured (the model learns from the first ones).
+constexpr int kBudgetSettleFrames = 30;
 
 struct Row {
   std::string scene;
@@ -108,6 +128,7 @@ struct Row {
   double flipMean = 0, psnrDb = 0, ssim = 0;
   int threads = 0;
   bool pareto = false;
+  std::string budgetChoice;  // budget rows: what the last measured frame was drawn with
 };
 
 struct Ceiling {
@@ -275,7 +296,8 @@ void writeSweepMarkdown(const std::string& path, const std::vector<Row>& rows, c
            "| composite | rays/frame P/S/R/T | Mrays/s | peak RSS MiB | FLIP | PSNR dB | SSIM | front |\n";
       f << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     }
-    f << "| " << r.combo.name << " | " << modes(r.combo.settings) << " | " << fmt("%.1f", r.total.median) << " ["
+    f << "| " << r.combo.name << " | " << modes(r.combo.settings)
+      << (r.budgetChoice.empty() ? std::string() : " → " + r.budgetChoice) << " | " << fmt("%.1f", r.total.median) << " ["
       << fmt("%.1f", r.total.min) << "–" << fmt("%.1f", r.total.max) << "]";
     for (const Stat& st : r.stage) f << " | " << fmt("%.1f", st.median);
     f << " | " << r.rays.primary << "/" << r.rays.shadow << "/" << r.rays.reflection << "/" << r.rays.refraction
@@ -312,6 +334,45 @@ void writeCeilingCsv(const std::string& path, const std::vector<Ceiling>& ceilin
     for (int k = 1; k < static_cast<int>(rt::kRayKinds); ++k)
       for (int api = 0; api < rt::kRetraceApis; ++api) f << "," << c.kindMs[api][k];
     f << "," << c.rasterMs << "," << c.readbackMs << "," << c.castVisibilityMs << "\n";
+  }
+}
+
+/// The budget's error table as this sweep measured it: per knob, the mean over scenes × sizes of the FLIP
+/// it adds to hybrid-full, next to the table the engine uses (render/FrameBudget.h).
+void writeBudgetTable(const std::string& path, const std::vector<Row>& rows) {
+  const BudgetErrorTable& engine = budgetErrorTable();
+  struct Knob {
+    const char* combo;
+    const char* field;
+    double engine;
+  } knobs[] = {{"hybrid-full-half", "rayScale2", engine.rayScale2},
+               {"hybrid-full-quarter", "rayScale4", engine.rayScale4},
+               {"hybrid-full-d2", "depth2", engine.depth2},
+               {"hybrid-full-d1", "depth1", engine.depth1},
+               {"refraction-raster", "refractionRaster", engine.refractionRaster},
+               {"reflections-raster", "reflectionsRaster", engine.reflectionsRaster},
+               {"shadows-raster", "shadowsRaster", engine.shadowsRaster}};
+  std::ofstream f(path);
+  f << "# The budget's error table\n\nFLIP each knob adds to hybrid-full against the reference, mean [min–max] "
+       "over the sweep's scenes × sizes, and the value the engine uses (render/FrameBudget.cpp).\n\n"
+       "| knob | sweep combination | measured mean | min | max | engine |\n|---|---|---|---|---|---|\n";
+  std::printf("budget error table (FLIP added to hybrid-full; measured mean vs the engine's):\n");
+  for (const Knob& k : knobs) {
+    std::vector<double> d;
+    for (const Row& full : rows) {
+      if (full.combo.name != "hybrid-full") continue;
+      for (const Row& r : rows)
+        if (r.combo.name == k.combo && r.scene == full.scene && r.size.label() == full.size.label())
+          d.push_back(r.flipMean - full.flipMean);
+    }
+    if (d.empty()) continue;
+    double sum = 0;
+    for (double x : d) sum += x;
+    const double mean = sum / static_cast<double>(d.size());
+    f << "| " << k.field << " | " << k.combo << " | " << fmt("%.4f", mean) << " | "
+      << fmt("%.4f", *std::min_element(d.begin(), d.end())) << " | " << fmt("%.4f", *std::max_element(d.begin(), d.end()))
+      << " | " << fmt("%.4f", k.engine) << " |\n";
+    std::printf("  %-18s measured %+.4f  engine %.4f\n", k.field, mean, k.engine);
   }
 }
 
@@ -376,7 +437,7 @@ int runSweep(const SweepOptions& o) {
     std::fprintf(stderr, "tandem-bench: no scene could be loaded\n");
     return 1;
   }
-  const std::size_t combosPer = makeCombos(FrameSettings{}).size();
+  const std::size_t combosPer = makeCombos(FrameSettings{}).size() + std::size(kBudgetFractions);
   const std::size_t totalSteps = scenes.size() * o.sizes.size() * (combosPer + 2);  // + truth + ceiling
   std::size_t done = 0;
   auto progress = [&](const std::string& what) {
@@ -444,6 +505,37 @@ int runSweep(const SweepOptions& o) {
         mine.push_back(rows.size());
         rows.push_back(std::move(row));
       }
+      // The budget at fractions of hybrid-full's frame time: where its choices land on the front.
+      double fullMs = 0;
+      for (std::size_t i : mine)
+        if (rows[i].combo.name == "hybrid-full") fullMs = rows[i].total.median;
+      for (double fraction : kBudgetFractions) {
+        Combo combo{"budget-" + std::to_string(static_cast<int>(fraction * 100)) + "pct", "budget",
+                    *presetSettings("hybrid-full", base)};
+        combo.settings.targetMs = static_cast<float>(fraction * fullMs);
+        FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup + kBudgetSettleFrames, o.frames);
+        Row row;
+        row.scene = l.label;
+        row.size = size;
+        row.combo = combo;
+        row.frames = o.frames;
+        row.total = stageStat(run.stats, &FrameStats::totalMs);
+        for (std::size_t i = 0; i < kStageCount; ++i) row.stage[i] = stageStat(run.stats, kStages[i].field);
+        row.rays = run.stats.back().rays;
+        row.threads = run.stats.back().threads;
+        row.budgetChoice = describeBudget(run.stats.back().budget);
+        if (auto e = compare(run.image, truth.image)) {
+          row.flipMean = e->flipMean;
+          row.psnrDb = e->psnr;
+          row.ssim = e->ssim;
+        }
+        (void)writePng((fs::path(o.out) / "images" / (prefix + "-" + combo.name + ".png")).string(), run.image);
+        progress(l.label + " " + size.label() + " " + combo.name + fmt(" (target %.1f ms)", combo.settings.targetMs) +
+                 ": " + fmt("%.1f ms", row.total.median) + fmt(", FLIP %.4f", row.flipMean) + ", drew " +
+                 row.budgetChoice);
+        mine.push_back(rows.size());
+        rows.push_back(std::move(row));
+      }
       std::vector<Row*> group;
       for (std::size_t i : mine) group.push_back(&rows[i]);
       markPareto(group);
@@ -489,6 +581,7 @@ int runSweep(const SweepOptions& o) {
   writeSweepCsv((fs::path(o.out) / "sweep.csv").string(), rows);
   writeCeilingCsv((fs::path(o.out) / "ceiling.csv").string(), ceilings);
   writeSweepMarkdown((fs::path(o.out) / "sweep.md").string(), rows, ceilings, setup.machine, gl, setup.threads, o);
+  writeBudgetTable((fs::path(o.out) / "budget-table.md").string(), rows);
 
   if (o.plots) {
     std::vector<ParetoPanel> pareto;

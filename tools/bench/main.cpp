@@ -1,6 +1,7 @@
 // tandem-bench: what each render setting costs and buys (docs/bench.md).
 //   tandem-bench --sweep [--scenes a.json,b.gltf] [--sizes 640x360,1280x720] [--frames N] [--warmup W] [--out DIR]
 //   tandem-bench --summary [--scenes ...] [--sizes 640x360,1280x720,1920x1080] [--frames N] [--warmup W]
+//   tandem-bench --budget [--targets 100,85,75] [--budget-preset hybrid-full] [--budget-size 640x360]
 //   tandem-bench --heavy [--heavy-counts 10000,100000,500000,2000000] [--heavy-sizes 640x360,1280x720]
 //   tandem-bench [--benchmark_filter=REGEX ...]     (Google Benchmark micro-benchmarks, the default)
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <benchmark/benchmark.h>
 
 #include "BenchCommon.h"
+#include "Budget.h"
 #include "Micro.h"
 #include "Sweep.h"
 
@@ -46,7 +48,9 @@ bool parseSizes(const std::string& s, std::vector<Size>& out, std::string& error
 
 int sweepMain(int argc, char** argv) {
   CLI::App app{"tandem-bench: the speed-for-accuracy sweep, the ceiling and the heavy-scene table"};
-  bool sweep = false, heavy = false, summary = false, noPlots = false;
+  bool sweep = false, heavy = false, summary = false, budget = false, noPlots = false;
+  std::string targets;
+  BudgetOptions b;
   std::string scenes, sizes = "640x360,1280x720", heavyCounts = "10000,100000,500000,2000000",
                       heavySizes = "640x360,1280x720";
   SweepOptions o;
@@ -58,6 +62,16 @@ int sweepMain(int argc, char** argv) {
   app.add_flag("--summary", summary,
                "One screen for this machine: each preset x scene x size -> frame ms, fps, worst frame, stages, "
                "Mrays/s, pass/floor, shader compiles (defaults: whitted.json; 640x360,1280x720,1920x1080; 10 frames)");
+  app.add_flag("--budget", budget,
+               "The game's scripted run at several frame-time targets (tandem-game --target-fps): frame time and "
+               "FLIP per frame, budget.md / budget.png");
+  app.add_option("--targets", targets, "--budget: comma-separated targets in ms (default: 80 %, 60 % and 45 % of "
+                                       "the requested preset's median frame)");
+  app.add_option("--budget-preset", b.preset, "--budget: the requested settings")->capture_default_str();
+  app.add_option("--budget-size", b.size, "--budget: the game's frame size")->capture_default_str();
+  app.add_option("--budget-frames", b.frames, "--budget: frames per run")->check(CLI::Range(2, 100000))->capture_default_str();
+  app.add_option("--error-every", b.errorEvery, "--budget: FLIP every Nth frame")
+      ->check(CLI::Range(1, 100000))->capture_default_str();
   app.add_option("--scenes", scenes, "Comma-separated scenes (.json, .gltf, .glb, heavy:N); missing ones are skipped")
       ->capture_default_str();
   app.add_option("--sizes", sizes, "Comma-separated WxH")->capture_default_str();
@@ -76,6 +90,25 @@ int sweepMain(int argc, char** argv) {
     return app.exit(e);
   }
   o.plots = !noPlots;
+  if (budget && (sweep || heavy || summary)) {
+    std::fprintf(stderr, "tandem-bench: --budget runs alone\n");
+    return 1;
+  }
+  if (budget) {
+    for (const std::string& t : split(targets)) {
+      char* end = nullptr;
+      const double ms = std::strtod(t.c_str(), &end);
+      if (end == t.c_str() || *end != '\0' || !(ms >= 1.0 && ms <= 10000.0)) {
+        std::fprintf(stderr, "tandem-bench: --targets: bad target '%s' (ms, 1..10000)\n", t.c_str());
+        return 1;
+      }
+      b.targetsMs.push_back(ms);
+    }
+    b.threads = o.threads;
+    b.out = o.out;
+    b.plots = !noPlots;
+    return runBudget(b);
+  }
   if (summary && (sweep || heavy)) {
     // The summary has its own defaults (scenes, sizes, frames): run it on its own.
     std::fprintf(stderr, "tandem-bench: --summary runs alone, not with --sweep or --heavy\n");
@@ -113,7 +146,8 @@ int sweepMain(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
-    if (!std::strcmp(argv[i], "--sweep") || !std::strcmp(argv[i], "--heavy") || !std::strcmp(argv[i], "--summary"))
+    if (!std::strcmp(argv[i], "--sweep") || !std::strcmp(argv[i], "--heavy") || !std::strcmp(argv[i], "--summary") ||
+        !std::strcmp(argv[i], "--budget"))
       return sweepMain(argc, argv);
   registerMicroBenchmarks();
   benchmark::Initialize(&argc, argv);

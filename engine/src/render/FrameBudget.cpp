@@ -52,15 +52,15 @@ bool samePlan(const FramePlan& a, const FramePlan& b) {
 }  // namespace
 
 const BudgetErrorTable& budgetErrorTable() {
-  // Mean FLIP added over hybrid-full by each knob alone, against the 4×4/8×8-spp reference: tandem-bench
-  // --sweep on whitted.json, LightsPunctualLamp and TransmissionTest at 640×360 and 1280×720 (docs/budget.md
-  // gives the run; the sweep prints its own measurement of this table to compare).
+  // Mean FLIP added over hybrid-full by each knob alone, against the 8×8 (640×360) / 4×4 (1280×720) spp
+  // reference: tandem-bench --sweep of 2026-11-23 on whitted.json, LightsPunctualLamp and TransmissionTest at
+  // both sizes (docs/budget.md has the spread; the sweep prints its own measurement of this table to compare).
   static const BudgetErrorTable t{
-      /*rayScale2*/ 0.0040, /*rayScale4*/ 0.0110,
-      /*depth2*/ 0.0015,    /*depth1*/ 0.0060,
-      /*refractionRaster*/ 0.0100,
-      /*reflectionsRaster*/ 0.0150,
-      /*shadowsRaster*/ 0.0050,
+      /*rayScale2*/ 0.0033, /*rayScale4*/ 0.0103,
+      /*depth2*/ 0.0099,    /*depth1*/ 0.0534,
+      /*refractionRaster*/ 0.0349,
+      /*reflectionsRaster*/ 0.0223,
+      /*shadowsRaster*/ 0.0012,
   };
   return t;
 }
@@ -211,13 +211,15 @@ FrameSettings FrameBudget::choose(const FrameSettings& requested, const SceneFac
     stats_ = {};
     return requested;
   }
-  // The ladder belongs to the requested settings (all but size and target): any other change makes a new one.
+  // The ladder belongs to the requested settings (all but size and target) and to what the scene can show
+  // (a light that stops casting shadows, a material that stops reflecting): any other change makes a new one.
   FrameSettings key = requested;
   key.width = key.height = 0;
   key.targetMs = 0;
-  if (!haveLadder_ || !(key == requested_)) {
+  if (!haveLadder_ || !(key == requested_) || !(facts == facts_)) {
     reset();
     requested_ = key;
+    facts_ = facts;
     makeLadder(requested, facts);
     haveLadder_ = true;
   }
@@ -262,8 +264,9 @@ void FrameBudget::observe(const FrameStats& frame) {
   double& f = fixedMs_[c.fallback];
   f = haveFixed_[c.fallback] ? 0.7 * f + 0.3 * fixed : fixed;
   haveFixed_[c.fallback] = true;
-  if (c.rays && !frame.raysReused && rayMs > 0) {
-    const double pixels = static_cast<double>(std::max(frame.rayWidth, 1)) * std::max(frame.rayHeight, 1);
+  // A frame that traced: rayWidth is 0 when the plan lost its rays (Embree refused the scene).
+  if (c.rays && !frame.raysReused && rayMs > 0 && frame.rayWidth > 0 && frame.rayHeight > 0) {
+    const double pixels = static_cast<double>(frame.rayWidth) * static_cast<double>(frame.rayHeight);
     const double measured = std::log(rayMs / pixels);
     if (!haveRho_) {
       logRho_ = measured - c.work;  // the first frame anchors the scale of every choice's work

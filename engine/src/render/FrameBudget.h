@@ -68,6 +68,7 @@ class FrameBudget {
   int pick(double meanMs);
 
   FrameSettings requested_;  // what the ladder was made for (size and target ignored)
+  SceneFacts facts_;
   bool haveLadder_ = false;
   std::vector<BudgetChoice> choices_;
   int current_ = 0;

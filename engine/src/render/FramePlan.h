@@ -16,6 +16,7 @@ struct SceneFacts {
   bool reflectiveClassic = false;    // ... under the classic sum (kr only)
   bool transmissive = false;         // a material's wT can be > 0, or BLEND coverage lets light through
   bool reflective(bool fresnelWeighted) const { return fresnelWeighted ? reflectiveWeighted : reflectiveClassic; }
+  bool operator==(const SceneFacts&) const = default;
 };
 SceneFacts sceneFacts(const Scene& scene);
 
