@@ -82,6 +82,53 @@ TEST(FrameBudgetGL, AnOutOfReachTargetDrawsExactlyTheChoiceItReports) {
   EXPECT_GT(full.rays.total(), b.rays.total());
 }
 
+TEST(FrameBudgetGL, StillFramesReuseTheChoicesRaysAndPixelTracesSeeTheChoice) {
+  // With reuse on and a still camera, a frame traces when the budget changed its choice and reuses the rays
+  // otherwise; tracePixel re-runs the frame that was drawn, with the choice's settings.
+  TD_REQUIRE_GL_CONTEXT();
+  const Scene scene = whitted();
+  auto r = gltest::makeRenderer(*glContext_);
+  auto plain = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(r && plain);
+  ASSERT_TRUE(r->setScene(scene).ok());
+  ASSERT_TRUE(plain->setScene(scene).ok());
+  FrameSettings s = small(0.01f);
+  s.reuseRays = true;
+  // The camera moves for 8 frames (every frame traces: the budget learns and walks down), then stands still.
+  FrameStats prev, b;
+  int reused = 0;
+  Camera camera = scene.camera;
+  for (int i = 0; i < 14; ++i) {
+    if (i < 8) camera.posW.x = scene.camera.posW.x + 1e-3f * static_cast<float>(i);
+    b = r->render(camera, s);
+    if (i < 8) {
+      EXPECT_FALSE(b.raysReused) << "frame " << i << ": the camera moved";
+    } else if (b.budget.step != prev.budget.step) {
+      EXPECT_FALSE(b.raysReused) << "frame " << i << " changed choice";
+    } else if (i > 8) {
+      EXPECT_TRUE(b.raysReused) << "frame " << i << ": still camera, same choice";
+      reused += b.raysReused ? 1 : 0;
+    }
+    prev = b;
+  }
+  EXPECT_GT(reused, 0) << "a still camera on a settled choice reuses its rays";
+  ASSERT_GT(b.budget.step, 0);
+  auto trace = r->tracePixel(160, 90);
+  ASSERT_TRUE(trace) << trace.error().message;
+  EXPECT_EQ(trace->settings.rayScale, b.budget.rayScale);
+  EXPECT_EQ(trace->settings.maxDepth, b.budget.maxDepth);
+  EXPECT_EQ(trace->settings.reflections, b.budget.reflections);
+  FrameSettings chosen = small(0.0f);
+  chosen.rayScale = b.budget.rayScale;
+  chosen.maxDepth = b.budget.maxDepth;
+  chosen.shadows = b.budget.shadows;
+  chosen.hybridShadows = b.budget.hybridShadows;
+  chosen.reflections = b.budget.reflections;
+  chosen.refraction = b.budget.refraction;
+  (void)plain->render(camera, chosen);
+  EXPECT_EQ(plain->readImage().rgba, r->readImage().rgba) << describeBudget(b.budget);
+}
+
 TEST(FrameBudgetGL, ANewSceneStartsFromTheRequest) {
   TD_REQUIRE_GL_CONTEXT();
   const Scene scene = whitted();

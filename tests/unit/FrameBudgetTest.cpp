@@ -31,8 +31,11 @@ FrameSettings full(float targetMs) {
 /// budget's priors on purpose (depth matters more, upsampling less).
 struct Machine {
   double load = 1.0;         // scales the ray cost: the scene getting busier
+  double rasterLoad = 1.0;   // scales the fixed part
   double noise = 0.05;       // ± fraction, deterministic
+  double switchSpikeMs = 0;  // added to the first frame of every set of raster fallbacks newly drawn
   std::uint32_t seed = 12345;
+  std::set<int> setsDrawn;
   double next() {
     seed = seed * 1664525u + 1013904223u;
     return (static_cast<double>(seed >> 8) / static_cast<double>(1u << 24)) * 2.0 - 1.0;
@@ -45,20 +48,25 @@ struct Machine {
     if (s.refraction == EffectMode::Ray) effects += 0.3 * depth;
     if (s.shadows != EffectMode::Ray && s.reflections != EffectMode::Ray && s.refraction != EffectMode::Ray)
       return 0.0;
-    const double pixels = (640.0 / s.rayScale) * (360.0 / s.rayScale);
-    return load * effects * pixels * 4e-4 * (s.rayScale == 4 ? 1.2 : 1.0);  // hybrid-full ≈ 108 ms
+    const double pixels = std::ceil(s.width / double(s.rayScale)) * std::ceil(s.height / double(s.rayScale));
+    return load * effects * pixels * 4e-4 * (s.rayScale == 4 ? 1.2 : 1.0);  // hybrid-full 640×360 ≈ 106 ms
   }
   double fixedMs(const FrameSettings& s) const {
     double ms = 20.0;
     if (s.refraction == EffectMode::Raster || s.reflections == EffectMode::Raster) ms += 6.0;  // probes
     if (s.shadows == EffectMode::Raster) ms += 3.0;
-    return ms;
+    return rasterLoad * ms * (double(s.width) * s.height) / (640.0 * 360.0);
   }
   double trueMs(const FrameSettings& s) const { return fixedMs(s) + rayMs(s); }
+  static int setOf(const FrameSettings& s) {
+    return (s.refraction == EffectMode::Raster ? 1 : 0) | (s.reflections == EffectMode::Raster ? 2 : 0) |
+           (s.shadows == EffectMode::Raster ? 4 : 0);
+  }
   FrameStats frame(const FrameSettings& s) {
     FrameStats f;
     const double ray = rayMs(s) * (1.0 + noise * next());
-    const double fixed = fixedMs(s) * (1.0 + noise * next());
+    double fixed = fixedMs(s) * (1.0 + noise * next());
+    if (setsDrawn.insert(setOf(s)).second) fixed += switchSpikeMs;  // maps and probes made for the first time
     f.raysMs = ray * 0.9;
     f.readbackMs = ray * 0.1;
     f.rasterMs = fixed;
@@ -124,10 +132,19 @@ TEST(FrameBudget, LadderStartsAtTheRequestAndOrdersByError) {
   for (std::size_t i = 0; i < c.size(); ++i)
     for (std::size_t j = i + 1; j < c.size(); ++j)
       EXPECT_FALSE(c[i].settings == c[j].settings) << i << " " << j;
-  // The cheapest knob set is there: every effect by raster (no ray pass).
-  bool noRays = false;
-  for (const BudgetChoice& x : c) noRays = noRays || !x.rays;
-  EXPECT_TRUE(noRays);
+  // Knobs that change nothing are not choices of their own: with only shadows traced there is no bounce
+  // to cap (one choice per grid), and with every effect by raster one frame only (no ray pass).
+  int shadowsOnly[5] = {}, noRays = 0;
+  for (const BudgetChoice& x : c) {
+    if (!x.rays) ++noRays;
+    else if (x.fallback == (kReflectionsRaster | kRefractionRaster)) ++shadowsOnly[x.rayScale];
+  }
+  EXPECT_EQ(noRays, 1);
+  EXPECT_EQ(shadowsOnly[1], 1);
+  EXPECT_EQ(shadowsOnly[2], 1);
+  EXPECT_EQ(shadowsOnly[4], 1);
+  // Nothing measured yet: not out of reach, only unknown.
+  EXPECT_TRUE(b.stats().reachable);
 }
 
 TEST(FrameBudget, ChoicesThatChangeNothingAreDropped) {
@@ -205,6 +222,56 @@ TEST(FrameBudget, FollowsALoadStepDownAndBackUp) {
   // Back up once there is headroom (after the quiet spell), to where it was.
   EXPECT_EQ(b.current(), calm);
   EXPECT_LE(run.switches(340), 0) << "still moving 40 frames after the load dropped";
+}
+
+TEST(FrameBudget, ASwitchSpikeOrAResizeDoesNotTrapIt) {
+  // Each set of raster fallbacks costs 200 ms more the first time it is drawn (shadow maps, every probe):
+  // the budget must not learn that as the set's cost for good, nor flap.
+  for (double target : {45.0, 80.0}) {
+    SCOPED_TRACE(target);
+    FrameBudget b;
+    Machine m;
+    m.switchSpikeMs = 200.0;
+    const FrameSettings r = full(static_cast<float>(target));
+    const History run = play(b, m, r, 300);
+    EXPECT_LE(run.switches(60), 1);
+    const int best = bestFitting(b, m, target, 0.8);
+    ASSERT_GE(best, 0);
+    EXPECT_LE(b.current(), best) << describeBudget(b.stats());
+  }
+  // A resize to a quarter of the pixels (the game's render scale): the budget re-measures, and with four
+  // times less work takes a better choice.
+  FrameBudget b;
+  Machine m;
+  FrameSettings r = full(40.0f);
+  (void)play(b, m, r, 100);
+  const int before = b.current();
+  ASSERT_GT(before, 0);
+  r.width = 320;
+  r.height = 180;
+  const History run = play(b, m, r, 100);
+  EXPECT_LT(b.current(), before);
+  FrameSettings drawn = b.choices()[static_cast<std::size_t>(b.current())].settings;
+  drawn.width = r.width;
+  drawn.height = r.height;
+  EXPECT_LE(m.trueMs(drawn), 1.05 * 40.0);
+  EXPECT_LE(run.switches(30), 1);
+}
+
+TEST(FrameBudget, FollowsTheRasterLoadToo) {
+  // The fixed part (raster, composite) doubles: every choice gets dearer, and the budget moves down.
+  FrameBudget b;
+  Machine m;
+  const FrameSettings r = full(60.0f);
+  History run = play(b, m, r, 150);
+  const int calm = b.current();
+  m.rasterLoad = 2.0;
+  run = play(b, m, r, 150, run);
+  int over = 0;
+  for (std::size_t i = 160; i < 300; ++i) over += run.ms[i] > 1.1 * 60.0;
+  EXPECT_LE(over, 7);
+  EXPECT_GT(b.current(), calm);
+  EXPECT_LE(run.switches(170), 1);
 }
 
 TEST(FrameBudget, NeverOscillatesAtTheEdge) {
@@ -288,10 +355,38 @@ TEST(FrameBudget, IgnoresFramesThatCompiledShadersOrFailed) {
     f.totalMs = 5000.0;  // a shader compile stall
     f.shaderCompiles = 1;
     b.observe(f);
+    (void)b.choose(r, everything());
+    FrameStats failed;   // a size the GL refused: nothing drawn
+    failed.totalMs = 3000.0;
+    failed.error = "frame 640x360: no";
+    b.observe(failed);
   }
   (void)b.choose(r, everything());
   EXPECT_EQ(b.current(), 0);
   EXPECT_EQ(b.stats().predictedMs, 0.0);  // nothing measured
+  // A frame whose plan lost its rays (Embree refused the scene: no ray grid) teaches the fixed part only.
+  FrameStats noGrid = m.frame(r);
+  noGrid.rayWidth = noGrid.rayHeight = 0;
+  b.observe(noGrid);
+  (void)b.choose(r, everything());
+  EXPECT_EQ(b.stats().predictedMs, 0.0) << "a ray cost learned from a frame without rays";
+}
+
+TEST(FrameBudget, BackFromNoBudgetItMeasuresAgain) {
+  FrameBudget b;
+  Machine m;
+  const FrameSettings r = full(40.0f);
+  (void)play(b, m, r, 80);
+  const int settled = b.current();
+  ASSERT_GT(settled, 0);
+  (void)b.choose(full(0.0f), everything());  // key B: off
+  EXPECT_FALSE(b.stats().active);
+  (void)b.choose(r, everything());  // and on again: the same ladder and choice, costs measured again
+  EXPECT_TRUE(b.stats().active);
+  EXPECT_EQ(b.current(), settled);
+  EXPECT_EQ(b.stats().predictedMs, 0.0);
+  const History run = play(b, m, r, 60);
+  EXPECT_LE(run.switches(), 1);
 }
 
 }  // namespace

@@ -48,16 +48,16 @@ std::vector<LogRow> readLog(const std::string& path) {
       else cell += ch;
     }
     cells.push_back(cell);
-    if (cells.size() < 16) continue;
+    if (cells.size() < 18) continue;
     LogRow r;
     r.frame = std::atoi(cells[0].c_str());
     r.totalMs = std::atof(cells[1].c_str());
     r.rays = std::atof(cells[8].c_str());
-    r.targetMs = std::atof(cells[9].c_str());
-    r.step = std::atoi(cells[10].c_str());
-    r.choice = cells[12];
-    r.hasFlip = !cells[15].empty();
-    r.flip = std::atof(cells[15].c_str());
+    r.targetMs = std::atof(cells[11].c_str());
+    r.step = std::atoi(cells[12].c_str());
+    r.choice = cells[14];
+    r.hasFlip = !cells[17].empty();
+    r.flip = std::atof(cells[17].c_str());
     rows.push_back(r);
   }
   return rows;
@@ -167,7 +167,7 @@ void plotBudget(const BudgetOptions& o, const std::vector<RunSummary>& runs, con
     if (r.targetMs <= 0) continue;
     const std::string file = fs::path(r.logPath).filename().string();
     // Points only where the frame was measured; FLIP 0 (the frame was drawn as requested) sits off a log axis.
-    s << (first ? "" : ", ") << "'" << file << "' every ::1 using 1:($16 > 0 ? $16 : 1/0) with linespoints pt 7 ps 0.5 lc rgb '"
+    s << (first ? "" : ", ") << "'" << file << "' every ::1 using 1:($18 > 0 ? $18 : 1/0) with linespoints pt 7 ps 0.5 lc rgb '"
       << colours[i % 7] << "' title '" << r.name << "'";
     first = false;
   }

@@ -26,6 +26,7 @@ struct BudgetStats {
   int rayScale = 1;          // what the frame was drawn with
   int maxDepth = 0;
   EffectMode shadows = EffectMode::Off, reflections = EffectMode::Off, refraction = EffectMode::Off;
+  bool hybridShadows = false;
   double targetMs = 0;
   double predictedMs = 0;    // what the cost model expected (0 before it had measured a frame)
   double expectedError = 0;  // FLIP this choice adds over the requested settings (the error table)

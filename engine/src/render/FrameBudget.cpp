@@ -17,8 +17,8 @@ constexpr double kFitDown = 0.92;    // ... for one predicted to fit in this
 constexpr double kFitUp = 0.85;      // a better choice is taken only when predicted to fit in this
 constexpr double kQuietUp = 0.95;    // ... and the current one runs under this
 constexpr int kQuietFrames = 10;     // ... for this many frames since the last change
-constexpr int kLearnFrames = 3;
-constexpr double kClearlyCheaper = 0.95;  // out of reach: a move must save this much      // a choice's first frames teach its work, later ones the scene's drift
+constexpr int kLearnFrames = 3;     // a choice's first frames teach its own cost, later ones the scene's drift
+constexpr double kClearlyCheaper = 0.95;  // out of reach: a move must save this much
 
 // Priors for a choice not yet run: its ray cost per ray-grid pixel relative to the requested settings.
 // Only the first move down rests on them: each choice's own frames replace them.
@@ -40,13 +40,48 @@ double scaleError(const BudgetErrorTable& t, int s) { return s >= 4 ? t.rayScale
 double depthError(const BudgetErrorTable& t, int d) { return d >= 3 ? 0.0 : d == 2 ? t.depth2 : t.depth1; }
 
 // What a frame would do, for telling apart two choices that differ in name only (a fallback for an
-// effect the scene cannot show, a depth cap without reflection or refraction rays).
-bool samePlan(const FramePlan& a, const FramePlan& b) {
+// effect the scene cannot show, a depth cap without reflection or refraction rays, a depth cap the probes
+// do not read, hybrid shadows without shadow rays).
+bool samePlan(FramePlan a, FramePlan b) {
   if (a.rayPass != b.rayPass || a.rasterShadows != b.rasterShadows || a.probeReflections != b.probeReflections ||
       a.probeRefraction != b.probeRefraction)
     return false;
-  if (!a.rayPass) return a.settings.maxDepth == b.settings.maxDepth || !(a.probeReflections || a.probeRefraction);
+  if (!a.rayPass)  // the probes read only whether there is a bounce at all
+    return !(a.probeReflections || a.probeRefraction) || (a.settings.maxDepth > 0) == (b.settings.maxDepth > 0);
+  for (FramePlan* p : {&a, &b}) {
+    FrameSettings& r = p->raySettings;
+    if (r.reflections != EffectMode::Ray && r.refraction != EffectMode::Ray) r.maxDepth = 0;  // no bounce traced
+    if (r.shadows != EffectMode::Ray) r.hybridShadows = false;
+  }
   return sameRayInputs(a, b);
+}
+
+/// The fields of the settings that change what a frame costs but not which choices there are: a change
+/// re-measures the costs and keeps the ladder.
+FrameSettings viewPart(const FrameSettings& s) {
+  FrameSettings v;
+  v.width = s.width;
+  v.height = s.height;
+  v.debugView = s.debugView;
+  v.exposure = s.exposure;
+  v.toneMap = s.toneMap;
+  v.reuseRays = s.reuseRays;
+  v.probesPerFrame = s.probesPerFrame;
+  return v;
+}
+
+FrameSettings ladderPart(const FrameSettings& s) {
+  FrameSettings k = s;
+  const FrameSettings none;
+  k.width = none.width;
+  k.height = none.height;
+  k.debugView = none.debugView;
+  k.exposure = none.exposure;
+  k.toneMap = none.toneMap;
+  k.reuseRays = none.reuseRays;
+  k.probesPerFrame = none.probesPerFrame;
+  k.targetMs = none.targetMs;
+  return k;
 }
 
 }  // namespace
@@ -125,10 +160,10 @@ void FrameBudget::makeLadder(const FrameSettings& r, const SceneFacts& facts) {
         all.push_back(c);
       }
   }
-  // Least wrong first; among equals the cheaper by prior. Then drop choices that do what a kept one does:
-  // the kept one is as good and (by prior) no dearer.
+  // Least wrong first; among equals the cheaper by prior. Then drop choices that draw what a kept one
+  // draws: the kept one is as good (a knob that changes nothing saves nothing, so its own prior stays).
   std::stable_sort(all.begin(), all.end(), [](const BudgetChoice& a, const BudgetChoice& b) {
-    return a.error != b.error ? a.error < b.error : a.work > b.work;
+    return a.error != b.error ? a.error < b.error : a.work < b.work;
   });
   choices_.clear();
   std::vector<FramePlan> plans;
@@ -136,12 +171,7 @@ void FrameBudget::makeLadder(const FrameSettings& r, const SceneFacts& facts) {
     FramePlan p = planFrame(facts, c.settings);
     c.rays = p.rayPass;
     bool dup = false;
-    for (std::size_t i = 0; i < plans.size() && !dup; ++i) {
-      if (!samePlan(plans[i], p)) continue;
-      dup = true;
-      // Same frame: keep the lower error, and the lower prior work of the two (the cheaper name for it).
-      choices_[i].work = std::min(choices_[i].work, c.work);
-    }
+    for (std::size_t i = 0; i < plans.size() && !dup; ++i) dup = samePlan(plans[i], p);
     if (dup) continue;
     plans.push_back(p);
     choices_.push_back(c);
@@ -149,19 +179,27 @@ void FrameBudget::makeLadder(const FrameSettings& r, const SceneFacts& facts) {
   assert(!choices_.empty() && choices_[0].error == 0.0);
 }
 
+void FrameBudget::reanchor() {
+  haveRho_ = false;
+  haveFixedBase_ = false;
+  meanMs_ = 0;
+  framesOnCurrent_ = 0;
+}
+
 double FrameBudget::predictMs(int i) const {
   const BudgetChoice& c = choices_[static_cast<std::size_t>(i)];
-  double fixed = std::numeric_limits<double>::quiet_NaN();
-  if (haveFixed_[c.fallback]) {
-    fixed = fixedMs_[c.fallback];
-  } else {
-    // Not yet run: the dearest fixed part seen (a raster fallback adds GL passes, never removes them).
+  constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
+  if (!haveFixedBase_) return kUnknown;
+  double offset = fixedOffset_[c.fallback];
+  if (!fixedKnown_[c.fallback]) {
+    // Not yet drawn: the dearest set seen (a raster fallback adds GL passes; it never removes any).
+    offset = -std::numeric_limits<double>::infinity();
     for (int f = 0; f < kFallbackSets; ++f)
-      if (haveFixed_[f]) fixed = std::isnan(fixed) ? fixedMs_[f] : std::max(fixed, fixedMs_[f]);
+      if (fixedKnown_[f]) offset = std::max(offset, fixedOffset_[f]);
   }
-  if (std::isnan(fixed)) return fixed;
+  const double fixed = std::exp(logFixedBase_ + offset);
   if (!c.rays) return fixed;
-  if (!haveRho_) return std::numeric_limits<double>::quiet_NaN();
+  if (!haveRho_) return kUnknown;
   const double pixels = static_cast<double>((width_ + c.rayScale - 1) / c.rayScale) *
                         static_cast<double>((height_ + c.rayScale - 1) / c.rayScale);
   return fixed + std::exp(logRho_ + c.work) * pixels;
@@ -170,26 +208,34 @@ double FrameBudget::predictMs(int i) const {
 int FrameBudget::pick(double meanMs) {
   const int n = static_cast<int>(choices_.size());
   std::vector<double> pred(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) pred[static_cast<std::size_t>(i)] = predictMs(i);
-  auto fits = [&](int i, double fraction) {
+  bool unknown = false;
+  for (int i = 0; i < n; ++i) {
+    pred[static_cast<std::size_t>(i)] = predictMs(i);
+    unknown = unknown || std::isnan(pred[static_cast<std::size_t>(i)]);
+  }
+  auto fits = [&](int i, double fraction, double calibration = 1.0) {
     const double p = pred[static_cast<std::size_t>(i)];
-    return !std::isnan(p) && p <= fraction * targetMs_;
+    return !std::isnan(p) && p * calibration <= fraction * targetMs_;
   };
-  stats_.reachable = false;
-  for (int i = 0; i < n; ++i) stats_.reachable = stats_.reachable || fits(i, 1.0);
+  // Out of reach only when every choice is predicted over the target (not while some are unknown).
+  stats_.reachable = unknown;
+  for (int i = 0; i < n && !stats_.reachable; ++i) stats_.reachable = fits(i, 1.0);
   if (framesOnCurrent_ == 0) return current_;  // nothing measured on it yet
+  const double now = pred[static_cast<std::size_t>(current_)];
   // A choice's first frame may carry the switch itself (maps, probes, buffers at a new size): it is left
   // after one frame only when that frame ran far over.
   const bool over = framesOnCurrent_ >= 2 ? meanMs > kOver * targetMs_ : meanMs > kFarOver * targetMs_;
   if (over) {
-    // Over: the least wrong choice predicted to fit with margin, and cheaper than what ran over.
+    // Over: the least wrong choice predicted to fit with margin and cheaper than this one by the model. The
+    // model is scaled by how far it is off on this choice right now (a resize, a stale set), so a choice it
+    // underestimates like this one is not taken for one that fits.
+    const double calibration = std::isnan(now) || now <= 0 ? 1.0 : std::clamp(meanMs / now, 0.5, 2.0);
     for (int i = 0; i < n; ++i) {
       const double p = pred[static_cast<std::size_t>(i)];
-      if (i != current_ && fits(i, kFitDown) && p < meanMs) return i;
+      if (i != current_ && fits(i, kFitDown, calibration) && p < (std::isnan(now) ? meanMs : now)) return i;
     }
     // None fits: the cheapest predicted, if it is clearly cheaper than this one by the model (not by a noisy
     // frame: at an unreachable target the cheapest choice itself runs over, and must stay).
-    const double now = pred[static_cast<std::size_t>(current_)];
     int best = current_;
     double bestMs = std::isnan(now) ? meanMs : std::min(now, meanMs);
     for (int i = 0; i < n; ++i) {
@@ -209,20 +255,25 @@ int FrameBudget::pick(double meanMs) {
 FrameSettings FrameBudget::choose(const FrameSettings& requested, const SceneFacts& facts) {
   if (requested.targetMs <= 0.0f || requested.reference) {
     stats_ = {};
+    idle_ = true;
     return requested;
   }
-  // The ladder belongs to the requested settings (all but size and target) and to what the scene can show
-  // (a light that stops casting shadows, a material that stops reflecting): any other change makes a new one.
-  FrameSettings key = requested;
-  key.width = key.height = 0;
-  key.targetMs = 0;
+  // The ladder belongs to the requested settings (but for what only changes costs: size, view, target) and
+  // to what the scene can show (a light that stops casting shadows): any other change makes a new one.
+  const FrameSettings key = ladderPart(requested);
   if (!haveLadder_ || !(key == requested_) || !(facts == facts_)) {
     reset();
     requested_ = key;
     facts_ = facts;
     makeLadder(requested, facts);
     haveLadder_ = true;
+  } else if (idle_ || !(viewPart(requested) == view_)) {
+    // Back from no budget, a new size or view: the same choices, costs measured again from this frame
+    // (what each choice costs relative to the others is kept).
+    reanchor();
   }
+  idle_ = false;
+  view_ = viewPart(requested);
   width_ = requested.width;
   height_ = requested.height;
   targetMs_ = requested.targetMs;
@@ -236,6 +287,11 @@ FrameSettings FrameBudget::choose(const FrameSettings& requested, const SceneFac
   FrameSettings s = c.settings;
   s.width = requested.width;
   s.height = requested.height;
+  s.debugView = requested.debugView;
+  s.exposure = requested.exposure;
+  s.toneMap = requested.toneMap;
+  s.reuseRays = requested.reuseRays;
+  s.probesPerFrame = requested.probesPerFrame;
   s.targetMs = requested.targetMs;
   stats_.active = true;
   stats_.step = current_;
@@ -243,6 +299,7 @@ FrameSettings FrameBudget::choose(const FrameSettings& requested, const SceneFac
   stats_.rayScale = s.rayScale;
   stats_.maxDepth = s.maxDepth;
   stats_.shadows = s.shadows;
+  stats_.hybridShadows = s.hybridShadows;
   stats_.reflections = s.reflections;
   stats_.refraction = s.refraction;
   stats_.targetMs = targetMs_;
@@ -259,11 +316,28 @@ void FrameBudget::observe(const FrameStats& frame) {
   BudgetChoice& c = choices_[static_cast<std::size_t>(current_)];
   const double total = frame.totalMs;
   const double rayMs = frame.readbackMs + frame.raysMs + frame.uploadMs;
-  const double fixed = std::max(total - rayMs, 0.0);
-  // The fixed part: every frame teaches it, reused ones too (they skip only the rays).
-  double& f = fixedMs_[c.fallback];
-  f = haveFixed_[c.fallback] ? 0.7 * f + 0.3 * fixed : fixed;
-  haveFixed_[c.fallback] = true;
+  // The fixed part (reused frames teach it too: they skip only the rays), as the ray part below: the first
+  // frame anchors the scale, a set's first frames teach its offset, later ones the drift.
+  // A choice's first frame is left out of it: it carries the switch (shadow maps and probes drawn for
+  // the first time, buffers at a new size), which would otherwise stay in the set's cost for good.
+  const double fixedLog = std::log(std::max(total - rayMs, 0.01));
+  const int set = c.fallback;
+  if (framesOnCurrent_ == 0) {
+    // (the ray part below still learns from it: a first frame over the target is left at once)
+  } else if (!haveFixedBase_) {
+    if (!fixedKnown_[set]) fixedOffset_[set] = 0.0, fixedKnown_[set] = true;
+    logFixedBase_ = fixedLog - fixedOffset_[set];
+    haveFixedBase_ = true;
+  } else if (!fixedKnown_[set]) {
+    fixedOffset_[set] = fixedLog - logFixedBase_;
+    fixedKnown_[set] = true;
+    fixedFrames_[set] = 1;
+  } else if (fixedFrames_[set] < kLearnFrames) {
+    fixedOffset_[set] += 0.5 * (fixedLog - logFixedBase_ - fixedOffset_[set]);
+    ++fixedFrames_[set];
+  } else {
+    logFixedBase_ += 0.3 * (fixedLog - logFixedBase_ - fixedOffset_[set]);
+  }
   // A frame that traced: rayWidth is 0 when the plan lost its rays (Embree refused the scene).
   if (c.rays && !frame.raysReused && rayMs > 0 && frame.rayWidth > 0 && frame.rayHeight > 0) {
     const double pixels = static_cast<double>(frame.rayWidth) * static_cast<double>(frame.rayHeight);

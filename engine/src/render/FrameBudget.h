@@ -9,8 +9,9 @@
 // frame would do for this scene. Each has an expected error (the error table, measured
 // by tandem-bench --sweep against the reference) and a predicted cost:
 //   cost = fixed[fallback] + rayMsPerPixel · rayGridPixels · exp(work[choice])
-// fixed = every stage but readback, rays and upload (learned per set of fallbacks); rayMsPerPixel follows
-// the scene from frame to frame; work starts from a prior and is learned the first frames a choice runs.
+// fixed = every stage but readback, rays and upload: the scene's load now times a learned factor per set of
+// raster fallbacks; rayMsPerPixel follows the scene from frame to frame; work starts from a prior and is
+// learned the first frames a choice runs. A new size or view re-measures the loads and keeps the factors.
 // Hysteresis: a choice is left at once when its frames run over 1.05 × target; a better one is taken only
 // after a quiet spell, and only when predicted to fit in 0.85 × target — so a choice that ran over is not
 // taken again until the scene got cheaper by that margin.
@@ -66,20 +67,29 @@ class FrameBudget {
  private:
   void makeLadder(const FrameSettings& requested, const SceneFacts& facts);
   int pick(double meanMs);
+  /// Costs measured again from the next frame: the absolute scales go, the relative ones stay.
+  void reanchor();
 
-  FrameSettings requested_;  // what the ladder was made for (size and target ignored)
+  FrameSettings requested_;  // what the ladder was made for (ladderPart)
   SceneFacts facts_;
+  FrameSettings view_;       // size and view of the last frame (viewPart)
   bool haveLadder_ = false;
+  bool idle_ = true;         // the last choose() had no target
   std::vector<BudgetChoice> choices_;
   int current_ = 0;
   int framesOnCurrent_ = 0;  // clean frames on current_ since it was chosen
   int width_ = 0, height_ = 0;
   double targetMs_ = 0;
   double meanMs_ = 0;        // smoothed frame ms of current_ (clean frames only)
+  // Ray part: log ms per ray-grid pixel at work 0 (the scene's load now) and each choice's work.
   bool haveRho_ = false;
-  double logRho_ = 0;        // log ms per ray-grid pixel at work 0
-  double fixedMs_[kFallbackSets]{};  // per set of fallbacks
-  bool haveFixed_[kFallbackSets]{};
+  double logRho_ = 0;
+  // Fixed part: log ms of the set of fallbacks at offset 0 (the load now), and each set's offset.
+  bool haveFixedBase_ = false;
+  double logFixedBase_ = 0;
+  double fixedOffset_[kFallbackSets]{};
+  bool fixedKnown_[kFallbackSets]{};
+  int fixedFrames_[kFallbackSets]{};
   BudgetStats stats_;
 };
 

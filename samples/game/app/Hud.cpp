@@ -96,7 +96,8 @@ void Hud::draw(const HudInfo& info) {
                   view.renderScalePct);
       ImGui::Text("vsync %s [V]  %s [F]", view.vsync ? "on" : "off", view.fullscreen ? "fullscreen" : "windowed");
       // The budget draws the settings above or a cheaper choice: show which, and what the model expected.
-      ImGui::Text("budget %s [B]", view.budgetName().c_str());
+      ImGui::Text("budget %s [B]%s", view.budgetName().c_str(),
+                  view.targetFps > 0.0f && !st.budget.active ? "  (not for the reference preset)" : "");
       if (st.budget.active) {
         ImGui::Text("  drawn: %s (step %d of %d)", tandem::describeBudget(st.budget).c_str(), st.budget.step,
                     st.budget.steps);

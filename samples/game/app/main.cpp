@@ -8,6 +8,7 @@
 // from (GLFW or a script), the clock (wall or fixed) and the HUD differ.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -150,6 +151,7 @@ class Session {
     s.height = h;
     s.targetMs = 0.0f;
     s.reuseRays = false;
+    s.probesPerFrame = 0;  // drawn only every Nth frame: its probes must not lag behind the game
     const tandem::FrameStats st = truth_->render(camera_, s);
     if (!st.error.empty()) return tandem::Error{st.error};
     auto f = tandem::flip(renderer_->readImage(), truth_->readImage());
@@ -291,8 +293,8 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
   if (!o.frameLog.empty()) {
     log.open(o.frameLog);
     if (!log) return fail("--frame-log: cannot write '" + o.frameLog + "'");
-    log << "frame,total_ms,prepare_ms,raster_ms,readback_ms,rays_ms,upload_ms,composite_ms,rays,target_ms,step,steps,"
-           "choice,predicted_ms,expected_flip,flip\n";
+    log << "frame,total_ms,prepare_ms,raster_ms,readback_ms,rays_ms,upload_ms,composite_ms,rays,rays_reused,"
+           "shader_compiles,target_ms,step,steps,choice,predicted_ms,expected_flip,flip\n";
   }
   if (o.errorEvery > 0)
     if (auto r = s.initTruth(); !r) return fail(r.error().message);
@@ -300,11 +302,14 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
     const auto t0 = std::chrono::steady_clock::now();
     s.step();
     stats.push_back(s.render(w, h));
+    double errorMs = 0.0;  // the second renderer's time, left out of the loop's
     if (log.is_open()) {
       // After the frame's own timing: the error frame is drawn by the second renderer, outside it.
       std::string flip;
       if (o.errorEvery > 0 && f % o.errorEvery == 0) {
+        const auto e0 = std::chrono::steady_clock::now();
         auto e = s.errorAgainstRequested(w, h);
+        errorMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - e0).count();
         if (!e) return fail("--error-every: " + e.error().message);
         char buf[32];
         std::snprintf(buf, sizeof buf, "%.6f", *e);
@@ -313,7 +318,7 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
       const tandem::FrameStats& st = stats.back();
       log << f << "," << st.totalMs << "," << st.prepareMs << "," << st.rasterMs << "," << st.readbackMs << ","
           << st.raysMs << "," << st.uploadMs << "," << st.compositeMs << "," << st.rays.total() << ","
-          << st.budget.targetMs << "," << st.budget.step << "," << st.budget.steps << ",\""
+          << (st.raysReused ? 1 : 0) << "," << st.shaderCompiles << "," << st.budget.targetMs << "," << st.budget.step << "," << st.budget.steps << ",\""
           << tandem::describeBudget(st.budget) << "\"," << st.budget.predictedMs << "," << st.budget.expectedError << ","
           << flip << "\n";
     }
@@ -323,7 +328,8 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
       ++s.shotIndex_;
       if (!r) return fail(r.error().message);
     }
-    loopMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    loopMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() -
+                     errorMs);
   }
   if (log.is_open() && !log.flush()) return fail("--frame-log: cannot write '" + o.frameLog + "'");
   if (!o.capture.empty())
@@ -607,6 +613,7 @@ int run(int argc, char** argv) {
     view.settings.rayScale = o.scale;
     view.preset = "custom";
   }
+  if (!std::isfinite(o.targetFps)) return fail("--target-fps: must be 0.1..1000 frames per second");
   view.setTargetFps(o.targetFps);
   view.vsync = !o.noVsync;
   view.fullscreen = o.fullscreen;
