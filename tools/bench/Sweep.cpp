@@ -209,6 +209,30 @@ double medianOf(int n, const std::function<double()>& f) {
   return summarize(v).median;
 }
 
+/// One combination's row: stage statistics of its measured frames, rays, memory, error against the truth.
+Row measuredRow(const std::string& scene, Size size, const Combo& combo, int frames, const FrameRun& run,
+                const Image& truth) {
+  Row row;
+  row.scene = scene;
+  row.size = size;
+  row.combo = combo;
+  row.frames = frames;
+  row.total = stageStat(run.stats, &FrameStats::totalMs);
+  for (std::size_t i = 0; i < kStageCount; ++i) row.stage[i] = stageStat(run.stats, kStages[i].field);
+  row.rays = run.stats.back().rays;
+  row.threads = run.stats.back().threads;
+  row.mraysPerS =
+      row.stage[3].median > 0 ? static_cast<double>(row.rays.total()) / (row.stage[3].median * 1e3) : 0.0;
+  row.rssMiB = currentRssMiB();
+  row.peakRssMiB = peakRssMiB();
+  if (auto e = compare(run.image, truth)) {
+    row.flipMean = e->flipMean;
+    row.psnrDb = e->psnr;
+    row.ssim = e->ssim;
+  }
+  return row;
+}
+
 Ceiling measureCeiling(const Scene& scene, Size size, const FrameSettings& full, int threads, int frames) {
   Ceiling c;
   auto tracer = rt::RayTracer::create(threads);
@@ -479,25 +503,7 @@ int runSweep(const SweepOptions& o) {
       std::vector<std::size_t> mine;
       for (const Combo& combo : makeCombos(base)) {
         FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup, o.frames);
-        Row row;
-        row.scene = l.label;
-        row.size = size;
-        row.combo = combo;
-        row.frames = o.frames;
-        row.total = stageStat(run.stats, &FrameStats::totalMs);
-        for (std::size_t i = 0; i < kStageCount; ++i) row.stage[i] = stageStat(run.stats, kStages[i].field);
-        row.rays = run.stats.back().rays;
-        row.threads = run.stats.back().threads;
-        row.mraysPerS = row.stage[3].median > 0
-                            ? static_cast<double>(row.rays.total()) / (row.stage[3].median * 1e3)
-                            : 0.0;
-        row.rssMiB = currentRssMiB();
-        row.peakRssMiB = peakRssMiB();
-        if (auto e = compare(run.image, truth.image)) {
-          row.flipMean = e->flipMean;
-          row.psnrDb = e->psnr;
-          row.ssim = e->ssim;
-        }
+        Row row = measuredRow(l.label, size, combo, o.frames, run, truth.image);
         (void)writePng((fs::path(o.out) / "images" / (prefix + "-" + combo.name + ".png")).string(), run.image);
         images[combo.name] = std::move(run.image);
         progress(l.label + " " + size.label() + " " + combo.name + ": " + fmt("%.1f ms", row.total.median) +
@@ -514,21 +520,8 @@ int runSweep(const SweepOptions& o) {
                     *presetSettings("hybrid-full", base)};
         combo.settings.targetMs = static_cast<float>(fraction * fullMs);
         FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup + kBudgetSettleFrames, o.frames);
-        Row row;
-        row.scene = l.label;
-        row.size = size;
-        row.combo = combo;
-        row.frames = o.frames;
-        row.total = stageStat(run.stats, &FrameStats::totalMs);
-        for (std::size_t i = 0; i < kStageCount; ++i) row.stage[i] = stageStat(run.stats, kStages[i].field);
-        row.rays = run.stats.back().rays;
-        row.threads = run.stats.back().threads;
+        Row row = measuredRow(l.label, size, combo, o.frames, run, truth.image);
         row.budgetChoice = describeBudget(run.stats.back().budget);
-        if (auto e = compare(run.image, truth.image)) {
-          row.flipMean = e->flipMean;
-          row.psnrDb = e->psnr;
-          row.ssim = e->ssim;
-        }
         (void)writePng((fs::path(o.out) / "images" / (prefix + "-" + combo.name + ".png")).string(), run.image);
         progress(l.label + " " + size.label() + " " + combo.name + fmt(" (target %.1f ms)", combo.settings.targetMs) +
                  ": " + fmt("%.1f ms", row.total.median) + fmt(", FLIP %.4f", row.flipMean) + ", drew " +

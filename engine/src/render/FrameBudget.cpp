@@ -57,30 +57,28 @@ bool samePlan(FramePlan a, FramePlan b) {
 }
 
 /// The fields of the settings that change what a frame costs but not which choices there are: a change
-/// re-measures the costs and keeps the ladder.
+/// re-measures the costs and keeps the ladder. Copies them from `from` into `to`.
+void copyViewPart(const FrameSettings& from, FrameSettings& to) {
+  to.width = from.width;
+  to.height = from.height;
+  to.debugView = from.debugView;
+  to.exposure = from.exposure;
+  to.toneMap = from.toneMap;
+  to.reuseRays = from.reuseRays;
+  to.probesPerFrame = from.probesPerFrame;
+  to.targetMs = from.targetMs;
+}
+
 FrameSettings viewPart(const FrameSettings& s) {
   FrameSettings v;
-  v.width = s.width;
-  v.height = s.height;
-  v.debugView = s.debugView;
-  v.exposure = s.exposure;
-  v.toneMap = s.toneMap;
-  v.reuseRays = s.reuseRays;
-  v.probesPerFrame = s.probesPerFrame;
+  copyViewPart(s, v);
+  v.targetMs = 0;  // a new target alone keeps the measured costs
   return v;
 }
 
 FrameSettings ladderPart(const FrameSettings& s) {
   FrameSettings k = s;
-  const FrameSettings none;
-  k.width = none.width;
-  k.height = none.height;
-  k.debugView = none.debugView;
-  k.exposure = none.exposure;
-  k.toneMap = none.toneMap;
-  k.reuseRays = none.reuseRays;
-  k.probesPerFrame = none.probesPerFrame;
-  k.targetMs = none.targetMs;
+  copyViewPart(FrameSettings{}, k);
   return k;
 }
 
@@ -285,14 +283,7 @@ FrameSettings FrameBudget::choose(const FrameSettings& requested, const SceneFac
   }
   const BudgetChoice& c = choices_[static_cast<std::size_t>(current_)];
   FrameSettings s = c.settings;
-  s.width = requested.width;
-  s.height = requested.height;
-  s.debugView = requested.debugView;
-  s.exposure = requested.exposure;
-  s.toneMap = requested.toneMap;
-  s.reuseRays = requested.reuseRays;
-  s.probesPerFrame = requested.probesPerFrame;
-  s.targetMs = requested.targetMs;
+  copyViewPart(requested, s);
   stats_.active = true;
   stats_.step = current_;
   stats_.steps = static_cast<int>(choices_.size());
