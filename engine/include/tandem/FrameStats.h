@@ -15,6 +15,9 @@ struct RayCounts {
   std::uint64_t refraction = 0;
   /// Hybrid shadows: shadow rays the light-space maps answered instead (not traced, not in total()).
   std::uint64_t shadowByMap = 0;
+  /// Reuse across frames (FrameSettings::reuseRays): shadow rays whose answer was kept from the frame
+  /// before, the camera still and nothing that moved near them (not traced, not in total()).
+  std::uint64_t shadowKept = 0;
   std::uint64_t total() const { return primary + shadow + reflection + refraction; }
 };
 

@@ -19,6 +19,7 @@
 #include "gl/VisibilityPass.h"
 #include "gl/GlObjects.h"
 #include "rt/EmbreeScene.h"
+#include "rt/RayReuse.h"
 #include "rt/RayTracer.h"
 #include "render/FrameBudget.h"
 #include "render/FramePlan.h"
@@ -40,6 +41,10 @@ struct Renderer::Impl {
   rt::VisibilityBuffer visibility;
   rt::RayOutputs rays;
   ImageF reference;
+  // The frame before's ids and rays, swapped out of `visibility` and `rays` by a frame that keeps some of
+  // its answers (the camera still, something moved: rt/RayReuse.h).
+  rt::VisibilityBuffer keptVisibility;
+  rt::RayOutputs keptRays;
 
   // The frame's GL targets: the size they have, or the size they could not have and why (render() does
   // not try that size again; resize() does).
@@ -52,10 +57,14 @@ struct Renderer::Impl {
   struct LastFrame {
     bool drawn = false;
     bool sceneChanged = false;  // setScene, setInstanceTransform or setLight since: its ids are stale
+    bool sceneReplaced = false; // setScene since: nothing of it can be kept
     Camera camera;
     FramePlan plan;
     bool shadowMaps = false;    // primary hits' lights by the shadow maps
     int probeEffects = 0;       // gl::kProbeReflect / kProbeRefract in use
+    // What the scene was when it was drawn, for reuse when something moved since.
+    std::vector<glm::mat4> transforms;  // every instance's worldFromObject
+    std::vector<Light> directLights;    // Scene::directLights() order
   } last;
 
   Result<void> allocateFrame(int width, int height);
@@ -65,8 +74,10 @@ struct Renderer::Impl {
   bool prepare(FramePlan& plan, FrameStats& stats);
   void raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
   void readback(const FramePlan& plan);
-  void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats);
+  void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats, const rt::RayReuse* reuse);
   void reuseRays(const FramePlan& plan, FrameStats& stats) const;
+  // Whether this frame can keep some of the last frame's answers, and what changed since it.
+  bool keepsSome(const FramePlan& plan, const Camera& camera, bool lastDrawn, rt::RayReuse& reuse) const;
   bool upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats, bool reused);
   void shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in);
   void present();
@@ -168,6 +179,7 @@ Result<void> Renderer::setScene(Scene scene) {
   impl_->scene = std::move(scene);
   impl_->caches.sceneChanged();
   impl_->last.sceneChanged = true;
+  impl_->last.sceneReplaced = true;
   impl_->budget.reset();
   return {};
 }
@@ -248,8 +260,17 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   if (reuse) {
     r.reuseRays(plan, stats);
   } else {
+    // The camera still but something moved: the rays clear of it keep their answers.
+    rt::RayReuse kept;
+    const bool keeps = r.keepsSome(plan, camera, lastDrawn, kept);
+    if (keeps) {
+      std::swap(r.visibility, r.keptVisibility);
+      std::swap(r.rays, r.keptRays);
+      kept.ids = &r.keptVisibility;
+      kept.rays = &r.keptRays;
+    }
     timed(stats.readbackMs, [&] { r.readback(plan); });
-    timed(stats.raysMs, [&] { r.traceRays(plan, camera, stats); });
+    timed(stats.raysMs, [&] { r.traceRays(plan, camera, stats, keeps ? &kept : nullptr); });
   }
   if (!timed(stats.uploadMs, [&] { return r.upload(plan, in, stats, reuse); })) return finished();
   timed(stats.compositeMs, [&] { r.shade(plan, glCamera, in); });
@@ -305,7 +326,8 @@ void Renderer::Impl::readback(const FramePlan& plan) {
 }
 
 // rays: the hybrid ray pass on the ray grid, or the whole reference frame.
-void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats) {
+void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats,
+                               const rt::RayReuse* reuse) {
   rays.lightMask.clear();
   rays.reflected.clear();
   rays.transmitted.clear();
@@ -313,7 +335,7 @@ void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, Fram
   rays.transmittedTiles.clear();
   rays.counts = {};
   if (plan.rayPass) {
-    tracer->trace(scene, camera, plan.raySettings, visibility, rays);
+    tracer->trace(scene, camera, plan.raySettings, visibility, rays, reuse);
     stats.rays = rays.counts;
     if (plan.raySettings.hybridShadows) {
       stats.shadowMapsMs = tracer->lastShadowMapMs();
@@ -335,6 +357,24 @@ void Renderer::Impl::reuseRays(const FramePlan& plan, FrameStats& stats) const {
   stats.rayWidth = plan.reference ? reference.width : rays.width;
   stats.rayHeight = plan.reference ? reference.height : rays.height;
   stats.threads = tracer->threads();
+}
+
+bool Renderer::Impl::keepsSome(const FramePlan& plan, const Camera& camera, bool lastDrawn, rt::RayReuse& reuse) const {
+  // Only primary shadow answers are kept, and only from a frame that looked at the same scene from the
+  // same camera with the same ray settings.
+  if (!plan.settings.reuseRays || !lastDrawn || !last.sceneChanged || last.sceneReplaced || !plan.rayPass ||
+      !plan.rays.primaryShadows || rays.lightMask.empty() || !(last.camera == camera) || !sameRayInputs(last.plan, plan))
+    return false;
+  const std::vector<const Light*> lights = scene.directLights();
+  if (last.transforms.size() != scene.instances.size() || last.directLights.size() != lights.size()) return false;
+  reuse.moved.clear();
+  for (std::size_t i = 0; i < scene.instances.size(); ++i)
+    if (!(scene.instances[i].worldFromObject == last.transforms[i]))
+      reuse.moved.emplace_back(static_cast<std::uint32_t>(i), last.transforms[i]);
+  reuse.changedLights = 0;
+  for (std::size_t j = 0; j < lights.size(); ++j)
+    if (!(*lights[j] == last.directLights[j])) reuse.changedLights |= 1u << j;
+  return true;
 }
 
 // upload: only the ray results that exist this frame. Reused results are in the ray textures already (only
@@ -405,8 +445,18 @@ void Renderer::Impl::present() {
 void Renderer::Impl::remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in) {
   last.drawn = true;
   last.sceneChanged = false;
+  last.sceneReplaced = false;
   last.camera = camera;
   last.plan = plan;
+  if (plan.settings.reuseRays) {
+    last.transforms.resize(scene.instances.size());
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) last.transforms[i] = scene.instances[i].worldFromObject;
+    last.directLights.clear();
+    for (const Light* l : scene.directLights()) last.directLights.push_back(*l);
+  } else {
+    last.transforms.clear();
+    last.directLights.clear();
+  }
   last.shadowMaps = in.shadowMaps != nullptr;
   last.probeEffects = in.probeCubes ? in.probeEffects : 0;
 }

@@ -13,6 +13,7 @@
 #include "rt/Parallel.h"
 #include "rt/PixelTrace.h"
 #include "rt/RayMath.h"
+#include "rt/RayReuse.h"
 #include "rt/RayTracerState.h"
 #include "rt/SurfaceShading.h"
 #include "rt/TileCapture.h"
@@ -25,16 +26,17 @@ namespace tandem::rt {
 namespace {
 
 struct AtomicCounts {
-  std::atomic<std::uint64_t> primary{0}, shadow{0}, reflection{0}, refraction{0}, shadowByMap{0};
+  std::atomic<std::uint64_t> primary{0}, shadow{0}, reflection{0}, refraction{0}, shadowByMap{0}, shadowKept{0};
   void add(const RayCounts& c) {
     primary += c.primary;
     shadow += c.shadow;
     reflection += c.reflection;
     refraction += c.refraction;
     shadowByMap += c.shadowByMap;
+    shadowKept += c.shadowKept;
   }
   RayCounts get() const {
-    return {primary.load(), shadow.load(), reflection.load(), refraction.load(), shadowByMap.load()};
+    return {primary.load(), shadow.load(), reflection.load(), refraction.load(), shadowByMap.load(), shadowKept.load()};
   }
 };
 
@@ -96,6 +98,7 @@ Result<void> RayTracer::setScene(const Scene& scene) {
     return built.error();
   }
   impl_->scene = std::move(*built);
+  impl_->meshBounds = reuseMeshBounds(scene);
   impl_->shadowMaps.clear();  // of the old geometry
   impl_->shadowMapsStale = true;
   return {};
@@ -109,8 +112,9 @@ void RayTracer::updateTransforms(const Scene& scene) {
 }
 
 void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSettings& settings,
-                      const VisibilityBuffer& visibility, RayOutputs& out) {
-  hybridPass(scene, camera, settings, visibility, out, nullptr, true);
+                      const VisibilityBuffer& visibility, RayOutputs& out, const RayReuse* reuse) {
+  assert((!reuse || (reuse->rays != &out && reuse->ids != &visibility)) && "trace: the kept frame is being written");
+  hybridPass(scene, camera, settings, visibility, out, nullptr, true, reuse);
 }
 
 const ShadowCertainty& RayTracer::updateShadowMaps(const Scene& scene, const FrameShading& frame) {
@@ -170,6 +174,7 @@ struct HybridTiles {
   RayOutputs& out;
   int scale;
   bool batched;
+  const ReuseGate& reuse;  // active only when batched
 
   void run(int x0, int y0, int x1, int y1, Capture& capture, RayCounts& counts) const {
     const TraceModes& modes = whitted.modes();
@@ -195,9 +200,14 @@ struct HybridTiles {
         SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, id.y, ray);
         ++counts.primary;
         if constexpr (Capture::kRecords) capture.rasterPrimary(ray.origin, ray.dir);
-        if (modes.primaryShadowRays)
-          out.lightMask[g] = static_cast<LightMask>(batched ? shadows.add(whitted, frame.lights.size(), hit, g, capture)
-                                                            : whitted.lightMask(hit, counts, capture.recorder()));
+        if (modes.primaryShadowRays) {
+          const std::size_t pixel = static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x);
+          ShadowKeep keep;
+          if (reuse.samePoint(pixel, id)) keep = {&reuse, reuse.keepableLights(), reuse.keptMask(g)};
+          out.lightMask[g] =
+              static_cast<LightMask>(batched ? shadows.add(whitted, frame.lights.size(), hit, g, capture, keep.gate ? &keep : nullptr)
+                                             : whitted.lightMask(hit, counts, capture.recorder()));
+        }
         wavefront.addPrimary(hit, g, counts, capture);
       }
     shadows.trace(embree.top(), out.lightMask.data(), counts, capture);
@@ -226,7 +236,7 @@ struct HybridTiles {
 template <class Capture>
 void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const FrameSettings& settings,
                                const VisibilityBuffer& visibility, RayOutputs& out, RayCapture* capture,
-                               bool batchedShadowRays) {
+                               bool batchedShadowRays, const RayReuse* reuse) {
   const EmbreeScene& embree = *impl_->scene;
   // Camera-relative rendering (docs/numerics.md): rays and lights in the Embree scene's render space.
   const Camera cam = toRenderSpace(camera, embree.anchor());
@@ -236,8 +246,12 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
       settings.hybridShadows && (modes.primaryShadowRays || modes.secondaryShadowRays) ? &updateShadowMaps(scene, frame) : nullptr;
   Whitted whitted(scene, embree, frame, modes, shadowMaps);
   const CameraRays cameraRays(cam, {visibility.width, visibility.height});
-  const HybridTiles<Capture> tiles{scene,      embree, frame, whitted, cameraRays, visibility,
-                                   out,        std::max(1, settings.rayScale), batchedShadowRays};
+  const ReuseGate gate = reuse && batchedShadowRays && modes.primaryShadowRays
+                             ? ReuseGate(*reuse, scene, embree, impl_->meshBounds, frame.lights.size(),
+                                         visibility.ids.size(), out.lightMask.size())
+                             : ReuseGate();
+  const HybridTiles<Capture> tiles{scene, embree, frame, whitted, cameraRays, visibility,
+                                   out,   std::max(1, settings.rayScale), batchedShadowRays, gate};
   AtomicCounts total;
   resetCapture(capture, out.width, out.height, false);
   TileProgress progress(impl_->progress, out.width, out.height);
@@ -253,14 +267,17 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   out.counts = total.get();
   // Cost follows the scene: an effect that traced no ray leaves its channel empty. The mask is the primary
   // points' only: with raster shadows, the shadow rays of secondary hits leave it to the shadow maps.
-  if (out.counts.shadow + out.counts.shadowByMap == 0 || !whitted.modes().primaryShadowRays) out.lightMask.clear();
+  // Kept answers count as the rays they stand for: the mask is cleared exactly when a frame without reuse
+  // would clear it.
+  if (out.counts.shadow + out.counts.shadowByMap + out.counts.shadowKept == 0 || !whitted.modes().primaryShadowRays)
+    out.lightMask.clear();
   if (out.counts.reflection == 0) out.reflected.clear(), out.reflectedTiles.clear();
   if (out.counts.refraction == 0) out.transmitted.clear(), out.transmittedTiles.clear();
 }
 
 void RayTracer::hybridPass(const Scene& scene, const Camera& camera, const FrameSettings& settings,
                            const VisibilityBuffer& visibility, RayOutputs& out, RayCapture* capture,
-                           bool batchedShadowRays) {
+                           bool batchedShadowRays, const RayReuse* reuse) {
   assert(impl_->scene && "trace before a successful setScene");
   assert(visibility.ids.size() == static_cast<std::size_t>(visibility.width) * static_cast<std::size_t>(visibility.height));
   const int scale = std::max(1, settings.rayScale);
@@ -288,9 +305,9 @@ void RayTracer::hybridPass(const Scene& scene, const Camera& camera, const Frame
   }
   // One branch per frame: the frame's loops are compiled without any capture code.
   if (capture)
-    hybridPassWith<TileCapture>(scene, camera, settings, visibility, out, capture, batchedShadowRays);
+    hybridPassWith<TileCapture>(scene, camera, settings, visibility, out, capture, batchedShadowRays, reuse);
   else
-    hybridPassWith<NoCapture>(scene, camera, settings, visibility, out, nullptr, batchedShadowRays);
+    hybridPassWith<NoCapture>(scene, camera, settings, visibility, out, nullptr, batchedShadowRays, reuse);
 }
 
 template <class Capture>

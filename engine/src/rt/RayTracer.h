@@ -28,6 +28,7 @@
 namespace tandem::rt {
 
 struct RayCapture;
+struct RayReuse;
 struct RayTracerState;
 class ShadowCertainty;
 struct FrameShading;
@@ -50,9 +51,11 @@ class RayTracer {
   void updateTransforms(const Scene& scene);
 
   /// The hybrid ray pass: per grid pixel, the exact primary hit of the visible triangle, then shadow
-  /// rays, Whitted reflection and refraction as the settings ask. Never fails.
+  /// rays, Whitted reflection and refraction as the settings ask. Never fails. With `reuse` (the camera
+  /// still, something moved: rt/RayReuse.h), primary shadow rays clear of what moved keep the answers of
+  /// the frame `reuse` holds, which must not be `out`.
   void trace(const Scene& scene, const Camera& camera, const FrameSettings& settings,
-             const VisibilityBuffer& visibility, RayOutputs& out);
+             const VisibilityBuffer& visibility, RayOutputs& out, const RayReuse* reuse = nullptr);
 
   /// Pure ray-traced frame (linear radiance, before tone mapping), settings.referenceSpp² jittered
   /// samples per pixel, seeded per pixel so the image does not depend on the thread count.
@@ -90,14 +93,15 @@ class RayTracer {
   // the frame's calls pass no capture and batched shadow rays.
   friend class RayTracerBench;
   void hybridPass(const Scene& scene, const Camera& camera, const FrameSettings& settings,
-                  const VisibilityBuffer& visibility, RayOutputs& out, RayCapture* capture, bool batchedShadowRays);
+                  const VisibilityBuffer& visibility, RayOutputs& out, RayCapture* capture, bool batchedShadowRays,
+                  const RayReuse* reuse = nullptr);
   void referencePass(const Scene& scene, const Camera& camera, const FrameSettings& settings, ImageF& out,
                      RayCounts& counts, RayCapture* capture);
   // Capture: NoCapture or TileCapture (rt/TileCapture.h).
   template <class Capture>
   void hybridPassWith(const Scene& scene, const Camera& camera, const FrameSettings& settings,
                       const VisibilityBuffer& visibility, RayOutputs& out, RayCapture* capture,
-                      bool batchedShadowRays);
+                      bool batchedShadowRays, const RayReuse* reuse);
   template <class Capture>
   void referencePassWith(const Scene& scene, const Camera& camera, const FrameSettings& settings, ImageF& out,
                          RayCounts& counts, RayCapture* capture);

@@ -7,6 +7,7 @@
 #include <tbb/task_arena.h>
 
 #include "rt/EmbreeScene.h"
+#include "rt/RayReuse.h"
 #include "rt/ShadowCertainty.h"
 #include "tandem/Progress.h"
 
@@ -18,6 +19,7 @@ struct RayTracerState {
   std::unique_ptr<EmbreeDevice> device;
   std::unique_ptr<EmbreeScene> scene;
   RayPassProgressCallback progress;  // setProgressCallback
+  std::vector<ReuseBox> meshBounds;  // object space, per mesh of the scene (reuse across frames)
   // Hybrid shadows' light-space maps: built by the first pass that needs them after the geometry
   // (setScene, updateTransforms) or a light changed.
   ShadowCertainty shadowMaps;

@@ -5,12 +5,13 @@
 #include <bit>
 #include <limits>
 
+#include "rt/RayReuse.h"
 #include "rt/TileCapture.h"
 
 namespace tandem::rt {
 
 void ShadowBatch::clear() {
-  byMap_ = 0;
+  byMap_ = kept_ = 0;
   rays_.clear();
   slots_.clear();
   bits_.clear();
@@ -19,11 +20,23 @@ void ShadowBatch::clear() {
 
 template <class Capture>
 std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot,
-                               Capture& capture) {
+                               Capture& capture, const ShadowKeep* keep) {
   std::uint32_t visible = 0;
   SpawnOrigins origins;
   for (std::size_t j = 0; j < lights; ++j) {
-    ShadowRay s = whitted.shadowRay(hit, j, origins);
+    ShadowRay s;
+    if (keep) {
+      // The kept frame's answer first: it costs a box test per moved instance, the map a texel fetch.
+      s = whitted.shadowRayUnanswered(hit, j, origins, NoRecorder{});
+      if (s.needed && ((keep->lights >> j) & 1u) && keep->gate->clearOfMoved(s.originW, s.dirW, s.tFar)) {
+        visible |= keep->bits & (1u << j);
+        ++kept_;
+        continue;
+      }
+      if (s.needed) whitted.answerByMap(hit, j, s, NoRecorder{});
+    } else {
+      s = whitted.shadowRay(hit, j, origins);
+    }
     if (!s.needed) {
       if (s.visibleWithoutRay) visible |= 1u << j;
       if (s.byMap) ++byMap_;
@@ -42,7 +55,8 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
 template <class Capture>
 void ShadowBatch::trace(RTCScene scene, LightMask* masks, RayCounts& counts, Capture& capture) {
   counts.shadowByMap += byMap_;
-  byMap_ = 0;
+  counts.shadowKept += kept_;
+  byMap_ = kept_ = 0;
   if (rays_.empty()) return;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
@@ -208,8 +222,10 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
 }
 
 // The frame's instantiation and the bench's; no others.
-template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, NoCapture&);
-template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, TileCapture&);
+template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, NoCapture&,
+                                        const ShadowKeep*);
+template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, TileCapture&,
+                                        const ShadowKeep*);
 template void ShadowBatch::trace(RTCScene, LightMask*, RayCounts&, NoCapture&);
 template void ShadowBatch::trace(RTCScene, LightMask*, RayCounts&, TileCapture&);
 template void Wavefront::addPrimary(const SurfaceHit&, std::size_t, RayCounts&, NoCapture&);

@@ -19,14 +19,24 @@ namespace tandem::rt {
 /// Shadow rays gathered from many hits and traced in packets of kPacket rays towards one light: each ray
 /// answers one (slot, light bit). Reused across tiles (clear() keeps the capacity), so a tile allocates
 /// nothing.
+class ReuseGate;
+
+/// The shadow bits of one primary hit that the frame before may have answered already (rt/RayReuse.h).
+struct ShadowKeep {
+  const ReuseGate* gate = nullptr;
+  std::uint32_t lights = 0;  // lights whose bit may be kept
+  std::uint32_t bits = 0;    // the kept frame's mask
+};
+
 class ShadowBatch {
  public:
   void clear();
   /// Queues the shadow rays of `hit` (Whitted::shadowRay, light order), answering into masks[slot];
   /// returns the bits of the lights that are visible without a ray.
+  /// With `keep`, a needed ray that passes clear of everything that moved takes the kept bit instead.
   template <class Capture>
   std::uint32_t add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot,
-                    Capture& capture);
+                    Capture& capture, const ShadowKeep* keep = nullptr);
   /// Traces the queued rays and ORs the bit of every unoccluded one into masks[its slot].
   template <class Capture>
   void trace(RTCScene scene, LightMask* masks, RayCounts& counts, Capture& capture);
@@ -41,6 +51,7 @@ class ShadowBatch {
   std::vector<std::size_t> captured_;  // under a recording Capture: each ray's index there
   std::vector<std::uint32_t> order_;   // ray indices grouped by light, in the order they were added
   std::uint64_t byMap_ = 0;            // rays the hybrid shadows' maps answered since the last trace()
+  std::uint64_t kept_ = 0;             // rays answered by the frame before since the last trace()
 };
 
 /// The reflection and refraction rays of a tile's primary hits, traced breadth first (a wavefront):

@@ -66,6 +66,14 @@ void setPacketLane(RTCRay8& packet, int k, const RTCRay& ray) {
 
 template <class Recorder>
 ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins, Recorder rec) const {
+  ShadowRay r = shadowRayUnanswered(hit, light, origins, rec);
+  if (r.needed && shadowMaps_) answerByMap(hit, light, r, rec);
+  return r;
+}
+
+template <class Recorder>
+ShadowRay Whitted::shadowRayUnanswered(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins,
+                                       Recorder rec) const {
   ShadowRay r;
   const GpuLight& l = frame_.lights[light];
   if (!frame_.castsShadows(light)) {
@@ -105,19 +113,20 @@ ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrig
   r.visibleWithoutRay = !r.needed;
   if (!r.needed) {
     rec.noShadowRay(light, NoShadowRay::NotFinite);
-    return r;
-  }
-  if (shadowMaps_) {
-    // Hybrid shadows: an answer the map proves is the ray's own (rt/ShadowCertainty.h).
-    ShadowAnswer answer = shadowMaps_->classify(light, hit, r.originW, r.dirW, r.tFar);
-    if (answer != ShadowAnswer::Unknown) {
-      r.needed = false;
-      r.byMap = true;
-      r.visibleWithoutRay = answer == ShadowAnswer::Lit;
-      rec.noShadowRay(light, r.visibleWithoutRay ? NoShadowRay::MapSaysLit : NoShadowRay::MapSaysShadowed);
-    }
   }
   return r;
+}
+
+template <class Recorder>
+void Whitted::answerByMap(const SurfaceHit& hit, std::size_t light, ShadowRay& r, Recorder rec) const {
+  if (!shadowMaps_) return;
+  // Hybrid shadows: an answer the map proves is the ray's own (rt/ShadowCertainty.h).
+  ShadowAnswer answer = shadowMaps_->classify(light, hit, r.originW, r.dirW, r.tFar);
+  if (answer == ShadowAnswer::Unknown) return;
+  r.needed = false;
+  r.byMap = true;
+  r.visibleWithoutRay = answer == ShadowAnswer::Lit;
+  rec.noShadowRay(light, r.visibleWithoutRay ? NoShadowRay::MapSaysLit : NoShadowRay::MapSaysShadowed);
 }
 
 template <class Recorder>
@@ -264,6 +273,10 @@ glm::vec3 Whitted::radiance(glm::vec3 originW, glm::vec3 dirW, int depth, float 
 // The passes' instantiation (no recorder) and PixelTrace's (through RayRecorder); no others.
 template ShadowRay Whitted::shadowRay(const SurfaceHit&, std::size_t, SpawnOrigins&, NoRecorder) const;
 template ShadowRay Whitted::shadowRay(const SurfaceHit&, std::size_t, SpawnOrigins&, Recording) const;
+template ShadowRay Whitted::shadowRayUnanswered(const SurfaceHit&, std::size_t, SpawnOrigins&, NoRecorder) const;
+template ShadowRay Whitted::shadowRayUnanswered(const SurfaceHit&, std::size_t, SpawnOrigins&, Recording) const;
+template void Whitted::answerByMap(const SurfaceHit&, std::size_t, ShadowRay&, NoRecorder) const;
+template void Whitted::answerByMap(const SurfaceHit&, std::size_t, ShadowRay&, Recording) const;
 template std::uint32_t Whitted::lightMask(const SurfaceHit&, RayCounts&, NoRecorder) const;
 template std::uint32_t Whitted::lightMask(const SurfaceHit&, RayCounts&, Recording) const;
 template void Whitted::secondary(const SurfaceHit&, int, float, glm::vec3&, glm::vec3&, bool&, bool&, RayCounts&,

@@ -224,6 +224,13 @@ class Whitted {
   // The same, reporting to a recorder; instantiated for NoRecorder and Recording only.
   template <class Recorder>
   ShadowRay shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins, Recorder rec) const;
+  /// shadowRay in two steps, for a caller that may know the answer already (a ray kept from the last frame,
+  /// rt/RayReuse.h): the ray or why none is needed, without asking the hybrid shadows' maps; then the maps'
+  /// answer, when they have one (r.needed becomes false).
+  template <class Recorder>
+  ShadowRay shadowRayUnanswered(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins, Recorder rec) const;
+  template <class Recorder>
+  void answerByMap(const SurfaceHit& hit, std::size_t light, ShadowRay& r, Recorder rec) const;
   template <class Recorder>
   std::uint32_t lightMask(const SurfaceHit& hit, RayCounts& counts, Recorder rec) const;
   template <class Recorder>

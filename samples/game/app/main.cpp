@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -54,6 +55,7 @@ struct Options {
   float targetFps = 0.0f;
   std::string frameLog;
   int errorEvery = 0;
+  bool checkReuse = false;
   double dt = 1.0 / 60.0;
   bool noVsync = false;
   bool fullscreen = false;
@@ -143,6 +145,42 @@ class Session {
     return truth_->setScene(renderer_->scene());
   }
 
+  /// A second renderer, for --check-reuse: every frame drawn again with reuse off.
+  tandem::Result<void> initTwin() {
+    auto r = tandem::Renderer::create(ctx_);
+    if (!r) return r.error();
+    twin_ = std::move(*r);
+    return twin_->setScene(renderer_->scene());
+  }
+
+  /// The last frame drawn again by the twin, every ray traced, and compared to the bit: the pixels whose
+  /// linear or display values differ, and the twin's ray counts.
+  struct ReuseCheck {
+    std::size_t differing = 0;
+    tandem::RayCounts rays;
+  };
+  tandem::Result<ReuseCheck> checkReuse(int w, int h) {
+    syncScene(*twin_, game_, handles_);
+    tandem::FrameSettings s = view_.settings;
+    s.width = w;
+    s.height = h;
+    s.reuseRays = false;
+    const tandem::FrameStats st = twin_->render(camera_, s);
+    if (!st.error.empty()) return tandem::Error{st.error};
+    ReuseCheck c;
+    c.rays = st.rays;
+    const tandem::ImageF a = renderer_->readLinear(), b = twin_->readLinear();
+    const tandem::Image da = renderer_->readImage(), db = twin_->readImage();
+    if (a.rgb.size() != b.rgb.size() || da.rgba.size() != db.rgba.size())
+      return tandem::Error{"the twin's frame has another size"};
+    for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+      const bool linear = std::memcmp(&a.rgb[i], &b.rgb[i], sizeof(glm::vec3)) != 0;
+      const bool display = std::memcmp(&da.rgba[4 * i], &db.rgba[4 * i], 4) != 0;
+      c.differing += linear || display ? 1 : 0;
+    }
+    return c;
+  }
+
   /// FLIP of the last frame against the same instant drawn as requested, without the budget.
   tandem::Result<double> errorAgainstRequested(int w, int h) {
     syncScene(*truth_, game_, handles_);
@@ -220,6 +258,7 @@ class Session {
   tandem::GlContext& ctx_;
   std::unique_ptr<tandem::Renderer> renderer_;
   std::unique_ptr<tandem::Renderer> truth_;  // --error-every only
+  std::unique_ptr<tandem::Renderer> twin_;   // --check-reuse only
   Game game_;
   ViewState view_;
   CameraRig rig_;
@@ -261,14 +300,15 @@ void printTimes(const std::vector<tandem::FrameStats>& frames, const std::vector
     compiles += frames[i].shaderCompiles;
   }
   // Over the run: the shadow rays traced and (hybrid shadows) those the light-space maps answered.
-  unsigned long long shadowRays = 0, shadowByMap = 0;
-  for (const auto& f : frames) shadowRays += f.rays.shadow, shadowByMap += f.rays.shadowByMap;
+  unsigned long long shadowRays = 0, shadowByMap = 0, shadowKept = 0;
+  for (const auto& f : frames)
+    shadowRays += f.rays.shadow, shadowByMap += f.rays.shadowByMap, shadowKept += f.rays.shadowKept;
   std::printf("times: size=%dx%d frames=%zu median_ms total=%.2f raster=%.2f rays=%.2f composite=%.2f loop=%.2f "
               "rays_per_frame=%llu worst_after_first_ms=%.2f worst_frame=%zu compiles_after_first=%d "
-              "shadow_rays=%llu shadow_by_map=%llu\n",
+              "shadow_rays=%llu shadow_by_map=%llu shadow_kept=%llu\n",
               w, h, frames.size(), median(total), median(raster), median(rays), median(composite), median(loopMs),
               static_cast<unsigned long long>(last.rays.total()), frames[worst].totalMs, worst, compiles, shadowRays,
-              shadowByMap);
+              shadowByMap, shadowKept);
   // The budget over the run: how often a frame kept within 10 % of its target, and how often it moved.
   std::size_t budgeted = 0, within = 0, changes = 0;
   for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -298,18 +338,44 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
   }
   if (o.errorEvery > 0)
     if (auto r = s.initTruth(); !r) return fail(r.error().message);
+  if (o.checkReuse)
+    if (auto r = s.initTwin(); !r) return fail(r.error().message);
+  // --check-reuse over the run: frames compared, those identical to the bit, the rays traced with reuse
+  // and without it, and the shadow answers kept.
+  std::size_t checked = 0, identical = 0, differing = 0, budgetFrames = 0;
+  unsigned long long raysWith = 0, raysWithout = 0, shadowWith = 0, shadowWithout = 0, kept = 0, still = 0;
   for (int f = 0; f < o.frames && !s.quit_; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
     s.step();
     stats.push_back(s.render(w, h));
     double errorMs = 0.0;  // the second renderer's time, left out of the loop's
+    if (o.checkReuse) {
+      const tandem::FrameStats& st = stats.back();
+      const auto e0 = std::chrono::steady_clock::now();
+      if (st.budget.active) {
+        ++budgetFrames;  // the twin's budget would choose on its own clock: nothing to compare
+      } else {
+        auto c = s.checkReuse(w, h);
+        if (!c) return fail("--check-reuse: " + c.error().message);
+        ++checked;
+        identical += c->differing == 0 ? 1 : 0;
+        differing += c->differing;
+        raysWith += st.rays.total();
+        raysWithout += c->rays.total();
+        shadowWith += st.rays.shadow;
+        shadowWithout += c->rays.shadow;
+        kept += st.rays.shadowKept;
+        still += st.raysReused ? 1 : 0;
+      }
+      errorMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - e0).count();
+    }
     if (log.is_open()) {
       // After the frame's own timing: the error frame is drawn by the second renderer, outside it.
       std::string flip;
       if (o.errorEvery > 0 && f % o.errorEvery == 0) {
         const auto e0 = std::chrono::steady_clock::now();
         auto e = s.errorAgainstRequested(w, h);
-        errorMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - e0).count();
+        errorMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - e0).count();
         if (!e) return fail("--error-every: " + e.error().message);
         char buf[32];
         std::snprintf(buf, sizeof buf, "%.6f", *e);
@@ -336,6 +402,18 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
     if (auto r = s.saveFrame(o.capture); !r) return fail(r.error().message);
   std::printf("game: %s frames=%zu %s\n", s.game_.stateLine().c_str(), stats.size(), s.settingsLine().c_str());
   printTimes(stats, loopMs, w, h);
+  if (o.checkReuse) {
+    auto saved = [](unsigned long long with, unsigned long long without) {
+      return without > 0 ? 1.0 - static_cast<double>(with) / static_cast<double>(without) : 0.0;
+    };
+    std::printf("reuse: frames=%zu identical=%zu differing_pixels=%zu still_frames=%llu rays=%llu "
+                "rays_without_reuse=%llu saved=%.4f shadow_rays=%llu shadow_rays_without_reuse=%llu "
+                "shadow_saved=%.4f shadow_kept=%llu budget_frames_unchecked=%zu\n",
+                checked, identical, differing, still, raysWith, raysWithout, saved(raysWith, raysWithout), shadowWith,
+                shadowWithout, saved(shadowWith, shadowWithout), kept, budgetFrames);
+    if (identical != checked) return fail("--check-reuse: " + std::to_string(checked - identical) +
+                                          " frames differ from the same frames traced whole");
+  }
   return 0;
 }
 
@@ -557,6 +635,9 @@ int run(int argc, char** argv) {
                  "Headless with --frame-log: every Nth frame, FLIP against the same instant drawn as requested "
                  "without the budget (a second renderer)")
       ->check(CLI::Range(1, 1000000));
+  app.add_flag("--check-reuse", o.checkReuse,
+               "Headless: draw every frame again with reuse off (a second renderer) and compare them to the bit; "
+               "prints the rays reuse saved, fails if a frame differs");
   app.add_option("--dt", o.dt, "Fixed simulation step in seconds (default 1/60)")->check(CLI::Range(0.001, 0.1));
   app.add_flag("--no-vsync", o.noVsync, "Start with vsync off");
   app.add_flag("--fullscreen", o.fullscreen, "Start fullscreen");
@@ -573,6 +654,10 @@ int run(int argc, char** argv) {
   if (o.headless && o.frames < 1) return fail("--headless needs --frames N (N >= 1)");
   if (!o.headless && !o.frameLog.empty()) return fail("--frame-log: headless runs only (add --headless)");
   if (o.errorEvery > 0 && o.frameLog.empty()) return fail("--error-every: needs --frame-log FILE");
+  if (o.checkReuse && !o.headless) return fail("--check-reuse: headless runs only (add --headless)");
+  if (o.checkReuse && o.targetFps > 0.0f)
+    return fail("--check-reuse: not with --target-fps (the twin's budget would choose on its own clock)");
+  if (o.checkReuse && o.reuse == "off") return fail("--check-reuse: needs reuse on");
 
   ViewState view;
   if (!view.applyPreset(o.preset))

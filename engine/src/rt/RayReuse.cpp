@@ -1,0 +1,116 @@
+#include "rt/RayReuse.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rt/EmbreeScene.h"
+
+namespace tandem::rt {
+
+namespace {
+
+// The margin around a moved instance's bounds, relative to the coordinates involved: Embree tests a ray
+// against an instance in object space after transforming the ray in float, so where it finds a crossing
+// differs from the exact one by a few float roundings of those coordinates (~1e-7 relative). A thousand
+// times that costs a few rays traced that could have been kept, never a bit kept that could differ.
+constexpr double kMargin = 1e-4;
+
+double maxAbs(glm::dvec3 v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
+
+}  // namespace
+
+std::vector<ReuseBox> reuseMeshBounds(const Scene& scene) {
+  std::vector<ReuseBox> out(scene.meshes.size());
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    ReuseBox& b = out[m];
+    b.lo = glm::dvec3(std::numeric_limits<double>::infinity());
+    b.hi = -b.lo;
+    for (const glm::vec3& p : scene.meshes[m].positions) {
+      b.lo = glm::min(b.lo, glm::dvec3(p));
+      b.hi = glm::max(b.hi, glm::dvec3(p));
+    }
+  }
+  return out;
+}
+
+bool ReuseGate::instanceBox(const ReuseBox& mesh, const glm::mat4& worldFromObject, glm::dvec3 anchor, ReuseBox& out) {
+  if (!(mesh.lo.x <= mesh.hi.x)) return false;
+  const glm::dmat4 m(worldFromObject);
+  out.lo = glm::dvec3(std::numeric_limits<double>::infinity());
+  out.hi = -out.lo;
+  for (int k = 0; k < 8; ++k) {
+    const glm::dvec3 corner((k & 1) ? mesh.hi.x : mesh.lo.x, (k & 2) ? mesh.hi.y : mesh.lo.y,
+                            (k & 4) ? mesh.hi.z : mesh.lo.z);
+    const glm::dvec3 p = glm::dvec3(m * glm::dvec4(corner, 1.0)) - anchor;
+    out.lo = glm::min(out.lo, p);
+    out.hi = glm::max(out.hi, p);
+  }
+  // The transform's own translation counts too: Embree's rounding follows the object-space coordinates
+  // scaled by the transform, which can be far larger than the box (a small part far from its origin).
+  const double scale = std::max({maxAbs(out.lo), maxAbs(out.hi), maxAbs(glm::dvec3(m[3]) - anchor),
+                                 maxAbs(mesh.lo) * maxAbs(glm::dvec3(m[0]) + glm::dvec3(m[1]) + glm::dvec3(m[2])),
+                                 maxAbs(mesh.hi) * maxAbs(glm::dvec3(m[0]) + glm::dvec3(m[1]) + glm::dvec3(m[2]))});
+  const double grow = kMargin * scale + 1e-30;
+  out.lo -= glm::dvec3(grow);
+  out.hi += glm::dvec3(grow);
+  return std::isfinite(out.lo.x + out.lo.y + out.lo.z + out.hi.x + out.hi.y + out.hi.z);
+}
+
+bool ReuseGate::rayMeetsBox(glm::dvec3 origin, glm::dvec3 dir, double tFar, const ReuseBox& box) {
+  double t0 = 0.0, t1 = tFar;
+  for (int a = 0; a < 3; ++a) {
+    if (dir[a] == 0.0) {
+      if (origin[a] < box.lo[a] || origin[a] > box.hi[a]) return false;
+      continue;
+    }
+    double tn = (box.lo[a] - origin[a]) / dir[a];
+    double tf = (box.hi[a] - origin[a]) / dir[a];
+    if (tn > tf) std::swap(tn, tf);
+    t0 = std::max(t0, tn);
+    t1 = std::min(t1, tf);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+ReuseGate::ReuseGate(const RayReuse& reuse, const Scene& scene, const EmbreeScene& embree,
+                     const std::vector<ReuseBox>& meshBounds, std::size_t lights, std::size_t pixels,
+                     std::size_t gridPixels)
+    : reuse_(&reuse) {
+  const std::uint32_t all = lights >= 32 ? ~0u : (1u << lights) - 1u;
+  keepable_ = all & ~reuse.changedLights;
+  // Only a kept mask of this frame's sizes can be read; an empty one (no shadow ray last frame) says
+  // "all visible" for the whole frame, not per pixel, so it keeps nothing.
+  active_ = keepable_ != 0 && reuse.ids && reuse.rays && reuse.ids->ids.size() == pixels &&
+            reuse.rays->lightMask.size() == gridPixels && gridPixels > 0 && meshBounds.size() == scene.meshes.size();
+  if (!active_) return;
+  moved_.assign(scene.instances.size(), 0);
+  const glm::dvec3 anchor(embree.anchor());
+  for (const auto& [instance, before] : reuse.moved) {
+    if (instance >= scene.instances.size()) continue;
+    moved_[instance] = 1;
+    const ReuseBox& mesh = meshBounds[scene.instances[instance].mesh];
+    for (const glm::mat4* t : {&before, &scene.instances[instance].worldFromObject}) {
+      ReuseBox box;
+      if (instanceBox(mesh, *t, anchor, box)) {
+        boxes_.push_back(box);
+      } else if (mesh.lo.x <= mesh.hi.x) {
+        active_ = false;  // a transform too large for a finite box: keep nothing rather than guess
+        return;
+      }
+    }
+  }
+}
+
+bool ReuseGate::clearOfMoved(glm::vec3 originW, glm::vec3 dirW, float tFar) const {
+  const glm::dvec3 o(originW), d(dirW);
+  // The ray's own coordinates add to the rounding (Embree moves its origin into object space).
+  const double grow = kMargin * maxAbs(o);
+  for (const ReuseBox& b : boxes_) {
+    const ReuseBox grown{b.lo - glm::dvec3(grow), b.hi + glm::dvec3(grow)};
+    if (rayMeetsBox(o, d, static_cast<double>(tFar), grown)) return false;
+  }
+  return true;
+}
+
+}  // namespace tandem::rt
