@@ -7,10 +7,12 @@
 #include <memory>
 
 #include <benchmark/benchmark.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "BenchCommon.h"
 #include "core/Timer.h"
 #include "rt/RayCapture.h"
+#include "rt/RayReuse.h"
 #include "rt/RayTracerBench.h"
 #include "rt/RayTracer.h"
 #include "tandem/Context.h"
@@ -137,6 +139,77 @@ void BM_RayPassHybridShadows(benchmark::State& state) {
   state.counters["shadow_by_map"] = static_cast<double>(out.counts.shadowByMap);
   state.counters["pass_ms"] = summarize(ms).median;
   state.counters["map_MB"] = static_cast<double>(f.tracer->shadowMapBytes()) / 1e6;
+}
+
+// Reuse across frames (docs/reuse.md) where it applies: the camera still, one object moving. The
+// Whitted scene's box bobs between two places, frame after frame; arg 1 keeps the shadow answers of the
+// frame before that pass clear of it, arg 0 traces every ray. Only the ray pass is timed (the ids of both
+// places are cast once, outside the loop). Hybrid-full and hybrid-fast (arg 2: 1/2 grid, no refraction).
+void BM_RayPassKeptShadows(benchmark::State& state) {
+  const bool keep = state.range(0) != 0;
+  const bool fast = state.range(1) != 0;
+  struct Bob {
+    Scene scene;
+    std::unique_ptr<rt::RayTracer> tracer;
+    glm::mat4 at[2];
+    rt::VisibilityBuffer ids[2];
+    std::string error;
+  };
+  static std::map<bool, std::unique_ptr<Bob>> bobs;
+  auto& slot = bobs[fast];
+  if (!slot) {
+    slot = std::make_unique<Bob>();
+    RtFrame& f = rtFrame(0);
+    if (!f.tracer) {
+      slot->error = f.error;
+    } else {
+      slot->scene = f.scene;
+      auto tracer = rt::RayTracer::create(0);
+      if (!tracer || !(*tracer)->setScene(slot->scene)) {
+        slot->error = "cannot build the ray scene";
+      } else {
+        slot->tracer = std::move(*tracer);
+        const glm::mat4 base = slot->scene.instances.back().worldFromObject;
+        for (int k = 0; k < 2; ++k) {
+          slot->at[k] = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, k == 0 ? 0.0f : 0.1f, 0.0f)) * base;
+          slot->scene.instances.back().worldFromObject = slot->at[k];
+          slot->tracer->updateTransforms(slot->scene);
+          slot->tracer->castVisibility(slot->scene.camera, kWidth, kHeight, slot->ids[k]);
+        }
+      }
+    }
+  }
+  Bob& b = *slot;
+  if (!b.tracer) return state.SkipWithError(b.error.c_str());
+  FrameSettings base;
+  base.width = kWidth;
+  base.height = kHeight;
+  const FrameSettings settings = *presetSettings(fast ? "hybrid-fast" : "hybrid-full", base);
+  const std::uint32_t box = static_cast<std::uint32_t>(b.scene.instances.size() - 1);
+  rt::RayOutputs out[2];
+  int k = 0;
+  b.scene.instances[box].worldFromObject = b.at[0];
+  b.tracer->updateTransforms(b.scene);
+  b.tracer->trace(b.scene, b.scene.camera, settings, b.ids[0], out[0]);
+  std::vector<double> ms;
+  RayCounts counts;
+  for (auto _ : state) {
+    const int next = 1 - k;
+    b.scene.instances[box].worldFromObject = b.at[next];
+    b.tracer->updateTransforms(b.scene);
+    rt::RayReuse reuse;
+    reuse.ids = &b.ids[k];
+    reuse.rays = &out[k];
+    reuse.moved.emplace_back(box, b.at[k]);
+    Timer t;
+    b.tracer->trace(b.scene, b.scene.camera, settings, b.ids[next], out[next], keep ? &reuse : nullptr);
+    ms.push_back(t.ms());
+    counts = out[next].counts;
+    k = next;
+  }
+  state.counters["pass_ms"] = summarize(ms).median;
+  state.counters["shadow_rays"] = static_cast<double>(counts.shadow);
+  state.counters["shadow_kept"] = static_cast<double>(counts.shadowKept);
 }
 
 void BM_RetraceFloor(benchmark::State& state) {
@@ -283,6 +356,11 @@ void registerMicroBenchmarks() {
   auto scenes = [](benchmark::internal::Benchmark* b) { b->ArgName("heavy")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond); };
   scenes(benchmark::RegisterBenchmark("BM_RayPass", BM_RayPass)->MinTime(2.0));
   scenes(benchmark::RegisterBenchmark("BM_RayPassHybridShadows", BM_RayPassHybridShadows)->MinTime(2.0));
+  benchmark::RegisterBenchmark("BM_RayPassKeptShadows", BM_RayPassKeptShadows)
+      ->ArgNames({"keep", "fast"})
+      ->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1})
+      ->MinTime(2.0)
+      ->Unit(benchmark::kMillisecond);
   scenes(benchmark::RegisterBenchmark("BM_RetraceFloor", BM_RetraceFloor));
   scenes(benchmark::RegisterBenchmark("BM_ShadowOccluded1", BM_ShadowOccluded1));
   scenes(benchmark::RegisterBenchmark("BM_ShadowOccluded1M", BM_ShadowOccluded1M));

@@ -59,8 +59,10 @@ struct FrameSettings {
   int probesPerFrame = 0;
   /// A frame whose ray inputs equal the last frame's (the same camera, scene and ray settings: nothing moved,
   /// no light changed) reuses that frame's ray results instead of tracing them again: they would be the
-  /// same to the bit. FrameStats::raysReused says when. Off: every frame traces (what a benchmark of
-  /// per-frame cost must use with a still camera).
+  /// same to the bit. FrameStats::raysReused says when. With the camera still and instances moved or
+  /// lights changed, the primary shadow answers whose rays pass clear of what moved, towards lights that
+  /// did not change, are kept (FrameStats::rays.shadowKept; docs/reuse.md): again the same to the bit.
+  /// Off: every frame traces (what a benchmark of per-frame cost must use with a still camera).
   bool reuseRays = true;
   /// A frame-time budget in milliseconds (0: none, the settings are drawn as they are). The Renderer then
   /// draws each frame with these settings or the cheaper choice (coarser ray grid, capped depth, raster

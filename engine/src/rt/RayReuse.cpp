@@ -74,10 +74,17 @@ bool ReuseGate::rayMeetsBox(glm::dvec3 origin, glm::dvec3 dir, double tFar, cons
 }
 
 ReuseGate::ReuseGate(const RayReuse& reuse, const Scene& scene, const EmbreeScene& embree,
-                     const std::vector<ReuseBox>& meshBounds, std::size_t lights, std::size_t pixels,
-                     std::size_t gridPixels)
+                     const std::vector<ReuseBox>& meshBounds, const std::vector<shading::GpuLight>& lights,
+                     std::size_t pixels, std::size_t gridPixels)
     : reuse_(&reuse) {
-  const std::uint32_t all = lights >= 32 ? ~0u : (1u << lights) - 1u;
+  const std::uint32_t all = lights.size() >= 32 ? ~0u : (1u << lights.size()) - 1u;
+  for (const shading::GpuLight& l : lights) {
+    LightReach r;
+    r.directional = static_cast<int>(l.posType.w + 0.5f) == TD_LIGHT_DIRECTIONAL;
+    r.at = glm::dvec3(glm::vec3(l.posType));
+    r.towards = -glm::dvec3(glm::vec3(l.dirRange));
+    lights_.push_back(r);
+  }
   keepable_ = all & ~reuse.changedLights;
   // Only a kept mask of this frame's sizes can be read; an empty one (no shadow ray last frame) says
   // "all visible" for the whole frame, not per pixel, so it keeps nothing.
@@ -102,12 +109,47 @@ ReuseGate::ReuseGate(const RayReuse& reuse, const Scene& scene, const EmbreeScen
   }
 }
 
-bool ReuseGate::clearOfMoved(glm::vec3 originW, glm::vec3 dirW, float tFar) const {
+void ReuseGate::selectForTile(glm::dvec3 lo, glm::dvec3 hi, ReuseTile& tile) const {
+  for (std::size_t j = 0; j < lights_.size() && j < static_cast<std::size_t>(kMaxLights); ++j) {
+    std::vector<std::uint32_t>& mine = tile.boxes[j];
+    mine.clear();
+    if (!(lo.x <= hi.x)) continue;  // no kept hit in the tile
+    ReuseBox path{lo, hi};
+    const LightReach& l = lights_[j];
+    for (int a = 0; a < 3; ++a) {
+      if (l.directional) {
+        if (l.towards[a] > 0.0) path.hi[a] = std::numeric_limits<double>::infinity();
+        if (l.towards[a] < 0.0) path.lo[a] = -std::numeric_limits<double>::infinity();
+      } else {
+        path.lo[a] = std::min(path.lo[a], l.at[a]);
+        path.hi[a] = std::max(path.hi[a], l.at[a]);
+      }
+    }
+    // The rays leave from origins offset off the hits by a few ULPs and end within rounding of the light;
+    // clearOfMoved grows each box by kMargin of the origin's coordinates. Grown by twice that here, of
+    // every coordinate involved, no box a ray's test would meet is left out.
+    const double scale = std::max({maxAbs(lo), maxAbs(hi), l.directional ? 0.0 : maxAbs(l.at)});
+    const double grow = 2.0 * kMargin * scale + 1e-30;
+    path.lo -= glm::dvec3(grow);
+    path.hi += glm::dvec3(grow);
+    for (std::uint32_t b = 0; b < boxes_.size(); ++b) {
+      const ReuseBox& box = boxes_[b];
+      const bool overlaps = box.lo.x <= path.hi.x && box.hi.x >= path.lo.x && box.lo.y <= path.hi.y &&
+                            box.hi.y >= path.lo.y && box.lo.z <= path.hi.z && box.hi.z >= path.lo.z;
+      if (overlaps) mine.push_back(b);
+    }
+  }
+}
+
+bool ReuseGate::clearOfMoved(const ReuseTile& tile, std::size_t light, glm::vec3 originW, glm::vec3 dirW,
+                             float tFar) const {
+  const std::vector<std::uint32_t>& candidates = tile.boxes[light];
+  if (candidates.empty()) return true;
   const glm::dvec3 o(originW), d(dirW);
   // The ray's own coordinates add to the rounding (Embree moves its origin into object space).
   const double grow = kMargin * maxAbs(o);
-  for (const ReuseBox& b : boxes_) {
-    const ReuseBox grown{b.lo - glm::dvec3(grow), b.hi + glm::dvec3(grow)};
+  for (std::uint32_t b : candidates) {
+    const ReuseBox grown{boxes_[b].lo - glm::dvec3(grow), boxes_[b].hi + glm::dvec3(grow)};
     if (rayMeetsBox(o, d, static_cast<double>(tFar), grown)) return false;
   }
   return true;

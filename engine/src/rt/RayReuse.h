@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/Shading.h"
 #include "rt/RayBuffers.h"
 #include "tandem/Scene.h"
 
@@ -34,6 +35,12 @@ struct ReuseBox {
   glm::dvec3 lo{0.0}, hi{0.0};
 };
 
+/// Per tile of the ray grid and per light: the moved bounds that a shadow ray from the tile's kept hits
+/// towards that light can meet (ReuseGate::selectForTile). Scratch kept by each thread.
+struct ReuseTile {
+  std::vector<std::uint32_t> boxes[kMaxLights];
+};
+
 /// The tiles' questions, built once per trace() from a RayReuse.
 class ReuseGate {
  public:
@@ -41,8 +48,10 @@ class ReuseGate {
   /// `meshBounds`: object-space bounds per mesh (lo, hi; lo > hi when the mesh is empty).
   /// `pixels` and `gridPixels`: this frame's full-resolution and ray-grid sizes (a kept frame of another
   /// size keeps nothing).
+  /// `lights`: the frame's direct lights in render space (FrameShading::lights).
   ReuseGate(const RayReuse& reuse, const Scene& scene, const EmbreeScene& embree,
-            const std::vector<ReuseBox>& meshBounds, std::size_t lights, std::size_t pixels, std::size_t gridPixels);
+            const std::vector<ReuseBox>& meshBounds, const std::vector<shading::GpuLight>& lights, std::size_t pixels,
+            std::size_t gridPixels);
 
   /// Whether any shadow bit can be kept at all this frame.
   bool active() const { return active_; }
@@ -54,9 +63,15 @@ class ReuseGate {
   }
   /// The kept frame's light mask of grid pixel g.
   std::uint32_t keptMask(std::size_t g) const { return reuse_->rays->lightMask[g]; }
-  /// Whether the ray (render space; tFar may be infinite) passes clear of every moved instance's bounds,
-  /// before and after its move, with a margin far beyond the rounding of Embree's tests.
-  bool clearOfMoved(glm::vec3 originW, glm::vec3 dirW, float tFar) const;
+  /// Chooses, for each light, the moved bounds that a shadow ray from a hit in [lo, hi] (render space)
+  /// towards the light can meet: its path lies in the box spanned by [lo, hi] and the light's position, or
+  /// [lo, hi] swept towards a directional light. A tile of kept hits on the floor far from what moved
+  /// then tests no bounds at all per ray.
+  void selectForTile(glm::dvec3 lo, glm::dvec3 hi, ReuseTile& tile) const;
+  /// Whether the shadow ray towards `light` from a hit of the tile (render space; tFar may be infinite)
+  /// passes clear of every moved instance's bounds, before and after its move, with a margin far beyond
+  /// the rounding of Embree's tests.
+  bool clearOfMoved(const ReuseTile& tile, std::size_t light, glm::vec3 originW, glm::vec3 dirW, float tFar) const;
 
   /// The render-space bounds of an instance of a mesh with object bounds `mesh` under `worldFromObject`,
   /// grown by the margin (empty mesh: nothing, returns false).
@@ -70,6 +85,12 @@ class ReuseGate {
   std::uint32_t keepable_ = 0;
   std::vector<std::uint8_t> moved_;  // per instance
   std::vector<ReuseBox> boxes_;      // old and new place of each moved instance
+  struct LightReach {
+    bool directional = false;
+    glm::dvec3 at{0.0};       // point and spot lights: the position
+    glm::dvec3 towards{0.0};  // directional lights: the direction to the light
+  };
+  std::vector<LightReach> lights_;
 };
 
 /// Object-space bounds of every mesh (what ReuseGate takes; computed once per scene).

@@ -182,34 +182,54 @@ struct HybridTiles {
     // Per-thread scratch, kept from tile to tile so a tile allocates nothing once warm.
     thread_local ShadowBatch shadows;  // the tile's primary shadow rays, in packets per light
     thread_local Wavefront::Buffers wavefrontBuffers;
+    // The tile's primary hits, resolved before any ray is queued: with reuse, the moved bounds its kept
+    // shadow rays can meet are chosen once for the tile from where its hits lie (ReuseTile).
+    struct Primary {
+      std::size_t g;
+      SurfaceHit hit;
+      bool samePoint;
+    };
+    thread_local std::vector<Primary> primaries;
+    thread_local ReuseTile keptTile;
     shadows.clear();
+    primaries.clear();
     Wavefront wavefront(whitted, wavefrontBuffers);
+    const bool keeping = reuse.active() && batched && modes.primaryShadowRays;
+    glm::dvec3 keptLo(std::numeric_limits<double>::infinity()), keptHi(-std::numeric_limits<double>::infinity());
     for (int gy = y0; gy < y1; ++gy)
       for (int gx = x0; gx < x1; ++gx) {
         std::size_t g = static_cast<std::size_t>(gy) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(gx);
         out.lightMask[g] = 0u;
         out.reflected[g] = out.transmitted[g] = glm::vec4(0.0f);
         glm::ivec2 p = fullPixelOfGridPixel(gx, gy, scale, width, height);
-        glm::uvec2 id = visibility.ids[static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x)];
+        const std::size_t pixel = static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x);
+        glm::uvec2 id = visibility.ids[pixel];
         if (id.x == 0) continue;  // background: no light, nothing reflected or transmitted
         std::uint32_t instance = id.x - 1;
         // Ids come from the rasterizer of the same scene; a stale one is a bug, skipped in release.
         assert(embree.hasTriangle(instance, id.y) && "trace: visibility id not in the scene");
         if (!embree.hasTriangle(instance, id.y)) continue;
         Ray ray = cameraRays.through(glm::vec2(p) + 0.5f);
-        SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, id.y, ray);
         ++counts.primary;
         if constexpr (Capture::kRecords) capture.rasterPrimary(ray.origin, ray.dir);
-        if (modes.primaryShadowRays) {
-          const std::size_t pixel = static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x);
-          ShadowKeep keep;
-          if (reuse.samePoint(pixel, id)) keep = {&reuse, reuse.keepableLights(), reuse.keptMask(g)};
-          out.lightMask[g] =
-              static_cast<LightMask>(batched ? shadows.add(whitted, frame.lights.size(), hit, g, capture, keep.gate ? &keep : nullptr)
-                                             : whitted.lightMask(hit, counts, capture.recorder()));
+        primaries.push_back({g, resolveHit(scene, embree.transform(instance), instance, id.y, ray),
+                             keeping && reuse.samePoint(pixel, id)});
+        if (primaries.back().samePoint) {
+          keptLo = glm::min(keptLo, glm::dvec3(primaries.back().hit.posW));
+          keptHi = glm::max(keptHi, glm::dvec3(primaries.back().hit.posW));
         }
-        wavefront.addPrimary(hit, g, counts, capture);
       }
+    if (keeping) reuse.selectForTile(keptLo, keptHi, keptTile);
+    for (const Primary& pr : primaries) {
+      if (modes.primaryShadowRays) {
+        ShadowKeep keep;
+        if (pr.samePoint) keep = {&reuse, &keptTile, reuse.keepableLights(), reuse.keptMask(pr.g)};
+        out.lightMask[pr.g] = static_cast<LightMask>(
+            batched ? shadows.add(whitted, frame.lights.size(), pr.hit, pr.g, capture, keep.gate ? &keep : nullptr)
+                    : whitted.lightMask(pr.hit, counts, capture.recorder()));
+      }
+      wavefront.addPrimary(pr.hit, pr.g, counts, capture);
+    }
     shadows.trace(embree.top(), out.lightMask.data(), counts, capture);
     wavefront.run(counts, out.reflected.data(), out.transmitted.data(), capture);
     const std::size_t tile = tileIndex(x0, y0, gw);
@@ -247,7 +267,7 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   Whitted whitted(scene, embree, frame, modes, shadowMaps);
   const CameraRays cameraRays(cam, {visibility.width, visibility.height});
   const ReuseGate gate = reuse && batchedShadowRays && modes.primaryShadowRays
-                             ? ReuseGate(*reuse, scene, embree, impl_->meshBounds, frame.lights.size(),
+                             ? ReuseGate(*reuse, scene, embree, impl_->meshBounds, frame.lights,
                                          visibility.ids.size(), out.lightMask.size())
                              : ReuseGate();
   const HybridTiles<Capture> tiles{scene, embree, frame, whitted, cameraRays, visibility,

@@ -28,7 +28,7 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
     if (keep) {
       // The kept frame's answer first: it costs a box test per moved instance, the map a texel fetch.
       s = whitted.shadowRayUnanswered(hit, j, origins, NoRecorder{});
-      if (s.needed && ((keep->lights >> j) & 1u) && keep->gate->clearOfMoved(s.originW, s.dirW, s.tFar)) {
+      if (s.needed && ((keep->lights >> j) & 1u) && keep->gate->clearOfMoved(*keep->tile, j, s.originW, s.dirW, s.tFar)) {
         visible |= keep->bits & (1u << j);
         ++kept_;
         continue;

@@ -20,10 +20,12 @@ namespace tandem::rt {
 /// answers one (slot, light bit). Reused across tiles (clear() keeps the capacity), so a tile allocates
 /// nothing.
 class ReuseGate;
+struct ReuseTile;
 
 /// The shadow bits of one primary hit that the frame before may have answered already (rt/RayReuse.h).
 struct ShadowKeep {
   const ReuseGate* gate = nullptr;
+  const ReuseTile* tile = nullptr;  // the moved bounds the tile's rays can meet, per light
   std::uint32_t lights = 0;  // lights whose bit may be kept
   std::uint32_t bits = 0;    // the kept frame's mask
 };
