@@ -345,7 +345,9 @@ TEST(FrameDecisions, MovingThingsKeepOnlyTheShadowAnswersTheyCannotChange) {
       ASSERT_TRUE(want.error.empty()) << want.error;
       EXPECT_FALSE(got.raysReused) << "something moved: this frame traces";
       EXPECT_EQ(want.rays.shadowKept, 0u);
-      if (frame == 0) EXPECT_EQ(got.rays.shadowKept, 0u) << "nothing to keep on the first frame";
+      if (frame == 0) {
+        EXPECT_EQ(got.rays.shadowKept, 0u) << "nothing to keep on the first frame";
+      }
       // Every answer is a traced ray, a map's, or a kept one, and the kept ones are what tracing gives.
       EXPECT_EQ(got.rays.shadow + got.rays.shadowByMap + got.rays.shadowKept,
                 want.rays.shadow + want.rays.shadowByMap);
@@ -355,7 +357,9 @@ TEST(FrameDecisions, MovingThingsKeepOnlyTheShadowAnswersTheyCannotChange) {
       EXPECT_EQ(renderer->readLinear().rgb, tracing->readLinear().rgb);
       EXPECT_EQ(renderer->readImage().rgba, tracing->readImage().rgba);
       EXPECT_LE(got.rays.shadow, want.rays.shadow);
-      if (frame > 0) EXPECT_GT(got.rays.shadowKept, 0u);
+      if (frame > 0) {
+        EXPECT_GT(got.rays.shadowKept, 0u);
+      }
       kept += got.rays.shadowKept;
       answers += want.rays.shadow + want.rays.shadowByMap;
     }

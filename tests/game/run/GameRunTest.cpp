@@ -48,18 +48,21 @@ Outcome runCommand(const std::string& cmd) {
 
 Outcome runGame(const std::string& args) { return runCommand(std::string("'") + TANDEM_GAME_EXE + "' " + args); }
 
-/// key=value pairs of the line that starts with "game: ".
-std::map<std::string, std::string> gameState(const std::string& output) {
+/// key=value pairs of the lines that start with `prefix` ("game: ", "reuse: ").
+std::map<std::string, std::string> keyValues(const std::string& output, const std::string& prefix) {
   std::map<std::string, std::string> kv;
   std::istringstream in(output);
   for (std::string line; std::getline(in, line);) {
-    if (line.rfind("game: ", 0) != 0) continue;
-    std::istringstream words(line.substr(6));
+    if (line.rfind(prefix, 0) != 0) continue;
+    std::istringstream words(line.substr(prefix.size()));
     for (std::string w; words >> w;)
       if (auto eq = w.find('='); eq != std::string::npos) kv[w.substr(0, eq)] = w.substr(eq + 1);
   }
   return kv;
 }
+std::map<std::string, std::string> gameState(const std::string& output) { return keyValues(output, "game: "); }
+/// The `reuse:` line of --check-reuse.
+std::map<std::string, std::string> reuseLine(const std::string& output) { return keyValues(output, "reuse: "); }
 
 struct Diff {
   double meanAbs = 0.0;        // mean |a - b| over all channels, in 1/255 units
@@ -271,31 +274,25 @@ TEST(GameRun, BudgetLogsEachFrameAndItsErrorAgainstTheRequest) {
   EXPECT_GE(cut, 1);
 }
 
-/// key=value pairs of the line that starts with "reuse: " (--check-reuse).
-std::map<std::string, std::string> reuseLine(const std::string& output) {
-  std::map<std::string, std::string> kv;
-  std::istringstream in(output);
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("reuse: ", 0) != 0) continue;
-    std::istringstream words(line.substr(7));
-    for (std::string w; words >> w;)
-      if (auto eq = w.find('='); eq != std::string::npos) kv[w.substr(0, eq)] = w.substr(eq + 1);
-  }
+/// Plays `frames` frames headless with --check-reuse and returns its `reuse:` line, having checked that every
+/// frame equals the one a second renderer traced whole, to the bit (linear and display values).
+std::map<std::string, std::string> playCheckingReuse(const std::string& args, int frames) {
+  Outcome r = runGame("--headless --check-reuse --frames " + std::to_string(frames) + " " + args);
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  auto kv = reuseLine(r.output);
+  EXPECT_EQ(kv["frames"], std::to_string(frames)) << r.output;
+  EXPECT_EQ(kv["identical"], std::to_string(frames)) << r.output;
+  EXPECT_EQ(kv["differing_pixels"], "0");
+  EXPECT_EQ(kv["budget_frames_unchecked"], "0");
+  if (kv.count("rays") == 0) kv["rays"] = kv["rays_without_reuse"] = kv["saved"] = kv["shadow_saved"] = kv["shadow_kept"] = "0";
   return kv;
 }
 
 // Reuse across frames is exact: every frame of the scripted run drawn with reuse (on by default) equals
-// the same frame drawn by a second renderer that traces every ray, to the bit (linear and display values).
-// The follow camera moves in almost every frame of this run, so little is kept (docs/reuse.md).
+// the same frame traced whole. The follow camera moves in almost every frame of this run, so little is
+// kept (docs/reuse.md).
 TEST(GameRun, ReuseIsExactOverTheScriptedRun) {
-  Outcome r = runGame("--headless --frames 330 --size 320x180 --check-reuse --script '" +
-                      src("tests/game/collect3.script") + "'");
-  ASSERT_EQ(r.exitCode, 0) << r.output;
-  auto kv = reuseLine(r.output);
-  EXPECT_EQ(kv["frames"], "330") << r.output;
-  EXPECT_EQ(kv["identical"], "330");
-  EXPECT_EQ(kv["differing_pixels"], "0");
-  EXPECT_EQ(kv["budget_frames_unchecked"], "0");
+  auto kv = playCheckingReuse("--size 320x180 --script '" + src("tests/game/collect3.script") + "'", 330);
   EXPECT_LE(std::stoull(kv["rays"]), std::stoull(kv["rays_without_reuse"]));
 }
 
@@ -304,19 +301,12 @@ TEST(GameRun, ReuseIsExactOverTheScriptedRun) {
 // of the shadow rays saved at this size (hybrid-fast); with hybrid shadows, the maps and the kept answers
 // together are still the traced frame.
 TEST(GameRun, ReuseKeepsTheShadowsOfWhatStandsStillWhileThePlayerWatches) {
-  Outcome r = runGame("--headless --frames 120 --size 320x180 --check-reuse --script '" +
-                      src("tests/game/idle.script") + "'");
-  ASSERT_EQ(r.exitCode, 0) << r.output;
-  auto kv = reuseLine(r.output);
-  EXPECT_EQ(kv["identical"], "120") << r.output;
-  EXPECT_GT(std::stod(kv["shadow_saved"]), 0.15) << r.output;
-  EXPECT_GT(std::stod(kv["saved"]), 0.08) << r.output;
-  Outcome h = runGame("--headless --frames 40 --size 160x90 --preset hybrid-full --shadows hybrid --check-reuse "
-                      "--script '" + src("tests/game/idle.script") + "'");
-  ASSERT_EQ(h.exitCode, 0) << h.output;
-  auto hk = reuseLine(h.output);
-  EXPECT_EQ(hk["identical"], "40") << h.output;
-  EXPECT_GT(std::stoull(hk["shadow_kept"]), 0u) << h.output;
+  const std::string idle = " --script '" + src("tests/game/idle.script") + "'";
+  auto kv = playCheckingReuse("--size 320x180" + idle, 120);
+  EXPECT_GT(std::stod(kv["shadow_saved"]), 0.15);
+  EXPECT_GT(std::stod(kv["saved"]), 0.08);
+  auto hybrid = playCheckingReuse("--size 160x90 --preset hybrid-full --shadows hybrid" + idle, 40);
+  EXPECT_GT(std::stoull(hybrid["shadow_kept"]), 0u);
 }
 
 TEST(GameRun, CheckReuseRefusesWhatItCannotCompare) {
