@@ -78,6 +78,11 @@ struct Renderer::Impl {
   void reuseRays(const FramePlan& plan, FrameStats& stats) const;
   // Whether this frame can keep some of the last frame's answers, and what changed since it.
   bool keepsSome(const FramePlan& plan, const Camera& camera, bool lastDrawn, rt::RayReuse& reuse) const;
+  // Cost follows the settings: the second copy goes when reuse is off or the scene is replaced.
+  void releaseKept() {
+    keptVisibility = {};
+    keptRays = {};
+  }
   bool upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats, bool reused);
   void shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in);
   void present();
@@ -180,6 +185,7 @@ Result<void> Renderer::setScene(Scene scene) {
   impl_->caches.sceneChanged();
   impl_->last.sceneChanged = true;
   impl_->last.sceneReplaced = true;
+  impl_->releaseKept();
   impl_->budget.reset();
   return {};
 }
@@ -263,6 +269,7 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
     // The camera still but something moved: the rays clear of it keep their answers.
     rt::RayReuse kept;
     const bool keeps = r.keepsSome(plan, camera, lastDrawn, kept);
+    if (!plan.settings.reuseRays && !r.keptVisibility.ids.empty()) r.releaseKept();
     if (keeps) {
       std::swap(r.visibility, r.keptVisibility);
       std::swap(r.rays, r.keptRays);

@@ -221,7 +221,9 @@ Result<void> EmbreeScene::buildMeshScenes(EmbreeDevice& device, const Scene& sce
     SceneHandle blas = newScene(dev);
     if (!blas) return embreeFailure(device, where, "mesh " + std::to_string(m));
     // Static geometry traced for many frames: spend build time for traversal speed. ROBUST makes
-    // traversal watertight, so shared edges never leak a ray (shadows and refraction through meshes).
+    // traversal watertight, so shared edges never leak a ray (shadows and refraction through meshes), and
+    // conservative, so whether a ray meets a triangle does not depend on the tree or on which rays share
+    // its packet: reuse across frames keeps answers on that premise (docs/reuse.md).
     rtcSetSceneBuildQuality(blas.get(), RTC_BUILD_QUALITY_HIGH);
     rtcSetSceneFlags(blas.get(), RTC_SCENE_FLAG_ROBUST);
     if (mesh.triangleCount() > 0)
@@ -270,7 +272,8 @@ Result<void> EmbreeScene::buildTopLevel(EmbreeDevice& device, const Scene& scene
   RTCDevice dev = device.get();
   top_ = newScene(dev);
   if (!top_) return embreeFailure(device, where, "top level");
-  // The top level is rebuilt whenever an instance moves: a fast build beats a better tree there.
+  // The top level is rebuilt whenever an instance moves: a fast build beats a better tree there. ROBUST
+  // here too: a rebuilt top level must not change what an unmoved instance's triangles answer (reuse).
   rtcSetSceneFlags(top_.get(), RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(top_.get(), RTC_BUILD_QUALITY_LOW);
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {

@@ -109,7 +109,7 @@ ReuseGate::ReuseGate(const RayReuse& reuse, const Scene& scene, const EmbreeScen
   }
 }
 
-void ReuseGate::selectForTile(glm::dvec3 lo, glm::dvec3 hi, ReuseTile& tile) const {
+void ReuseGate::selectForTile(glm::dvec3 lo, glm::dvec3 hi, double offsetScale, ReuseTile& tile) const {
   for (std::size_t j = 0; j < lights_.size() && j < static_cast<std::size_t>(kMaxLights); ++j) {
     std::vector<std::uint32_t>& mine = tile.boxes[j];
     mine.clear();
@@ -125,10 +125,12 @@ void ReuseGate::selectForTile(glm::dvec3 lo, glm::dvec3 hi, ReuseTile& tile) con
         path.hi[a] = std::max(path.hi[a], l.at[a]);
       }
     }
-    // The rays leave from origins offset off the hits by a few ULPs and end within rounding of the light;
-    // clearOfMoved grows each box by kMargin of the origin's coordinates. Grown by twice that here, of
-    // every coordinate involved, no box a ray's test would meet is left out.
-    const double scale = std::max({maxAbs(lo), maxAbs(hi), l.directional ? 0.0 : maxAbs(l.at)});
+    // The rays leave from origins offset off the hits (offsetRayOrigin: under 2e-5 of the magnitudes behind
+    // them, posMagnitude, which can exceed the hits' own coordinates) and end within rounding of the light;
+    // clearOfMoved grows each box by kMargin of the origin's coordinates. Grown by twice kMargin of every
+    // magnitude involved, which exceeds the offset and that growth together, no box a ray's test would
+    // meet is left out.
+    const double scale = std::max({maxAbs(lo), maxAbs(hi), offsetScale, l.directional ? 0.0 : maxAbs(l.at)});
     const double grow = 2.0 * kMargin * scale + 1e-30;
     path.lo -= glm::dvec3(grow);
     path.hi += glm::dvec3(grow);

@@ -67,7 +67,9 @@ class ReuseGate {
   /// towards the light can meet: its path lies in the box spanned by [lo, hi] and the light's position, or
   /// [lo, hi] swept towards a directional light. A tile of kept hits on the floor far from what moved
   /// then tests no bounds at all per ray.
-  void selectForTile(glm::dvec3 lo, glm::dvec3 hi, ReuseTile& tile) const;
+  /// `offsetScale`: the largest component of the hits' posMagnitude, the scale of their rays' origin
+  /// offsets (offsetRayOrigin), which can exceed their coordinates (a large triangle, a far instance origin).
+  void selectForTile(glm::dvec3 lo, glm::dvec3 hi, double offsetScale, ReuseTile& tile) const;
   /// Whether the shadow ray towards `light` from a hit of the tile (render space; tFar may be infinite)
   /// passes clear of every moved instance's bounds, before and after its move, with a margin far beyond
   /// the rounding of Embree's tests.

@@ -196,6 +196,7 @@ struct HybridTiles {
     Wavefront wavefront(whitted, wavefrontBuffers);
     const bool keeping = reuse.active() && batched && modes.primaryShadowRays;
     glm::dvec3 keptLo(std::numeric_limits<double>::infinity()), keptHi(-std::numeric_limits<double>::infinity());
+    double keptOffsetScale = 0.0;  // the largest magnitude behind the kept hits' offset origins
     for (int gy = y0; gy < y1; ++gy)
       for (int gx = x0; gx < x1; ++gx) {
         std::size_t g = static_cast<std::size_t>(gy) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(gx);
@@ -215,11 +216,14 @@ struct HybridTiles {
         primaries.push_back({g, resolveHit(scene, embree.transform(instance), instance, id.y, ray),
                              keeping && reuse.samePoint(pixel, id)});
         if (primaries.back().samePoint) {
-          keptLo = glm::min(keptLo, glm::dvec3(primaries.back().hit.posW));
-          keptHi = glm::max(keptHi, glm::dvec3(primaries.back().hit.posW));
+          const SurfaceHit& kept = primaries.back().hit;
+          keptLo = glm::min(keptLo, glm::dvec3(kept.posW));
+          keptHi = glm::max(keptHi, glm::dvec3(kept.posW));
+          keptOffsetScale = std::max({keptOffsetScale, static_cast<double>(kept.posMagnitude.x),
+                                      static_cast<double>(kept.posMagnitude.y), static_cast<double>(kept.posMagnitude.z)});
         }
       }
-    if (keeping) reuse.selectForTile(keptLo, keptHi, keptTile);
+    if (keeping) reuse.selectForTile(keptLo, keptHi, keptOffsetScale, keptTile);
     for (const Primary& pr : primaries) {
       if (modes.primaryShadowRays) {
         ShadowKeep keep;
