@@ -182,8 +182,9 @@ struct HybridTiles {
     // Per-thread scratch, kept from tile to tile so a tile allocates nothing once warm.
     thread_local ShadowBatch shadows;  // the tile's primary shadow rays, in packets per light
     thread_local Wavefront::Buffers wavefrontBuffers;
-    // The tile's primary hits, resolved before any ray is queued: with reuse, the moved bounds its kept
-    // shadow rays can meet are chosen once for the tile from where its hits lie (ReuseTile).
+    // With reuse, the tile's primary hits are all resolved before any ray is queued: the moved bounds its
+    // kept shadow rays can meet are chosen once for the tile from where its hits lie (ReuseTile). Without,
+    // each hit's rays are queued as it is resolved. The queues get the same hits in the same order.
     struct Primary {
       std::size_t g;
       SurfaceHit hit;
@@ -195,6 +196,16 @@ struct HybridTiles {
     primaries.clear();
     Wavefront wavefront(whitted, wavefrontBuffers);
     const bool keeping = reuse.active() && batched && modes.primaryShadowRays;
+    auto queue = [&](std::size_t g, const SurfaceHit& hit, bool samePoint) {
+      if (modes.primaryShadowRays) {
+        ShadowKeep keep;
+        if (samePoint) keep = {&reuse, &keptTile, reuse.keepableLights(), reuse.keptMask(g)};
+        out.lightMask[g] = static_cast<LightMask>(
+            batched ? shadows.add(whitted, frame.lights.size(), hit, g, capture, samePoint ? &keep : nullptr)
+                    : whitted.lightMask(hit, counts, capture.recorder()));
+      }
+      wavefront.addPrimary(hit, g, counts, capture);
+    };
     glm::dvec3 keptLo(std::numeric_limits<double>::infinity()), keptHi(-std::numeric_limits<double>::infinity());
     double keptOffsetScale = 0.0;  // the largest magnitude behind the kept hits' offset origins
     for (int gy = y0; gy < y1; ++gy)
@@ -211,28 +222,25 @@ struct HybridTiles {
         assert(embree.hasTriangle(instance, id.y) && "trace: visibility id not in the scene");
         if (!embree.hasTriangle(instance, id.y)) continue;
         Ray ray = cameraRays.through(glm::vec2(p) + 0.5f);
+        SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, id.y, ray);
         ++counts.primary;
         if constexpr (Capture::kRecords) capture.rasterPrimary(ray.origin, ray.dir);
-        primaries.push_back({g, resolveHit(scene, embree.transform(instance), instance, id.y, ray),
-                             keeping && reuse.samePoint(pixel, id)});
-        if (primaries.back().samePoint) {
-          const SurfaceHit& kept = primaries.back().hit;
-          keptLo = glm::min(keptLo, glm::dvec3(kept.posW));
-          keptHi = glm::max(keptHi, glm::dvec3(kept.posW));
-          keptOffsetScale = std::max({keptOffsetScale, static_cast<double>(kept.posMagnitude.x),
-                                      static_cast<double>(kept.posMagnitude.y), static_cast<double>(kept.posMagnitude.z)});
+        if (!keeping) {
+          queue(g, hit, false);
+          continue;
         }
+        const bool samePoint = reuse.samePoint(pixel, id);
+        if (samePoint) {
+          keptLo = glm::min(keptLo, glm::dvec3(hit.posW));
+          keptHi = glm::max(keptHi, glm::dvec3(hit.posW));
+          keptOffsetScale = std::max({keptOffsetScale, static_cast<double>(hit.posMagnitude.x),
+                                      static_cast<double>(hit.posMagnitude.y), static_cast<double>(hit.posMagnitude.z)});
+        }
+        primaries.push_back({g, hit, samePoint});
       }
-    if (keeping) reuse.selectForTile(keptLo, keptHi, keptOffsetScale, keptTile);
-    for (const Primary& pr : primaries) {
-      if (modes.primaryShadowRays) {
-        ShadowKeep keep;
-        if (pr.samePoint) keep = {&reuse, &keptTile, reuse.keepableLights(), reuse.keptMask(pr.g)};
-        out.lightMask[pr.g] = static_cast<LightMask>(
-            batched ? shadows.add(whitted, frame.lights.size(), pr.hit, pr.g, capture, keep.gate ? &keep : nullptr)
-                    : whitted.lightMask(pr.hit, counts, capture.recorder()));
-      }
-      wavefront.addPrimary(pr.hit, pr.g, counts, capture);
+    if (keeping) {
+      reuse.selectForTile(keptLo, keptHi, keptOffsetScale, keptTile);
+      for (const Primary& pr : primaries) queue(pr.g, pr.hit, pr.samePoint);
     }
     shadows.trace(embree.top(), out.lightMask.data(), counts, capture);
     wavefront.run(counts, out.reflected.data(), out.transmitted.data(), capture);

@@ -24,19 +24,16 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
   std::uint32_t visible = 0;
   SpawnOrigins origins;
   for (std::size_t j = 0; j < lights; ++j) {
-    ShadowRay s;
-    if (keep) {
-      // The kept frame's answer first: it costs a box test per moved instance, the map a texel fetch.
-      s = whitted.shadowRayUnanswered(hit, j, origins, NoRecorder{});
-      if (s.needed && ((keep->lights >> j) & 1u) && keep->gate->clearOfMoved(*keep->tile, j, s.originW, s.dirW, s.tFar)) {
-        visible |= keep->bits & (1u << j);
-        ++kept_;
-        continue;
-      }
-      if (s.needed) whitted.answerByMap(hit, j, s, NoRecorder{});
-    } else {
-      s = whitted.shadowRay(hit, j, origins);
+    // Whitted::shadowRay in its two steps, with the kept frame's answer between them: it costs a box test
+    // per moved instance near the tile, the map a texel fetch.
+    ShadowRay s = whitted.shadowRayUnanswered(hit, j, origins, NoRecorder{});
+    if (keep && s.needed && ((keep->lights >> j) & 1u) &&
+        keep->gate->clearOfMoved(*keep->tile, j, s.originW, s.dirW, s.tFar)) {
+      visible |= keep->bits & (1u << j);
+      ++kept_;
+      continue;
     }
+    if (s.needed) whitted.answerByMap(hit, j, s, NoRecorder{});
     if (!s.needed) {
       if (s.visibleWithoutRay) visible |= 1u << j;
       if (s.byMap) ++byMap_;
