@@ -49,6 +49,17 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
                  "Frame-time budget: each frame drawn with the settings above or the cheaper choice (coarser ray grid, "
                  "capped depth, raster fallbacks) expected to be least wrong within 1000/N ms (FrameSettings::targetMs, "
                  "docs/budget.md); 0.1..1000, not with the reference preset (default: none)");
+  app.add_option("--aa", o.aa,
+                 "Anti-aliasing: off | ssaa [N] (N jittered samples per pixel, each a whole frame, default 4) | "
+                 "adaptive [N] (4 samples, then more only where they disagree, up to N, default 16); N 1..256; "
+                 "not with the reference preset (--spp) or --target-fps (default: off)")
+      ->expected(1, 2);
+  app.add_option("--aa-threshold", o.aaThreshold,
+                 "Adaptive anti-aliasing: display-luminance range (0..1) over which a pixel's samples disagree (default " +
+                     number(d.aaThreshold) + ")");
+  app.add_option("--accumulate", o.accumulate,
+                 "Progressive accumulation: while nothing changes, each frame adds new samples, up to N frames; "
+                 "tandem-render then renders at least N frames and writes the converged image; 0..65536 (default: off)");
   app.add_flag("--classic-whitted", o.classicWhitted,
                "I = local + kr·S + kt·T (default: the Fresnel-weighted sum, docs/shading.md)");
   app.add_flag("--schlick", o.schlick, "Schlick's Fresnel approximation (default: the exact dielectric form)");
@@ -129,6 +140,40 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
       return Error{"--target-fps: must be 0.1..1000 frames per second, got " + number(*o.targetFps)};
     s.targetMs = 1000.0f / *o.targetFps;
   }
+  if (o.aa) {
+    const std::vector<std::string>& v = *o.aa;
+    auto mode = parseAntiAlias(v.front());
+    if (!mode) return Error{"--aa: expected off, ssaa [N] or adaptive [N], got " + inQuotes(v.front())};
+    s.aa = *mode;
+    s.aaSamples = *mode == AntiAlias::Adaptive ? 16 : 4;
+    if (v.size() == 2) {
+      int n = 0;
+      auto [end, ec] = std::from_chars(v[1].data(), v[1].data() + v[1].size(), n);
+      if (*mode == AntiAlias::Off || ec != std::errc() || end != v[1].data() + v[1].size() || n < 1 || n > 256)
+        return Error{"--aa: " + v.front() + " takes a sample count 1..256" +
+                     (*mode == AntiAlias::Off ? std::string(" only after ssaa or adaptive") : std::string()) + ", got " +
+                     inQuotes(v[1])};
+      s.aaSamples = n;
+    }
+  }
+  if (o.aaThreshold) {
+    if (!std::isfinite(*o.aaThreshold) || *o.aaThreshold < 0.0f || *o.aaThreshold > 1.0f)
+      return Error{"--aa-threshold: must be 0..1, got " + number(*o.aaThreshold)};
+    if (s.aa != AntiAlias::Adaptive)
+      return Error{"--aa-threshold: only adaptive anti-aliasing has a threshold (add --aa adaptive), got --aa-threshold " +
+                   number(*o.aaThreshold)};
+    s.aaThreshold = *o.aaThreshold;
+  }
+  if (o.accumulate) {
+    if (*o.accumulate < 0 || *o.accumulate > 65536)
+      return Error{"--accumulate: must be 0..65536 frames, got " + std::to_string(*o.accumulate)};
+    s.accumulate = *o.accumulate;
+  }
+  if (s.aa != AntiAlias::Off && s.reference)
+    return Error{"--aa: the reference preset takes its samples per pixel from --spp, got --aa " + o.aa->front()};
+  if (s.aa != AntiAlias::Off && o.targetFps)
+    return Error{"--aa: a frame-time budget has no anti-aliasing step yet (drop --target-fps or --aa), got --aa " +
+                 o.aa->front()};
   if (o.classicWhitted) s.fresnelWeighted = false;
   if (o.schlick) s.fresnel = FresnelMode::Schlick;
   // Flags the chosen mode would ignore: only the reference frame takes several samples per pixel, and it
@@ -201,8 +246,13 @@ std::string describeSettings(const FrameSettings& s) {
                   ", depth " + std::to_string(s.maxDepth);
   if (s.reference)
     return d + ", primary visibility by rays, " + std::to_string(s.referenceSpp) + "×" +
-           std::to_string(s.referenceSpp) + " samples per pixel";
-  return d + ", scale 1/" + std::to_string(s.rayScale);
+           std::to_string(s.referenceSpp) + " samples per pixel" +
+           (s.accumulate > 1 ? ", accumulating up to " + std::to_string(s.accumulate) + " frames" : std::string());
+  d += ", scale 1/" + std::to_string(s.rayScale);
+  if (s.aa == AntiAlias::Ssaa) d += ", ssaa " + std::to_string(s.aaSamples);
+  if (s.aa == AntiAlias::Adaptive) d += ", adaptive aa up to " + std::to_string(s.aaSamples) + " (threshold " + number(s.aaThreshold) + ")";
+  if (s.accumulate > 1) d += ", accumulating up to " + std::to_string(s.accumulate) + " frames";
+  return d;
 }
 
 }  // namespace tandem::cli

@@ -29,6 +29,9 @@ struct FrameOptions {
   std::optional<int> spp;
   std::optional<float> exposure;
   std::optional<float> targetFps;  // FrameSettings::targetMs = 1000 / fps
+  std::optional<std::vector<std::string>> aa;  // off | ssaa [N] | adaptive [N]
+  std::optional<float> aaThreshold;
+  std::optional<int> accumulate;
   bool classicWhitted = false;
   bool schlick = false;
 };

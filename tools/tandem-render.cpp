@@ -140,6 +140,8 @@ int main(int argc, char** argv) {
   if (auto ok = (*renderer)->resize(settings.width, settings.height); !ok)
     return fail(sizeSource + ": " + ok.error().message);
 
+  // --accumulate N: the written image is the converged one, N frames' samples.
+  if (settings.accumulate > 1) frames = std::max(frames, settings.accumulate);
   std::vector<FrameStats> stats;
   for (int i = 0; i < frames; ++i) {
     if (progress) progress->beginFrame(i);
@@ -198,6 +200,18 @@ int main(int argc, char** argv) {
                   static_cast<unsigned long long>(traced->rays.shadowByMap),
                   static_cast<double>(traced->shadowMapBytes) / 1e6, buildMs);
     }
+    if (settings.aa != AntiAlias::Off || settings.accumulate > 1) {
+      std::uint64_t refined = 0;
+      int samples = 0;
+      for (const FrameStats& s : stats) refined += s.refinedPixels, samples += s.samples;
+      std::printf("  anti-aliasing: %d sample(s) drawn over the run, the image averages up to %d per pixel", samples,
+                  last.accumulated);
+      if (settings.aa == AntiAlias::Adaptive)
+        std::printf("; the adaptive rounds re-sampled %llu pixel-samples (%.2f frames' worth)",
+                    static_cast<unsigned long long>(refined),
+                    static_cast<double>(refined) / (static_cast<double>(settings.width) * settings.height));
+      std::printf("\n");
+    }
     if (reused > 0)
       std::printf("  %d of %d frame(s) reused the frame before's rays (--reuse on: nothing moved)\n", reused, frames);
     if (last.budget.active) {
@@ -238,6 +252,15 @@ int main(int argc, char** argv) {
       double buildMs = 0;
       for (const FrameStats& s : stats) buildMs = std::max(buildMs, s.shadowMapsMs);
       j["hybrid_shadows"] = {{"map_bytes", traced->shadowMapBytes}, {"build_ms_max", buildMs}};
+    }
+    if (settings.aa != AntiAlias::Off || settings.accumulate > 1) {
+      std::uint64_t refined = 0;
+      int samples = 0;
+      for (const FrameStats& s : stats) refined += s.refinedPixels, samples += s.samples;
+      j["antialiasing"] = {{"aa", toString(settings.aa)},         {"aa_samples", settings.aaSamples},
+                           {"aa_threshold", settings.aaThreshold}, {"accumulate", settings.accumulate},
+                           {"samples_drawn", samples},             {"refined_pixel_samples", refined},
+                           {"accumulated", last.accumulated}};
     }
     j["reuse"] = settings.reuseRays;
     j["frames_reusing_rays"] = reused;

@@ -57,4 +57,16 @@ check --trace-pixel --trace-pixel 32,0
 check --trace-pixel --trace-pixel 0,18
 check --trace-pixel --trace-pixel 5
 check --trace-pixel --trace-pixel -1,5
+check --aa --aa smooth
+check --aa --aa ssaa 0
+check --aa --aa ssaa 257
+check --aa --aa ssaa four
+check --aa --aa off 4
+check --aa --aa ssaa 4 --preset reference
+check --aa --aa adaptive --target-fps 30
+check --aa-threshold --aa-threshold 0.1
+check --aa-threshold --aa adaptive --aa-threshold 2
+check --aa-threshold --aa adaptive --aa-threshold nan
+check --accumulate --accumulate -1
+check --accumulate --accumulate 65537
 exit $status

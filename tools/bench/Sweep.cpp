@@ -43,7 +43,7 @@ constexpr std::size_t kStageCount = std::size(kStages);
 
 struct Combo {
   std::string name;
-  std::string group;   // "preset", "effect", "budget-knob" (one knob of the budget alone) or "budget"
+  std::string group;   // "preset", "effect", "budget-knob" (one knob of the budget alone), "aa" or "budget"
   FrameSettings settings;
 };
 
@@ -53,6 +53,8 @@ std::string modes(const FrameSettings& s) {
   if (s.reference) m = "primary by rays, " + m;
   m += " d" + std::to_string(s.maxDepth);
   if (s.rayScale > 1) m += " 1/" + std::to_string(s.rayScale);
+  if (s.aa == AntiAlias::Ssaa) m += " ssaa " + std::to_string(s.aaSamples);
+  if (s.aa == AntiAlias::Adaptive) m += " adaptive " + std::to_string(s.aaSamples);
   if (s.targetMs > 0) m += " within " + std::to_string(static_cast<int>(std::lround(s.targetMs))) + " ms";
   return m;
 }
@@ -60,7 +62,8 @@ std::string modes(const FrameSettings& s) {
 /// The combinations: every preset (reference at 1 spp: the speed competitor, primary visibility by
 /// rays), and per effect the two isolating pairs — only that effect ray traced over the raster preset,
 /// and only that effect rasterized under hybrid-full — plus everything off, hybrid-full at half
-/// resolution, the budget's other knobs alone (1/4 grid, depth 2 and 1) and hybrid shadows. 16 in all, and
+/// resolution, the budget's other knobs alone (1/4 grid, depth 2 and 1), hybrid shadows and three anti-aliased
+/// frames (ssaa 4 over hybrid-fast and hybrid-full, adaptive up to 16 over hybrid-full). 19 in all, and
 /// two budget runs after them (kBudgetFractions): enough to draw a front and measure the budget's error
 /// table, few enough for about 15 minutes on two cores.
 std::vector<Combo> makeCombos(const FrameSettings& base) {
@@ -107,6 +110,15 @@ std::vector<Combo> makeCombos(const FrameSettings& base) {
   // Hybrid shadows: the same image as hybrid-full, by fewer shadow rays (docs/shadows.md).
   hybridShadows.hybridShadows = true;
   c.push_back({"hybrid-shadows", "effect", hybridShadows});
+  // Anti-aliasing: what supersampling buys against the supersampled truth, per sample (docs/antialiasing.md).
+  FrameSettings fastSsaa = *presetSettings("hybrid-fast", base), fullSsaa = full, fullAdaptive = full;
+  fastSsaa.aa = fullSsaa.aa = AntiAlias::Ssaa;
+  fastSsaa.aaSamples = fullSsaa.aaSamples = 4;
+  fullAdaptive.aa = AntiAlias::Adaptive;
+  fullAdaptive.aaSamples = 16;
+  c.push_back({"hybrid-fast-ssaa4", "aa", fastSsaa});
+  c.push_back({"hybrid-full-ssaa4", "aa", fullSsaa});
+  c.push_back({"hybrid-full-adaptive16", "aa", fullAdaptive});
   return c;
 }
 

@@ -23,13 +23,19 @@ struct Camera {
   float farZ = std::numeric_limits<float>::infinity();  // > nearZ, may be infinite
   bool orthographic = false;
   float orthoHeight = 2.0f;    // world units visible vertically (orthographic)
+  /// Where the frame samples each pixel, in pixels from its centre (x right, y down), within ±0.5: the
+  /// sub-pixel offset of one anti-aliasing sample (FrameSettings::aa, accumulate). The rasterizer, the shade
+  /// pass and every camera ray honour it, so one jittered frame is still exact at its sample points.
+  glm::vec2 jitterPx{0.0f};
 
   glm::mat4 viewFromWorld() const;
   glm::mat4 worldFromView() const;
   /// Reversed-Z, depth range [0, 1] (use with glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)).
   glm::mat4 clipFromView(float aspect) const;
+  /// clipFromView for a frame of `size` pixels, shifted by jitterPx: the projection the rasterizer uses.
+  glm::mat4 clipFromView(glm::ivec2 size) const;
   /// The ray through a point of the image plane; `pixel` is in pixels with y down, so the centre of
-  /// pixel (x, y) is (x + 0.5, y + 0.5). This is the ray the rasterizer samples at that pixel.
+  /// pixel (x, y) is (x + 0.5, y + 0.5), moved by jitterPx. This is the ray the rasterizer samples at that pixel.
   Ray rayThroughPixel(glm::vec2 pixel, glm::ivec2 size) const;
 
   /// Field by field, exactly: a frame can reuse the last one's rays only for the very same camera.

@@ -61,6 +61,13 @@ struct FrameStats {
   /// The ray results are the last frame's (FrameSettings::reuseRays: nothing they depend on changed):
   /// `rays` is then all zero, since nothing was traced, and the readback and ray pass cost nothing.
   bool raysReused = false;
+  /// Anti-aliasing and accumulation (FrameSettings::aa, accumulate): the sub-pixel samples this call drew
+  /// (each a whole frame: the stage times and ray counts above are their sums; 0 when it showed an
+  /// accumulation that had converged), the pixel-samples among them the adaptive rounds re-shaded, and the
+  /// samples per pixel the shown frame averages (its most-sampled pixel's).
+  int samples = 1;
+  std::uint64_t refinedPixels = 0;
+  int accumulated = 1;
   /// FrameSettings::targetMs: the choice this frame was drawn with.
   BudgetStats budget;
   /// Empty when the frame was drawn. Otherwise why it was not: the GL could not hold this frame size

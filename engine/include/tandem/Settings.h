@@ -15,6 +15,8 @@ namespace tandem {
 enum class EffectMode : std::uint8_t { Off = 0, Raster = 1, Ray = 2 };
 enum class FresnelMode : std::uint8_t { Exact = 0, Schlick = 1 };
 enum class ToneMap : std::uint8_t { None = 0, Reinhard = 1, Aces = 2 };
+/// Anti-aliasing of the frame (FrameSettings::aa, docs/antialiasing.md).
+enum class AntiAlias : std::uint8_t { Off = 0, Ssaa = 1, Adaptive = 2 };
 
 /// What the frame shows: the final image, or one G-buffer channel / ray result as a debug view.
 enum class DebugView : std::uint8_t {
@@ -71,6 +73,22 @@ struct FrameSettings {
   /// says what it chose. Ignored by the reference frame. [0, 10000]
   float targetMs = 0.0f;
 
+  /// Anti-aliasing (docs/antialiasing.md). Off: one sample per pixel, at its centre. Ssaa: aaSamples samples
+  /// per pixel, each a whole frame (raster, rays, shading) drawn at a sub-pixel offset of the camera
+  /// (Camera::jitterPx), averaged in linear radiance: a box filter over the pixel. Adaptive: min(4, aaSamples)
+  /// samples for every pixel, then rounds of 4 more only for the pixels whose samples disagree (their
+  /// display luminance spans more than aaThreshold), up to aaSamples; the ray pass traces only those pixels.
+  /// The reference frame has its own samples (referenceSpp) and a frame-time budget has no anti-aliasing
+  /// step yet: resolved() turns aa off for both.
+  AntiAlias aa = AntiAlias::Off;
+  int aaSamples = 4;          // [1, 256]
+  float aaThreshold = 0.05f;  // adaptive: display-luminance range (0..1) over which a pixel is refined
+  /// Progressive accumulation: while the camera, the scene and these settings stay as they were, each frame
+  /// adds new samples (new sub-pixel offsets) to the last frames' and shows their mean, up to this many
+  /// frames; after that the converged frame is shown again at no cost. Any change starts again. 0 or 1: off.
+  /// [0, 65536]. FrameStats::accumulated says how many samples the shown frame averages.
+  int accumulate = 0;
+
   /// Clamps ranges and applies dependencies (e.g. rayScale rounded to 1, 2 or 4).
   FrameSettings resolved() const;
   /// Every field compared; sameRayInputs (render/FramePlan.h) compares only what the ray pass reads.
@@ -93,6 +111,8 @@ std::optional<DebugView> parseDebugView(std::string_view s);
 /// display values already.
 bool isRadianceView(DebugView v);
 std::optional<ToneMap> parseToneMap(std::string_view s);  // none | reinhard | aces
+std::optional<AntiAlias> parseAntiAlias(std::string_view s);  // off | ssaa | adaptive
+std::string_view toString(AntiAlias a);
 std::string_view toString(EffectMode m);
 std::string_view toString(ToneMap m);
 std::string_view toString(ShadingModel m);

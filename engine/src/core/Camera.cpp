@@ -37,7 +37,19 @@ glm::mat4 Camera::clipFromView(float aspect) const {
   return m;
 }
 
+glm::mat4 Camera::clipFromView(glm::ivec2 size) const {
+  glm::mat4 m = clipFromView(float(size.x) / float(size.y));
+  if (jitterPx == glm::vec2(0.0f)) return m;
+  // The pixel centre must see what lies at centre + jitter: everything moves by -jitter on screen.
+  // x_clip += dx·w_clip moves x_ndc by dx at every depth, perspective or not; NDC y runs up, pixels down.
+  glm::mat4 shift(1.0f);
+  shift[3][0] = -2.0f * jitterPx.x / float(size.x);
+  shift[3][1] = 2.0f * jitterPx.y / float(size.y);
+  return shift * m;
+}
+
 Ray Camera::rayThroughPixel(glm::vec2 pixel, glm::ivec2 size) const {
+  pixel += jitterPx;
   float aspect = float(size.x) / float(size.y);
   // NDC of the point, y up.
   float nx = pixel.x / float(size.x) * 2.0f - 1.0f;

@@ -16,6 +16,10 @@ FrameSettings FrameSettings::resolved() const {
   s.referenceSpp = std::clamp(s.referenceSpp, 1, 64);
   s.probesPerFrame = std::max(s.probesPerFrame, 0);
   s.targetMs = std::isfinite(s.targetMs) ? std::clamp(s.targetMs, 0.0f, 10000.0f) : 0.0f;
+  s.aaSamples = std::clamp(s.aaSamples, 1, 256);
+  s.aaThreshold = std::isfinite(s.aaThreshold) ? std::clamp(s.aaThreshold, 0.0f, 1.0f) : 0.05f;
+  s.accumulate = std::clamp(s.accumulate, 0, 65536);
+  if (s.reference || s.targetMs > 0.0f) s.aa = AntiAlias::Off;
   return s;
 }
 
@@ -95,6 +99,22 @@ std::optional<ToneMap> parseToneMap(std::string_view s) {
   if (s == "reinhard") return ToneMap::Reinhard;
   if (s == "aces") return ToneMap::Aces;
   return std::nullopt;
+}
+
+std::optional<AntiAlias> parseAntiAlias(std::string_view s) {
+  if (s == "off") return AntiAlias::Off;
+  if (s == "ssaa") return AntiAlias::Ssaa;
+  if (s == "adaptive") return AntiAlias::Adaptive;
+  return std::nullopt;
+}
+
+std::string_view toString(AntiAlias a) {
+  switch (a) {
+    case AntiAlias::Off: return "off";
+    case AntiAlias::Ssaa: return "ssaa";
+    case AntiAlias::Adaptive: return "adaptive";
+  }
+  return "?";
 }
 
 std::string_view toString(ToneMap m) {

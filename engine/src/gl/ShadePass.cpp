@@ -225,8 +225,14 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   float halfH = camera.orthographic ? camera.orthoHeight * 0.5f : std::tan(glm::radians(camera.yFovDeg) * 0.5f);
   glm::vec3 rightScaled = right * (halfH * aspect);
   glm::vec3 upScaled = up * halfH;
-  glProgramUniform3fv(p, 0, 1, glm::value_ptr(camera.posW));
-  glProgramUniform3fv(p, 1, 1, glm::value_ptr(forward));
+  // The camera's sub-pixel jitter shifts every pixel's image-plane point by the same amount: folded into
+  // the forward vector (perspective) or the origin (orthographic), so cameraRay itself stays as it is.
+  const glm::vec3 jitterShift = rightScaled * (2.0f * camera.jitterPx.x / float(width)) -
+                                upScaled * (2.0f * camera.jitterPx.y / float(height));
+  const glm::vec3 originW = camera.orthographic ? camera.posW + jitterShift : camera.posW;
+  const glm::vec3 forwardShifted = camera.orthographic ? forward : forward + jitterShift;
+  glProgramUniform3fv(p, 0, 1, glm::value_ptr(originW));
+  glProgramUniform3fv(p, 1, 1, glm::value_ptr(forwardShifted));
   glProgramUniform3fv(p, 2, 1, glm::value_ptr(rightScaled));
   glProgramUniform3fv(p, 3, 1, glm::value_ptr(upScaled));
   glProgramUniform1i(p, 4, camera.orthographic ? 1 : 0);

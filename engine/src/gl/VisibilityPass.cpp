@@ -82,11 +82,10 @@ void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const
   glClearNamedFramebufferuiv(framebuffer, GL_COLOR, 0, zeroIds);  // no effect on a depth-only target
   glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &farDepth);
 
-  float aspect = float(width) / float(height);
   glm::mat4 viewFromWorld = camera.viewFromWorld();
   // The rotation part of viewFromWorld applied to camera-relative positions equals viewFromWorld.
   glm::mat4 viewRotation = glm::mat4(glm::mat3(viewFromWorld));
-  glm::mat4 clipFromWorldRelative = camera.clipFromView(aspect) * viewRotation;
+  glm::mat4 clipFromWorldRelative = camera.clipFromView(glm::ivec2(width, height)) * viewRotation;
   // Scenes with MASK materials get the variant that discards; others keep early depth testing.
   GLuint program = scene.features().alphaMask ? maskProgram_.id() : program_.id();
   glUseProgram(program);

@@ -302,8 +302,9 @@ FrameSettings FrameBudget::choose(const FrameSettings& requested, const SceneFac
 
 void FrameBudget::observe(const FrameStats& frame) {
   if (!stats_.active || !haveLadder_) return;
-  // A frame that compiled shaders or failed says nothing about the steady cost.
-  if (!frame.error.empty() || frame.shaderCompiles > 0) return;
+  // A frame that compiled shaders or failed says nothing about the steady cost, nor does one that only showed
+  // an accumulation that had converged (FrameSettings::accumulate: it drew no sample).
+  if (!frame.error.empty() || frame.shaderCompiles > 0 || frame.samples == 0) return;
   BudgetChoice& c = choices_[static_cast<std::size_t>(current_)];
   const double total = frame.totalMs;
   const double rayMs = frame.readbackMs + frame.raysMs + frame.uploadMs;

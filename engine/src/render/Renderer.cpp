@@ -5,9 +5,13 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <type_traits>
+#include <vector>
 
 #include "core/RenderSpace.h"
+#include "core/Sampling.h"
+#include "core/Shading.h"
 #include "core/Timer.h"
 #include "gl/OutputPass.h"
 #include "gl/Program.h"
@@ -67,7 +71,34 @@ struct Renderer::Impl {
     std::vector<Light> directLights;    // Scene::directLights() order
   } last;
 
+  // Anti-aliasing and progressive accumulation (FrameSettings::aa, accumulate): the samples drawn so far for
+  // the camera, scene and settings they were drawn with, summed per pixel in linear radiance.
+  struct Accumulation {
+    bool active = false;
+    Camera camera;            // as the application gave it, without jitter
+    FrameSettings settings;   // the plan's
+    int frames = 0;           // frames whose samples are in the sums
+    std::uint32_t next = 0;   // index of the next sample's sub-pixel offset (subpixelJitter)
+    int width = 0, height = 0;
+    std::vector<glm::vec3> sum;
+    std::vector<std::uint32_t> count;
+    std::vector<float> lo, hi;  // adaptive: each pixel's samples' smallest and largest display luminance
+    ImageF mean;
+    // The first frame's one sample is shown as drawn and read into the sums only if the next frame goes on:
+    // a game that accumulates at rest pays nothing for it while things move.
+    bool firstUnread = false;
+    void release() { *this = Accumulation{}; }
+  } accum;
+
   Result<void> allocateFrame(int width, int height);
+  // One sample of the frame: raster → readback → rays → upload → shade with `camera` (jittered by the
+  // caller when anti-aliasing), its times and rays added to `stats`. `only`: the pixels whose rays are
+  // traced (adaptive rounds; nullptr: all). False when it could not be drawn (stats.error says why).
+  bool drawSample(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn,
+                  const std::vector<std::uint8_t>* only);
+  // The frame as a mean of samples (aa or accumulate): draws this frame's samples into `accum` and shows
+  // their mean. False when a sample could not be drawn.
+  bool drawSampled(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn);
 
   // The frame's stages (Renderer::render calls them in order). A stage that cannot go on sets
   // stats.error and returns false: the frame is then not drawn.
@@ -256,34 +287,236 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   const SceneFacts facts = sceneFacts(r.scene);
   FramePlan plan = planFrame(facts, r.budget.choose(requested.resolved(), facts));
   if (!timed(stats.prepareMs, [&] { return r.prepare(plan, stats); })) return finished();
+  const FrameSettings& s = plan.settings;
+  if (s.aa == AntiAlias::Off && s.accumulate <= 1) {
+    r.accum.release();
+    if (r.drawSample(plan, camera, stats, lastDrawn, nullptr)) timed(stats.presentMs, [&] { r.present(); });
+    return finished();
+  }
+  if (r.drawSampled(plan, camera, stats, lastDrawn)) timed(stats.presentMs, [&] { r.present(); });
+  return finished();
+}
+
+bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn,
+                                const std::vector<std::uint8_t>* only) {
+  FrameStats sample;
   // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
-  const Camera glCamera = toRenderSpace(camera, r.caches.gpu().anchor());
+  const Camera glCamera = toRenderSpace(camera, caches.gpu().anchor());
   gl::ShadeInputs in;
-  timed(stats.rasterMs, [&] { r.raster(plan, glCamera, in); });
+  timed(sample.rasterMs, [&] { raster(plan, glCamera, in); });
   // Nothing the rays depend on changed since the last frame drawn: its ids and ray results still hold.
-  const bool reuse = plan.settings.reuseRays && lastDrawn && !r.last.sceneChanged && r.last.camera == camera &&
-                     sameRayInputs(r.last.plan, plan);
+  const bool reuse = plan.settings.reuseRays && lastDrawn && !last.sceneChanged && last.camera == camera &&
+                     sameRayInputs(last.plan, plan) && only == nullptr;
   if (reuse) {
-    r.reuseRays(plan, stats);
+    reuseRays(plan, sample);
   } else {
     // The camera still but something moved: the rays clear of it keep their answers.
     rt::RayReuse kept;
-    const bool keeps = r.keepsSome(plan, camera, lastDrawn, kept);
-    if (!plan.settings.reuseRays && !r.keptVisibility.ids.empty()) r.releaseKept();
+    const bool keeps = only == nullptr && keepsSome(plan, camera, lastDrawn, kept);
+    if (!plan.settings.reuseRays && !keptVisibility.ids.empty()) releaseKept();
     if (keeps) {
-      std::swap(r.visibility, r.keptVisibility);
-      std::swap(r.rays, r.keptRays);
-      kept.ids = &r.keptVisibility;
-      kept.rays = &r.keptRays;
+      std::swap(visibility, keptVisibility);
+      std::swap(rays, keptRays);
+      kept.ids = &keptVisibility;
+      kept.rays = &keptRays;
     }
-    timed(stats.readbackMs, [&] { r.readback(plan); });
-    timed(stats.raysMs, [&] { r.traceRays(plan, camera, stats, keeps ? &kept : nullptr); });
+    timed(sample.readbackMs, [&] { readback(plan); });
+    // An adaptive round traces only the pixels it refines: the others read as background, which has no rays.
+    if (only != nullptr && visibility.ids.size() == only->size())
+      for (std::size_t i = 0; i < only->size(); ++i)
+        if ((*only)[i] == 0) visibility.ids[i] = glm::uvec2(0u);
+    timed(sample.raysMs, [&] { traceRays(plan, camera, sample, keeps ? &kept : nullptr); });
   }
-  if (!timed(stats.uploadMs, [&] { return r.upload(plan, in, stats, reuse); })) return finished();
-  timed(stats.compositeMs, [&] { r.shade(plan, glCamera, in); });
-  timed(stats.presentMs, [&] { r.present(); });
-  r.remember(plan, camera, in);
-  return finished();
+  const bool uploaded = timed(sample.uploadMs, [&] { return upload(plan, in, sample, reuse); });
+  if (uploaded) timed(sample.compositeMs, [&] { shade(plan, glCamera, in); });
+  // The stages' times and rays add up over a frame's samples; the rest is the last sample's.
+  stats.rasterMs += sample.rasterMs;
+  stats.readbackMs += sample.readbackMs;
+  stats.raysMs += sample.raysMs;
+  stats.uploadMs += sample.uploadMs;
+  stats.compositeMs += sample.compositeMs;
+  stats.shadowMapsMs += sample.shadowMapsMs;
+  stats.rays.primary += sample.rays.primary;
+  stats.rays.shadow += sample.rays.shadow;
+  stats.rays.reflection += sample.rays.reflection;
+  stats.rays.refraction += sample.rays.refraction;
+  stats.rays.shadowByMap += sample.rays.shadowByMap;
+  stats.rays.shadowKept += sample.rays.shadowKept;
+  stats.rayWidth = sample.rayWidth;
+  stats.rayHeight = sample.rayHeight;
+  stats.threads = sample.threads;
+  stats.shadowMapBytes = sample.shadowMapBytes;
+  stats.raysReused = sample.raysReused;
+  if (!uploaded) {
+    stats.error = sample.error;
+    return false;
+  }
+  remember(plan, camera, in);
+  return true;
+}
+
+namespace {
+
+// What the adaptive test compares: a pixel's luminance as the display shows it, tone-mapped and given a
+// square-root (≈ sRGB) encoding, so a threshold means about the same visible step in dark and bright parts.
+float displayLuminance(glm::vec3 linear, const FrameSettings& s) {
+  const float y = s.exposure * glm::dot(linear, glm::vec3(0.2126f, 0.7152f, 0.0722f));
+  return std::sqrt(shading::tdToneMap(glm::vec3(y), shading::toneMapOp(s.toneMap)).x);
+}
+
+// Pixels within `radius` of a marked one, marked too (a separable max filter): with a coarse ray grid, the
+// grid pixels a marked pixel's shading blends lie up to 2·rayScale pixels away.
+void dilate(std::vector<std::uint8_t>& mask, int width, int height, int radius) {
+  std::vector<std::uint8_t> rows(mask.size(), 0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      if (mask[static_cast<std::size_t>(y) * width + x])
+        for (int dx = std::max(0, x - radius); dx <= std::min(width - 1, x + radius); ++dx)
+          rows[static_cast<std::size_t>(y) * width + dx] = 1;
+  std::fill(mask.begin(), mask.end(), 0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      if (rows[static_cast<std::size_t>(y) * width + x])
+        for (int dy = std::max(0, y - radius); dy <= std::min(height - 1, y + radius); ++dy)
+          mask[static_cast<std::size_t>(dy) * width + x] = 1;
+}
+
+}  // namespace
+
+bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn) {
+  const FrameSettings& s = plan.settings;
+  const int w = s.width, h = s.height;
+  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  // The samples so far go on only while nothing they show changed: the camera (unjittered), the scene (every
+  // change to it marks last.sceneChanged) and the settings.
+  const bool goesOn = s.accumulate > 1 && accum.active && lastDrawn && !last.sceneChanged &&
+                      accum.camera == camera && accum.settings == s && accum.width == w && accum.height == h;
+  if (goesOn && accum.frames >= s.accumulate) {
+    // Converged: the mean is in the output targets already.
+    last.drawn = true;
+    stats.samples = 0;
+    stats.raysReused = true;
+    stats.accumulated = static_cast<int>(*std::max_element(accum.count.begin(), accum.count.end()));
+    return true;
+  }
+  if (!goesOn) {
+    accum.release();
+    accum.active = true;
+    accum.camera = camera;
+    accum.settings = s;
+    accum.width = w;
+    accum.height = h;
+    accum.sum.assign(n, glm::vec3(0.0f));
+    accum.count.assign(n, 0u);
+    if (s.aa == AntiAlias::Adaptive) {
+      accum.lo.assign(n, std::numeric_limits<float>::infinity());
+      accum.hi.assign(n, -std::numeric_limits<float>::infinity());
+    }
+  }
+  const bool adaptive = s.aa == AntiAlias::Adaptive;
+  auto addLinear = [&](const std::vector<std::uint8_t>* only) {
+    const ImageF sampleImage = plan.reference ? ImageF{} : outputPass.readLinear();
+    const ImageF& linear = plan.reference ? reference : sampleImage;
+    if (linear.rgb.size() != n) return;  // a debug view without a linear frame: nothing to add
+    for (std::size_t i = 0; i < n; ++i) {
+      if (only != nullptr && (*only)[i] == 0) continue;
+      accum.sum[i] += linear.rgb[i];
+      ++accum.count[i];
+      if (adaptive) {
+        const float l = displayLuminance(linear.rgb[i], s);
+        accum.lo[i] = std::min(accum.lo[i], l);
+        accum.hi[i] = std::max(accum.hi[i], l);
+      }
+    }
+  };
+  if (accum.firstUnread) {
+    // Still in the linear target (or the reference image): nothing drew since.
+    addLinear(nullptr);
+    accum.firstUnread = false;
+  }
+  const bool single = accum.frames == 0 && s.aa == AntiAlias::Off;
+  const int perFrame = s.aa == AntiAlias::Off ? 1 : s.aaSamples;
+  // Adaptive: the pixels a round samples, and the wider set whose rays it traces (see `disagreeing`).
+  std::vector<std::uint8_t> refine, traced;
+  stats.samples = 0;
+  bool drawnOnce = lastDrawn;
+  auto addSample = [&](const std::vector<std::uint8_t>* only, const std::vector<std::uint8_t>* rayPixels) {
+    Camera jittered = camera;
+    jittered.jitterPx = subpixelJitter(accum.next++);
+    if (!drawSample(plan, jittered, stats, drawnOnce, rayPixels)) {
+      accum.release();  // a sample is missing: the sums no longer stand for these settings
+      return false;
+    }
+    drawnOnce = true;
+    ++stats.samples;
+    if (single) accum.firstUnread = true;
+    else addLinear(only);
+    if (only != nullptr) stats.refinedPixels += static_cast<std::uint64_t>(std::count(only->begin(), only->end(), 1));
+    return true;
+  };
+  // Adaptive: the pixels whose samples disagree and their 8 neighbours (an edge that crosses a pixel can miss
+  // all of its first samples, rarely those of both pixels beside it); their rays, grown by what a coarse ray
+  // grid blends into them. False when no pixel disagrees.
+  auto disagreeing = [&] {
+    refine.assign(n, 0);
+    bool any = false;
+    for (std::size_t i = 0; i < n; ++i)
+      if (accum.count[i] > 0 && accum.hi[i] - accum.lo[i] > s.aaThreshold) refine[i] = 1, any = true;
+    if (!any) return false;
+    dilate(refine, w, h, 1);
+    traced = refine;
+    if (s.rayScale > 1) dilate(traced, w, h, 2 * s.rayScale);
+    return true;
+  };
+  if (!adaptive) {
+    for (int k = 0; k < perFrame; ++k)
+      if (!addSample(nullptr, nullptr)) return false;
+  } else {
+    int drawn = 0;
+    if (accum.frames == 0) {
+      // Every pixel first gets a few samples, enough to see whether they disagree.
+      for (; drawn < std::min(4, perFrame); ++drawn)
+        if (!addSample(nullptr, nullptr)) return false;
+    }
+    while (drawn < perFrame && disagreeing()) {
+      for (int k = 0; k < std::min(4, perFrame - drawn); ++k)
+        if (!addSample(&refine, &traced)) return false;
+      drawn += std::min(4, perFrame - drawn);
+    }
+    if (stats.samples == 0) {
+      // Nothing disagrees any more: the accumulation has converged early.
+      accum.frames = std::max(accum.frames, s.accumulate);
+      last.drawn = true;
+      stats.raysReused = true;
+      stats.accumulated = static_cast<int>(*std::max_element(accum.count.begin(), accum.count.end()));
+      return true;
+    }
+  }
+  ++accum.frames;
+  if (single) {
+    // The one sample is on show as the shade pass (or the reference's output) drew it.
+    stats.accumulated = 1;
+    return true;
+  }
+  // Show the mean: the output pass tone-maps it as it does a reference frame.
+  accum.mean.width = w;
+  accum.mean.height = h;
+  accum.mean.rgb.resize(n);
+  std::uint32_t most = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t c = accum.count[i];
+    accum.mean.rgb[i] = c > 0 ? accum.sum[i] / static_cast<float>(c) : glm::vec3(0.0f);
+    most = std::max(most, c);
+  }
+  stats.accumulated = static_cast<int>(most);
+  double outputMs = 0;
+  timed(outputMs, [&] {
+    outputPass.uploadLinear(accum.mean);
+    outputPass.output(s.exposure, s.toneMap, s.debugView);
+    glFinish();
+  });
+  stats.compositeMs += outputMs;
+  return true;
 }
 
 // prepare: the frame's GL targets, the GL copy, and (when rays run) the Embree scene — the only place

@@ -11,6 +11,7 @@ using namespace tandem::shading;
 
 CameraRays::CameraRays(const Camera& camera, glm::ivec2 size)
     : pos_(camera.posW),
+      jitter_(camera.jitterPx),
       sizeX_(float(size.x)),
       sizeY_(float(size.y)),
       aspect_(float(size.x) / float(size.y)),

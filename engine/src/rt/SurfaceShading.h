@@ -29,6 +29,7 @@ class CameraRays {
  public:
   CameraRays(const Camera& camera, glm::ivec2 size);
   Ray through(glm::vec2 pixel) const {
+    pixel += jitter_;
     float nx = pixel.x / sizeX_ * 2.0f - 1.0f;
     float ny = 1.0f - pixel.y / sizeY_ * 2.0f;
     Ray r;
@@ -44,6 +45,7 @@ class CameraRays {
 
  private:
   glm::vec3 pos_, forward_, right_, up_;
+  glm::vec2 jitter_;
   float sizeX_, sizeY_, aspect_, tanHalf_, halfH_;
   bool orthographic_;
 };

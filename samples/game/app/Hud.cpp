@@ -53,6 +53,7 @@ void Hud::draw(const HudInfo& info) {
       ImGui::SameLine(0, 24);
       ImGui::TextDisabled("F1: keys");
     }
+    if (info.paused) ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "PAUSED (TAB): the frame converges");
     if (game.outcome() == Outcome::Won)
       ImGui::TextColored(ImVec4(0.3f, 1, 0.4f, 1), "ALL GEMS! You win with %.1f s to spare. R to play again.", left);
     else if (game.outcome() == Outcome::Lost)
@@ -77,6 +78,8 @@ void Hud::draw(const HudInfo& info) {
       ImGui::Text("composite %7.2f ms", st.compositeMs);
       ImGui::Text("present   %7.2f ms", info.presentMs);
       ImGui::Text("renderer  %7.2f ms total", st.totalMs);
+      // At rest the frame adds samples until it has FrameSettings::accumulate frames of them, then costs nothing.
+      ImGui::Text("samples   %d this frame, %d per pixel shown", st.samples, st.accumulated);
       // A frame that compiled a shader stalled on it: worth seeing when it happens mid-game.
       if (st.shaderCompiles > 0) ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "shader compiles %d", st.shaderCompiles);
       ImGui::Text("probes/frame %d (0 = all)", s.probesPerFrame);

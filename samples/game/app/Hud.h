@@ -18,6 +18,7 @@ struct HudInfo {
   int framebufferW = 0, framebufferH = 0;
   const char* context = "";
   const char* message = "";  // last screenshot path etc.
+  bool paused = false;       // TAB: the world stands still
 };
 
 class Hud {

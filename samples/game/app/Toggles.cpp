@@ -18,6 +18,7 @@ constexpr const char* kHelp[] = {
     "SPACE              brake",
     "mouse drag, Q / E  orbit the camera;  wheel  zoom",
     "R                  restart",
+    "TAB                pause: the world stands still and the frame converges (anti-aliased)",
     "1 / 2 / 3          shadows (off, raster, ray, hybrid) / reflections / refraction (off, raster, ray)",
     "4                  shading: material, flat, gouraud, phong, toon",
     "5 / 6              recursion depth - / +",
@@ -125,6 +126,8 @@ WindowAction ViewState::onKey(const std::string& key) {
     return WindowAction::Screenshot;
   } else if (key == "R") {
     return WindowAction::Restart;
+  } else if (key == "TAB") {
+    return WindowAction::Pause;
   } else if (key == "ESCAPE") {
     return WindowAction::Quit;
   }

@@ -8,7 +8,7 @@
 
 namespace marble {
 
-enum class WindowAction { None, Fullscreen, Vsync, Screenshot, Restart, Quit };
+enum class WindowAction { None, Fullscreen, Vsync, Screenshot, Restart, Pause, Quit };
 
 struct ViewState {
   tandem::FrameSettings settings;  // width / height set per frame from the window or --size

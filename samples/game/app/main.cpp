@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -53,6 +54,8 @@ struct Options {
   int probesPerFrame = 2;
   std::string reuse = "on";
   float targetFps = 0.0f;
+  std::vector<std::string> aa{"off"};
+  int accumulate = 16;
   std::string frameLog;
   int errorEvery = 0;
   bool checkReuse = false;
@@ -201,6 +204,7 @@ class Session {
   void keyDown(const std::string& key) {
     switch (view_.onKey(key)) {
       case WindowAction::Restart: game_.reset(); break;
+      case WindowAction::Pause: paused_ = !paused_; break;
       case WindowAction::Screenshot: wantShot_ = true; break;
       case WindowAction::Quit: quit_ = true; break;
       case WindowAction::Vsync: ctx_.setVsync(view_.vsync); break;
@@ -215,7 +219,9 @@ class Session {
     const MoveIntent intent = moveIntent(input_);
     rig_.update(static_cast<float>(dt_), input_.mouseDelta, intent.orbit, input_.scroll);
     input_.consumeDeltas();
-    game_.step(static_cast<float>(dt_), intent, rig_.yaw);
+    // Paused, the world stands still (the camera may still orbit): with nothing in view changing, the
+    // renderer's accumulation converges to an anti-aliased frame (FrameSettings::accumulate).
+    if (!paused_) game_.step(static_cast<float>(dt_), intent, rig_.yaw);
     clock_ += dt_;
   }
 
@@ -251,7 +257,9 @@ class Session {
     o << "preset=" << view_.preset << " shadows=" << tandem::shadowModeName(s)
       << " reflections=" << tandem::toString(s.reflections) << " refraction=" << tandem::toString(s.refraction)
       << " shading=" << view_.shadingName() << " depth=" << s.maxDepth << " scale=" << s.rayScale
-      << " budget=" << (view_.targetFps > 0.0f ? fpsText(view_.targetFps) : std::string("off"));
+      << " budget=" << (view_.targetFps > 0.0f ? fpsText(view_.targetFps) : std::string("off"))
+      << " aa=" << tandem::toString(s.aa) << (s.aa != tandem::AntiAlias::Off ? std::to_string(s.aaSamples) : std::string())
+      << " accumulate=" << s.accumulate;
     return o.str();
   }
 
@@ -264,6 +272,7 @@ class Session {
   CameraRig rig_;
   InputState input_;
   double dt_;
+  bool paused_ = false;  // TAB: the game's world does not step
   double clock_ = 0.0;  // session time: keeps running across restarts, so script times stay absolute
   ScriptPlayer script_;
   std::string shotDir_;
@@ -400,7 +409,8 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
   if (log.is_open() && !log.flush()) return fail("--frame-log: cannot write '" + o.frameLog + "'");
   if (!o.capture.empty())
     if (auto r = s.saveFrame(o.capture); !r) return fail(r.error().message);
-  std::printf("game: %s frames=%zu %s\n", s.game_.stateLine().c_str(), stats.size(), s.settingsLine().c_str());
+  std::printf("game: %s frames=%zu %s accumulated=%d\n", s.game_.stateLine().c_str(), stats.size(),
+              s.settingsLine().c_str(), stats.empty() ? 0 : stats.back().accumulated);
   printTimes(stats, loopMs, w, h);
   if (o.checkReuse) {
     auto saved = [](unsigned long long with, unsigned long long without) {
@@ -562,6 +572,7 @@ int runWindow(Session& s, const Options& o) {
     HudInfo info;
     info.game = &s.game_;
     info.view = &s.view_;
+    info.paused = s.paused_;
     info.stats = stats;
     info.frameMs = frameMs;
     info.presentMs = presentMs;
@@ -596,7 +607,8 @@ int runWindow(Session& s, const Options& o) {
     if (++frames >= o.frames && o.frames > 0) break;
   }
   glfwSetWindowUserPointer(window, nullptr);
-  std::printf("game: %s frames=%d %s\n", s.game_.stateLine().c_str(), frames, s.settingsLine().c_str());
+  std::printf("game: %s frames=%d %s accumulated=%d\n", s.game_.stateLine().c_str(), frames, s.settingsLine().c_str(),
+              allStats.empty() ? 0 : allStats.back().accumulated);
   printTimes(allStats, loopMs, lastW, lastH);
   return 0;
 }
@@ -629,6 +641,15 @@ int run(int argc, char** argv) {
   app.add_option("--target-fps", o.targetFps,
                  "Frame-time budget in frames per second, 0.1..1000 (FrameSettings::targetMs; key B cycles it)")
       ->check(CLI::Range(0.1, 1000.0));
+  app.add_option("--aa", o.aa,
+                 "Anti-aliasing: off | ssaa [N] | adaptive [N] (FrameSettings::aa; default off: the game accumulates "
+                 "instead)")
+      ->expected(1, 2);
+  app.add_option("--accumulate", o.accumulate,
+                 "While the marble and the camera rest, each frame adds new sub-pixel samples, up to N frames (0 or 1: "
+                 "off; FrameSettings::accumulate)")
+      ->check(CLI::Range(0, 65536))
+      ->capture_default_str();
   app.add_option("--frame-log", o.frameLog,
                  "Headless: one CSV row per frame (stage times, rays, the budget's choice; tandem-bench --budget)");
   app.add_option("--error-every", o.errorEvery,
@@ -698,6 +719,22 @@ int run(int argc, char** argv) {
     view.settings.rayScale = o.scale;
     view.preset = "custom";
   }
+  if (auto mode = tandem::parseAntiAlias(o.aa.front())) {
+    view.settings.aa = *mode;
+    view.settings.aaSamples = *mode == tandem::AntiAlias::Adaptive ? 16 : 4;
+    if (o.aa.size() == 2) {
+      char* end = nullptr;
+      const long n = std::strtol(o.aa[1].c_str(), &end, 10);
+      if (*mode == tandem::AntiAlias::Off || end == o.aa[1].c_str() || *end != '\0' || n < 1 || n > 256)
+        return fail("--aa: ssaa and adaptive take a sample count 1..256, got '" + o.aa[1] + "'");
+      view.settings.aaSamples = static_cast<int>(n);
+    }
+  } else {
+    return fail("--aa: expected off, ssaa [N] or adaptive [N], got '" + o.aa.front() + "'");
+  }
+  if (view.settings.aa != tandem::AntiAlias::Off && o.targetFps > 0.0f)
+    return fail("--aa: a frame-time budget has no anti-aliasing step yet (drop --target-fps or --aa)");
+  view.settings.accumulate = o.accumulate;
   if (!std::isfinite(o.targetFps)) return fail("--target-fps: must be 0.1..1000 frames per second");
   view.setTargetFps(o.targetFps);
   view.vsync = !o.noVsync;

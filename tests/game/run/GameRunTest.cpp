@@ -309,6 +309,26 @@ TEST(GameRun, ReuseKeepsTheShadowsOfWhatStandsStillWhileThePlayerWatches) {
   EXPECT_GT(std::stoull(hybrid["shadow_kept"]), 0u);
 }
 
+// Accumulation in the game (docs/antialiasing.md): in play the spinners, gems and lights move every frame, so
+// each frame is one jittered sample; paused (TAB), nothing in view changes and the frame converges to the
+// game's 16 samples, and then draws nothing more.
+TEST(GameRun, PausedTheFrameConvergesToItsAccumulatedSamples) {
+  Outcome idle = runGame("--headless --frames 60 --size 160x90 --script '" + src("tests/game/idle.script") + "'");
+  ASSERT_EQ(idle.exitCode, 0) << idle.output;
+  EXPECT_EQ(gameState(idle.output)["accumulated"], "1") << idle.output;
+  Outcome paused = runGame("--headless --frames 60 --size 160x90 --script '" + src("tests/game/pause.script") + "'");
+  ASSERT_EQ(paused.exitCode, 0) << paused.output;
+  auto s = gameState(paused.output);
+  EXPECT_EQ(s["accumulated"], "16") << paused.output;
+  EXPECT_EQ(s["time"], "0.500") << "the game's clock stops while paused";
+  EXPECT_EQ(s["accumulate"], "16");
+  // Without accumulation the paused frame stays one sample deep.
+  Outcome plain = runGame("--headless --frames 60 --size 160x90 --accumulate 0 --script '" +
+                          src("tests/game/pause.script") + "'");
+  ASSERT_EQ(plain.exitCode, 0) << plain.output;
+  EXPECT_EQ(gameState(plain.output)["accumulated"], "1") << plain.output;
+}
+
 TEST(GameRun, CheckReuseRefusesWhatItCannotCompare) {
   for (const char* args : {"--frames 2 --check-reuse", "--headless --frames 2 --check-reuse --target-fps 30",
                            "--headless --frames 2 --check-reuse --reuse off"}) {

@@ -1,0 +1,190 @@
+// Anti-aliasing and progressive accumulation (FrameSettings::aa, accumulate; docs/antialiasing.md): a
+// jittered frame is exact at its sample points, supersampling converges to the supersampled reference,
+// accumulation is supersampling spread over frames and starts again on any change, adaptive rounds refine
+// only where samples disagree, and none of it depends on the thread count.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "gl/GlTestUtil.h"
+#include "tandem/ImageMetrics.h"
+#include "tandem/SceneFile.h"
+
+namespace tandem {
+namespace {
+
+constexpr int kW = 160, kH = 90;
+
+struct Whitted {
+  std::unique_ptr<Renderer> renderer;
+  Camera camera;
+  FrameSettings base;
+};
+
+Whitted whitted(GlContext& context, int threads = 0) {
+  Whitted w;
+  auto scene = loadSceneFile(test::sourceDir() + "/assets/scenes/whitted.json");
+  EXPECT_TRUE(scene.ok()) << scene.error().message;
+  RendererDesc desc;
+  desc.threads = threads;
+  auto renderer = Renderer::create(context, desc);
+  EXPECT_TRUE(renderer.ok()) << renderer.error().message;
+  w.renderer = std::move(*renderer);
+  w.camera = scene->camera;
+  w.base.width = kW;
+  w.base.height = kH;
+  if (scene->render.maxDepth >= 0) w.base.maxDepth = scene->render.maxDepth;
+  EXPECT_TRUE(w.renderer->setScene(std::move(*scene)).ok());
+  return w;
+}
+
+FrameSettings preset(const Whitted& w, const char* name, AntiAlias aa = AntiAlias::Off, int samples = 1) {
+  FrameSettings s = *presetSettings(name, w.base);
+  s.aa = aa;
+  s.aaSamples = samples;
+  s.referenceSpp = 1;
+  return s;
+}
+
+Image draw(Whitted& w, const FrameSettings& s, const Camera& camera, FrameStats* stats = nullptr) {
+  FrameStats st = w.renderer->render(camera, s);
+  EXPECT_TRUE(st.error.empty()) << st.error;
+  if (stats != nullptr) *stats = st;
+  return w.renderer->readImage();
+}
+
+double flipMean(const Image& a, const Image& b) {
+  auto f = flip(a, b);
+  EXPECT_TRUE(f.ok()) << f.error().message;
+  return f.ok() ? f->mean : 1.0;
+}
+
+bool sameLinear(const ImageF& a, const ImageF& b) {
+  return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
+         std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(glm::vec3)) == 0;
+}
+
+TEST(AntiAlias, AJitteredFrameSeesWhatItsCameraRaysSee) {
+  // The rasterizer, the shade pass and the ray pass all move by the jitter: the hybrid frame then agrees
+  // with reference camera rays through the jittered points (as at the centres, HybridVsReferenceGLTest),
+  // and clearly better than with rays through the centres.
+  TD_REQUIRE_GL_CONTEXT();
+  Whitted w = whitted(*glContext_);
+  Camera jittered = w.camera;
+  jittered.jitterPx = glm::vec2(0.45f, -0.4f);
+  const Image hybrid = draw(w, preset(w, "hybrid-full"), jittered);
+  const Image referenceJittered = draw(w, preset(w, "reference"), jittered);
+  const Image referenceCentred = draw(w, preset(w, "reference"), w.camera);
+  const double same = flipMean(hybrid, referenceJittered), shifted = flipMean(hybrid, referenceCentred);
+  std::printf("FLIP jittered hybrid-full vs reference: same jitter %.5f, no jitter %.5f\n", same, shifted);
+  EXPECT_LT(same, 0.012);
+  EXPECT_LT(same * 1.5, shifted) << "the jitter must move the frame as it moves the rays";
+}
+
+TEST(AntiAlias, SupersamplingConvergesToTheSupersampledReference) {
+  TD_REQUIRE_GL_CONTEXT();
+  Whitted w = whitted(*glContext_);
+  FrameSettings truthSettings = preset(w, "reference");
+  truthSettings.referenceSpp = 8;
+  const Image truth = draw(w, truthSettings, w.camera);
+  const double off = flipMean(draw(w, preset(w, "hybrid-full"), w.camera), truth);
+  const Image four = draw(w, preset(w, "hybrid-full", AntiAlias::Ssaa, 4), w.camera);
+  FrameStats st;
+  const Image sixteen = draw(w, preset(w, "hybrid-full", AntiAlias::Ssaa, 16), w.camera, &st);
+  const double e4 = flipMean(four, truth), e16 = flipMean(sixteen, truth);
+  std::printf("FLIP hybrid-full vs reference 8x8 spp: off %.5f, ssaa 4 %.5f, ssaa 16 %.5f\n", off, e4, e16);
+  EXPECT_EQ(st.samples, 16);
+  EXPECT_EQ(st.accumulated, 16);
+  EXPECT_LT(e4, 0.85 * off);
+  EXPECT_LT(e16, e4);
+  // The reference accumulated over the same 16 sub-pixel points sees the same samples.
+  FrameSettings sameSamples = preset(w, "reference");
+  sameSamples.accumulate = 16;
+  Image referenceSixteen;
+  for (int i = 0; i < 16; ++i) referenceSixteen = draw(w, sameSamples, w.camera);
+  const double paired = flipMean(sixteen, referenceSixteen);
+  std::printf("FLIP hybrid-full ssaa 16 vs reference over the same 16 points: %.5f\n", paired);
+  EXPECT_LT(paired, 0.01);
+  (void)writePng(test::outputDir() + "/antialias-off.png", draw(w, preset(w, "hybrid-full"), w.camera));
+  (void)writePng(test::outputDir() + "/antialias-ssaa16.png", sixteen);
+  (void)writePng(test::outputDir() + "/antialias-truth.png", truth);
+}
+
+TEST(AntiAlias, AccumulationIsSupersamplingSpreadOverFramesAndStartsAgainOnAnyChange) {
+  TD_REQUIRE_GL_CONTEXT();
+  Whitted w = whitted(*glContext_);
+  (void)draw(w, preset(w, "hybrid-fast", AntiAlias::Ssaa, 8), w.camera);
+  const ImageF ssaa = w.renderer->readLinear();
+  FrameSettings acc = preset(w, "hybrid-fast");
+  acc.accumulate = 8;
+  FrameStats st;
+  for (int i = 0; i < 8; ++i) {
+    (void)draw(w, acc, w.camera, &st);
+    EXPECT_EQ(st.samples, 1) << "frame " << i;
+    EXPECT_EQ(st.accumulated, i + 1) << "frame " << i;
+  }
+  const ImageF accumulated = w.renderer->readLinear();
+  EXPECT_TRUE(sameLinear(accumulated, ssaa)) << "8 frames of 1 sample are ssaa 8, bit for bit";
+  // Converged: the frame is shown again and draws nothing.
+  const Image converged = w.renderer->readImage();
+  (void)draw(w, acc, w.camera, &st);
+  EXPECT_EQ(st.samples, 0);
+  EXPECT_EQ(st.rays.total(), 0u);
+  EXPECT_EQ(st.accumulated, 8);
+  EXPECT_TRUE(w.renderer->readImage().rgba == converged.rgba);
+  // Any change starts again: an instance moved, the camera moved, a setting changed.
+  const Instance first = w.renderer->scene().instances.front();
+  w.renderer->setInstanceTransform(0, glm::translate(first.worldFromObject, glm::vec3(0.01f, 0.0f, 0.0f)));
+  (void)draw(w, acc, w.camera, &st);
+  EXPECT_EQ(st.accumulated, 1) << "after a move";
+  (void)draw(w, acc, w.camera, &st);
+  EXPECT_EQ(st.accumulated, 2);
+  Camera moved = w.camera;
+  moved.posW.x += 0.01f;
+  (void)draw(w, acc, moved, &st);
+  EXPECT_EQ(st.accumulated, 1) << "after the camera moved";
+  FrameSettings other = acc;
+  other.exposure = 1.5f;
+  (void)draw(w, other, moved, &st);
+  EXPECT_EQ(st.accumulated, 1) << "after a setting changed";
+}
+
+TEST(AntiAlias, AdaptiveRefinesOnlyWhereSamplesDisagree) {
+  TD_REQUIRE_GL_CONTEXT();
+  Whitted w = whitted(*glContext_);
+  const Image sixteen = draw(w, preset(w, "hybrid-full", AntiAlias::Ssaa, 16), w.camera);
+  const Image four = draw(w, preset(w, "hybrid-full", AntiAlias::Ssaa, 4), w.camera);
+  FrameStats st;
+  const Image adaptive = draw(w, preset(w, "hybrid-full", AntiAlias::Adaptive, 16), w.camera, &st);
+  const double eFour = flipMean(four, sixteen), eAdaptive = flipMean(adaptive, sixteen);
+  const double share = static_cast<double>(st.refinedPixels) / (12.0 * kW * kH);
+  std::printf("adaptive 16: refined %.1f%% of the pixel-samples ssaa 16 adds to ssaa 4; FLIP vs ssaa 16: "
+              "adaptive %.5f, ssaa 4 %.5f\n", 100.0 * share, eAdaptive, eFour);
+  EXPECT_EQ(st.accumulated, 16) << "edge pixels get every sample";
+  EXPECT_GT(st.refinedPixels, 0u);
+  EXPECT_LT(share, 0.6);
+  EXPECT_LT(eAdaptive, 0.6 * eFour);
+  // Rays go only to the refined pixels: fewer primary hits than a pixel per sample.
+  EXPECT_LT(st.rays.primary, 4ull * kW * kH + st.refinedPixels + 1);
+  // Where nothing disagrees (only sky in view) nothing is refined.
+  Camera sky = w.camera;
+  sky.targetW = sky.posW + glm::vec3(0.0f, 1.0f, -0.5f);
+  (void)draw(w, preset(w, "hybrid-full", AntiAlias::Adaptive, 16), sky, &st);
+  ASSERT_EQ(st.rays.primary, 0u) << "the view must hold only sky";
+  EXPECT_EQ(st.samples, 4);
+  EXPECT_EQ(st.refinedPixels, 0u);
+}
+
+TEST(AntiAlias, SamplesDoNotDependOnTheThreadCount) {
+  TD_REQUIRE_GL_CONTEXT();
+  Whitted one = whitted(*glContext_, 1);
+  Whitted two = whitted(*glContext_, 2);
+  for (AntiAlias aa : {AntiAlias::Ssaa, AntiAlias::Adaptive}) {
+    (void)draw(one, preset(one, "hybrid-full", aa, 8), one.camera);
+    (void)draw(two, preset(two, "hybrid-full", aa, 8), two.camera);
+    EXPECT_TRUE(sameLinear(one.renderer->readLinear(), two.renderer->readLinear())) << toString(aa);
+  }
+}
+
+}  // namespace
+}  // namespace tandem
