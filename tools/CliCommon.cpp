@@ -171,6 +171,9 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
   }
   if (s.aa != AntiAlias::Off && s.reference)
     return Error{"--aa: the reference preset takes its samples per pixel from --spp, got --aa " + o.aa->front()};
+  if (s.accumulate > 1 && o.targetFps)
+    return Error{"--accumulate: a frame-time budget has no accumulation step yet (drop --target-fps or --accumulate), "
+                 "got --accumulate " + std::to_string(s.accumulate)};
   if (s.aa != AntiAlias::Off && o.targetFps)
     return Error{"--aa: a frame-time budget has no anti-aliasing step yet (drop --target-fps or --aa), got --aa " +
                  o.aa->front()};

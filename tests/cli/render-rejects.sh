@@ -69,4 +69,5 @@ check --aa-threshold --aa adaptive --aa-threshold 2
 check --aa-threshold --aa adaptive --aa-threshold nan
 check --accumulate --accumulate -1
 check --accumulate --accumulate 65537
+check --accumulate --accumulate 8 --target-fps 30
 exit $status

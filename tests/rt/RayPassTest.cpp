@@ -691,10 +691,12 @@ TEST(RayPassShadows, ShadowThroughAMaskCutOutReachesTheFloor) {
 // CameraRays does Camera::rayThroughPixel's per-camera work once; the rays must not change by a bit.
 TEST(RayPassWhitted, CameraRaysAreCameraRayThroughPixelBitForBit) {
   Scene scene = makeWhittedScene();
-  for (bool ortho : {false, true}) {
+  for (bool ortho : {false, true})
+   for (glm::vec2 jitter : {glm::vec2(0.0f), glm::vec2(0.375f, -0.125f)}) {  // anti-aliasing's sub-pixel offsets
     Camera cam = scene.camera;
     cam.orthographic = ortho;
     cam.orthoHeight = 7.0f;
+    cam.jitterPx = jitter;
     const glm::ivec2 size(173, 91);
     CameraRays rays(cam, size);
     int differing = 0;

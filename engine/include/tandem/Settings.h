@@ -79,7 +79,7 @@ struct FrameSettings {
   /// samples for every pixel, then rounds of 4 more only for the pixels whose samples disagree (their
   /// display luminance spans more than aaThreshold), up to aaSamples; the ray pass traces only those pixels.
   /// The reference frame has its own samples (referenceSpp) and a frame-time budget has no anti-aliasing
-  /// step yet: resolved() turns aa off for both.
+  /// step yet: resolved() turns aa off for both, and accumulation off under a budget.
   AntiAlias aa = AntiAlias::Off;
   int aaSamples = 4;          // [1, 256]
   float aaThreshold = 0.05f;  // adaptive: display-luminance range (0..1) over which a pixel is refined

@@ -80,7 +80,7 @@ struct Renderer::Impl {
     int frames = 0;           // frames whose samples are in the sums
     std::uint32_t next = 0;   // index of the next sample's sub-pixel offset (subpixelJitter)
     int width = 0, height = 0;
-    std::vector<glm::vec3> sum;
+    std::vector<glm::dvec3> sum;  // double: 65536 frames of 256 samples would drift in float
     std::vector<std::uint32_t> count;
     std::vector<float> lo, hi;  // adaptive: each pixel's samples' smallest and largest display luminance
     ImageF mean;
@@ -124,6 +124,7 @@ Result<void> Renderer::Impl::allocateFrame(int width, int height) {
   if (width == targetWidth && height == targetHeight) return {};
   if (width == failedWidth && height == failedHeight) return Error{failure};
   targetWidth = targetHeight = 0;
+  accum.release();  // its samples and its shown mean were in the targets replaced here
   auto fail = [&](std::string why) -> Result<void> {
     outputPass.release();
     shadePass.releaseFrame();
@@ -322,10 +323,15 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& camera, Fra
     }
     timed(sample.readbackMs, [&] { readback(plan); });
     // An adaptive round traces only the pixels it refines: the others read as background, which has no rays.
-    if (only != nullptr && visibility.ids.size() == only->size())
+    // The ids themselves are put back after, for tracePixel.
+    std::vector<glm::uvec2> allIds;
+    if (only != nullptr && visibility.ids.size() == only->size()) {
+      allIds = visibility.ids;
       for (std::size_t i = 0; i < only->size(); ++i)
         if ((*only)[i] == 0) visibility.ids[i] = glm::uvec2(0u);
+    }
     timed(sample.raysMs, [&] { traceRays(plan, camera, sample, keeps ? &kept : nullptr); });
+    if (!allIds.empty()) visibility.ids.swap(allIds);
   }
   const bool uploaded = timed(sample.uploadMs, [&] { return upload(plan, in, sample, reuse); });
   if (uploaded) timed(sample.compositeMs, [&] { shade(plan, glCamera, in); });
@@ -389,13 +395,17 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   // The samples so far go on only while nothing they show changed: the camera (unjittered), the scene (every
   // change to it marks last.sceneChanged) and the settings.
+  // Probes that are still catching up with a move (probesPerFrame > 0) change what the samples show too.
   const bool goesOn = s.accumulate > 1 && accum.active && lastDrawn && !last.sceneChanged &&
-                      accum.camera == camera && accum.settings == s && accum.width == w && accum.height == h;
+                      caches.probesCurrent() && accum.camera == camera && accum.settings == s && accum.width == w &&
+                      accum.height == h;
   if (goesOn && accum.frames >= s.accumulate) {
     // Converged: the mean is in the output targets already.
     last.drawn = true;
     stats.samples = 0;
-    stats.raysReused = true;
+    stats.rayWidth = plan.reference ? reference.width : rays.width;
+    stats.rayHeight = plan.reference ? reference.height : rays.height;
+    stats.threads = tracer->threads();
     stats.accumulated = static_cast<int>(*std::max_element(accum.count.begin(), accum.count.end()));
     return true;
   }
@@ -406,7 +416,7 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
     accum.settings = s;
     accum.width = w;
     accum.height = h;
-    accum.sum.assign(n, glm::vec3(0.0f));
+    accum.sum.assign(n, glm::dvec3(0.0));
     accum.count.assign(n, 0u);
     if (s.aa == AntiAlias::Adaptive) {
       accum.lo.assign(n, std::numeric_limits<float>::infinity());
@@ -415,12 +425,18 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
   }
   const bool adaptive = s.aa == AntiAlias::Adaptive;
   auto addLinear = [&](const std::vector<std::uint8_t>* only) {
+    Timer clock;
+    struct Charge {  // the read-back and the sums count as read-back time
+      Timer& clock;
+      double& ms;
+      ~Charge() { ms += clock.ms(); }
+    } charge{clock, stats.readbackMs};
     const ImageF sampleImage = plan.reference ? ImageF{} : outputPass.readLinear();
     const ImageF& linear = plan.reference ? reference : sampleImage;
     if (linear.rgb.size() != n) return;  // a debug view without a linear frame: nothing to add
     for (std::size_t i = 0; i < n; ++i) {
       if (only != nullptr && (*only)[i] == 0) continue;
-      accum.sum[i] += linear.rgb[i];
+      accum.sum[i] += glm::dvec3(linear.rgb[i]);
       ++accum.count[i];
       if (adaptive) {
         const float l = displayLuminance(linear.rgb[i], s);
@@ -440,11 +456,17 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
   std::vector<std::uint8_t> refine, traced;
   stats.samples = 0;
   bool drawnOnce = lastDrawn;
+  // Several samples in one frame must all see the same probes: probes still catching up with a move
+  // (probesPerFrame > 0) are all brought up to date by the first sample instead of a few by each.
+  FramePlan caughtUp = plan;
+  caughtUp.settings.probesPerFrame = 0;
   auto addSample = [&](const std::vector<std::uint8_t>* only, const std::vector<std::uint8_t>* rayPixels) {
     Camera jittered = camera;
     jittered.jitterPx = subpixelJitter(accum.next++);
-    if (!drawSample(plan, jittered, stats, drawnOnce, rayPixels)) {
+    const bool catchUp = !single && !caches.probesCurrent();
+    if (!drawSample(catchUp ? caughtUp : plan, jittered, stats, drawnOnce, rayPixels)) {
       accum.release();  // a sample is missing: the sums no longer stand for these settings
+      last.drawn = false;  // and `last` describes the sample before it, not what the buffers hold
       return false;
     }
     drawnOnce = true;
@@ -487,7 +509,9 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
       // Nothing disagrees any more: the accumulation has converged early.
       accum.frames = std::max(accum.frames, s.accumulate);
       last.drawn = true;
-      stats.raysReused = true;
+      stats.rayWidth = rays.width;
+      stats.rayHeight = rays.height;
+      stats.threads = tracer->threads();
       stats.accumulated = static_cast<int>(*std::max_element(accum.count.begin(), accum.count.end()));
       return true;
     }
@@ -505,7 +529,7 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
   std::uint32_t most = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t c = accum.count[i];
-    accum.mean.rgb[i] = c > 0 ? accum.sum[i] / static_cast<float>(c) : glm::vec3(0.0f);
+    accum.mean.rgb[i] = c > 0 ? glm::vec3(accum.sum[i] / static_cast<double>(c)) : glm::vec3(0.0f);
     most = std::max(most, c);
   }
   stats.accumulated = static_cast<int>(most);

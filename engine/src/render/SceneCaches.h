@@ -38,6 +38,10 @@ class SceneCaches {
   void syncRasterEffects(const Scene& scene, const FramePlan& plan, const gl::VisibilityPass& raster,
                          gl::ShadePass& shade, gl::ShadeInputs& in);
 
+  /// Whether every probe shows the scene as it is (true when there are none): with
+  /// FrameSettings::probesPerFrame > 0 they catch up over several frames after a move.
+  bool probesCurrent() const { return probeVersion_ == 0 || probeVersion_ == gpuVersion_; }
+
   gl::GpuScene& gpu() { return gpu_; }
   const gl::GpuScene& gpu() const { return gpu_; }
 

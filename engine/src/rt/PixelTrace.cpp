@@ -269,7 +269,7 @@ PixelTrace traceReferencePixel(const Scene& scene, const EmbreeScene& embree, co
   glm::vec3 sum(0.0f);
   for (int sy = 0; sy < spp; ++sy)
     for (int sx = 0; sx < spp; ++sx) {
-      Ray ray = cameraRays.through(glm::vec2(x, y) + referenceSampleOffset(x, y, sx, sy, spp));
+      Ray ray = cameraRays.through(referenceSamplePoint(x, y, sx, sy, spp, cameraRays.jitter()));
       float tNear, tFar;
       cameraSpan(cam, ray, tNear, tFar);
       ++trace.rays.primary;

@@ -28,6 +28,8 @@ namespace tandem::rt {
 class CameraRays {
  public:
   CameraRays(const Camera& camera, glm::ivec2 size);
+  /// The camera's sub-pixel jitter, which through() adds to every point.
+  glm::vec2 jitter() const { return jitter_; }
   Ray through(glm::vec2 pixel) const {
     pixel += jitter_;
     float nx = pixel.x / sizeX_ * 2.0f - 1.0f;
@@ -67,6 +69,15 @@ inline glm::vec2 referenceSampleOffset(int x, int y, int sx, int sy, int spp) {
   auto ux = static_cast<std::uint32_t>(x), uy = static_cast<std::uint32_t>(y);
   return (glm::vec2(sx, sy) + glm::vec2(random01(ux, uy, sample, 0), random01(ux, uy, sample, 1))) /
          static_cast<float>(spp);
+}
+
+/// The point to pass to CameraRays::through for the reference frame's sample (sx, sy) of pixel (x, y) under
+/// the camera's `jitter` (which through() adds): the stratified offset moved by the jitter and wrapped into
+/// the pixel, so a jittered frame's spp × spp samples still cover this pixel once each (a box filter) and an
+/// accumulation of jittered frames places new points instead of spilling into the neighbours.
+inline glm::vec2 referenceSamplePoint(int x, int y, int sx, int sy, int spp, glm::vec2 jitter) {
+  const glm::vec2 moved = referenceSampleOffset(x, y, sx, sy, spp) + jitter;
+  return glm::vec2(x, y) + (moved - glm::floor(moved)) - jitter;
 }
 
 /// An instance's transforms as the ray pass uses them (the same copy Embree was given), in render space.
