@@ -190,6 +190,8 @@ class Session {
     tandem::FrameSettings s = view_.settings;
     s.width = w;
     s.height = h;
+    // The request as the budget resolved it: a budget turns accumulation off (FrameSettings::resolved).
+    if (s.targetMs > 0.0f) s.accumulate = 0;
     s.targetMs = 0.0f;
     s.reuseRays = false;
     s.probesPerFrame = 0;  // drawn only every Nth frame: its probes must not lag behind the game
