@@ -19,6 +19,11 @@ struct RayCounts {
   /// before, the camera still and nothing that moved near them (not traced, not in total()).
   std::uint64_t shadowKept = 0;
   std::uint64_t total() const { return primary + shadow + reflection + refraction; }
+  RayCounts& operator+=(const RayCounts& o) {
+    primary += o.primary, shadow += o.shadow, reflection += o.reflection, refraction += o.refraction;
+    shadowByMap += o.shadowByMap, shadowKept += o.shadowKept;
+    return *this;
+  }
 };
 
 /// The frame-time budget's choice for a frame (FrameSettings::targetMs, docs/budget.md).

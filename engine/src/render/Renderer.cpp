@@ -290,7 +290,7 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   if (!timed(stats.prepareMs, [&] { return r.prepare(plan, stats); })) return finished();
   const FrameSettings& s = plan.settings;
   if (s.aa == AntiAlias::Off && s.accumulate <= 1) {
-    r.accum.release();
+    if (r.accum.active) r.accum.release();  // cost follows the settings: no sums held while they are off
     if (r.drawSample(plan, camera, stats, lastDrawn, nullptr)) timed(stats.presentMs, [&] { r.present(); });
     return finished();
   }
@@ -342,12 +342,7 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& camera, Fra
   stats.uploadMs += sample.uploadMs;
   stats.compositeMs += sample.compositeMs;
   stats.shadowMapsMs += sample.shadowMapsMs;
-  stats.rays.primary += sample.rays.primary;
-  stats.rays.shadow += sample.rays.shadow;
-  stats.rays.reflection += sample.rays.reflection;
-  stats.rays.refraction += sample.rays.refraction;
-  stats.rays.shadowByMap += sample.rays.shadowByMap;
-  stats.rays.shadowKept += sample.rays.shadowKept;
+  stats.rays += sample.rays;
   stats.rayWidth = sample.rayWidth;
   stats.rayHeight = sample.rayHeight;
   stats.threads = sample.threads;
