@@ -46,10 +46,14 @@
 #define TD_UNIT_SHADOW_MAPS 16
 #define TD_UNIT_SHADOW_CUBES 17
 #define TD_UNIT_PROBES 18
+#define TD_UNIT_SHADOW_CUBES_DEPTH 22  // the cube maps again, without depth compare (soft shadows' blocker search)
 
 // ---- texture units: normal maps (GpuScene) ----
 #define TD_UNIT_TANGENTS_TEX 19
 #define TD_UNIT_NORMAL_MAPS 20
+
+// ---- texture units: area lights' sample visibility (ShadePass) ----
+#define TD_UNIT_AREA_SAMPLES 21
 
 // ---- frame channels (docs/gbuffer.md) ----
 // TD_CHANNEL_X: the GL internal format, and the pixel format and type its CPU copies (uploads and
@@ -62,6 +66,8 @@
 #define TD_SAMPLER_DEPTH sampler2D
 #define TD_CHANNEL_LIGHT_MASK GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE  // ray grid, bit j = light j (≤ 8)
 #define TD_SAMPLER_LIGHT_MASK usampler2D
+#define TD_CHANNEL_AREA_SAMPLES GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT  // ray grid, layer = area light, bit k = sample k
+#define TD_SAMPLER_AREA_SAMPLES usampler2DArray
 #define TD_CHANNEL_REFLECTED GL_RGBA32F, GL_RGBA, GL_FLOAT       // ray grid, wR·S
 #define TD_SAMPLER_REFLECTED sampler2D
 #define TD_CHANNEL_TRANSMITTED GL_RGBA32F, GL_RGBA, GL_FLOAT     // ray grid, wT·T
@@ -76,6 +82,7 @@
 #define TD_CHANNEL_SHADOW_MAPS GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT  // maps and cube maps
 #define TD_SAMPLER_SHADOW_MAPS sampler2DArrayShadow
 #define TD_SAMPLER_SHADOW_CUBES samplerCubeArrayShadow
+#define TD_SAMPLER_SHADOW_CUBES_DEPTH samplerCubeArray
 
 // ---- channel bits the shade pass is compiled for ----
 #define TD_RAY_LIGHT_MASK 1     // TD_RAY_INPUTS: which ray results were uploaded

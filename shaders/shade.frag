@@ -37,7 +37,9 @@ layout(std140, binding = TD_BLOCK_LIGHTS) uniform LightBlock { GpuLight lights[T
 #define TD_LIGHT_KINDS 0u
 #endif
 int lightType(int j) {
-  return TD_LIGHT_KINDS != 0u ? int((TD_LIGHT_KINDS >> uint(4 * j)) & 3u) : int(lights[j].posType.w + 0.5);
+  // 0 in the kinds: an area light (or no kinds at all), whose type is in its record.
+  int t = int((TD_LIGHT_KINDS >> uint(4 * j)) & 3u);
+  return t != 0 ? t : int(lights[j].posType.w + 0.5);
 }
 #if TD_UNIFORM_MATERIALS > 0
 layout(std140, binding = TD_BLOCK_MATERIALS) uniform MaterialBlock { GpuMaterial materials[TD_UNIFORM_MATERIALS]; };
@@ -88,6 +90,13 @@ layout(binding = TD_UNIT_RAMPS) uniform sampler2D toonRamps;      // row = mater
 layout(binding = TD_UNIT_LIGHT_MASK) uniform TD_SAMPLER_LIGHT_MASK lightMaskTex;  // ray grid, row 0 = top
 layout(binding = TD_UNIT_REFLECTED) uniform TD_SAMPLER_REFLECTED reflectedTex;   // ray grid, row 0 = top
 layout(binding = TD_UNIT_TRANSMITTED) uniform TD_SAMPLER_TRANSMITTED transmittedTex; // ray grid, row 0 = top
+#ifndef TD_USE_AREA_LIGHTS
+#define TD_USE_AREA_LIGHTS 1 // some direct light is an area light
+#endif
+#if TD_USE_AREA_LIGHTS
+// Area lights' sample bits (layer = GpuLight.shapeU.w): bit k set where sample k's shadow ray got through.
+layout(binding = TD_UNIT_AREA_SAMPLES) uniform TD_SAMPLER_AREA_SAMPLES areaSamplesTex;  // ray grid, row 0 = top
+#endif
 
 layout(location = 0) uniform vec3 cameraPosW;
 layout(location = 1) uniform vec3 cameraForward;
@@ -97,6 +106,8 @@ layout(location = 4) uniform int orthographic;
 layout(location = 5) uniform ivec2 frameSize;
 layout(location = 6) uniform vec3 background;
 layout(location = 7) uniform vec3 ambientIa;
+layout(location = 8) uniform int lightSamples;  // area-light samples per pixel (rt::FrameShading::lightSamples)
+layout(location = 9) uniform uint sampleBase;   // the sequence index of the first (FrameShading::sampleBase)
 layout(location = 11) uniform int rayScale;
 
 // Variant flags, set by CompositePass for each frame's scene and settings. llvmpipe runs both sides of a
@@ -257,7 +268,8 @@ uint instanceAtTop(ivec2 pTop) { return texelFetch(idsTex, ivec2(pTop.x, frameSi
 ivec2 gridPixelCentre(ivec2 g) { return min(g * rayScale + rayScale / 2, frameSize - 1); }
 
 struct RaySample {
-  float vis[TD_MAX_LIGHTS];
+  float vis[TD_MAX_LIGHTS];  // an area light's: the fraction of its samples that are visible
+  uint area[TD_MAX_LIGHTS];  // an area light's sample bits (full-resolution rays only)
   vec3 reflected;
   vec3 transmitted;
 };
@@ -265,7 +277,18 @@ struct RaySample {
 void accumulate(inout RaySample acc, ivec2 g, float w) {
   if ((rayInputs & TD_RAY_LIGHT_MASK) != 0) {
     uint mask = texelFetch(lightMaskTex, g, 0).x;
-    for (int j = 0; j < TD_LIGHT_COUNT; ++j) acc.vis[j] += ((mask >> uint(j)) & 1u) != 0u ? w : 0.0;
+    for (int j = 0; j < TD_LIGHT_COUNT; ++j) {
+#if TD_USE_AREA_LIGHTS
+      if (tdIsAreaLight(lightType(j))) {
+        uint bits = texelFetch(areaSamplesTex, ivec3(g, int(lights[j].shapeU.w + 0.5)), 0).x;
+        acc.area[j] = bits;
+        acc.vis[j] += w * float(bitCount(bits & (lightSamples >= 32 ? 0xFFFFFFFFu : (1u << uint(lightSamples)) - 1u))) /
+                      float(lightSamples);
+        continue;
+      }
+#endif
+      acc.vis[j] += ((mask >> uint(j)) & 1u) != 0u ? w : 0.0;
+    }
   }
   if ((rayInputs & TD_RAY_REFLECTED) != 0) acc.reflected += w * texelFetch(reflectedTex, g, 0).rgb;
   if ((rayInputs & TD_RAY_TRANSMITTED) != 0) acc.transmitted += w * texelFetch(transmittedTex, g, 0).rgb;
@@ -273,7 +296,10 @@ void accumulate(inout RaySample acc, ivec2 g, float w) {
 
 RaySample gatherRays(ivec2 pTop, uint instance) {
   RaySample acc;
-  for (int j = 0; j < TD_MAX_LIGHTS; ++j) acc.vis[j] = 0.0;
+  for (int j = 0; j < TD_MAX_LIGHTS; ++j) {
+    acc.vis[j] = 0.0;
+    acc.area[j] = 0xFFFFFFFFu;
+  }
   acc.reflected = vec3(0.0);
   acc.transmitted = vec3(0.0);
   if (rayInputs == 0) return acc;
@@ -360,6 +386,98 @@ float shadowVisibility(int j, vec3 posW, vec3 Ng) {
               texture(shadowMaps, vec4(uv + vec2(h.x, -h.y), layer, ref)) +
               texture(shadowMaps, vec4(uv + vec2(-h.x, -h.y), layer, ref));
   return 0.25 * sum;
+}
+#endif
+
+#if TD_SHADOW_MAPS && TD_USE_AREA_LIGHTS
+// The cube maps' stored depths (no compare): where the blockers are.
+layout(binding = TD_UNIT_SHADOW_CUBES_DEPTH) uniform TD_SAMPLER_SHADOW_CUBES_DEPTH shadowCubesDepth;
+
+// Reversed-Z depth of a point `rel` from a cube map's centre: that of its major axis (as shadowVisibility).
+float cubeDepth(vec3 rel, float n, float f) {
+  vec3 a = abs(rel);
+  float d = max(a.x, max(a.y, a.z));
+  return max(n * (f - d) / (d * (f - n)), 0.0);
+}
+
+// Tap i of `count` on Vogel's golden-angle spiral in the unit disk, turned by `turn` radians.
+vec2 vogelTap(int i, int count, float turn) {
+  float r = sqrt((float(i) + 0.5) / float(count));
+  float theta = float(i) * 2.39996323 + turn;
+  return r * vec2(cos(theta), sin(theta));
+}
+
+// Raster soft shadows of area light j (docs/area-lights.md): percentage-closer soft shadows (Fernando 2005)
+// on the cube map rendered from the light's centre. A blocker search over the light's extent, the penumbra
+// width from similar triangles, w = size·(receiver − blocker)/blocker, then percentage-closer filtering
+// over it. Each tap compares against the receiver's tangent plane where the tap's direction meets it (a
+// receiver-plane depth bias: wide kernels on a floor would otherwise shadow the floor itself). `turn`
+// rotates the taps per pixel and frame, so accumulated frames average them.
+float softShadowVisibility(int j, vec3 posW, vec3 Ng, float lightSize, float turn) {
+  GpuShadow s = shadows[j];
+  if (int(s.originKind.w + 0.5) != TD_SHADOW_CUBE) return shadowVisibility(j, posW, Ng);
+  float n = s.params.y, f = s.params.z, layer = s.params.x;
+  vec3 rel = posW - s.originKind.xyz;
+  float len = length(rel);
+  rel += Ng * (1.5 * s.params.w * len);
+  vec3 u = normalize(cross(rel, abs(rel.y) < 0.99 * len ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
+  vec3 v = normalize(cross(rel, u));
+  float planeDist = dot(Ng, rel);
+  float texel = s.params.w * len;
+  // A light no wider than a texel of its map is a point light to it (the point limit of its radiometry).
+  if (lightSize <= texel) return shadowVisibility(j, posW, Ng);
+  // 1. Blockers: their mean distance along the major axis, among taps nearer the light than the receiver.
+  float search = min(2.0 * lightSize, 0.5 * len);
+  float blockerSum = 0.0;
+  float blockers = 0.0;
+  const int kSearch = 12;
+  for (int i = 0; i < kSearch; ++i) {
+    vec2 o = vogelTap(i, kSearch, turn) * search;
+    vec3 dir = rel + u * o.x + v * o.y;
+    float along = dot(Ng, dir);
+    float ref = along * planeDist > 0.0 ? cubeDepth(dir * (planeDist / along), n, f) : cubeDepth(rel, n, f);
+    float stored = texture(shadowCubesDepth, vec4(dir, layer)).r;
+    if (stored > ref) {
+      blockerSum += n * f / (stored * (f - n) + n);  // the stored depth's distance along its axis
+      blockers += 1.0;
+    }
+  }
+  if (blockers == 0.0) return 1.0;
+  vec3 a = abs(rel);
+  float receiver = max(a.x, max(a.y, a.z));
+  float blocker = blockerSum / blockers;
+  float width = lightSize * max(receiver - blocker, 0.0) / max(blocker, 1e-6 * receiver);
+  if (width <= texel) return shadowVisibility(j, posW, Ng);  // a penumbra narrower than the map resolves
+  // 2. Percentage-closer filtering over the penumbra.
+  float lit = 0.0;
+  const int kFilter = 16;
+  for (int i = 0; i < kFilter; ++i) {
+    vec2 o = vogelTap(i, kFilter, turn) * width;
+    vec3 dir = rel + u * o.x + v * o.y;
+    float along = dot(Ng, dir);
+    float ref = along * planeDist > 0.0 ? cubeDepth(dir * (planeDist / along), n, f) : cubeDepth(rel, n, f);
+    lit += texture(shadowCubes, vec4(dir, layer), ref);
+  }
+  return lit / float(kFilter);
+}
+
+// The extent soft shadows take an area light's size as: a sphere's or disk's radius, half a rect's mean side.
+float areaLightSize(GpuLight L, int type) {
+  return type == TD_LIGHT_SPHERE ? L.shapeV.w : 0.5 * (length(vec3(L.shapeU)) + length(vec3(L.shapeV)));
+}
+#endif
+
+#if TD_SHADOW_MAPS
+// Light j's visibility from its shadow map: soft for an area light, else shadowVisibility's.
+float rasterShadow(int j, vec3 posW, vec3 Ng, ivec2 pTop) {
+#if TD_USE_AREA_LIGHTS
+  int type = lightType(j);
+  if (tdIsAreaLight(type)) {
+    uint h = tdHash(tdPixelSeed(pTop.x, pTop.y, 0u) ^ tdHash(sampleBase + uint(j)));
+    return softShadowVisibility(j, posW, Ng, areaLightSize(lights[j], type), float(h >> 8u) * (6.28318530718 / 16777216.0));
+  }
+#endif
+  return shadowVisibility(j, posW, Ng);
 }
 #endif
 
@@ -499,7 +617,7 @@ void shadePixel() {
   // traces a shadow ray only where the light can reach.
   if (debugView == TD_VIEW_LIGHT_MASK)
     for (int j = 0; j < TD_LIGHT_COUNT; ++j)
-      rays.vis[j] = lights[j].radiance.w > 0.5 ? shadowVisibility(j, posW, Ng) : 1.0;
+      rays.vis[j] = lights[j].radiance.w > 0.5 ? rasterShadow(j, posW, Ng, pTop) : 1.0;
 #endif
 #if TD_PROBES != 0
   if (tri.probe != 0u) {
@@ -575,11 +693,45 @@ void shadePixel() {
     for (int j = 0; j < TD_LIGHT_COUNT; ++j) {
       GpuLight L = lights[j];
       int type = lightType(j);
-      float vis = (rayInputs & TD_RAY_LIGHT_MASK) != 0 && L.radiance.w > 0.5 ? rays.vis[j] : 1.0;
+      bool rayShadowed = (rayInputs & TD_RAY_LIGHT_MASK) != 0 && L.radiance.w > 0.5;
+      float vis = rayShadowed ? rays.vis[j] : 1.0;
       if (vis <= 0.0) continue;
       vec3 Lj;
       vec3 toLight;
       float dist;
+#if TD_USE_AREA_LIGHTS
+      if (tdIsAreaLight(type)) {
+        // The mean over the frame's samples (rt::shadeLocal's twin): with full-resolution rays each sample
+        // counts where its shadow ray got through, so the pixel is exactly the ray pass's estimate; with a
+        // coarser ray grid, all samples count, scaled by the visible fraction around the pixel.
+        uint bits = 0xFFFFFFFFu;
+#if !TD_RAY_SCALED
+        if (rayShadowed) {
+          bits = rays.area[j];
+          vis = 1.0;
+        }
+#endif
+        uint seed = tdPixelSeed(pTop.x, pTop.y, 0u);
+        vec3 sum = vec3(0.0);
+        for (int k = 0; k < lightSamples; ++k) {
+          if (((bits >> uint(k)) & 1u) == 0u) continue;
+          vec2 u = tdLightSampleU(seed, j, sampleBase + uint(k));
+          if (TD_USE_GOURAUD != 0 && model == TD_MODEL_GOURAUD) {
+            vec3 E0 = tdAreaLightSample(L, type, tri.p0, u, toLight, dist);
+            sum += b.x * tdShadeLight(C, ks, ns, model, N0, normalize(origin - tri.p0), E0, toLight, 0.0);
+            vec3 E1 = tdAreaLightSample(L, type, tri.p1, u, toLight, dist);
+            sum += b.y * tdShadeLight(C, ks, ns, model, N1, normalize(origin - tri.p1), E1, toLight, 0.0);
+            vec3 E2 = tdAreaLightSample(L, type, tri.p2, u, toLight, dist);
+            sum += b.z * tdShadeLight(C, ks, ns, model, N2, normalize(origin - tri.p2), E2, toLight, 0.0);
+          } else {
+            vec3 E = tdAreaLightSample(L, type, posW, u, toLight, dist);
+            float level = TD_USE_TOON != 0 && model == TD_MODEL_TOON ? toonLevel(m, dot(Ns, toLight)) : 0.0;
+            sum += tdShadeLight(C, ks, ns, model, Ns, V, E, toLight, level);
+          }
+        }
+        Lj = sum * (1.0 / float(lightSamples));
+      } else
+#endif
       if (TD_USE_GOURAUD != 0 && model == TD_MODEL_GOURAUD) {
         vec3 E0 = tdLightIncidentOfType(L, type, tri.p0, toLight, dist);
         vec3 L0 = tdShadeLight(C, ks, ns, model, N0, normalize(origin - tri.p0), E0, toLight, 0.0);
@@ -596,7 +748,7 @@ void shadePixel() {
 #if TD_SHADOW_MAPS
       // A light that adds nothing here needs no map lookup (4 depth-compare taps, a third of the pass on
       // llvmpipe); skipping it is exact, since vis · 0 would add nothing either.
-      if (L.radiance.w > 0.5 && (Lj.x != 0.0 || Lj.y != 0.0 || Lj.z != 0.0)) vis = shadowVisibility(j, posW, Ng);
+      if (L.radiance.w > 0.5 && (Lj.x != 0.0 || Lj.y != 0.0 || Lj.z != 0.0)) vis = rasterShadow(j, posW, Ng, pTop);
       if (vis <= 0.0) continue;
 #endif
       local += vis * Lj;

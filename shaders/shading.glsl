@@ -13,6 +13,9 @@
 #define TD_LIGHT_POINT 1
 #define TD_LIGHT_SPOT 2
 #define TD_LIGHT_DIRECTIONAL 3
+#define TD_LIGHT_RECT 4
+#define TD_LIGHT_DISK 5
+#define TD_LIGHT_SPHERE 6
 
 #define TD_MODEL_FLAT 0
 #define TD_MODEL_GOURAUD 1
@@ -24,6 +27,7 @@
 #define TD_TONEMAP_ACES 2
 
 #define TD_MAX_LIGHTS 8
+#define TD_MAX_LIGHT_SAMPLES 32  // area-light samples per point per frame: one bit each in a uint
 #define TD_TOON_RAMP_SIZE 256
 
 struct GpuLight {
@@ -32,6 +36,9 @@ struct GpuLight {
   vec4 radiance;     // rgb colour × intensity, w 1 if it casts shadows
   vec4 attenCone;    // x constant, y linear, z quadratic attenuation; w unused
   vec4 cone;         // x cos(inner), y cos(outer) for spots; zw unused
+  vec4 shapeU;       // area lights: xyz the rect's half-width axis or the disk's radius axis (world), w its
+                     // slot among the frame's area lights (the sample-visibility layer); 0 otherwise
+  vec4 shapeV;       // xyz the rect's half-height axis or the disk's second radius axis, w the sphere's radius
 };
 
 struct GpuMaterial {
@@ -75,6 +82,126 @@ TD_FN vec3 tdLightIncidentOfType(GpuLight L, int type, vec3 posW, TD_OUT(vec3) t
 
 TD_FN vec3 tdLightIncident(GpuLight L, vec3 posW, TD_OUT(vec3) toLight, TD_OUT(float) dist) {
   return tdLightIncidentOfType(L, int(L.posType.w + 0.5f), posW, toLight, dist);
+}
+
+// ---- Area lights (docs/area-lights.md) ----
+TD_FN bool tdIsAreaLight(int type) { return type >= TD_LIGHT_RECT; }
+
+// A 32-bit integer hash (Wellons' lowbias32): the same bits in GLSL and C++, so both sides draw the same
+// samples from the same seed.
+TD_FN uint tdHash(uint x) {
+  x ^= x >> 16u;
+  x *= 0x7feb352du;
+  x ^= x >> 15u;
+  x *= 0x846ca68bu;
+  x ^= x >> 16u;
+  return x;
+}
+
+// The seed of a point's light samples: its full-resolution pixel (primary hits; the shade pass and the ray
+// pass must agree on it) and the reference's sample within the pixel (0 for the hybrid frame).
+TD_FN uint tdPixelSeed(int x, int y, uint pixelSample) {
+  return tdHash(uint(x) * 0x9E3779B1u ^ tdHash(uint(y) ^ tdHash(pixelSample + 0x68E31DA4u)));
+}
+
+// Point `index` of the (0, 2)-sequence in base 2 (Sobol's first two dimensions, as core/Sampling.h), under
+// the digital shift (XOR) by `shiftX`, `shiftY`, as 24-bit fractions in [0, 1): every aligned block of 2^k
+// points stays a (0, k, 2)-net, so K samples of a frame are stratified, and so are the frames' samples together.
+TD_FN vec2 tdSobol02(uint index, uint shiftX, uint shiftY) {
+  uint x = 0u;
+  uint y = 0u;
+  uint vx = 0x80000000u;
+  uint vy = 0x80000000u;
+  for (uint i = index; i != 0u; i >>= 1u) {
+    if ((i & 1u) != 0u) {
+      x ^= vx;
+      y ^= vy;
+    }
+    vx >>= 1u;
+    vy ^= vy >> 1u;
+  }
+  x ^= shiftX;
+  y ^= shiftY;
+  return vec2(float(x >> 8u), float(y >> 8u)) * (1.0f / 16777216.0f);
+}
+
+// Sample `index` on area light `light` for a point with `seed`: the shift is the point's own (a hash of seed
+// and light), so neighbouring pixels' patterns are decorrelated (noise, not bands).
+TD_FN vec2 tdLightSampleU(uint seed, int light, uint index) {
+  uint sx = tdHash(seed ^ (uint(light) + 1u) * 0x2C1B3C6Du);
+  return tdSobol02(index, sx, tdHash(sx ^ 0x297A2D39u));
+}
+
+// One sample of area light L (type TD_LIGHT_RECT / DISK / SPHERE) seen from posW: the unit direction and
+// distance to the sampled point, and the radiance it stands for — the light's integral estimated from this
+// one point (the mean of K such is the K-sample estimate). Rect and disk: a uniform point y on the surface,
+// weight cosθ at y (one-sided, facing dirW), so L·A·cosθ = color·intensity·cosθ. Sphere: a uniform direction
+// in the cone the sphere subtends, y where it meets the sphere, weight Ω·d²/(πr²) = 2(d/D)²/(1 + cos α)
+// (D to the centre, α the cone's half-angle; no division by r, so a point-sized sphere gives weight 1).
+// Either way each sample is then attenuated like a point light at y. Zero from inside a sphere (its surface
+// faces away) and behind a rect or disk.
+TD_FN vec3 tdAreaLightSample(GpuLight L, int type, vec3 posW, vec2 u, TD_OUT(vec3) toLight, TD_OUT(float) dist) {
+  vec3 c = vec3(L.posType);
+  float weight = 1.0f;
+  if (type == TD_LIGHT_SPHERE) {
+    float r = L.shapeV.w;
+    vec3 d = c - posW;
+    float D2 = dot(d, d);
+    float D = sqrt(D2);
+    if (!(D > r)) {
+      toLight = vec3(0.0f, 1.0f, 0.0f);
+      dist = 0.0f;
+      return vec3(0.0f);
+    }
+    vec3 w = d / D;
+    float s2 = (r / D) * (r / D);                   // sin² α
+    float cosA = sqrt(max(1.0f - s2, 0.0f));
+    float xi = u.x * (s2 / (1.0f + cosA));          // 1 − cos θ, without cancelling against 1
+    float cosT = 1.0f - xi;
+    float sinT = sqrt(max(xi * (2.0f - xi), 0.0f));
+    float phi = 6.28318530718f * u.y;
+    // An orthonormal frame around w (Duff et al. 2017, "Building an orthonormal basis, revisited").
+    float sgn = w.z >= 0.0f ? 1.0f : -1.0f;
+    float a = -1.0f / (sgn + w.z);
+    float bxy = w.x * w.y * a;
+    vec3 t1 = vec3(1.0f + sgn * w.x * w.x * a, sgn * bxy, -sgn * w.x);
+    vec3 t2 = vec3(bxy, sgn + w.y * w.y * a, -w.y);
+    toLight = normalize(t1 * (sinT * cos(phi)) + t2 * (sinT * sin(phi)) + w * cosT);
+    // The near intersection with the sphere; at the cone's rim the root is 0 (clamped: rounding).
+    float h = sqrt(max(r * r - D2 * sinT * sinT, 0.0f));
+    dist = max(D * cosT - h, 0.0f);
+    float q = dist / D;
+    weight = 2.0f * q * q / (1.0f + cosA);
+  } else {
+    vec3 y;
+    if (type == TD_LIGHT_RECT) {
+      y = c + vec3(L.shapeU) * (2.0f * u.x - 1.0f) + vec3(L.shapeV) * (2.0f * u.y - 1.0f);
+    } else {
+      // Shirley and Chiu's concentric map of the square onto the disk: strata stay compact.
+      float sx = 2.0f * u.x - 1.0f;
+      float sy = 2.0f * u.y - 1.0f;
+      float rho = 0.0f;
+      float theta = 0.0f;
+      if (abs(sx) > abs(sy)) {
+        rho = sx;
+        theta = 0.785398163397f * (sy / sx);
+      } else if (sy != 0.0f) {
+        rho = sy;
+        theta = 1.57079632679f - 0.785398163397f * (sx / sy);
+      }
+      y = c + vec3(L.shapeU) * (rho * cos(theta)) + vec3(L.shapeV) * (rho * sin(theta));
+    }
+    vec3 d = y - posW;
+    float d2 = dot(d, d);
+    dist = sqrt(d2);
+    toLight = dist > 0.0f ? d / dist : -vec3(L.dirRange);
+    weight = max(dot(-toLight, vec3(L.dirRange)), 0.0f);
+  }
+  float range = L.dirRange.w;
+  if (range > 0.0f && dist > range) return vec3(0.0f);
+  float att = L.attenCone.x + L.attenCone.y * dist + L.attenCone.z * dist * dist;
+  float falloff = att > 0.0f ? 1.0f / att : 1.0f;
+  return vec3(L.radiance) * (falloff * weight);
 }
 
 // Whether light arriving with radiance E from direction toLight (tdLightIncident's results) can light

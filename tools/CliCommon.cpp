@@ -60,6 +60,9 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
   app.add_option("--accumulate", o.accumulate,
                  "Progressive accumulation: while nothing changes, each frame adds new samples, up to N frames; "
                  "tandem-render then renders at least N frames and writes the converged image; 0..65536 (default: off)");
+  app.add_option("--light-samples", o.lightSamples,
+                 "Area lights: samples per light per shaded point and frame, each with its own shadow ray when shadows "
+                 "are by rays (accumulated frames add new ones); 1..32 (default " + std::to_string(d.lightSamples) + ")");
   app.add_flag("--classic-whitted", o.classicWhitted,
                "I = local + kr·S + kt·T (default: the Fresnel-weighted sum, docs/shading.md)");
   app.add_flag("--schlick", o.schlick, "Schlick's Fresnel approximation (default: the exact dielectric form)");
@@ -168,6 +171,12 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
     if (*o.accumulate < 0 || *o.accumulate > 65536)
       return Error{"--accumulate: must be 0..65536 frames, got " + std::to_string(*o.accumulate)};
     s.accumulate = *o.accumulate;
+  }
+  if (o.lightSamples) {
+    if (*o.lightSamples < 1 || *o.lightSamples > 32)
+      return Error{"--light-samples: must be 1..32 samples per light per frame (accumulate frames for more), got " +
+                   std::to_string(*o.lightSamples)};
+    s.lightSamples = *o.lightSamples;
   }
   if (s.aa != AntiAlias::Off && s.reference)
     return Error{"--aa: the reference preset takes its samples per pixel from --spp, got --aa " + o.aa->front()};

@@ -32,6 +32,7 @@ struct FrameOptions {
   std::optional<std::vector<std::string>> aa;  // off | ssaa [N] | adaptive [N]
   std::optional<float> aaThreshold;
   std::optional<int> accumulate;
+  std::optional<int> lightSamples;
   bool classicWhitted = false;
   bool schlick = false;
 };

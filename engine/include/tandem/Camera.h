@@ -3,6 +3,7 @@
 // farZ may be infinite. Pixels are addressed with y down (row 0 is the top of the image), pixel
 // centres at integer + 0.5.
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include <glm/glm.hpp>
@@ -27,6 +28,9 @@ struct Camera {
   /// sub-pixel offset of one anti-aliasing sample (FrameSettings::aa, accumulate). The rasterizer, the shade
   /// pass and every camera ray honour it, so one jittered frame is still exact at its sample points.
   glm::vec2 jitterPx{0.0f};
+  /// Which sample of an accumulation this frame is (0 outside one): it picks the frame's area-light samples
+  /// (and advances with jitterPx), so accumulated frames add new samples of one stratified sequence.
+  std::uint32_t sampleIndex = 0;
 
   glm::mat4 viewFromWorld() const;
   glm::mat4 worldFromView() const;

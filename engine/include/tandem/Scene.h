@@ -91,12 +91,20 @@ struct Mesh {
   }
 };
 
-enum class LightType : std::uint8_t { Ambient = 0, Point = 1, Spot = 2, Directional = 3 };
+enum class LightType : std::uint8_t { Ambient = 0, Point = 1, Spot = 2, Directional = 3, Rect = 4, Disk = 5, Sphere = 6 };
+
+/// Whether a light has an extent (rect, disk, sphere): it is sampled, and its shadows are soft.
+inline bool isAreaLight(LightType t) { return t == LightType::Rect || t == LightType::Disk || t == LightType::Sphere; }
 
 /// A light. Radiance reaching a point: color·intensity·attenuation(d)·cone.
-///   attenuation(d) = 1 / (c + l·d + q·d²), and 0 beyond `range` when range > 0 (point and spot);
+///   attenuation(d) = 1 / (c + l·d + q·d²), and 0 beyond `range` when range > 0 (point, spot, area lights);
 ///   cone = smoothstep(cos(outer), cos(inner), cos angle to dirW) (spot).
 /// Ambient lights contribute color·intensity to Ia only; directional lights have no position.
+/// Area lights (docs/area-lights.md) are point lights spread over a surface: each patch dA of it is a point
+/// light of intensity L·cosθ·dA, attenuated by its own distance, with the radiance L = color·intensity / A⊥
+/// (A⊥ = the area of a rect or disk, πr² for a sphere). So `intensity` is the light's intensity along its
+/// normal whatever its size, and as the size goes to 0 a sphere becomes the point light at posW, a rect or
+/// disk the point light times the cosine to its normal (a one-sided Lambertian emitter facing dirW).
 struct Light {
   std::string name;
   LightType type = LightType::Point;
@@ -109,6 +117,9 @@ struct Light {
   float innerConeDeg = 20.0f;
   float outerConeDeg = 30.0f;
   bool castShadows = true;
+  glm::vec2 size{1.0f};                // rect: width and height (world units)
+  float radius = 0.5f;                 // disk and sphere
+  glm::vec3 upW{0.0f, 1.0f, 0.0f};     // rect: the direction of its height, projected onto its plane
 
   bool operator==(const Light&) const = default;
 };

@@ -88,6 +88,9 @@ struct FrameSettings {
   /// frames; after that the converged frame is shown again at no cost. Any change starts again. 0 or 1: off.
   /// [0, 65536]. FrameStats::accumulated says how many samples the shown frame averages.
   int accumulate = 0;
+  /// Area lights (docs/area-lights.md): samples per light per shaded point and frame, each with its own
+  /// shadow ray when shadows are by rays; the frames of an accumulation draw new ones. [1, 32]
+  int lightSamples = 4;
 
   /// Clamps ranges and applies dependencies (e.g. rayScale rounded to 1, 2 or 4).
   FrameSettings resolved() const;

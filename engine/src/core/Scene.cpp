@@ -45,12 +45,17 @@ Result<void> validateScene(const Scene& scene) {
     const Light& l = scene.lights[i];
     std::string id = where + ": light " + std::to_string(i) + (l.name.empty() ? "" : " '" + l.name + "'");
     if (!finite(l.color) || !std::isfinite(l.intensity) || !finite(l.posW) || !finite(l.dirW) ||
-        !std::isfinite(l.range) || !finite(l.attenuation))
+        !std::isfinite(l.range) || !finite(l.attenuation) || !finite(l.upW) || !std::isfinite(l.size.x) ||
+        !std::isfinite(l.size.y) || !std::isfinite(l.radius))
       return Error{id + ": a value is NaN or infinite"};
+    if (isAreaLight(l.type) && (l.size.x < 0.0f || l.size.y < 0.0f || l.radius < 0.0f))
+      return Error{id + ": negative size or radius"};
     if (l.intensity < 0.0f || l.color.x < 0.0f || l.color.y < 0.0f || l.color.z < 0.0f)
       return Error{id + ": negative colour or intensity"};
     if (l.type != LightType::Ambient) ++direct;
-    if ((l.type == LightType::Spot || l.type == LightType::Directional) && glm::dot(l.dirW, l.dirW) < 1e-12f)
+    if ((l.type == LightType::Spot || l.type == LightType::Directional || l.type == LightType::Rect ||
+         l.type == LightType::Disk) &&
+        glm::dot(l.dirW, l.dirW) < 1e-12f)
       return Error{id + ": zero direction"};
   }
   if (direct > kMaxLights)

@@ -1,12 +1,30 @@
 #include "core/Shading.h"
 
+
 #include <algorithm>
+#include <cassert>
 
 namespace tandem::shading {
 
-GpuLight packLight(const Light& l) {
+namespace {
+int lightTypeCode(LightType t) {
+  switch (t) {
+    case LightType::Point: return TD_LIGHT_POINT;
+    case LightType::Spot: return TD_LIGHT_SPOT;
+    case LightType::Directional: return TD_LIGHT_DIRECTIONAL;
+    case LightType::Rect: return TD_LIGHT_RECT;
+    case LightType::Disk: return TD_LIGHT_DISK;
+    case LightType::Sphere: return TD_LIGHT_SPHERE;
+    case LightType::Ambient: break;
+  }
+  assert(false && "packLight: an ambient light is not a direct light");
+  return TD_LIGHT_POINT;
+}
+}  // namespace
+
+GpuLight packLight(const Light& l, int areaSlot) {
   GpuLight g{};
-  int type = l.type == LightType::Point ? TD_LIGHT_POINT : l.type == LightType::Spot ? TD_LIGHT_SPOT : TD_LIGHT_DIRECTIONAL;
+  const int type = lightTypeCode(l.type);
   glm::vec3 dir = glm::dot(l.dirW, l.dirW) > 0.0f ? glm::normalize(l.dirW) : glm::vec3(0, -1, 0);
   g.posType = vec4(l.posW, float(type));
   g.dirRange = vec4(dir, l.range);
@@ -14,6 +32,20 @@ GpuLight packLight(const Light& l) {
   g.attenCone = vec4(l.attenuation, 0.0f);
   float inner = std::min(l.innerConeDeg, l.outerConeDeg);
   g.cone = vec4(std::cos(glm::radians(inner)), std::cos(glm::radians(l.outerConeDeg)), 0.0f, 0.0f);
+  if (l.type == LightType::Rect || l.type == LightType::Disk) {
+    // The surface's axes: its height along upW projected onto the plane (any perpendicular when upW is
+    // along the normal), its width completing a right-handed frame with the normal.
+    glm::vec3 up = l.upW - glm::dot(l.upW, dir) * dir;
+    if (!(glm::dot(up, up) > 1e-12f)) up = std::abs(dir.y) < 0.9f ? glm::vec3(0, 1, 0) - dir.y * dir : glm::vec3(1, 0, 0) - dir.x * dir;
+    up = glm::normalize(up);
+    const glm::vec3 across = glm::cross(up, dir);
+    const glm::vec2 half = l.type == LightType::Rect ? 0.5f * l.size : glm::vec2(l.radius);
+    g.shapeU = vec4(across * half.x, float(areaSlot));
+    g.shapeV = vec4(up * half.y, 0.0f);
+  } else if (l.type == LightType::Sphere) {
+    g.shapeU = vec4(0.0f, 0.0f, 0.0f, float(areaSlot));
+    g.shapeV = vec4(0.0f, 0.0f, 0.0f, l.radius);
+  }
   return g;
 }
 

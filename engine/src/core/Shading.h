@@ -2,6 +2,7 @@
 // The C++ twin of shaders/shading.glsl: the same source text compiled with glm, so the CPU ray pass
 // and the GLSL shade every point with one definition of each formula.
 #include <cmath>
+#include <cstdint>
 #include <optional>
 
 #include <glm/glm.hpp>
@@ -11,10 +12,12 @@
 
 namespace tandem::shading {
 
+using uint = std::uint32_t;  // GLSL's uint: the hashes and sample sequences wrap the same way
 using glm::clamp;
 using glm::cross;
 using glm::dot;
 using glm::floor;
+using glm::normalize;
 using glm::max;
 using glm::pow;
 using glm::reflect;
@@ -25,6 +28,9 @@ using glm::vec3;
 using glm::vec4;
 using std::sqrt;
 using std::pow;
+using std::abs;
+using std::cos;
+using std::sin;
 
 #define TD_OUT(T) T&
 #define TD_FN inline
@@ -32,11 +38,13 @@ using std::pow;
 #undef TD_FN
 #undef TD_OUT
 
-static_assert(sizeof(GpuLight) == 5 * 16, "GpuLight must match its std430 layout");
+static_assert(sizeof(GpuLight) == 7 * 16, "GpuLight must match its std430 layout");
 static_assert(sizeof(GpuMaterial) == 7 * 16, "GpuMaterial must match its std430 layout");
 
 /// Packs the scene's records the same way for GL (SSBO upload) and the CPU twin.
-GpuLight packLight(const Light& light);
+/// `areaSlot`: an area light's place among the frame's area lights (Scene::areaLightSlots), the layer of
+/// its sample visibility.
+GpuLight packLight(const Light& light, int areaSlot = 0);
 GpuMaterial packMaterial(const Material& material, int materialIndex, std::optional<ShadingModel> override);
 /// The toon ramp of a material sampled at TD_TOON_RAMP_SIZE points over N·L in [-1, 1]: the 1D texture
 /// GL samples with nearest filtering, and the table the CPU reads.

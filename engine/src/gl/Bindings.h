@@ -22,8 +22,10 @@ inline constexpr GLuint kUnitPositionsTex = TD_UNIT_POSITIONS_TEX, kUnitNormalsT
                         kUnitInstancesTex = TD_UNIT_INSTANCES_TEX, kUnitInstanceIdsTex = TD_UNIT_INSTANCE_IDS_TEX,
                         kUnitUvTransformsTex = TD_UNIT_UV_TRANSFORMS_TEX;
 inline constexpr GLuint kUnitShadowMaps = TD_UNIT_SHADOW_MAPS, kUnitShadowCubes = TD_UNIT_SHADOW_CUBES,
+                        kUnitShadowCubesDepth = TD_UNIT_SHADOW_CUBES_DEPTH,
                         kUnitProbes = TD_UNIT_PROBES;
 inline constexpr GLuint kUnitTangentsTex = TD_UNIT_TANGENTS_TEX, kUnitNormalMaps = TD_UNIT_NORMAL_MAPS;
+inline constexpr GLuint kUnitAreaSamples = TD_UNIT_AREA_SAMPLES;
 
 /// A frame channel's GL internal format, and the pixel format and type of its CPU copies (docs/gbuffer.md).
 struct ChannelFormat {
@@ -35,7 +37,7 @@ inline constexpr ChannelFormat kChannelIds{TD_CHANNEL_IDS}, kChannelDepth{TD_CHA
                                kChannelLightMask{TD_CHANNEL_LIGHT_MASK}, kChannelReflected{TD_CHANNEL_REFLECTED},
                                kChannelTransmitted{TD_CHANNEL_TRANSMITTED}, kChannelLinear{TD_CHANNEL_LINEAR},
                                kChannelDisplay{TD_CHANNEL_DISPLAY}, kChannelProbes{TD_CHANNEL_PROBES},
-                               kChannelShadowMaps{TD_CHANNEL_SHADOW_MAPS};
+                               kChannelShadowMaps{TD_CHANNEL_SHADOW_MAPS}, kChannelAreaSamples{TD_CHANNEL_AREA_SAMPLES};
 
 /// Which ray results a frame uploaded (ShadeInputs::rayInputs), the shade pass's TD_RAY_INPUTS.
 enum RayInput : int { kRayLightMask = TD_RAY_LIGHT_MASK, kRayReflected = TD_RAY_REFLECTED, kRayTransmitted = TD_RAY_TRANSMITTED };

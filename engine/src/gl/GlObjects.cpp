@@ -18,6 +18,7 @@ std::size_t liveObjectCount() { return static_cast<std::size_t>(std::max<long lo
 
 void BufferTraits::destroy(GLuint id) { glDeleteBuffers(1, &id); }
 void TextureTraits::destroy(GLuint id) { glDeleteTextures(1, &id); }
+void SamplerTraits::destroy(GLuint id) { glDeleteSamplers(1, &id); }
 void FramebufferTraits::destroy(GLuint id) { glDeleteFramebuffers(1, &id); }
 void VertexArrayTraits::destroy(GLuint id) { glDeleteVertexArrays(1, &id); }
 void ShaderTraits::destroy(GLuint id) { glDeleteShader(id); }

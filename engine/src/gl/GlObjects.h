@@ -57,6 +57,7 @@ struct FramebufferTraits { static void destroy(GLuint id); };
 struct VertexArrayTraits { static void destroy(GLuint id); };
 struct ShaderTraits { static void destroy(GLuint id); };
 struct ProgramTraits { static void destroy(GLuint id); };
+struct SamplerTraits { static void destroy(GLuint id); };
 
 using Buffer = Object<BufferTraits>;
 using Texture = Object<TextureTraits>;
@@ -64,6 +65,7 @@ using Framebuffer = Object<FramebufferTraits>;
 using VertexArray = Object<VertexArrayTraits>;
 using Shader = Object<ShaderTraits>;
 using Program = Object<ProgramTraits>;
+using Sampler = Object<SamplerTraits>;
 
 /// Immutable-size buffer (glNamedBufferStorage) with GL_DYNAMIC_STORAGE_BIT, so glNamedBufferSubData
 /// can update it; `data` may be null. A zero size allocates 16 bytes: GL refuses empty storage and

@@ -297,12 +297,18 @@ void GpuScene::updateInstances(const Scene& scene) {
 void GpuScene::updateLights(const Scene& scene) {
   std::vector<shading::GpuLight> packed;
   features_.lightKinds = 0;
+  features_.areaLights = false;
+  int areaSlot = 0;
   for (const Light* l : scene.directLights()) {
-    packed.push_back(shading::packLight(*l));
+    const bool area = isAreaLight(l->type);
+    packed.push_back(shading::packLight(*l, areaSlot));
+    areaSlot += area ? 1 : 0;
+    features_.areaLights = features_.areaLights || area;
     const float type = packed.back().posType.w;
     packed.back().posType = glm::vec4(toRenderSpace(l->posW, anchor_), type);
     if (packed.size() <= TD_MAX_LIGHTS) {
-      const auto code = static_cast<std::uint32_t>(static_cast<int>(type) | static_cast<int>(shadowMapKind(*l)) << 2);
+      const int typeBits = area ? 0 : static_cast<int>(type);  // 2 bits: area lights read their record
+      const auto code = static_cast<std::uint32_t>(typeBits | static_cast<int>(shadowMapKind(*l)) << 2);
       features_.lightKinds |= code << (4 * (packed.size() - 1));
     }
   }

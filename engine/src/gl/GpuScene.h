@@ -37,8 +37,10 @@ struct SceneFeatures {
   int lightCount = 0;          // direct lights: the shade loop's compile-time bound
   /// Direct light j's type and shadow-map kind, 4 bits each (shade.frag's TD_LIGHT_KINDS): the shade
   /// pass compiles only the code of the lights the scene has. Light j's type (TD_LIGHT_*) is in bits
-  /// 4j..4j+1, the kind of map it casts with (shadowMapKind) in bits 4j+2..4j+3.
+  /// 4j..4j+1 (0 for an area light, whose type the shader reads from its record), the kind of map it
+  /// casts with (shadowMapKind) in bits 4j+2..4j+3.
   std::uint32_t lightKinds = 0;
+  bool areaLights = false;     // some direct light is an area light: the shade pass compiles their sampling
   int uniformMaterials = 0;    // material count when they fit a uniform block, else 0 (SSBO)
 };
 

@@ -181,6 +181,14 @@ void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const Visibilit
     return;
   }
   reserveTargets(layers, cubes);
+  if (!cubeDepths_) {
+    GLuint id = 0;
+    glCreateSamplers(1, &id);
+    cubeDepths_ = Sampler(id);
+    glSamplerParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glSamplerParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glSamplerParameteri(id, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  }
 
   // Slope-scaled bias in the map itself; reversed-Z, so negative moves occluders away from the light.
   // The shade pass adds a normal offset of 1.5 texels, which handles grazing angles.
@@ -229,6 +237,7 @@ void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const Visibilit
 }
 
 void ShadowMaps::release() {
+  cubeDepths_.reset();
   maps_.reset();
   cubeMaps_.reset();
   fbo_.reset();
@@ -239,6 +248,8 @@ void ShadowMaps::release() {
 void ShadowMaps::bind() const {
   glBindTextureUnit(kUnitShadowMaps, maps_.id());
   glBindTextureUnit(kUnitShadowCubes, cubeMaps_.id());
+  glBindTextureUnit(kUnitShadowCubesDepth, cubeMaps_.id());
+  glBindSampler(kUnitShadowCubesDepth, cubeDepths_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, kBlockShadows, records_.id());
 }
 

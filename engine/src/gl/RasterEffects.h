@@ -62,7 +62,8 @@ class ShadowMaps {
   /// Renders a map for every direct light with castShadows; frees everything when there is none.
   void update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, const Bounds& world);
   void release();
-  /// Binds the maps (kUnitShadowMaps, kUnitShadowCubes) and the per-light records (kBlockShadows).
+  /// Binds the maps (kUnitShadowMaps, kUnitShadowCubes, and the cubes' depths at kUnitShadowCubesDepth) and the
+  /// per-light records (kBlockShadows).
   void bind() const;
   int mapCount() const { return layers_; }
   int cubeCount() const { return cubes_; }
@@ -70,6 +71,7 @@ class ShadowMaps {
  private:
   void reserveTargets(int layers, int cubes);
   Texture maps_, cubeMaps_;
+  Sampler cubeDepths_;  // reads cubeMaps_ without depth compare: the blocker search of area lights' soft shadows
   Framebuffer fbo_;
   Buffer records_;
   int layers_ = 0, cubes_ = 0;

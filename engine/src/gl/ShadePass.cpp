@@ -113,8 +113,24 @@ static_assert(kChannelReflected.transfer == GL_RGBA && kChannelReflected.type ==
                   kChannelTransmitted.transfer == GL_RGBA && kChannelTransmitted.type == GL_FLOAT,
               "reflected and transmitted travel as one glm::vec4 per grid pixel");
 
-Result<void> ShadePass::uploadLightMask(int width, int height, const std::uint8_t* mask) {
-  return uploadGrid(lightMask_, "ray light mask", kChannelLightMask, width, height, mask);
+static_assert(kChannelAreaSamples.transfer == GL_RED_INTEGER && kChannelAreaSamples.type == GL_UNSIGNED_INT,
+              "area-light sample bits travel as one std::uint32_t per grid pixel and area light");
+
+Result<void> ShadePass::uploadLightMask(int width, int height, const std::uint8_t* mask, const std::uint32_t* areaSamples,
+                                        int areaLights) {
+  auto sent = uploadGrid(lightMask_, "ray light mask", kChannelLightMask, width, height, mask);
+  if (!sent || areaLights <= 0 || !areaSamples) return sent;
+  if (!areaSamples_ || areaWidth_ != width || areaHeight_ != height || areaLayers_ != areaLights) {
+    areaSamples_ = createTexture2DArray("ray area-light samples", kChannelAreaSamples.internal, width, height, areaLights, 1);
+    setSampling(areaSamples_, GL_NEAREST, GL_NEAREST);
+    areaWidth_ = width;
+    areaHeight_ = height;
+    areaLayers_ = areaLights;
+  }
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage3D(areaSamples_.id(), 0, 0, 0, 0, width, height, areaLights, kChannelAreaSamples.transfer,
+                      kChannelAreaSamples.type, areaSamples);
+  return {};
 }
 
 Result<void> ShadePass::uploadReflected(int width, int height, const glm::vec4* rgba, const GridTiles& tiles) {
@@ -166,6 +182,7 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in)
                         "\n#define TD_USE_ALPHA_BLEND " + std::to_string(f.alphaBlend) +
                         "\n#define TD_LIGHT_COUNT " + std::to_string(f.lightCount) +
                         "\n#define TD_LIGHT_KINDS " + std::to_string(lightKinds) + "u" +
+                        "\n#define TD_USE_AREA_LIGHTS " + std::to_string(f.areaLights ? 1 : 0) +
                         "\n#define TD_UNIFORM_MATERIALS " + std::to_string(f.uniformMaterials) +
                         "\n#define TD_SHADOW_MAPS " + std::to_string(in.shadowMaps ? 1 : 0) +
                         "\n#define TD_PROBES " + std::to_string(in.probeCubes ? in.probeEffects : 0) +
@@ -239,6 +256,8 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   glProgramUniform2i(p, 5, width, height);
   glProgramUniform3fv(p, 6, 1, glm::value_ptr(in.background));
   glProgramUniform3fv(p, 7, 1, glm::value_ptr(in.ambient));
+  glProgramUniform1i(p, 8, std::clamp(in.lightSamples, 1, TD_MAX_LIGHT_SAMPLES));
+  glProgramUniform1ui(p, 9, in.sampleBase);
   glProgramUniform1i(p, 11, in.rayScale);
   glProgramUniform2i(p, 12, std::max(in.rayWidth, 1), std::max(in.rayHeight, 1));
   assert((in.rayInputs & ~in.rayChannels) == 0 && "shade: a ray result the variant was not compiled for");
@@ -264,6 +283,7 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   if (in.shadowMaps) in.shadowMaps->bind();
   if (in.probeCubes && in.probeEffects != 0) glBindTextureUnit(kUnitProbes, in.probeCubes->id());
   glBindTextureUnit(kUnitLightMask, (in.rayInputs & kRayLightMask) ? lightMask_.id() : 0);
+  glBindTextureUnit(kUnitAreaSamples, (in.rayInputs & kRayLightMask) && scene.features().areaLights ? areaSamples_.id() : 0);
   glBindTextureUnit(kUnitReflected, (in.rayInputs & kRayReflected) ? reflected_.id() : 0);
   glBindTextureUnit(kUnitTransmitted, (in.rayInputs & kRayTransmitted) ? transmitted_.id() : 0);
 

@@ -37,6 +37,10 @@ struct ShadeInputs {
   int probeEffects = 0;                    // ProbeEffect bits (with probeCubes)
   FresnelMode fresnel = FresnelMode::Exact;
   bool fresnelWeighted = true;             // wR = kr + kt·F, wT = kt·(1 − F); else wR = kr, wT = kt
+  /// Area lights: samples per pixel and the sequence index of the first (rt::FrameShading's, so the shade
+  /// pass draws the samples the ray pass traced).
+  int lightSamples = 1;
+  std::uint32_t sampleBase = 0;
   /// The frame's pass (not the probes'): the target has the display at colour attachment 1 too, which
   /// the shader fills with tdDisplay(exposure, toneMap) of what it writes (OutputPass::fusedFramebuffer).
   bool fusedOutput = false;
@@ -64,7 +68,9 @@ class ShadePass {
 
   /// Ray results on the ray grid (row 0 = top, as RayOutputs holds them). The grid's texture is made
   /// again when the grid's size changes: an error names it when the GL refuses, and nothing is uploaded.
-  Result<void> uploadLightMask(int width, int height, const std::uint8_t* mask);
+  /// With area lights, their sample bits too (rt::RayOutputs::areaSamples: `areaLights` planes of the grid).
+  Result<void> uploadLightMask(int width, int height, const std::uint8_t* mask, const std::uint32_t* areaSamples = nullptr,
+                               int areaLights = 0);
   /// With `tiles`, only the tiles that hold something, and those that held something the last time, are
   /// sent (a reflective surface covers a fraction of the frame); the texture still equals `rgba` to the bit.
   Result<void> uploadReflected(int width, int height, const glm::vec4* rgba, const GridTiles& tiles = {});
@@ -101,6 +107,8 @@ class ShadePass {
   std::map<std::string, Program> variants_;
   VertexArray emptyVao_;  // core profile draws need a VAO even with no attributes
   Texture lightMask_, reflected_, transmitted_;
+  Texture areaSamples_;  // R32UI array, one layer per area light
+  int areaWidth_ = 0, areaHeight_ = 0, areaLayers_ = 0;
   GridResidency reflectedResident_, transmittedResident_;
   Texture sampledDepth_;  // frame size, with reserveSampledDepth()
 };

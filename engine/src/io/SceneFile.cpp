@@ -370,7 +370,8 @@ class Builder {
   Light light(const Json& j, const std::string& path) const {
     r_.object(j, path);
     const std::string typePath = child(path, "type");
-    const std::string type = r_.string(r_.require(j, path, "type", "ambient, point, spot or directional"), typePath);
+    const std::string type =
+        r_.string(r_.require(j, path, "type", "ambient, point, spot, directional, rect, disk or sphere"), typePath);
     Light l;
     if (type == "ambient") {
       l.type = LightType::Ambient;
@@ -387,13 +388,29 @@ class Builder {
     } else if (type == "directional") {
       l.type = LightType::Directional;
       r_.checkKeys(j, path, {"type", "name", "color", "intensity", "direction", "castShadows"}, "a directional light");
+    } else if (type == "rect") {
+      l.type = LightType::Rect;
+      r_.checkKeys(j, path, {"type", "name", "color", "intensity", "position", "direction", "size", "up", "range",
+                             "attenuation", "castShadows"},
+                   "a rect light");
+    } else if (type == "disk") {
+      l.type = LightType::Disk;
+      r_.checkKeys(j, path, {"type", "name", "color", "intensity", "position", "direction", "radius", "range",
+                             "attenuation", "castShadows"},
+                   "a disk light");
+    } else if (type == "sphere") {
+      l.type = LightType::Sphere;
+      r_.checkKeys(j, path, {"type", "name", "color", "intensity", "position", "radius", "range", "attenuation",
+                             "castShadows"},
+                   "a sphere light");
     } else {
-      r_.fail(typePath, "unknown light type '" + type + "' (known: ambient, point, spot, directional)");
+      r_.fail(typePath, "unknown light type '" + type + "' (known: ambient, point, spot, directional, rect, disk, sphere)");
     }
     if (const Json* v = Reader::find(j, "color")) l.color = r_.color(*v, child(path, "color"));
     if (const Json* v = Reader::find(j, "intensity")) l.intensity = r_.number(*v, child(path, "intensity"), kNonNegative);
-    const bool positioned = l.type == LightType::Point || l.type == LightType::Spot;
-    const bool directed = l.type == LightType::Spot || l.type == LightType::Directional;
+    const bool positioned = l.type == LightType::Point || l.type == LightType::Spot || isAreaLight(l.type);
+    const bool directed = l.type == LightType::Spot || l.type == LightType::Directional || l.type == LightType::Rect ||
+                          l.type == LightType::Disk;
     if (positioned) l.posW = r_.vec3(r_.require(j, path, "position"), child(path, "position"));
     if (directed) {
       const std::string p = child(path, "direction");
@@ -420,6 +437,22 @@ class Builder {
         r_.fail(child(path, "innerCone"), "innerCone (" + formatNumber(l.innerConeDeg) + ") must not exceed outerCone (" +
                                               formatNumber(l.outerConeDeg) + ")");
     }
+    if (l.type == LightType::Rect) {
+      const std::string p = child(path, "size");
+      const Json& v = r_.require(j, path, "size", "[width, height]");
+      r_.array(v, p);
+      if (v.size() != 2) r_.fail(p, "expected [width, height]");
+      l.size = glm::vec2(r_.number(v[0], child(p, 0), kNonNegative), r_.number(v[1], child(p, 1), kNonNegative));
+      if (const Json* u = Reader::find(j, "up")) {
+        const std::string up = child(path, "up");
+        glm::vec3 d = r_.vec3(*u, up);
+        const float len = glm::length(d);
+        if (!(len > 1e-12f) || !std::isfinite(len)) r_.fail(up, "up must be a non-zero vector");
+        l.upW = d / len;
+      }
+    }
+    if (l.type == LightType::Disk || l.type == LightType::Sphere)
+      l.radius = r_.number(r_.require(j, path, "radius"), child(path, "radius"), kNonNegative);
     if (const Json* v = Reader::find(j, "castShadows")) l.castShadows = r_.boolean(*v, child(path, "castShadows"));
     return l;
   }

@@ -304,6 +304,8 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& camera, Fra
   // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
   const Camera glCamera = toRenderSpace(camera, caches.gpu().anchor());
   gl::ShadeInputs in;
+  in.lightSamples = plan.settings.lightSamples;
+  in.sampleBase = camera.sampleIndex * static_cast<std::uint32_t>(plan.settings.lightSamples);
   timed(sample.rasterMs, [&] { raster(plan, glCamera, in); });
   // Nothing the rays depend on changed since the last frame drawn: its ids and ray results still hold.
   const bool reuse = plan.settings.reuseRays && lastDrawn && !last.sceneChanged && last.camera == camera &&
@@ -457,6 +459,7 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
   caughtUp.settings.probesPerFrame = 0;
   auto addSample = [&](const std::vector<std::uint8_t>* only, const std::vector<std::uint8_t>* rayPixels) {
     Camera jittered = camera;
+    jittered.sampleIndex = accum.next;  // new light samples with each new sub-pixel offset
     jittered.jitterPx = subpixelJitter(accum.next++);
     const bool catchUp = !single && !caches.probesCurrent();
     if (!drawSample(catchUp ? caughtUp : plan, jittered, stats, drawnOnce, rayPixels)) {
@@ -588,6 +591,8 @@ void Renderer::Impl::readback(const FramePlan& plan) {
 void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats,
                                const rt::RayReuse* reuse) {
   rays.lightMask.clear();
+  rays.areaSamples.clear();
+  rays.areaLights = 0;
   rays.reflected.clear();
   rays.transmitted.clear();
   rays.reflectedTiles.clear();
@@ -653,7 +658,11 @@ bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameSta
       else if (refused.empty()) refused = uploaded.error().message;
     };
     if (rays.lightMask.size() == n && n > 0)
-      take([&] { return shadePass.uploadLightMask(rays.width, rays.height, rays.lightMask.data()); }, gl::kRayLightMask);
+      take([&] {
+        const bool area = rays.areaLights > 0 && rays.areaSamples.size() == static_cast<std::size_t>(rays.areaLights) * n;
+        return shadePass.uploadLightMask(rays.width, rays.height, rays.lightMask.data(),
+                                         area ? rays.areaSamples.data() : nullptr, area ? rays.areaLights : 0);
+      }, gl::kRayLightMask);
     if (rays.reflected.size() == n && n > 0)
       take([&] {
         return shadePass.uploadReflected(rays.width, rays.height, rays.reflected.data(), {rays.reflectedTiles, rays.tileSize});

@@ -21,6 +21,8 @@ void compositeOnCpu(const Scene& scene, const Camera& camera, const FrameSetting
   const glm::vec3 anchor = camera.posW;
   const Camera cam = toRenderSpace(camera, anchor);
   FrameShading frame(scene, settings.shadingOverride, anchor);
+  frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
+  const std::size_t plane = rays.lightMask.size();
   for (int gy = 0; gy < out.height; ++gy)
     for (int gx = 0; gx < out.width; ++gx) {
       std::size_t g = static_cast<std::size_t>(gy) * static_cast<std::size_t>(out.width) + static_cast<std::size_t>(gx);
@@ -32,8 +34,12 @@ void compositeOnCpu(const Scene& scene, const Camera& camera, const FrameSetting
       InstanceTransform transform = makeInstanceTransform(scene.instances[instance].worldFromObject, anchor);
       Ray ray = cam.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
       SurfaceHit hit = resolveHit(scene, transform, instance, id.y, ray);
+      hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);
       std::uint32_t mask = rays.lightMask.empty() ? ~0u : rays.lightMask[g];
-      glm::vec3 c = shadeLocal(scene, frame, transform, hit, mask);
+      AreaSampleBits area{};
+      for (int a = 0; a < rays.areaLights; ++a)
+        area[static_cast<std::size_t>(a)] = rays.areaSamples[static_cast<std::size_t>(a) * plane + g];
+      glm::vec3 c = shadeLocal(scene, frame, transform, hit, mask, rays.areaLights > 0 ? &area : nullptr);
       if (!rays.reflected.empty()) c += glm::vec3(rays.reflected[g]);
       if (!rays.transmitted.empty()) c += glm::vec3(rays.transmitted[g]);
       out.rgb[g] = c;

@@ -216,6 +216,7 @@ PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const
   // RayTracer::trace's set-up and per-pixel steps, for this one pixel.
   const Camera cam = toRenderSpace(camera, embree.anchor());
   FrameShading frame(scene, settings.shadingOverride, embree.anchor());
+  frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
   Whitted whitted(scene, embree, frame, TraceModes::hybrid(settings), shadowMaps);
   const CameraRays cameraRays(cam, {width, height});
   const glm::ivec2 p = fullPixelOfGridPixel(gx, gy, scale, width, height);
@@ -235,7 +236,8 @@ PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const
     return trace;
   }
   const std::uint32_t instance = id.x - 1;
-  const SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, id.y, ray);
+  SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, id.y, ray);
+  hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);  // the pass's seed for this pixel
   ++trace.rays.primary;
   rec.primaryHit(hit, ray);
   // Depth 0 of the recursion is the hybrid pass's primary hit: shadow rays when they are by rays, the local
@@ -260,6 +262,7 @@ PixelTrace traceReferencePixel(const Scene& scene, const EmbreeScene& embree, co
   // RayTracer::renderReference's set-up and sample loop, for this one pixel.
   const Camera cam = toRenderSpace(camera, embree.anchor());
   FrameShading frame(scene, settings.shadingOverride, embree.anchor());
+  frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
   Whitted whitted(scene, embree, frame, TraceModes::reference(settings));
   const int spp = std::max(1, settings.referenceSpp);
   trace.samples = spp * spp;
@@ -278,7 +281,8 @@ PixelTrace traceReferencePixel(const Scene& scene, const EmbreeScene& embree, co
       std::uint32_t instance, triangle;
       glm::vec3 c = frame.background;
       if (whitted.intersect(ray.origin, ray.dir, tNear, tFar, instance, triangle, recorder)) {
-        const SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, triangle, ray);
+        SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, triangle, ray);
+        hit.lightSeed = shading::tdPixelSeed(x, y, static_cast<std::uint32_t>(sy * spp + sx));
         rec.surface(hit);
         c = whitted.shade(hit, 0, 1.0f, trace.rays, recorder);
       }

@@ -34,6 +34,11 @@ struct RayOutputs {
   // a spot cone, beyond range: the shading formula gives them nothing anyway, toon's lowest band aside,
   // which therefore looks as with shadows off). So an empty mask means exactly "all lights visible".
   std::vector<LightMask> lightMask;
+  // Area lights' sample bits, one plane of the grid per area light (FrameShading::areaSlot): word
+  // a·width·height + g has bit k set where sample k of that light is unoccluded at grid pixel g. Filled with
+  // lightMask where shadows are by rays and the scene has area lights; empty otherwise.
+  std::vector<std::uint32_t> areaSamples;
+  int areaLights = 0;
   // rgb: weighted reflected radiance (wR·S), linear; a = 1 where a ray was traced. Zero elsewhere.
   std::vector<glm::vec4> reflected;
   std::vector<glm::vec4> transmitted;    // the same for the weighted transmitted radiance (wT·T)

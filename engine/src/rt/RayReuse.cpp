@@ -86,6 +86,9 @@ ReuseGate::ReuseGate(const RayReuse& reuse, const Scene& scene, const EmbreeScen
     lights_.push_back(r);
   }
   keepable_ = all & ~reuse.changedLights;
+  // An area light's answer is per sample (RayOutputs::areaSamples), which a kept mask bit cannot give back.
+  for (std::size_t j = 0; j < lights.size() && j < 32; ++j)
+    if (shading::tdIsAreaLight(static_cast<int>(lights[j].posType.w + 0.5f))) keepable_ &= ~(1u << j);
   // Only a kept mask of this frame's sizes can be read; an empty one (no shadow ray last frame) says
   // "all visible" for the whole frame, not per pixel, so it keeps nothing.
   active_ = keepable_ != 0 && reuse.ids && reuse.rays && reuse.ids->ids.size() == pixels &&

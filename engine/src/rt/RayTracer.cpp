@@ -200,9 +200,16 @@ struct HybridTiles {
       if (modes.primaryShadowRays) {
         ShadowKeep keep;
         if (samePoint) keep = {&reuse, &keptTile, reuse.keepableLights(), reuse.keptMask(g)};
-        out.lightMask[g] = static_cast<LightMask>(
-            batched ? shadows.add(whitted, frame.lights.size(), hit, g, capture, samePoint ? &keep : nullptr)
-                    : whitted.lightMask(hit, counts, capture.recorder()));
+        const std::size_t plane = out.lightMask.size();
+        std::uint32_t* area = out.areaLights > 0 ? out.areaSamples.data() + g : nullptr;
+        if (batched) {
+          out.lightMask[g] = static_cast<LightMask>(
+              shadows.add(whitted, frame.lights.size(), hit, g, capture, samePoint ? &keep : nullptr, area, plane));
+        } else {
+          AreaSampleBits bits{};
+          out.lightMask[g] = static_cast<LightMask>(whitted.lightMask(hit, counts, capture.recorder(), &bits));
+          for (int a = 0; a < out.areaLights; ++a) area[static_cast<std::size_t>(a) * plane] = bits[static_cast<std::size_t>(a)];
+        }
       }
       wavefront.addPrimary(hit, g, counts, capture);
     };
@@ -212,6 +219,7 @@ struct HybridTiles {
       for (int gx = x0; gx < x1; ++gx) {
         std::size_t g = static_cast<std::size_t>(gy) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(gx);
         out.lightMask[g] = 0u;
+        for (int a = 0; a < out.areaLights; ++a) out.areaSamples[static_cast<std::size_t>(a) * out.lightMask.size() + g] = 0u;
         out.reflected[g] = out.transmitted[g] = glm::vec4(0.0f);
         glm::ivec2 p = fullPixelOfGridPixel(gx, gy, scale, width, height);
         const std::size_t pixel = static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x);
@@ -223,6 +231,7 @@ struct HybridTiles {
         if (!embree.hasTriangle(instance, id.y)) continue;
         Ray ray = cameraRays.through(glm::vec2(p) + 0.5f);
         SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, id.y, ray);
+        hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);  // the shade pass draws this pixel's light samples too
         ++counts.primary;
         if constexpr (Capture::kRecords) capture.rasterPrimary(ray.origin, ray.dir);
         if (!keeping) {
@@ -273,6 +282,7 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   // Camera-relative rendering (docs/numerics.md): rays and lights in the Embree scene's render space.
   const Camera cam = toRenderSpace(camera, embree.anchor());
   FrameShading frame(scene, settings.shadingOverride, embree.anchor());
+  frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
   const TraceModes modes = TraceModes::hybrid(settings);
   const ShadowCertainty* shadowMaps =
       settings.hybridShadows && (modes.primaryShadowRays || modes.secondaryShadowRays) ? &updateShadowMaps(scene, frame) : nullptr;
@@ -301,8 +311,11 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   // points' only: with raster shadows, the shadow rays of secondary hits leave it to the shadow maps.
   // Kept answers count as the rays they stand for: the mask is cleared exactly when a frame without reuse
   // would clear it.
-  if (out.counts.shadow + out.counts.shadowByMap + out.counts.shadowKept == 0 || !whitted.modes().primaryShadowRays)
+  if (out.counts.shadow + out.counts.shadowByMap + out.counts.shadowKept == 0 || !whitted.modes().primaryShadowRays) {
     out.lightMask.clear();
+    out.areaSamples.clear();
+    out.areaLights = 0;
+  }
   if (out.counts.reflection == 0) out.reflected.clear(), out.reflectedTiles.clear();
   if (out.counts.refraction == 0) out.transmitted.clear(), out.transmittedTiles.clear();
 }
@@ -321,6 +334,10 @@ void RayTracer::hybridPass(const Scene& scene, const Camera& camera, const Frame
   // Sized here, filled by the tiles (every grid pixel is written there, in parallel): a serial
   // assign() of the ~30 MB of a 1280×720 frame would cost more than a few percent of the pass.
   out.lightMask.resize(n);
+  out.areaLights = 0;
+  if (TraceModes::hybrid(settings).primaryShadowRays)
+    for (const Light* l : scene.directLights()) out.areaLights += isAreaLight(l->type) ? 1 : 0;
+  out.areaSamples.resize(static_cast<std::size_t>(out.areaLights) * n);
   out.reflected.resize(n);
   out.transmitted.resize(n);
   const std::size_t tiles = static_cast<std::size_t>(tileCount(out.width)) * static_cast<std::size_t>(tileCount(out.height));
@@ -329,6 +346,8 @@ void RayTracer::hybridPass(const Scene& scene, const Camera& camera, const Frame
   out.tileSize = kTile;
   if (!impl_->scene || n == 0) {
     out.lightMask.clear();
+    out.areaSamples.clear();
+    out.areaLights = 0;
     out.reflected.clear();
     out.transmitted.clear();
     out.reflectedTiles.clear();
@@ -349,6 +368,7 @@ void RayTracer::referencePassWith(const Scene& scene, const Camera& camera, cons
   const EmbreeScene& embree = *impl_->scene;
   const Camera cam = toRenderSpace(camera, embree.anchor());  // camera-relative, as in trace()
   FrameShading frame(scene, settings.shadingOverride, embree.anchor());
+  frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
   Whitted whitted(scene, embree, frame, TraceModes::reference(settings));
   const int spp = std::max(1, settings.referenceSpp);
   const CameraRays cameraRays(cam, {width, height});
@@ -377,6 +397,8 @@ void RayTracer::referencePassWith(const Scene& scene, const Camera& camera, cons
                 continue;
               }
               SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, triangle, ray);
+              // With one sample per pixel, the hybrid frame's seed: the same light samples as its pixel.
+              hit.lightSeed = shading::tdPixelSeed(x, y, static_cast<std::uint32_t>(sy * spp + sx));
               sum += whitted.shade(hit, 0, 1.0f, c, rec);
             }
           out.at(x, y) = sum / static_cast<float>(spp * spp);

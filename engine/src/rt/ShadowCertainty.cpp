@@ -422,7 +422,8 @@ void ShadowCertainty::build(const Scene& scene, const EmbreeScene& embree, const
   for (std::size_t j = 0; j < maps_.size(); ++j) {
     Map& m = maps_[j];
     const shading::GpuLight& l = frame.lights[j];
-    if (!frame.castsShadows(j)) continue;
+    // An area light's rays go to points all over it: a map from one point proves nothing about them.
+    if (!frame.castsShadows(j) || frame.isArea(j)) continue;
     if (static_cast<int>(l.posType.w + 0.5f) == TD_LIGHT_DIRECTIONAL) {
       glm::vec3 a = -glm::vec3(l.dirRange);
       if (!(glm::length(a) > 0.0f) || !std::isfinite(glm::length(a))) continue;

@@ -1,5 +1,6 @@
 #include "rt/SurfaceShading.h"
 
+#include <bit>
 #include <cassert>
 #include <cmath>
 
@@ -37,7 +38,8 @@ InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject, glm::v
 
 FrameShading::FrameShading(const Scene& scene, std::optional<ShadingModel> shadingOverride, glm::vec3 anchor) {
   for (const Light* l : scene.directLights()) {
-    lights.push_back(packLight(*l));
+    lights.push_back(packLight(*l, areaLights));
+    if (isAreaLight(l->type)) ++areaLights;
     lights.back().posType = glm::vec4(toRenderSpace(l->posW, anchor), lights.back().posType.w);
   }
   materials.reserve(scene.materials.size());
@@ -48,6 +50,11 @@ FrameShading::FrameShading(const Scene& scene, std::optional<ShadingModel> shadi
   }
   ambient = scene.ambientIntensity();
   background = scene.background;
+}
+
+void FrameShading::setLightSampling(int samples, std::uint32_t sampleIndex) {
+  lightSamples = std::clamp(samples, 1, TD_MAX_LIGHT_SAMPLES);
+  sampleBase = sampleIndex * static_cast<std::uint32_t>(lightSamples);
 }
 
 namespace {
@@ -172,11 +179,13 @@ SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, st
   if (m.emissiveTexture >= 0 && static_cast<std::size_t>(m.emissiveTexture) < scene.textures.size() && !mesh.uvs.empty())
     h.emissionTint = glm::vec3(sampleBilinear(scene.textures[static_cast<std::size_t>(m.emissiveTexture)], h.uv));
   if (!mesh.colors.empty()) h.tint *= glm::vec3(interpolate(mesh.colors, h));
+  h.lightSeed = tdHash(std::bit_cast<std::uint32_t>(h.posW.x) ^
+                       tdHash(std::bit_cast<std::uint32_t>(h.posW.y) ^ tdHash(std::bit_cast<std::uint32_t>(h.posW.z))));
   return h;
 }
 
 glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const InstanceTransform& transform,
-                     const SurfaceHit& hit, std::uint32_t visibleLights) {
+                     const SurfaceHit& hit, std::uint32_t visibleLights, const AreaSampleBits* areaSamples) {
   const GpuMaterial& m = frame.materials[hit.material];
   glm::vec3 emission = glm::vec3(m.emissionFlags) * hit.emissionTint;
   glm::vec3 c = tdSurfaceColor(m, hit.uv, hit.tint);
@@ -204,19 +213,47 @@ glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const Instan
   }
   glm::vec3 n = model == TD_MODEL_FLAT ? hit.geomNormalW : hit.normalW;
 
+  // Gouraud's per-vertex eye directions.
+  glm::vec3 vertexToEye[3];
+  if (model == TD_MODEL_GOURAUD)
+    for (int i = 0; i < 3; ++i) {
+      glm::vec3 toEye = hit.eyeW - hit.vertexW[i];
+      float len = glm::length(toEye);
+      vertexToEye[i] = len > 0.0f ? toEye / len : hit.toEyeW;
+    }
+
   for (std::size_t j = 0; j < frame.lights.size(); ++j) {
     if (!(visibleLights & (1u << j))) continue;
     const GpuLight& light = frame.lights[j];
+    if (frame.isArea(j)) {
+      // The mean over the frame's samples, each where its shadow ray got through (shade.frag's twin).
+      const std::uint32_t bits = areaSamples ? (*areaSamples)[static_cast<std::size_t>(frame.areaSlot(j))] : ~0u;
+      glm::vec3 sum(0.0f);
+      for (int k = 0; k < frame.lightSamples; ++k) {
+        if (!((bits >> k) & 1u)) continue;
+        glm::vec3 toLight;
+        float dist;
+        if (model == TD_MODEL_GOURAUD) {
+          for (int i = 0; i < 3; ++i) {
+            glm::vec3 e = areaLightSample(frame, j, hit.lightSeed, hit.vertexW[i], k, toLight, dist);
+            sum += hit.bary[i] * tdShadeLight(c, ks, ns, model, vertexNormalW[i], vertexToEye[i], e, toLight, 0.0f);
+          }
+          continue;
+        }
+        glm::vec3 e = areaLightSample(frame, j, hit.lightSeed, hit.posW, k, toLight, dist);
+        float toon = model == TD_MODEL_TOON ? ramp[static_cast<std::size_t>(toonRampIndex(glm::dot(n, toLight)))] : 0.0f;
+        sum += tdShadeLight(c, ks, ns, model, n, hit.toEyeW, e, toLight, toon);
+      }
+      color += sum * (1.0f / static_cast<float>(frame.lightSamples));
+      continue;
+    }
     if (model == TD_MODEL_GOURAUD) {
       glm::vec3 sum(0.0f);
       for (int i = 0; i < 3; ++i) {
         glm::vec3 toLight;
         float dist;
         glm::vec3 e = tdLightIncident(light, hit.vertexW[i], toLight, dist);
-        glm::vec3 toEye = hit.eyeW - hit.vertexW[i];
-        float len = glm::length(toEye);
-        toEye = len > 0.0f ? toEye / len : hit.toEyeW;
-        sum += hit.bary[i] * tdShadeLight(c, ks, ns, model, vertexNormalW[i], toEye, e, toLight, 0.0f);
+        sum += hit.bary[i] * tdShadeLight(c, ks, ns, model, vertexNormalW[i], vertexToEye[i], e, toLight, 0.0f);
       }
       color += sum;
       continue;

@@ -99,10 +99,26 @@ struct FrameShading {
   std::vector<std::array<float, TD_TOON_RAMP_SIZE>> toonRamps;
   glm::vec3 ambient{0.0f};     // Ia
   glm::vec3 background{0.0f};  // radiance of escaped rays
+  int areaLights = 0;          // area lights among `lights` (GpuLight::shapeU.w numbers them)
+  /// Area-light samples per point this frame (FrameSettings::lightSamples), and the sequence index of the
+  /// first: sample k of the frame is point sampleBase + k of each point's sequence, so the frames of an
+  /// accumulation (Camera::sampleIndex) draw new points of one stratified sequence.
+  int lightSamples = 1;
+  std::uint32_t sampleBase = 0;
   /// Light positions in render space (see toRenderSpace).
   FrameShading(const Scene& scene, std::optional<ShadingModel> shadingOverride, glm::vec3 anchor = glm::vec3(0.0f));
+  /// Sets lightSamples and sampleBase for a frame drawing `samples` area-light samples per point, its
+  /// accumulation sample `sampleIndex` (Camera::sampleIndex).
+  void setLightSampling(int samples, std::uint32_t sampleIndex);
   bool castsShadows(std::size_t light) const { return lights[light].radiance.w > 0.5f; }
+  int lightType(std::size_t light) const { return static_cast<int>(lights[light].posType.w + 0.5f); }
+  bool isArea(std::size_t light) const { return shading::tdIsAreaLight(lightType(light)); }
+  int areaSlot(std::size_t light) const { return static_cast<int>(lights[light].shapeU.w + 0.5f); }
 };
+
+/// The sample-visibility bits of a point's area lights: word a (an area slot, GpuLight::shapeU.w) has bit k
+/// set where sample k of that light is unoccluded.
+using AreaSampleBits = std::array<std::uint32_t, kMaxLights>;
 
 /// A surface point, from docs/shading.md "Inputs at a hit".
 struct SurfaceHit {
@@ -123,7 +139,18 @@ struct SurfaceHit {
   glm::vec3 emissionTint{1.0f};      // emissive texture (sRGB-decoded), multiplies the emission
   float coverage = 1.0f;             // BLEND: tdCoverage of the kd texture's alpha; 1 otherwise
   std::uint32_t material = 0;
+  /// Seed of the point's area-light samples (tdLightSampleU): resolveHit makes it from the point itself
+  /// (secondary hits); a primary hit gets its pixel's (tdPixelSeed), which the shade pass can make too.
+  std::uint32_t lightSeed = 0;
 };
+
+/// Sample k of area light `light` seen from `posW` for a point with `seed`: tdAreaLightSample at the frame's
+/// sequence point sampleBase + k. The shadow rays and the shading of that sample both come from here.
+inline glm::vec3 areaLightSample(const FrameShading& frame, std::size_t light, std::uint32_t seed, glm::vec3 posW,
+                                 int k, glm::vec3& toLight, float& dist) {
+  const glm::vec2 u = shading::tdLightSampleU(seed, static_cast<int>(light), frame.sampleBase + static_cast<std::uint32_t>(k));
+  return shading::tdAreaLightSample(frame.lights[light], frame.lightType(light), posW, u, toLight, dist);
+}
 
 /// Exact hit of `ray` on triangle `triangle` of `instance`: watertight barycentrics (clamped onto the
 /// triangle when the ray grazes past it), the position interpolated from the world-space vertices.
@@ -137,9 +164,11 @@ inline glm::vec3 spawnOrigin(const SurfaceHit& hit, glm::vec3 side) {
 }
 
 /// Local shading (docs/shading.md "Local shading"): emission + ambient + Σj visj·Lj, where visj is bit j
-/// of `visibleLights`; unlit materials give C + emission.
+/// of `visibleLights`; unlit materials give C + emission. An area light's Lj is the mean over its
+/// frame.lightSamples samples, each counted where its bit in `areaSamples` (by area slot) is set; without
+/// `areaSamples`, every sample of a visible area light counts (no shadows, or none traced).
 glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const InstanceTransform& transform,
-                     const SurfaceHit& hit, std::uint32_t visibleLights);
+                     const SurfaceHit& hit, std::uint32_t visibleLights, const AreaSampleBits* areaSamples = nullptr);
 
 /// Bilinear sample of level 0 with repeat wrapping; sRGB texels are decoded before filtering, as GL's
 /// sRGB textures do. Row 0 of the data is v = 0.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cassert>
 #include <limits>
 
 #include "rt/RayReuse.h"
@@ -15,15 +16,40 @@ void ShadowBatch::clear() {
   rays_.clear();
   slots_.clear();
   bits_.clear();
+  areaWords_.clear();
+  samples_.clear();
   captured_.clear();
 }
 
 template <class Capture>
 std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot,
-                               Capture& capture, const ShadowKeep* keep) {
+                               Capture& capture, const ShadowKeep* keep, std::uint32_t* area, std::size_t areaStride) {
   std::uint32_t visible = 0;
   SpawnOrigins origins;
+  const FrameShading& frame = whitted.frame();
   for (std::size_t j = 0; j < lights; ++j) {
+    if (frame.isArea(j)) {
+      assert(area && "ShadowBatch::add: a frame with area lights needs their sample words");
+      std::uint32_t& word = area[static_cast<std::size_t>(frame.areaSlot(j)) * areaStride];
+      word = 0;
+      for (int k = 0; k < frame.lightSamples; ++k) {
+        ShadowRay s = whitted.areaShadowRay(hit, j, k, origins, NoRecorder{});
+        if (!s.needed) {
+          if (s.visibleWithoutRay) word |= 1u << k;
+          continue;
+        }
+        rays_.emplace_back();
+        makeEmbreeRay(rays_.back(), s.originW, s.dirW, 0.0f, s.tFar);
+        slots_.push_back(slot);
+        bits_.push_back(1u << j);
+        areaWords_.push_back(&word);
+        samples_.push_back(static_cast<std::uint8_t>(k));
+        if constexpr (Capture::kRecords)
+          captured_.push_back(capture.deferred(RayKind::Shadow, s.originW, s.dirW, 0.0f, s.tFar, static_cast<std::uint8_t>(j)));
+      }
+      if (word != 0) visible |= 1u << j;
+      continue;
+    }
     // Whitted::shadowRay in its two steps, with the kept frame's answer between them: it costs a box test
     // per moved instance near the tile, the map a texel fetch.
     ShadowRay s = whitted.shadowRayUnanswered(hit, j, origins, NoRecorder{});
@@ -43,6 +69,8 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
     makeEmbreeRay(rays_.back(), s.originW, s.dirW, 0.0f, s.tFar);  // finite: shadowRay checked
     slots_.push_back(slot);
     bits_.push_back(1u << j);
+    areaWords_.push_back(nullptr);
+    samples_.push_back(0);
     if constexpr (Capture::kRecords)
       captured_.push_back(capture.deferred(RayKind::Shadow, s.originW, s.dirW, 0.0f, s.tFar, static_cast<std::uint8_t>(j)));
   }
@@ -83,7 +111,10 @@ void ShadowBatch::trace(RTCScene scene, LightMask* masks, RayCounts& counts, Cap
   counts.shadow += rays_.size();
   // Embree marks an occluded ray by tfar = -inf.
   for (std::size_t i = 0; i < rays_.size(); ++i)
-    if (rays_[i].tfar >= 0.0f) masks[slots_[i]] = static_cast<LightMask>(masks[slots_[i]] | bits_[i]);
+    if (rays_[i].tfar >= 0.0f) {
+      masks[slots_[i]] = static_cast<LightMask>(masks[slots_[i]] | bits_[i]);
+      if (areaWords_[i]) *areaWords_[i] |= 1u << samples_[i];
+    }
   if constexpr (Capture::kRecords)
     for (std::size_t i = 0; i < captured_.size(); ++i) capture.answer(RayKind::Shadow, captured_[i], rays_[i].tfar < 0.0f);
 }
@@ -175,13 +206,16 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
     b_.masks.assign(b_.hits.size(), static_cast<LightMask>(~0u));  // all lights visible
     if (modes.secondaryShadowRays) {
       b_.shadows.clear();
-      for (std::size_t h = 0; h < b_.hits.size(); ++h) b_.masks[h] = static_cast<LightMask>(b_.shadows.add(whitted_, lights, b_.hits[h], h, capture));
+      b_.area.resize(b_.hits.size());  // add() writes every area word it reads
+      for (std::size_t h = 0; h < b_.hits.size(); ++h)
+        b_.masks[h] = static_cast<LightMask>(b_.shadows.add(whitted_, lights, b_.hits[h], h, capture, nullptr, b_.area[h].data()));
       b_.shadows.trace(embree.top(), b_.masks.data(), counts, capture);
     }
     for (std::size_t h = 0; h < b_.hits.size(); ++h) {
       const SurfaceHit& hit = b_.hits[h];
       std::size_t node = b_.hitNodes[h];
-      b_.nodes[node].local = shadeLocal(whitted_.scene(), frame, embree.transform(hit.instance), hit, b_.masks[h]);
+      b_.nodes[node].local = shadeLocal(whitted_.scene(), frame, embree.transform(hit.instance), hit, b_.masks[h],
+                                        modes.secondaryShadowRays ? &b_.area[h] : nullptr);
       spawn(hit, depth, b_.nodes[node].throughput, static_cast<std::int64_t>(node), b_.nodes[node].pixel, counts, capture);
     }
     begin = end;
@@ -220,9 +254,9 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
 
 // The frame's instantiation and the bench's; no others.
 template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, NoCapture&,
-                                        const ShadowKeep*);
+                                        const ShadowKeep*, std::uint32_t*, std::size_t);
 template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, TileCapture&,
-                                        const ShadowKeep*);
+                                        const ShadowKeep*, std::uint32_t*, std::size_t);
 template void ShadowBatch::trace(RTCScene, LightMask*, RayCounts&, NoCapture&);
 template void ShadowBatch::trace(RTCScene, LightMask*, RayCounts&, TileCapture&);
 template void Wavefront::addPrimary(const SurfaceHit&, std::size_t, RayCounts&, NoCapture&);

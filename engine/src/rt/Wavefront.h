@@ -36,9 +36,12 @@ class ShadowBatch {
   /// Queues the shadow rays of `hit` (Whitted::shadowRay, light order), answering into masks[slot];
   /// returns the bits of the lights that are visible without a ray.
   /// With `keep`, a needed ray that passes clear of everything that moved takes the kept bit instead.
+  /// Area lights: a ray per sample (Whitted::areaShadowRay), whose bit goes to area[slot · areaStride]
+  /// for the light's area slot; add() sets those words to the samples visible without a ray.
   template <class Capture>
   std::uint32_t add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot,
-                    Capture& capture, const ShadowKeep* keep = nullptr);
+                    Capture& capture, const ShadowKeep* keep = nullptr, std::uint32_t* area = nullptr,
+                    std::size_t areaStride = 1);
   /// Traces the queued rays and ORs the bit of every unoccluded one into masks[its slot].
   template <class Capture>
   void trace(RTCScene scene, LightMask* masks, RayCounts& counts, Capture& capture);
@@ -50,6 +53,8 @@ class ShadowBatch {
   std::vector<RTCRay> rays_;
   std::vector<std::size_t> slots_;
   std::vector<std::uint32_t> bits_;
+  std::vector<std::uint32_t*> areaWords_;  // an area light's ray: the word its sample bit goes to; else null
+  std::vector<std::uint8_t> samples_;      // an area light's ray: its sample number
   std::vector<std::size_t> captured_;  // under a recording Capture: each ray's index there
   std::vector<std::uint32_t> order_;   // ray indices grouped by light, in the order they were added
   std::uint64_t byMap_ = 0;            // rays the hybrid shadows' maps answered since the last trace()
@@ -86,6 +91,7 @@ class Wavefront {
     std::vector<SurfaceHit> hits;
     std::vector<std::size_t> hitNodes;
     std::vector<LightMask> masks;
+    std::vector<AreaSampleBits> area;  // the hits' area-light sample bits
     ShadowBatch shadows;
   };
 

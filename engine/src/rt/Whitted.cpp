@@ -118,6 +118,40 @@ ShadowRay Whitted::shadowRayUnanswered(const SurfaceHit& hit, std::size_t light,
 }
 
 template <class Recorder>
+ShadowRay Whitted::areaShadowRay(const SurfaceHit& hit, std::size_t light, int k, SpawnOrigins& origins,
+                                 Recorder rec) const {
+  ShadowRay r;
+  if (!frame_.castsShadows(light)) {
+    r.visibleWithoutRay = true;
+    rec.noShadowRay(light, NoShadowRay::CastsNoShadows);
+    return r;
+  }
+  const GpuMaterial& m = frame_.materials[hit.material];
+  bool flat = static_cast<int>(m.krKtIorModel.w + 0.5f) == TD_MODEL_FLAT;
+  glm::vec3 n = flat ? hit.geomNormalW : hit.normalW;
+  glm::vec3 toLight;
+  float dist;
+  glm::vec3 e = areaLightSample(frame_, light, hit.lightSeed, hit.posW, k, toLight, dist);
+  if (!tdLightReaches(e, toLight, n)) {
+    r.visibleWithoutRay = true;
+    rec.noShadowRay(light, NoShadowRay::CannotReach);
+    return r;
+  }
+  if (!(dist > 0.0f) || !std::isfinite(dist)) {
+    r.visibleWithoutRay = true;  // the sample is the point itself
+    rec.noShadowRay(light, NoShadowRay::AtThePoint);
+    return r;
+  }
+  r.originW = origins.towards(hit, glm::dot(toLight, hit.geomNormalW) >= 0.0f);
+  r.dirW = toLight;
+  r.tFar = dist * kShadowRayEnd;
+  r.needed = isFinite(r.originW) && isFinite(r.dirW);
+  r.visibleWithoutRay = !r.needed;
+  if (!r.needed) rec.noShadowRay(light, NoShadowRay::NotFinite);
+  return r;
+}
+
+template <class Recorder>
 void Whitted::answerByMap(const SurfaceHit& hit, std::size_t light, ShadowRay& r, Recorder rec) const {
   if (!shadowMaps_) return;
   // Hybrid shadows: an answer the map proves is the ray's own (rt/ShadowCertainty.h).
@@ -130,25 +164,43 @@ void Whitted::answerByMap(const SurfaceHit& hit, std::size_t light, ShadowRay& r
 }
 
 template <class Recorder>
-std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts, Recorder rec) const {
+std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts, Recorder rec, AreaSampleBits* area) const {
   std::uint32_t mask = 0;
   SpawnOrigins origins;
-  for (std::size_t j = 0; j < frame_.lights.size(); ++j) {
-    ShadowRay s = shadowRay(hit, j, origins, rec);
-    if (!s.needed) {
-      if (s.visibleWithoutRay) mask |= 1u << j;
-      if (s.byMap) ++counts.shadowByMap;
-      continue;
-    }
+  auto occluded = [&](const ShadowRay& s) {
     RTCRay ray;
     makeEmbreeRay(ray, s.originW, s.dirW, 0.0f, s.tFar);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     rtcOccluded1(embree_.top(), &ctx, &ray);
     ++counts.shadow;
-    // Embree marks an occluded ray by tfar = -inf.
-    if (ray.tfar >= 0.0f) mask |= 1u << j;
-    rec.shadowRay(j, s, ray.tfar < 0.0f);
+    return ray.tfar < 0.0f;  // Embree marks an occluded ray by tfar = -inf
+  };
+  for (std::size_t j = 0; j < frame_.lights.size(); ++j) {
+    if (frame_.isArea(j)) {
+      std::uint32_t bits = 0;
+      for (int k = 0; k < frame_.lightSamples; ++k) {
+        ShadowRay s = areaShadowRay(hit, j, k, origins, rec);
+        bool visible = s.visibleWithoutRay;
+        if (s.needed) {
+          visible = !occluded(s);
+          rec.shadowRay(j, s, !visible);
+        }
+        if (visible) bits |= 1u << k;
+      }
+      if (bits != 0) mask |= 1u << j;
+      if (area) (*area)[static_cast<std::size_t>(frame_.areaSlot(j))] = bits;
+      continue;
+    }
+    ShadowRay s = shadowRay(hit, j, origins, rec);
+    if (!s.needed) {
+      if (s.visibleWithoutRay) mask |= 1u << j;
+      if (s.byMap) ++counts.shadowByMap;
+      continue;
+    }
+    const bool blocked = occluded(s);
+    if (!blocked) mask |= 1u << j;
+    rec.shadowRay(j, s, blocked);
   }
   return mask;
 }
@@ -228,8 +280,9 @@ void Whitted::secondary(const SurfaceHit& hit, int depth, float throughput, glm:
 template <class Recorder>
 glm::vec3 Whitted::shade(const SurfaceHit& hit, int depth, float throughput, RayCounts& counts, Recorder rec) const {
   bool shadowRays = depth == 0 ? modes_.primaryShadowRays : modes_.secondaryShadowRays;
-  std::uint32_t mask = shadowRays ? lightMask(hit, counts, rec) : ~0u;
-  glm::vec3 color = shadeLocal(scene_, frame_, embree_.transform(hit.instance), hit, mask);
+  AreaSampleBits area{};
+  std::uint32_t mask = shadowRays ? lightMask(hit, counts, rec, &area) : ~0u;
+  glm::vec3 color = shadeLocal(scene_, frame_, embree_.transform(hit.instance), hit, mask, shadowRays ? &area : nullptr);
   rec.local(color, mask, shadowRays);
   glm::vec3 reflected, transmitted;
   bool tracedR, tracedT;
@@ -277,8 +330,10 @@ template ShadowRay Whitted::shadowRayUnanswered(const SurfaceHit&, std::size_t, 
 template ShadowRay Whitted::shadowRayUnanswered(const SurfaceHit&, std::size_t, SpawnOrigins&, Recording) const;
 template void Whitted::answerByMap(const SurfaceHit&, std::size_t, ShadowRay&, NoRecorder) const;
 template void Whitted::answerByMap(const SurfaceHit&, std::size_t, ShadowRay&, Recording) const;
-template std::uint32_t Whitted::lightMask(const SurfaceHit&, RayCounts&, NoRecorder) const;
-template std::uint32_t Whitted::lightMask(const SurfaceHit&, RayCounts&, Recording) const;
+template std::uint32_t Whitted::lightMask(const SurfaceHit&, RayCounts&, NoRecorder, AreaSampleBits*) const;
+template std::uint32_t Whitted::lightMask(const SurfaceHit&, RayCounts&, Recording, AreaSampleBits*) const;
+template ShadowRay Whitted::areaShadowRay(const SurfaceHit&, std::size_t, int, SpawnOrigins&, NoRecorder) const;
+template ShadowRay Whitted::areaShadowRay(const SurfaceHit&, std::size_t, int, SpawnOrigins&, Recording) const;
 template void Whitted::secondary(const SurfaceHit&, int, float, glm::vec3&, glm::vec3&, bool&, bool&, RayCounts&,
                                  NoRecorder) const;
 template void Whitted::secondary(const SurfaceHit&, int, float, glm::vec3&, glm::vec3&, bool&, bool&, RayCounts&,

@@ -196,10 +196,15 @@ class Whitted {
   ShadowRay shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins) const {
     return shadowRay(hit, light, origins, NoRecorder{});
   }
-  /// All direct lights' visibility bits at hit, one rtcOccluded1 per needed ray.
-  std::uint32_t lightMask(const SurfaceHit& hit, RayCounts& counts) const {
-    return lightMask(hit, counts, NoRecorder{});
+  /// All direct lights' visibility bits at hit, one rtcOccluded1 per needed ray. An area light's bit is set
+  /// where any of its samples is visible; `area` (when given) gets each area light's sample bits.
+  std::uint32_t lightMask(const SurfaceHit& hit, RayCounts& counts, AreaSampleBits* area = nullptr) const {
+    return lightMask(hit, counts, NoRecorder{}, area);
   }
+  /// The shadow ray from hit towards sample k of area light j (areaLightSample), or why none is needed.
+  /// No map answers it: a shadow map from the light's centre proves nothing about its other points.
+  template <class Recorder>
+  ShadowRay areaShadowRay(const SurfaceHit& hit, std::size_t light, int k, SpawnOrigins& origins, Recorder rec) const;
   WhittedWeights weights(const SurfaceHit& hit) const;
   /// S and T of the Whitted sum at `hit` (depth = bounces so far, throughput = product of weights so
   /// far), already multiplied by wR and wT; zero where the ray is not traced.
@@ -232,7 +237,7 @@ class Whitted {
   template <class Recorder>
   void answerByMap(const SurfaceHit& hit, std::size_t light, ShadowRay& r, Recorder rec) const;
   template <class Recorder>
-  std::uint32_t lightMask(const SurfaceHit& hit, RayCounts& counts, Recorder rec) const;
+  std::uint32_t lightMask(const SurfaceHit& hit, RayCounts& counts, Recorder rec, AreaSampleBits* area = nullptr) const;
   template <class Recorder>
   void secondary(const SurfaceHit& hit, int depth, float throughput, glm::vec3& reflected, glm::vec3& transmitted,
                  bool& tracedReflection, bool& tracedRefraction, RayCounts& counts, Recorder rec) const;
