@@ -1,5 +1,6 @@
 // Golden images of the default (Whitted) scene: one per shading model with every effect off, and one per
-// preset. Tolerances (tests/golden/README.md):
+// preset; and of assets/scenes/area-lights.json (soft shadows at the default 4 light samples, first sample
+// of the sequence: the same seed gives the same image). Tolerances (tests/golden/README.md):
 //   raster-only frames: every channel within 2/255 on at least 99.9 % of pixels (as Filament's CI does on
 //   Mesa software rasterizers);
 //   frames with ray-traced effects: additionally LDR-FLIP mean under 0.01 (Embree's SIMD paths may differ
@@ -36,9 +37,10 @@ PixelDiff compareChannels(const Image& a, const Image& b, int tolerance) {
   return d;
 }
 
-void checkGolden(const std::string& name, const FrameSettings& settings, bool rayTraced) {
+void checkGolden(const std::string& name, const FrameSettings& settings, bool rayTraced,
+                 const std::string& sceneFile = "") {
   TD_REQUIRE_GL_CONTEXT();
-  auto scene = loadDefaultScene();
+  auto scene = sceneFile.empty() ? loadDefaultScene() : loadSceneFile(test::sourceDir() + "/assets/scenes/" + sceneFile);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   Camera camera = scene->camera;
   auto renderer = gltest::makeRenderer(*glContext_);
@@ -93,6 +95,10 @@ TEST(Golden, WhittedToon) { checkGolden("whitted-toon", effectsOff(ShadingModel:
 TEST(Golden, WhittedPresetRaster) { checkGolden("whitted-preset-raster", preset("raster"), false); }
 TEST(Golden, WhittedPresetHybridFast) { checkGolden("whitted-preset-hybrid-fast", preset("hybrid-fast"), true); }
 TEST(Golden, WhittedPresetHybridFull) { checkGolden("whitted-preset-hybrid-full", preset("hybrid-full"), true); }
+TEST(Golden, AreaLightsRaster) { checkGolden("area-lights-raster", preset("raster"), false, "area-lights.json"); }
+TEST(Golden, AreaLightsHybridFull) {
+  checkGolden("area-lights-hybrid-full", preset("hybrid-full"), true, "area-lights.json");
+}
 
 }  // namespace
 }  // namespace tandem
