@@ -430,7 +430,7 @@ float softShadowVisibility(int j, vec3 posW, vec3 Ng, float lightSize, float tur
   float search = min(2.0 * lightSize, 0.5 * len);
   float blockerSum = 0.0;
   float blockers = 0.0;
-  const int kSearch = 12;
+  const int kSearch = 8;
   for (int i = 0; i < kSearch; ++i) {
     vec2 o = vogelTap(i, kSearch, turn) * search;
     vec3 dir = rel + u * o.x + v * o.y;
@@ -450,7 +450,7 @@ float softShadowVisibility(int j, vec3 posW, vec3 Ng, float lightSize, float tur
   if (width <= texel) return shadowVisibility(j, posW, Ng);  // a penumbra narrower than the map resolves
   // 2. Percentage-closer filtering over the penumbra.
   float lit = 0.0;
-  const int kFilter = 16;
+  const int kFilter = 8;
   for (int i = 0; i < kFilter; ++i) {
     vec2 o = vogelTap(i, kFilter, turn) * width;
     vec3 dir = rel + u * o.x + v * o.y;

@@ -130,6 +130,8 @@ int main(int argc, char** argv) {
   if (!renderer) return fail(renderer.error().message);
   Camera camera = scene->camera;
   std::string sceneName = scenePath.empty() ? std::string("default (whitted.json)") : scenePath;
+  int areaLights = 0;
+  for (const Light* l : scene->directLights()) areaLights += isAreaLight(l->type) ? 1 : 0;
   if (auto r = (*renderer)->setScene(std::move(*scene)); !r) return fail(r.error().message);
 
   // A size the GL cannot hold is refused here with the limit or the allocation it hit, before any frame
@@ -212,6 +214,9 @@ int main(int argc, char** argv) {
                     static_cast<double>(refined) / (static_cast<double>(settings.width) * settings.height));
       std::printf("\n");
     }
+    if (areaLights > 0)
+      std::printf("  area lights: %d, %d sample(s) each per point and frame%s\n", areaLights, settings.lightSamples,
+                  settings.shadows == EffectMode::Ray ? ", a shadow ray each" : "");
     if (reused > 0)
       std::printf("  %d of %d frame(s) reused the frame before's rays (--reuse on: nothing moved)\n", reused, frames);
     if (last.budget.active) {
@@ -262,6 +267,7 @@ int main(int argc, char** argv) {
                            {"samples_drawn", samples},             {"refined_pixel_samples", refined},
                            {"accumulated", last.accumulated}};
     }
+    if (areaLights > 0) j["area_lights"] = {{"count", areaLights}, {"light_samples", settings.lightSamples}};
     j["reuse"] = settings.reuseRays;
     j["frames_reusing_rays"] = reused;
     if (last.budget.active) {

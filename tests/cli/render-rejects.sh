@@ -70,4 +70,7 @@ check --aa-threshold --aa adaptive --aa-threshold nan
 check --accumulate --accumulate -1
 check --accumulate --accumulate 65537
 check --accumulate --accumulate 8 --target-fps 30
+check --light-samples --light-samples 0
+check --light-samples --light-samples 33
+check --light-samples --light-samples many
 exit $status

@@ -163,10 +163,12 @@ BuiltScene buildScene(const Game& game) {
                                    marbleMat, game.marbleTransform(), true);
 
   // Lights: a fixed key light, two coloured lights circling the hall and a spot that follows the marble
-  // (4 direct lights of the engine's 8), then the ambient term last.
+  // (4 direct lights of the engine's 8), then the ambient term last. The key light is a sphere lamp (an area
+  // light, docs/area-lights.md): its shadows are soft, and at its radius it lights as the point it was.
   tandem::Light key;
   key.name = "key";
-  key.type = tandem::LightType::Point;
+  key.type = tandem::LightType::Sphere;
+  key.radius = 0.6f;
   key.posW = {2.0f, 7.5f, 3.0f};
   key.color = {1.0f, 0.97f, 0.9f};
   key.intensity = 0.9f;

@@ -56,6 +56,7 @@ struct Options {
   float targetFps = 0.0f;
   std::vector<std::string> aa{"off"};
   int accumulate = 16;
+  int lightSamples = tandem::FrameSettings{}.lightSamples;
   std::string frameLog;
   int errorEvery = 0;
   bool checkReuse = false;
@@ -261,7 +262,7 @@ class Session {
       << " shading=" << view_.shadingName() << " depth=" << s.maxDepth << " scale=" << s.rayScale
       << " budget=" << (view_.targetFps > 0.0f ? fpsText(view_.targetFps) : std::string("off"))
       << " aa=" << tandem::toString(s.aa) << (s.aa != tandem::AntiAlias::Off ? std::to_string(s.aaSamples) : std::string())
-      << " accumulate=" << s.accumulate;
+      << " accumulate=" << s.accumulate << " light-samples=" << s.lightSamples;
     return o.str();
   }
 
@@ -652,6 +653,11 @@ int run(int argc, char** argv) {
                  "off; FrameSettings::accumulate)")
       ->check(CLI::Range(0, 65536))
       ->capture_default_str();
+  app.add_option("--light-samples", o.lightSamples,
+                 "Samples per area light per pixel and frame (the hall's key light is a sphere light: soft shadows; "
+                 "FrameSettings::lightSamples)")
+      ->check(CLI::Range(1, 32))
+      ->capture_default_str();
   app.add_option("--frame-log", o.frameLog,
                  "Headless: one CSV row per frame (stage times, rays, the budget's choice; tandem-bench --budget)");
   app.add_option("--error-every", o.errorEvery,
@@ -737,6 +743,7 @@ int run(int argc, char** argv) {
   if (view.settings.aa != tandem::AntiAlias::Off && o.targetFps > 0.0f)
     return fail("--aa: a frame-time budget has no anti-aliasing step yet (drop --target-fps or --aa)");
   view.settings.accumulate = o.accumulate;
+  view.settings.lightSamples = o.lightSamples;
   if (!std::isfinite(o.targetFps)) return fail("--target-fps: must be 0.1..1000 frames per second");
   view.setTargetFps(o.targetFps);
   view.vsync = !o.noVsync;
