@@ -65,8 +65,9 @@ std::string modes(const FrameSettings& s) {
 /// resolution, the budget's other knobs alone (1/4 grid, depth 2 and 1), hybrid shadows and three anti-aliased
 /// frames (ssaa 4 over hybrid-fast and hybrid-full, adaptive up to 16 over hybrid-full). 19 in all, and
 /// two budget runs after them (kBudgetFractions): enough to draw a front and measure the budget's error
-/// table, few enough for about 15 minutes on two cores.
-std::vector<Combo> makeCombos(const FrameSettings& base) {
+/// table, few enough for about 15 minutes on two cores. A scene with area lights adds their sample counts
+/// over hybrid-full (1 and 16; the presets draw 4) and the raster preset's soft shadows at 16.
+std::vector<Combo> makeCombos(const FrameSettings& base, bool areaLights = false) {
   std::vector<Combo> c;
   for (const std::string& p : presetNames()) {
     FrameSettings s = *presetSettings(p, base);
@@ -119,6 +120,15 @@ std::vector<Combo> makeCombos(const FrameSettings& base) {
   c.push_back({"hybrid-fast-ssaa4", "aa", fastSsaa});
   c.push_back({"hybrid-full-ssaa4", "aa", fullSsaa});
   c.push_back({"hybrid-full-adaptive16", "aa", fullAdaptive});
+  if (areaLights) {
+    // Area lights: samples per light and pixel, each a shadow ray (docs/area-lights.md).
+    FrameSettings one = full, sixteen = full, rasterSixteen = raster;
+    one.lightSamples = 1;
+    sixteen.lightSamples = rasterSixteen.lightSamples = 16;
+    c.push_back({"hybrid-full-light1", "light-samples", one});
+    c.push_back({"hybrid-full-light16", "light-samples", sixteen});
+    c.push_back({"raster-light16", "light-samples", rasterSixteen});
+  }
   return c;
 }
 
@@ -473,7 +483,14 @@ int runSweep(const SweepOptions& o) {
     std::fprintf(stderr, "tandem-bench: no scene could be loaded\n");
     return 1;
   }
-  const std::size_t combosPer = makeCombos(FrameSettings{}).size() + std::size(kBudgetFractions);
+  auto hasAreaLights = [](const Scene& scene) {
+    for (const Light* l : scene.directLights())
+      if (isAreaLight(l->type)) return true;
+    return false;
+  };
+  std::size_t combosPer = makeCombos(FrameSettings{}).size() + std::size(kBudgetFractions);
+  for (const Loaded& l : scenes)
+    combosPer = std::max(combosPer, makeCombos(FrameSettings{}, hasAreaLights(l.scene)).size() + std::size(kBudgetFractions));
   const std::size_t totalSteps = scenes.size() * o.sizes.size() * (combosPer + 2);  // + truth + ceiling
   std::size_t done = 0;
   auto progress = [&](const std::string& what) {
@@ -504,6 +521,8 @@ int runSweep(const SweepOptions& o) {
       // Ground truth: the reference preset, N×N jittered spp, rendered once.
       FrameSettings truthSettings = *presetSettings("reference", base);
       truthSettings.referenceSpp = truthSppFor(o, size);
+      // Area lights: 16 samples per light in each of the N×N pixel samples (the presets draw 4).
+      if (hasAreaLights(l.scene)) truthSettings.lightSamples = 16;
       Timer truthTimer;
       FrameRun truth = renderFrames(renderer, camera, truthSettings, 0, 1);
       std::string prefix = fileSafe(l.label) + "-" + size.label();
@@ -513,7 +532,7 @@ int runSweep(const SweepOptions& o) {
 
       std::map<std::string, Image> images;
       std::vector<std::size_t> mine;
-      for (const Combo& combo : makeCombos(base)) {
+      for (const Combo& combo : makeCombos(base, hasAreaLights(l.scene))) {
         FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup, o.frames);
         Row row = measuredRow(l.label, size, combo, o.frames, run, truth.image);
         (void)writePng((fs::path(o.out) / "images" / (prefix + "-" + combo.name + ".png")).string(), run.image);

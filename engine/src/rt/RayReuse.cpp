@@ -83,12 +83,19 @@ ReuseGate::ReuseGate(const RayReuse& reuse, const Scene& scene, const EmbreeScen
     r.directional = static_cast<int>(l.posType.w + 0.5f) == TD_LIGHT_DIRECTIONAL;
     r.at = glm::dvec3(glm::vec3(l.posType));
     r.towards = -glm::dvec3(glm::vec3(l.dirRange));
+    const int type = static_cast<int>(l.posType.w + 0.5f);
+    if (type == TD_LIGHT_SPHERE) r.extent = glm::dvec3(static_cast<double>(l.shapeV.w));
+    else if (shading::tdIsAreaLight(type)) r.extent = glm::abs(glm::dvec3(glm::vec3(l.shapeU))) + glm::abs(glm::dvec3(glm::vec3(l.shapeV)));
     lights_.push_back(r);
   }
   keepable_ = all & ~reuse.changedLights;
-  // An area light's answer is per sample (RayOutputs::areaSamples), which a kept mask bit cannot give back.
+  // Area lights keep per-sample answers: only from a kept frame that has them, laid out for as many lights.
+  int areaLights = 0;
+  for (const shading::GpuLight& l : lights) areaLights += shading::tdIsAreaLight(static_cast<int>(l.posType.w + 0.5f)) ? 1 : 0;
+  const bool areaKept = reuse.rays && reuse.rays->areaLights == areaLights &&
+                        reuse.rays->areaSamples.size() == static_cast<std::size_t>(areaLights) * gridPixels;
   for (std::size_t j = 0; j < lights.size() && j < 32; ++j)
-    if (shading::tdIsAreaLight(static_cast<int>(lights[j].posType.w + 0.5f))) keepable_ &= ~(1u << j);
+    if (shading::tdIsAreaLight(static_cast<int>(lights[j].posType.w + 0.5f)) && !areaKept) keepable_ &= ~(1u << j);
   // Only a kept mask of this frame's sizes can be read; an empty one (no shadow ray last frame) says
   // "all visible" for the whole frame, not per pixel, so it keeps nothing.
   active_ = keepable_ != 0 && reuse.ids && reuse.rays && reuse.ids->ids.size() == pixels &&
@@ -124,8 +131,8 @@ void ReuseGate::selectForTile(glm::dvec3 lo, glm::dvec3 hi, double offsetScale, 
         if (l.towards[a] > 0.0) path.hi[a] = std::numeric_limits<double>::infinity();
         if (l.towards[a] < 0.0) path.lo[a] = -std::numeric_limits<double>::infinity();
       } else {
-        path.lo[a] = std::min(path.lo[a], l.at[a]);
-        path.hi[a] = std::max(path.hi[a], l.at[a]);
+        path.lo[a] = std::min(path.lo[a], l.at[a] - l.extent[a]);
+        path.hi[a] = std::max(path.hi[a], l.at[a] + l.extent[a]);
       }
     }
     // The rays leave from origins offset off the hits (offsetRayOrigin: under 2e-5 of the magnitudes behind
@@ -133,7 +140,7 @@ void ReuseGate::selectForTile(glm::dvec3 lo, glm::dvec3 hi, double offsetScale, 
     // clearOfMoved grows each box by kMargin of the origin's coordinates. Grown by twice kMargin of every
     // magnitude involved, which exceeds the offset and that growth together, no box a ray's test would
     // meet is left out.
-    const double scale = std::max({maxAbs(lo), maxAbs(hi), offsetScale, l.directional ? 0.0 : maxAbs(l.at)});
+    const double scale = std::max({maxAbs(lo), maxAbs(hi), offsetScale, l.directional ? 0.0 : maxAbs(glm::abs(l.at) + l.extent)});
     const double grow = 2.0 * kMargin * scale + 1e-30;
     path.lo -= glm::dvec3(grow);
     path.hi += glm::dvec3(grow);

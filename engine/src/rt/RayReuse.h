@@ -63,8 +63,15 @@ class ReuseGate {
   }
   /// The kept frame's light mask of grid pixel g.
   std::uint32_t keptMask(std::size_t g) const { return reuse_->rays->lightMask[g]; }
+  /// The kept frame's sample bits of area light `slot` at grid pixel g (RayOutputs::areaSamples): the same
+  /// point draws the same samples (its pixel's seed, the same sample index and count), so a sample's ray
+  /// that passes clear of what moved keeps its answer like a point light's.
+  std::uint32_t keptArea(std::size_t g, int slot) const {
+    return reuse_->rays->areaSamples[static_cast<std::size_t>(slot) * reuse_->rays->lightMask.size() + g];
+  }
   /// Chooses, for each light, the moved bounds that a shadow ray from a hit in [lo, hi] (render space)
-  /// towards the light can meet: its path lies in the box spanned by [lo, hi] and the light's position, or
+  /// towards the light can meet: its path lies in the box spanned by [lo, hi] and the light's position (an
+  /// area light's bounds), or
   /// [lo, hi] swept towards a directional light. A tile of kept hits on the floor far from what moved
   /// then tests no bounds at all per ray.
   /// `offsetScale`: the largest component of the hits' posMagnitude, the scale of their rays' origin
@@ -90,6 +97,7 @@ class ReuseGate {
   struct LightReach {
     bool directional = false;
     glm::dvec3 at{0.0};       // point and spot lights: the position
+    glm::dvec3 extent{0.0};   // area lights: the half-size of their bounds around `at`
     glm::dvec3 towards{0.0};  // directional lights: the direction to the light
   };
   std::vector<LightReach> lights_;

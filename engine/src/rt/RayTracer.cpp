@@ -199,7 +199,7 @@ struct HybridTiles {
     auto queue = [&](std::size_t g, const SurfaceHit& hit, bool samePoint) {
       if (modes.primaryShadowRays) {
         ShadowKeep keep;
-        if (samePoint) keep = {&reuse, &keptTile, reuse.keepableLights(), reuse.keptMask(g)};
+        if (samePoint) keep = {&reuse, &keptTile, reuse.keepableLights(), reuse.keptMask(g), g};
         const std::size_t plane = out.lightMask.size();
         std::uint32_t* area = out.areaLights > 0 ? out.areaSamples.data() + g : nullptr;
         if (batched) {

@@ -32,10 +32,16 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
       assert(area && "ShadowBatch::add: a frame with area lights needs their sample words");
       std::uint32_t& word = area[static_cast<std::size_t>(frame.areaSlot(j)) * areaStride];
       word = 0;
+      const bool keepable = keep && ((keep->lights >> j) & 1u);
       for (int k = 0; k < frame.lightSamples; ++k) {
         ShadowRay s = whitted.areaShadowRay(hit, j, k, origins, NoRecorder{});
         if (!s.needed) {
           if (s.visibleWithoutRay) word |= 1u << k;
+          continue;
+        }
+        if (keepable && keep->gate->clearOfMoved(*keep->tile, j, s.originW, s.dirW, s.tFar)) {
+          word |= keep->gate->keptArea(keep->grid, frame.areaSlot(j)) & (1u << k);
+          ++kept_;
           continue;
         }
         rays_.emplace_back();
@@ -91,12 +97,25 @@ void ShadowBatch::trace(RTCScene scene, LightMask* masks, RayCounts& counts, Cap
   // the whole ray pass ~8 % (docs/bench.md). The context is
   // left incoherent: with RTC_INTERSECT_CONTEXT_FLAG_COHERENT, Debian's Embree 3.13.5 never returned
   // from one tile's rtcOccluded1M (tests/rt GlassSlab after the grazing-light scenes).
+  // Area lights' rays one by one: Embree's packet traversal turns to single rays once few lanes are left
+  // active, so a ray's arithmetic depends on its packet's other rays, and a ray starting within an ulp of
+  // another surface (a wall's foot on the floor) can get another answer when the packet changes. Reuse
+  // across frames keeps per-sample answers and so changes the packets of the samples it traces; single
+  // rays make each answer the ray's own, as the frame traced whole gives it (docs/reuse.md).
   std::array<std::uint32_t, 33> first{};  // counting sort by light: bits_ holds one bit, 1 << j
-  for (std::uint32_t bit : bits_) ++first[static_cast<std::size_t>(std::countr_zero(bit)) + 1];
+  std::size_t packed = 0;
+  for (std::size_t i = 0; i < rays_.size(); ++i) {
+    if (areaWords_[i]) {
+      rtcOccluded1(scene, &ctx, &rays_[i]);
+      continue;
+    }
+    ++first[static_cast<std::size_t>(std::countr_zero(bits_[i])) + 1];
+    ++packed;
+  }
   for (std::size_t j = 1; j < first.size(); ++j) first[j] += first[j - 1];
-  order_.resize(rays_.size());
+  order_.resize(packed);
   for (std::size_t i = 0; i < rays_.size(); ++i)
-    order_[first[static_cast<std::size_t>(std::countr_zero(bits_[i]))]++] = static_cast<std::uint32_t>(i);
+    if (!areaWords_[i]) order_[first[static_cast<std::size_t>(std::countr_zero(bits_[i]))]++] = static_cast<std::uint32_t>(i);
   RTCRay8 packet{};  // inactive lanes of a last, partial packet stay defined
   alignas(32) int valid[kPacket];
   for (std::size_t start = 0; start < order_.size(); start += kPacket) {

@@ -28,6 +28,7 @@ struct ShadowKeep {
   const ReuseTile* tile = nullptr;  // the moved bounds the tile's rays can meet, per light
   std::uint32_t lights = 0;  // lights whose bit may be kept
   std::uint32_t bits = 0;    // the kept frame's mask
+  std::size_t grid = 0;      // the hit's grid pixel (an area light's kept sample bits, ReuseGate::keptArea)
 };
 
 class ShadowBatch {
