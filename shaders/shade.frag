@@ -419,6 +419,7 @@ float softShadowVisibility(int j, vec3 posW, vec3 Ng, float lightSize, float tur
   float n = s.params.y, f = s.params.z, layer = s.params.x;
   vec3 rel = posW - s.originKind.xyz;
   float len = length(rel);
+  if (!(len > 0.0)) return 1.0;  // at the light's centre: no direction to look up
   rel += Ng * (1.5 * s.params.w * len);
   vec3 u = normalize(cross(rel, abs(rel.y) < 0.99 * len ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
   vec3 v = normalize(cross(rel, u));

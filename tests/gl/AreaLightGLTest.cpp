@@ -4,7 +4,9 @@
 // light; the same seed gives the same image on any thread count; the raster fallback softens its shadows.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -216,6 +218,59 @@ TEST(AreaLight, AFrameKeepingLastFramesRaysIsTheFrameWithout) {
   EXPECT_GT(st.rays.shadowKept, static_cast<std::uint64_t>(kW * kH)) << "the samples clear of the box keep their answers";
   ASSERT_EQ(a.rgba.size(), b.rgba.size());
   EXPECT_TRUE(a.rgba == b.rgba);
+}
+
+TEST(AreaLight, LightsChangingTypeKeepNoOtherLightsSamples) {
+  // An area light's samples sit in the plane of its rank among the area lights: when two lights change type
+  // at once, the count stays and the rank of an unchanged area light moves, so the kept frame's planes would
+  // belong to other lights. Reuse then keeps no area answers, and the frame equals one drawn from scratch.
+  TD_REQUIRE_GL_CONTEXT();
+  const char* lights = R"(
+      { "type": "rect", "position": [-1.5, 3.5, 1], "direction": [0.3, -1, -0.2], "size": [1.5, 0.8],
+        "intensity": 9, "attenuation": [0, 0, 1] },
+      { "type": "point", "position": [2.5, 3, -1], "intensity": 3, "attenuation": [0, 0, 1] },
+      { "type": "sphere", "position": [0.5, 2.6, 2.2], "radius": 0.35, "intensity": 4, "attenuation": [0, 0, 1] },
+      { "type": "point", "position": [-2, 2, 2], "intensity": 2, "attenuation": [0, 0, 1] })";
+  Frame kept = load(*glContext_, lights), fresh = load(*glContext_, lights);
+  FrameSettings keeping = preset(kept, "hybrid-full");
+  keeping.reuseRays = true;
+  FrameSettings scratch = keeping;
+  scratch.reuseRays = false;
+  draw(kept, keeping);
+  // Scene lights: 0 ambient, 1 rect, 2 point, 3 sphere, 4 point. The rect becomes a point light and the last
+  // point a disk: still two area lights, the sphere's rank 1 → 0.
+  for (Frame* f : {&kept, &fresh}) {
+    Light a = f->renderer->scene().lights[1], d = f->renderer->scene().lights[4];
+    a.type = LightType::Point;
+    d.type = LightType::Disk;
+    d.dirW = glm::vec3(0.5f, -1.0f, -0.5f);
+    d.radius = 0.4f;
+    f->renderer->setLight(1, a);
+    f->renderer->setLight(4, d);
+  }
+  const glm::mat4 moved = glm::translate(glm::mat4(1.0f), glm::vec3(-0.6f, 0.5f, 0.3f));
+  kept.renderer->setInstanceTransform(1, moved);
+  fresh.renderer->setInstanceTransform(1, moved);
+  const Image a = draw(kept, keeping), b = draw(fresh, scratch);
+  ASSERT_EQ(a.rgba.size(), b.rgba.size());
+  EXPECT_TRUE(a.rgba == b.rgba);
+}
+
+TEST(AreaLight, SetLightRefusesABadShape) {
+  TD_REQUIRE_GL_CONTEXT();
+  Frame f = load(*glContext_);
+  const Image before = draw(f, preset(f, "hybrid-full"));
+  for (float radius : {std::nanf(""), -1.0f, std::numeric_limits<float>::infinity()}) {
+    Light l = f.renderer->scene().lights[3];  // the sphere
+    l.radius = radius;
+    f.renderer->setLight(3, l);
+    EXPECT_EQ(f.renderer->scene().lights[3].radius, 0.35f) << radius;
+  }
+  Light rect = f.renderer->scene().lights[1];
+  rect.dirW = glm::vec3(0.0f);
+  f.renderer->setLight(1, rect);
+  EXPECT_NE(f.renderer->scene().lights[1].dirW, glm::vec3(0.0f));
+  EXPECT_TRUE(draw(f, preset(f, "hybrid-full")).rgba == before.rgba);
 }
 
 }  // namespace

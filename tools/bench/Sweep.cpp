@@ -63,7 +63,8 @@ std::string modes(const FrameSettings& s) {
 /// rays), and per effect the two isolating pairs — only that effect ray traced over the raster preset,
 /// and only that effect rasterized under hybrid-full — plus everything off, hybrid-full at half
 /// resolution, the budget's other knobs alone (1/4 grid, depth 2 and 1), hybrid shadows and three anti-aliased
-/// frames (ssaa 4 over hybrid-fast and hybrid-full, adaptive up to 16 over hybrid-full). 19 in all, and
+/// frames (ssaa 4 over hybrid-fast and hybrid-full, adaptive up to 16 over hybrid-full). 19 in all (22 with
+/// area lights), and
 /// two budget runs after them (kBudgetFractions): enough to draw a front and measure the budget's error
 /// table, few enough for about 15 minutes on two cores. A scene with area lights adds their sample counts
 /// over hybrid-full (1 and 16; the presets draw 4) and the raster preset's soft shadows at 16.
@@ -488,10 +489,11 @@ int runSweep(const SweepOptions& o) {
       if (isAreaLight(l->type)) return true;
     return false;
   };
-  std::size_t combosPer = makeCombos(FrameSettings{}).size() + std::size(kBudgetFractions);
-  for (const Loaded& l : scenes)
-    combosPer = std::max(combosPer, makeCombos(FrameSettings{}, hasAreaLights(l.scene)).size() + std::size(kBudgetFractions));
-  const std::size_t totalSteps = scenes.size() * o.sizes.size() * (combosPer + 2);  // + truth + ceiling
+  auto combosFor = [&](const Scene& scene) {
+    return makeCombos(FrameSettings{}, hasAreaLights(scene)).size() + std::size(kBudgetFractions);
+  };
+  std::size_t totalSteps = 0;
+  for (const Loaded& l : scenes) totalSteps += o.sizes.size() * (combosFor(l.scene) + 2);  // + truth + ceiling
   std::size_t done = 0;
   auto progress = [&](const std::string& what) {
     ++done;
@@ -510,7 +512,7 @@ int runSweep(const SweepOptions& o) {
                 l.scene.instances.size(), l.scene.directLights().size());
     if (auto r = renderer.setScene(l.scene); !r) {
       std::printf("  skipping %s: %s\n", l.label.c_str(), r.error().message.c_str());
-      done += o.sizes.size() * (combosPer + 2);
+      done += o.sizes.size() * (combosFor(l.scene) + 2);
       continue;
     }
     const Camera camera = l.scene.camera;

@@ -41,6 +41,10 @@ struct Material {
   float kr = 0.0f;      // mirror reflectance in [0, 1]: weight of the reflected ray S
   float kt = 0.0f;      // transmittance in [0, 1]: weight of the refracted ray T
   float ior = 1.5f;     // index of refraction of the inside (the outside is 1)
+  // Glossy reflection and transmission (docs/glossy.md): the S and T rays are sampled from a lobe around the
+  // mirror and refracted directions, glTF's roughness (α = roughness², a Phong lobe of exponent 2/α² − 2);
+  // 0 is the perfect mirror and sharp refraction. In [0, 1].
+  float roughness = 0.0f;
   glm::vec3 emission{0.0f};
   ShadingModel shading = ShadingModel::Phong;
   std::vector<ToonStep> toonRamp{{-1.0f, 0.15f}, {0.1f, 0.55f}, {0.6f, 1.0f}};
@@ -166,6 +170,9 @@ struct Scene {
 struct Error;
 template <class T> class Result;
 Result<void> validateScene(const Scene& scene);
+/// The per-light part of validateScene (Renderer::setLight checks a light with it): finite values, no
+/// negative colour, intensity, size or radius, a direction where the type needs one. The error names `id`.
+Result<void> validateLight(const Light& light, const std::string& id);
 
 /// Pairs of instances whose faces lie in one plane, overlap and can be seen doing so: they fight for the same
 /// depth, so the shared area flickers between the two surfaces. Faces looking the same way always count;

@@ -91,6 +91,9 @@ struct FrameSettings {
   /// Area lights (docs/area-lights.md): samples per light per shaded point and frame, each with its own
   /// shadow ray when shadows are by rays; the frames of an accumulation draw new ones. [1, 32]
   int lightSamples = 4;
+  /// Glossy materials (Material::roughness > 0; docs/glossy.md): reflection and refraction rays per primary
+  /// hit and frame, sampled from the lobe (deeper bounces take one); accumulated frames draw new ones. [1, 32]
+  int glossSamples = 4;
 
   /// Clamps ranges and applies dependencies (e.g. rayScale rounded to 1, 2 or 4).
   FrameSettings resolved() const;

@@ -38,25 +38,30 @@ bool finite(const glm::mat4& m) {
 }
 }  // namespace
 
+Result<void> validateLight(const Light& l, const std::string& id) {
+  if (!finite(l.color) || !std::isfinite(l.intensity) || !finite(l.posW) || !finite(l.dirW) ||
+      !std::isfinite(l.range) || !finite(l.attenuation) || !finite(l.upW) || !std::isfinite(l.size.x) ||
+      !std::isfinite(l.size.y) || !std::isfinite(l.radius))
+    return Error{id + ": a value is NaN or infinite"};
+  if (isAreaLight(l.type) && (l.size.x < 0.0f || l.size.y < 0.0f || l.radius < 0.0f))
+    return Error{id + ": negative size or radius"};
+  if (l.intensity < 0.0f || l.color.x < 0.0f || l.color.y < 0.0f || l.color.z < 0.0f)
+    return Error{id + ": negative colour or intensity"};
+  if ((l.type == LightType::Spot || l.type == LightType::Directional || l.type == LightType::Rect ||
+       l.type == LightType::Disk) &&
+      glm::dot(l.dirW, l.dirW) < 1e-12f)
+    return Error{id + ": zero direction"};
+  return {};
+}
+
 Result<void> validateScene(const Scene& scene) {
   const std::string where = scene.name.empty() ? std::string("scene") : "scene '" + scene.name + "'";
   int direct = 0;
   for (std::size_t i = 0; i < scene.lights.size(); ++i) {
     const Light& l = scene.lights[i];
     std::string id = where + ": light " + std::to_string(i) + (l.name.empty() ? "" : " '" + l.name + "'");
-    if (!finite(l.color) || !std::isfinite(l.intensity) || !finite(l.posW) || !finite(l.dirW) ||
-        !std::isfinite(l.range) || !finite(l.attenuation) || !finite(l.upW) || !std::isfinite(l.size.x) ||
-        !std::isfinite(l.size.y) || !std::isfinite(l.radius))
-      return Error{id + ": a value is NaN or infinite"};
-    if (isAreaLight(l.type) && (l.size.x < 0.0f || l.size.y < 0.0f || l.radius < 0.0f))
-      return Error{id + ": negative size or radius"};
-    if (l.intensity < 0.0f || l.color.x < 0.0f || l.color.y < 0.0f || l.color.z < 0.0f)
-      return Error{id + ": negative colour or intensity"};
+    if (auto checked = validateLight(l, id); !checked) return checked;
     if (l.type != LightType::Ambient) ++direct;
-    if ((l.type == LightType::Spot || l.type == LightType::Directional || l.type == LightType::Rect ||
-         l.type == LightType::Disk) &&
-        glm::dot(l.dirW, l.dirW) < 1e-12f)
-      return Error{id + ": zero direction"};
   }
   if (direct > kMaxLights)
     return Error{where + ": " + std::to_string(direct) + " lights, more than the limit of " +
@@ -78,9 +83,10 @@ Result<void> validateScene(const Scene& scene) {
     const Material& mat = scene.materials[m];
     std::string id = where + ": material " + std::to_string(m) + (mat.name.empty() ? "" : " '" + mat.name + "'");
     if (!finite(mat.ka) || !finite(mat.kd) || !finite(mat.ks) || !std::isfinite(mat.ns) || !std::isfinite(mat.kr) ||
-        !std::isfinite(mat.kt) || !std::isfinite(mat.ior) || !finite(mat.emission))
+        !std::isfinite(mat.kt) || !std::isfinite(mat.ior) || !finite(mat.emission) || !std::isfinite(mat.roughness))
       return Error{id + ": a value is NaN or infinite"};
     if (mat.ior <= 0.0f) return Error{id + ": ior must be > 0"};
+    if (mat.roughness < 0.0f || mat.roughness > 1.0f) return Error{id + ": roughness must be in [0, 1]"};
     if (mat.ns < 0.0f) return Error{id + ": ns must be >= 0"};
     if (mat.kdTexture >= int(scene.textures.size()) || mat.normalTexture >= int(scene.textures.size()) ||
         mat.emissiveTexture >= int(scene.textures.size()))

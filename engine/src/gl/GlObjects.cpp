@@ -115,6 +115,23 @@ Result<Texture> tryCreateTexture2D(std::string_view name, GLenum internalFormat,
                glErrorName(error)};
 }
 
+Result<Texture> tryCreateTexture2DArray(std::string_view name, GLenum internalFormat, int width, int height, int layers) {
+  assert(width > 0 && height > 0 && layers > 0 && "tryCreateTexture2DArray: empty texture");
+  for (int i = 0; i < 16; ++i) {
+    GLenum pending = glGetError();
+    if (pending == GL_NO_ERROR) break;
+    logWarning("GL: " + glErrorName(pending) + " was pending before allocating '" + std::string(name) + "'");
+  }
+  Texture texture = createTexture2DArray(name, internalFormat, width, height, layers, 1);
+  GLenum error = glGetError();
+  if (error == GL_NO_ERROR) return texture;
+  std::size_t bytes = texelBytes(internalFormat) * static_cast<std::size_t>(width) * static_cast<std::size_t>(height) *
+                      static_cast<std::size_t>(layers);
+  return Error{"GL texture '" + std::string(name) + "' (" + std::to_string(width) + "x" + std::to_string(height) + "x" +
+               std::to_string(layers) + " " + formatName(internalFormat) + ", " + formatBytes(bytes) +
+               "): glTextureStorage3D failed with " + glErrorName(error)};
+}
+
 Result<void> checkFramebufferComplete(const Framebuffer& framebuffer, std::string_view name) {
   GLenum status = glCheckNamedFramebufferStatus(framebuffer.id(), GL_FRAMEBUFFER);
   if (status == GL_FRAMEBUFFER_COMPLETE) return {};

@@ -104,6 +104,8 @@ std::string glErrorName(GLenum error);
 std::string formatBytes(std::size_t bytes);
 Texture createTexture2DArray(std::string_view label, GLenum internalFormat, int width, int height, int layers,
                              int levels);
+/// createTexture2DArray (one level) for frame-size storage that may not fit, checked as tryCreateTexture2D.
+Result<Texture> tryCreateTexture2DArray(std::string_view label, GLenum internalFormat, int width, int height, int layers);
 /// Cube map (or cube map array of `layers` cubes when layers > 0) with immutable storage.
 Texture createTextureCube(std::string_view label, GLenum internalFormat, int size, int layers = 0);
 /// A buffer texture viewing all of `buffer` as texels of `internalFormat` (no copy): shaders gather

@@ -121,7 +121,11 @@ Result<void> ShadePass::uploadLightMask(int width, int height, const std::uint8_
   auto sent = uploadGrid(lightMask_, "ray light mask", kChannelLightMask, width, height, mask);
   if (!sent || areaLights <= 0 || !areaSamples) return sent;
   if (!areaSamples_ || areaWidth_ != width || areaHeight_ != height || areaLayers_ != areaLights) {
-    areaSamples_ = createTexture2DArray("ray area-light samples", kChannelAreaSamples.internal, width, height, areaLights, 1);
+    areaSamples_.reset();
+    areaWidth_ = areaHeight_ = areaLayers_ = 0;
+    auto made = tryCreateTexture2DArray("ray area-light samples", kChannelAreaSamples.internal, width, height, areaLights);
+    if (!made) return made.error();
+    areaSamples_ = std::move(*made);
     setSampling(areaSamples_, GL_NEAREST, GL_NEAREST);
     areaWidth_ = width;
     areaHeight_ = height;

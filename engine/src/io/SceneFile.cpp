@@ -293,7 +293,7 @@ class Builder {
 
   Material material(const Json& j, const std::string& path) const {
     r_.object(j, path);
-    r_.checkKeys(j, path, {"ka", "kd", "ks", "ns", "kr", "kt", "ior", "emission", "shading", "toonRamp", "checker",
+    r_.checkKeys(j, path, {"ka", "kd", "ks", "ns", "kr", "kt", "ior", "roughness", "emission", "shading", "toonRamp", "checker",
                            "opacity", "alphaMode", "alphaCutoff", "doubleSided", "unlit"});
     Material m;
     auto opt = [&](std::string_view key) { return Reader::find(j, key); };
@@ -304,6 +304,7 @@ class Builder {
     if (const Json* v = opt("kr")) m.kr = r_.number(*v, child(path, "kr"), kUnit);
     if (const Json* v = opt("kt")) m.kt = r_.number(*v, child(path, "kt"), kUnit);
     if (const Json* v = opt("ior")) m.ior = r_.number(*v, child(path, "ior"), Range{0.0, 10.0, true});
+    if (const Json* v = opt("roughness")) m.roughness = r_.number(*v, child(path, "roughness"), kUnit);
     if (const Json* v = opt("emission")) m.emission = r_.color(*v, child(path, "emission"));
     if (const Json* v = opt("shading")) {
       const std::string p = child(path, "shading");

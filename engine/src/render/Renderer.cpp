@@ -164,8 +164,6 @@ bool finiteMatrix(const glm::mat4& m) {
   return true;
 }
 
-bool finiteVec(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
 std::string frameError(const FrameSettings& s, const std::string& why) {
   return "frame " + std::to_string(s.width) + "x" + std::to_string(s.height) + ": " + why;
 }
@@ -244,14 +242,14 @@ void Renderer::setInstanceTransform(std::uint32_t instance, const glm::mat4& wor
 void Renderer::setLight(std::uint32_t light, const Light& value) {
   Impl& r = *impl_;
   assert(light < r.scene.lights.size() && "Renderer::setLight: light out of range");
-  bool finite = finiteVec(value.color) && std::isfinite(value.intensity) && finiteVec(value.posW) &&
-                finiteVec(value.dirW) && std::isfinite(value.range) && finiteVec(value.attenuation);
+  const Result<void> valid = validateLight(value, "Renderer::setLight: light " + std::to_string(light));
   int direct = 0;
   for (std::size_t i = 0; i < r.scene.lights.size(); ++i)
     direct += (i == light ? value.type : r.scene.lights[i].type) != LightType::Ambient ? 1 : 0;
-  if (!finite || direct > kMaxLights) {
-    logWarning("Renderer::setLight: light " + std::to_string(light) +
-               (finite ? " would exceed the light limit" : " has a NaN or infinite value") + "; kept the previous one");
+  if (!valid || direct > kMaxLights) {
+    logWarning((valid ? "Renderer::setLight: light " + std::to_string(light) + " would exceed the light limit"
+                      : valid.error().message) +
+               "; kept the previous one");
     return;
   }
   if (r.scene.lights[light] == value) return;  // unchanged: as for setInstanceTransform
@@ -593,6 +591,7 @@ void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, Fram
   rays.lightMask.clear();
   rays.areaSamples.clear();
   rays.areaLights = 0;
+  rays.areaLightBits = 0;
   rays.reflected.clear();
   rays.transmitted.clear();
   rays.reflectedTiles.clear();

@@ -39,6 +39,7 @@ struct RayOutputs {
   // lightMask where shadows are by rays and the scene has area lights; empty otherwise.
   std::vector<std::uint32_t> areaSamples;
   int areaLights = 0;
+  std::uint32_t areaLightBits = 0;  // bit j: direct light j is an area light (whose plane is its rank among them)
   // rgb: weighted reflected radiance (wR·S), linear; a = 1 where a ray was traced. Zero elsewhere.
   std::vector<glm::vec4> reflected;
   std::vector<glm::vec4> transmitted;    // the same for the weighted transmitted radiance (wT·T)

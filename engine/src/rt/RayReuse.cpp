@@ -89,10 +89,16 @@ ReuseGate::ReuseGate(const RayReuse& reuse, const Scene& scene, const EmbreeScen
     lights_.push_back(r);
   }
   keepable_ = all & ~reuse.changedLights;
-  // Area lights keep per-sample answers: only from a kept frame that has them, laid out for as many lights.
+  // Area lights keep per-sample answers: only from a kept frame that has them, with the same lights area
+  // lights (a light's plane is its rank among them, which a light changing type would shift).
   int areaLights = 0;
-  for (const shading::GpuLight& l : lights) areaLights += shading::tdIsAreaLight(static_cast<int>(l.posType.w + 0.5f)) ? 1 : 0;
-  const bool areaKept = reuse.rays && reuse.rays->areaLights == areaLights &&
+  std::uint32_t areaBits = 0;
+  for (std::size_t j = 0; j < lights.size() && j < 32; ++j)
+    if (shading::tdIsAreaLight(static_cast<int>(lights[j].posType.w + 0.5f))) {
+      ++areaLights;
+      areaBits |= 1u << j;
+    }
+  const bool areaKept = reuse.rays && reuse.rays->areaLightBits == areaBits && reuse.rays->areaLights == areaLights &&
                         reuse.rays->areaSamples.size() == static_cast<std::size_t>(areaLights) * gridPixels;
   for (std::size_t j = 0; j < lights.size() && j < 32; ++j)
     if (shading::tdIsAreaLight(static_cast<int>(lights[j].posType.w + 0.5f)) && !areaKept) keepable_ &= ~(1u << j);

@@ -315,6 +315,7 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
     out.lightMask.clear();
     out.areaSamples.clear();
     out.areaLights = 0;
+    out.areaLightBits = 0;
   }
   if (out.counts.reflection == 0) out.reflected.clear(), out.reflectedTiles.clear();
   if (out.counts.refraction == 0) out.transmitted.clear(), out.transmittedTiles.clear();
@@ -335,8 +336,15 @@ void RayTracer::hybridPass(const Scene& scene, const Camera& camera, const Frame
   // assign() of the ~30 MB of a 1280×720 frame would cost more than a few percent of the pass.
   out.lightMask.resize(n);
   out.areaLights = 0;
-  if (TraceModes::hybrid(settings).primaryShadowRays)
-    for (const Light* l : scene.directLights()) out.areaLights += isAreaLight(l->type) ? 1 : 0;
+  out.areaLightBits = 0;
+  if (TraceModes::hybrid(settings).primaryShadowRays) {
+    const std::vector<const Light*> lights = scene.directLights();
+    for (std::size_t j = 0; j < lights.size(); ++j)
+      if (isAreaLight(lights[j]->type)) {
+        ++out.areaLights;
+        out.areaLightBits |= 1u << j;
+      }
+  }
   out.areaSamples.resize(static_cast<std::size_t>(out.areaLights) * n);
   out.reflected.resize(n);
   out.transmitted.resize(n);
@@ -348,6 +356,7 @@ void RayTracer::hybridPass(const Scene& scene, const Camera& camera, const Frame
     out.lightMask.clear();
     out.areaSamples.clear();
     out.areaLights = 0;
+    out.areaLightBits = 0;
     out.reflected.clear();
     out.transmitted.clear();
     out.reflectedTiles.clear();

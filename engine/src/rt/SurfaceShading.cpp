@@ -3,6 +3,7 @@
 #include <bit>
 #include <cassert>
 #include <cmath>
+#include <limits>
 
 #include "rt/RayMath.h"
 
@@ -50,6 +51,44 @@ FrameShading::FrameShading(const Scene& scene, std::optional<ShadingModel> shadi
   }
   ambient = scene.ambientIntensity();
   background = scene.background;
+  roughness.reserve(scene.materials.size());
+  for (const Material& m : scene.materials) roughness.push_back(m.roughness);
+}
+
+void FrameShading::setGlossSampling(int samples, std::uint32_t sampleIndex) {
+  glossSamples = std::clamp(samples, 1, 32);
+  glossBase = sampleIndex * static_cast<std::uint32_t>(glossSamples);
+}
+
+float glossExponent(float roughness) {
+  if (!(roughness > 0.0f)) return std::numeric_limits<float>::infinity();
+  const double alpha = static_cast<double>(roughness) * static_cast<double>(roughness);
+  return static_cast<float>(std::max(2.0 / (alpha * alpha) - 2.0, 0.0));
+}
+
+glm::vec3 glossyDirection(glm::vec3 axis, float roughness, glm::vec2 u, glm::vec3 side) {
+  if (!(roughness > 0.0f)) return axis;
+  const double e = static_cast<double>(glossExponent(roughness));
+  // 1 − cos θ = 1 − u^(1/(e+1)) = −expm1(ln u / (e + 1)): exact for the narrow lobes of small roughness,
+  // where cos θ rounds to 1. u.x = 0 is the lobe's rim direction at the most.
+  const double ux = std::max(static_cast<double>(u.x), 1e-12);
+  const double oneMinusCos = -std::expm1(std::log(ux) / (e + 1.0));
+  const double sinT = std::sqrt(std::max(oneMinusCos * (2.0 - oneMinusCos), 0.0));
+  const double cosT = 1.0 - oneMinusCos;
+  const double phi = 6.283185307179586 * static_cast<double>(u.y);
+  // An orthonormal frame around the axis (Duff et al. 2017).
+  const glm::dvec3 w(axis);
+  const double sgn = w.z >= 0.0 ? 1.0 : -1.0;
+  const double a = -1.0 / (sgn + w.z);
+  const double b = w.x * w.y * a;
+  const glm::dvec3 t1(1.0 + sgn * w.x * w.x * a, sgn * b, -sgn * w.x);
+  const glm::dvec3 t2(b, sgn + w.y * w.y * a, -w.y);
+  glm::dvec3 d = t1 * (sinT * std::cos(phi)) + t2 * (sinT * std::sin(phi)) + w * cosT;
+  const glm::dvec3 n(side);
+  const double across = glm::dot(d, n);
+  if (!(across > 0.0)) d -= 2.0 * across * n;  // mirrored back over the facet
+  const double len = glm::length(d);
+  return len > 0.0 && std::isfinite(len) ? glm::vec3(d / len) : axis;
 }
 
 void FrameShading::setLightSampling(int samples, std::uint32_t sampleIndex) {

@@ -105,16 +105,37 @@ struct FrameShading {
   /// accumulation (Camera::sampleIndex) draw new points of one stratified sequence.
   int lightSamples = 1;
   std::uint32_t sampleBase = 0;
+  /// Glossy rays per primary hit this frame (FrameSettings::glossSamples) and their sequence index's start
+  /// (sampleIndex · glossSamples), as for the light samples.
+  int glossSamples = 1;
+  std::uint32_t glossBase = 0;
   /// Light positions in render space (see toRenderSpace).
   FrameShading(const Scene& scene, std::optional<ShadingModel> shadingOverride, glm::vec3 anchor = glm::vec3(0.0f));
   /// Sets lightSamples and sampleBase for a frame drawing `samples` area-light samples per point, its
   /// accumulation sample `sampleIndex` (Camera::sampleIndex).
   void setLightSampling(int samples, std::uint32_t sampleIndex);
+  /// Sets glossSamples and glossBase likewise.
+  void setGlossSampling(int samples, std::uint32_t sampleIndex);
+  /// Material m's roughness (Material::roughness; 0: mirror reflection and sharp refraction).
+  std::vector<float> roughness;
   bool castsShadows(std::size_t light) const { return lights[light].radiance.w > 0.5f; }
   int lightType(std::size_t light) const { return static_cast<int>(lights[light].posType.w + 0.5f); }
   bool isArea(std::size_t light) const { return shading::tdIsAreaLight(lightType(light)); }
   int areaSlot(std::size_t light) const { return static_cast<int>(lights[light].shapeU.w + 0.5f); }
 };
+
+/// Phong-lobe exponent of a roughness: glTF's α = roughness², e = 2/α² − 2 (Walter et al. 2007, the
+/// Beckmann ↔ Phong match); infinite (a mirror) at 0.
+float glossExponent(float roughness);
+
+/// A direction of the glossy lobe of `roughness` around the unit `axis` (the mirror or refracted direction)
+/// for the point u of the unit square: cos θ = u.x^(1/(e+1)) (importance sampled: every sample weighs 1/N),
+/// φ = 2π·u.y. A direction on the wrong side of the facet (dot with `side`, ±geomNormalW, not > 0) is
+/// mirrored across it, so the lobe's energy stays on its side. At roughness 0, `axis` itself.
+glm::vec3 glossyDirection(glm::vec3 axis, float roughness, glm::vec2 u, glm::vec3 side);
+
+/// The sample streams glossy rays draw from (tdLightSampleU's light argument, clear of the lights' 0..7).
+inline constexpr int kGlossReflectStream = 16, kGlossRefractStream = 17;
 
 /// The sample-visibility bits of a point's area lights: word a (an area slot, GpuLight::shapeU.w) has bit k
 /// set where sample k of that light is unoccluded.
