@@ -642,16 +642,21 @@ void shadePixel() {
     // Coverage and tint (docs/gltf.md): the covered part reflects and refracts (tinted), the rest passes
     // straight through; BLEND materials have IOR 1, so both go along the same direction.
     wR *= coverage;
-    int ut = 4 * int(tri.material) + 3;  // the transmission tint sits in the uv-transform record
-    vec3 wTv = tdTransmitWeight(coverage, wT, texelFetch(uvTransformsBuf, ut).rgb);
+    int ut = 4 * int(tri.material) + 3;  // the transmission tint and roughness sit in the uv-transform record
+    vec4 tintRough = texelFetch(uvTransformsBuf, ut);
+    vec3 wTv = tdTransmitWeight(coverage, wT, tintRough.rgb);
     float layer = float(tri.probe - 1u);
+    // A glossy material (docs/glossy.md) reads the probe at the mip level whose texels are as wide as its
+    // lobe: about α = roughness² radians, a level-0 texel of a 128² face being (π/2)/128.
+    float alpha = tintRough.a * tintRough.a;
+    float lod = alpha > 0.0 ? clamp(log2(alpha * (128.0 * 2.0 / 3.14159265)), 0.0, 7.0) : 0.0;
 #if (TD_PROBES & TD_PROBE_REFLECT) != 0
-    if (wR > 0.0) rays.reflected += wR * textureLod(probes, vec4(tdReflectOverFacet(V, N, Ng), layer), 0.0).rgb;
+    if (wR > 0.0) rays.reflected += wR * textureLod(probes, vec4(tdReflectOverFacet(V, N, Ng), layer), lod).rgb;
 #endif
 #if (TD_PROBES & TD_PROBE_REFRACT) != 0
     if (wTv.x > 0.0 || wTv.y > 0.0 || wTv.z > 0.0) {
       vec3 T = etaI == etaT ? -V : tdRefractOverFacet(normalize(eta * -V + (eta * cosI - sqrt(max(cos2T, 0.0))) * N), V, Ng, eta);
-      rays.transmitted += wTv * textureLod(probes, vec4(T, layer), 0.0).rgb;
+      rays.transmitted += wTv * textureLod(probes, vec4(T, layer), lod).rgb;
     }
 #endif
   }

@@ -63,6 +63,10 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
   app.add_option("--light-samples", o.lightSamples,
                  "Area lights: samples per light per shaded point and frame, each with its own shadow ray when shadows "
                  "are by rays (accumulated frames add new ones); 1..32 (default " + std::to_string(d.lightSamples) + ")");
+  app.add_option("--gloss-samples", o.glossSamples,
+                 "Glossy materials (roughness > 0): reflection and refraction rays per primary hit and frame, sampled "
+                 "from the lobe (deeper bounces take one; accumulated frames draw new ones); 1..32 (default " +
+                     std::to_string(d.glossSamples) + ")");
   app.add_flag("--classic-whitted", o.classicWhitted,
                "I = local + kr·S + kt·T (default: the Fresnel-weighted sum, docs/shading.md)");
   app.add_flag("--schlick", o.schlick, "Schlick's Fresnel approximation (default: the exact dielectric form)");
@@ -177,6 +181,12 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
       return Error{"--light-samples: must be 1..32 samples per light per frame (accumulate frames for more), got " +
                    std::to_string(*o.lightSamples)};
     s.lightSamples = *o.lightSamples;
+  }
+  if (o.glossSamples) {
+    if (*o.glossSamples < 1 || *o.glossSamples > 32)
+      return Error{"--gloss-samples: must be 1..32 rays per glossy hit per frame (accumulate frames for more), got " +
+                   std::to_string(*o.glossSamples)};
+    s.glossSamples = *o.glossSamples;
   }
   if (s.aa != AntiAlias::Off && s.reference)
     return Error{"--aa: the reference preset takes its samples per pixel from --spp, got --aa " + o.aa->front()};

@@ -33,6 +33,7 @@ struct FrameOptions {
   std::optional<float> aaThreshold;
   std::optional<int> accumulate;
   std::optional<int> lightSamples;
+  std::optional<int> glossSamples;
   bool classicWhitted = false;
   bool schlick = false;
 };

@@ -73,4 +73,6 @@ check --accumulate --accumulate 8 --target-fps 30
 check --light-samples --light-samples 0
 check --light-samples --light-samples 33
 check --light-samples --light-samples many
+check --gloss-samples --gloss-samples 0
+check --gloss-samples --gloss-samples 33
 exit $status

@@ -1,6 +1,6 @@
 // Golden images of the default (Whitted) scene: one per shading model with every effect off, and one per
-// preset; and of assets/scenes/area-lights.json (soft shadows at the default 4 light samples, first sample
-// of the sequence: the same seed gives the same image). Tolerances (tests/golden/README.md):
+// preset; and of assets/scenes/area-lights.json and glossy.json (soft shadows and glossy rays at the default
+// 4 samples, first sample of the sequence: the same seed gives the same image). Tolerances (tests/golden/README.md):
 //   raster-only frames: every channel within 2/255 on at least 99.9 % of pixels (as Filament's CI does on
 //   Mesa software rasterizers);
 //   frames with ray-traced effects: additionally LDR-FLIP mean under 0.01 (Embree's SIMD paths may differ
@@ -99,6 +99,8 @@ TEST(Golden, AreaLightsRaster) { checkGolden("area-lights-raster", preset("raste
 TEST(Golden, AreaLightsHybridFull) {
   checkGolden("area-lights-hybrid-full", preset("hybrid-full"), true, "area-lights.json");
 }
+TEST(Golden, GlossyRaster) { checkGolden("glossy-raster", preset("raster"), false, "glossy.json"); }
+TEST(Golden, GlossyHybridFull) { checkGolden("glossy-hybrid-full", preset("hybrid-full"), true, "glossy.json"); }
 
 }  // namespace
 }  // namespace tandem

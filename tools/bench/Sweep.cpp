@@ -63,12 +63,13 @@ std::string modes(const FrameSettings& s) {
 /// rays), and per effect the two isolating pairs — only that effect ray traced over the raster preset,
 /// and only that effect rasterized under hybrid-full — plus everything off, hybrid-full at half
 /// resolution, the budget's other knobs alone (1/4 grid, depth 2 and 1), hybrid shadows and three anti-aliased
-/// frames (ssaa 4 over hybrid-fast and hybrid-full, adaptive up to 16 over hybrid-full). 19 in all (22 with
-/// area lights), and
+/// frames (ssaa 4 over hybrid-fast and hybrid-full, adaptive up to 16 over hybrid-full). 19 in all (3 more
+/// with area lights, 2 more with glossy materials), and
 /// two budget runs after them (kBudgetFractions): enough to draw a front and measure the budget's error
 /// table, few enough for about 15 minutes on two cores. A scene with area lights adds their sample counts
-/// over hybrid-full (1 and 16; the presets draw 4) and the raster preset's soft shadows at 16.
-std::vector<Combo> makeCombos(const FrameSettings& base, bool areaLights = false) {
+/// over hybrid-full (1 and 16; the presets draw 4) and the raster preset's soft shadows at 16; one with glossy
+/// materials, their ray counts over hybrid-full (1 and 16).
+std::vector<Combo> makeCombos(const FrameSettings& base, bool areaLights = false, bool glossy = false) {
   std::vector<Combo> c;
   for (const std::string& p : presetNames()) {
     FrameSettings s = *presetSettings(p, base);
@@ -121,6 +122,14 @@ std::vector<Combo> makeCombos(const FrameSettings& base, bool areaLights = false
   c.push_back({"hybrid-fast-ssaa4", "aa", fastSsaa});
   c.push_back({"hybrid-full-ssaa4", "aa", fullSsaa});
   c.push_back({"hybrid-full-adaptive16", "aa", fullAdaptive});
+  if (glossy) {
+    // Glossy materials: lobe rays per primary hit (docs/glossy.md).
+    FrameSettings one = full, sixteen = full;
+    one.glossSamples = 1;
+    sixteen.glossSamples = 16;
+    c.push_back({"hybrid-full-gloss1", "gloss-samples", one});
+    c.push_back({"hybrid-full-gloss16", "gloss-samples", sixteen});
+  }
   if (areaLights) {
     // Area lights: samples per light and pixel, each a shadow ray (docs/area-lights.md).
     FrameSettings one = full, sixteen = full, rasterSixteen = raster;
@@ -489,8 +498,13 @@ int runSweep(const SweepOptions& o) {
       if (isAreaLight(l->type)) return true;
     return false;
   };
+  auto hasGloss = [](const Scene& scene) {
+    for (const Material& m : scene.materials)
+      if (m.roughness > 0.0f && (m.kr > 0.0f || m.kt > 0.0f)) return true;
+    return false;
+  };
   auto combosFor = [&](const Scene& scene) {
-    return makeCombos(FrameSettings{}, hasAreaLights(scene)).size() + std::size(kBudgetFractions);
+    return makeCombos(FrameSettings{}, hasAreaLights(scene), hasGloss(scene)).size() + std::size(kBudgetFractions);
   };
   std::size_t totalSteps = 0;
   for (const Loaded& l : scenes) totalSteps += o.sizes.size() * (combosFor(l.scene) + 2);  // + truth + ceiling
@@ -523,8 +537,9 @@ int runSweep(const SweepOptions& o) {
       // Ground truth: the reference preset, N×N jittered spp, rendered once.
       FrameSettings truthSettings = *presetSettings("reference", base);
       truthSettings.referenceSpp = truthSppFor(o, size);
-      // Area lights: 16 samples per light in each of the N×N pixel samples (the presets draw 4).
+      // Area lights and glossy rays: 16 samples in each of the N×N pixel samples (the presets draw 4).
       if (hasAreaLights(l.scene)) truthSettings.lightSamples = 16;
+      if (hasGloss(l.scene)) truthSettings.glossSamples = 16;
       Timer truthTimer;
       FrameRun truth = renderFrames(renderer, camera, truthSettings, 0, 1);
       std::string prefix = fileSafe(l.label) + "-" + size.label();
@@ -534,7 +549,7 @@ int runSweep(const SweepOptions& o) {
 
       std::map<std::string, Image> images;
       std::vector<std::size_t> mine;
-      for (const Combo& combo : makeCombos(base, hasAreaLights(l.scene))) {
+      for (const Combo& combo : makeCombos(base, hasAreaLights(l.scene), hasGloss(l.scene))) {
         FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup, o.frames);
         Row row = measuredRow(l.label, size, combo, o.frames, run, truth.image);
         (void)writePng((fs::path(o.out) / "images" / (prefix + "-" + combo.name + ".png")).string(), run.image);

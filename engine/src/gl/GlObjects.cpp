@@ -161,13 +161,13 @@ Texture createTexture2DArray(std::string_view name, GLenum internalFormat, int w
   return Texture(id);
 }
 
-Texture createTextureCube(std::string_view name, GLenum internalFormat, int size, int layers) {
-  assert(size > 0 && layers >= 0 && "createTextureCube: empty texture");
+Texture createTextureCube(std::string_view name, GLenum internalFormat, int size, int layers, int levels) {
+  assert(size > 0 && layers >= 0 && levels >= 1 && "createTextureCube: empty texture");
   GLuint id = 0;
   glCreateTextures(layers > 0 ? GL_TEXTURE_CUBE_MAP_ARRAY : GL_TEXTURE_CUBE_MAP, 1, &id);
   label(GL_TEXTURE, id, name);
-  if (layers > 0) glTextureStorage3D(id, 1, internalFormat, size, size, 6 * layers);
-  else glTextureStorage2D(id, 1, internalFormat, size, size);
+  if (layers > 0) glTextureStorage3D(id, levels, internalFormat, size, size, 6 * layers);
+  else glTextureStorage2D(id, levels, internalFormat, size, size);
   return Texture(id);
 }
 

@@ -107,7 +107,7 @@ Texture createTexture2DArray(std::string_view label, GLenum internalFormat, int 
 /// createTexture2DArray (one level) for frame-size storage that may not fit, checked as tryCreateTexture2D.
 Result<Texture> tryCreateTexture2DArray(std::string_view label, GLenum internalFormat, int width, int height, int layers);
 /// Cube map (or cube map array of `layers` cubes when layers > 0) with immutable storage.
-Texture createTextureCube(std::string_view label, GLenum internalFormat, int size, int layers = 0);
+Texture createTextureCube(std::string_view label, GLenum internalFormat, int size, int layers = 0, int levels = 1);
 /// A buffer texture viewing all of `buffer` as texels of `internalFormat` (no copy): shaders gather
 /// from it with texelFetch, which llvmpipe vectorizes, where an SSBO read becomes a per-lane loop.
 Texture createBufferTexture(std::string_view label, GLenum internalFormat, const Buffer& buffer);

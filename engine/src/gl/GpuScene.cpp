@@ -335,7 +335,7 @@ void GpuScene::updateMaterials(const Scene& scene, std::optional<ShadingModel> s
   // fourth column, the transmission tint (rgb): GpuMaterial stays at 7 vec4s for the uniform block.
   for (const Material& m : scene.materials) {
     glm::mat4 record(m.uvTransform);
-    record[3] = glm::vec4(m.transmissionTint, 1.0f);
+    record[3] = glm::vec4(m.transmissionTint, m.roughness);  // w: the probes' blur (docs/glossy.md)
     uvTransforms.push_back(record);
   }
   uvTransforms_ = bufferOf("uv transforms", uvTransforms);

@@ -20,8 +20,9 @@ void ReflectionProbes::update(const Scene& scene, const GpuScene& gpu, const Vis
   }
   if (static_cast<int>(probes.size()) != count_ || !cubes_) {
     count_ = static_cast<int>(probes.size());
-    cubes_ = createTextureCube("reflection probes", kChannelProbes.internal, kFaceSize, count_);
-    glTextureParameteri(cubes_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    // Mipmapped: a glossy material looks its probe up at the level its lobe covers (docs/glossy.md).
+    cubes_ = createTextureCube("reflection probes", kChannelProbes.internal, kFaceSize, count_, kLevels);
+    glTextureParameteri(cubes_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(cubes_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(cubes_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(cubes_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
@@ -66,6 +67,7 @@ void ReflectionProbes::updateSlots(const GpuScene& gpu, const VisibilityPass& ra
       shade.shadeInto(shadeFbo_.id(), kFaceSize, kFaceSize, gpu, ids_, depth_, &sampledDepth_, c, local);
     }
   }
+  if (!slots.empty()) glGenerateTextureMipmap(cubes_.id());
 }
 
 void ReflectionProbes::release() {

@@ -19,6 +19,7 @@ namespace tandem::gl {
 class ReflectionProbes {
  public:
   static constexpr int kFaceSize = 128;
+  static constexpr int kLevels = 8;  // 128² down to 1²
 
   /// Re-renders every probe (made anew when their number changed). `local` are the inputs of the probes'
   /// shade pass (no ray results, no probes: one bounce).

@@ -168,7 +168,10 @@ void setPhongTerms(Material& mat, const tinygltf::Material& g, glm::vec3 base, f
   // Phong exponent from GGX roughness: α = roughness², ns = 2/α² − 2 (Walter et al. 2007, Beckmann↔Phong).
   const float alpha = std::max(rough * rough, 1e-3f);
   mat.ns = std::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 10000.0f);
-  // Mirror rays only for smooth surfaces: rough ones would need blurred reflections we do not trace.
+  // Glossy rays sample the lobe of this roughness (Material::roughness, docs/glossy.md). The reflected share
+  // still fades with roughness, (1 − roughness)²: a rough surface's reflection spreads into its diffuse and
+  // Phong terms, which already carry it, and very rough lobes would only add noise.
+  mat.roughness = std::clamp(rough, 0.0f, 1.0f);
   const float smooth = (1.0f - rough) * (1.0f - rough);
   const float f0Max = std::max({f0Dielectric.x, f0Dielectric.y, f0Dielectric.z});
   mat.kr = std::clamp(smooth * (metallic + (1.0f - metallic) * f0Max), 0.0f, 1.0f);

@@ -217,6 +217,7 @@ PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const
   const Camera cam = toRenderSpace(camera, embree.anchor());
   FrameShading frame(scene, settings.shadingOverride, embree.anchor());
   frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
+  frame.setGlossSampling(settings.glossSamples, camera.sampleIndex);
   Whitted whitted(scene, embree, frame, TraceModes::hybrid(settings), shadowMaps);
   const CameraRays cameraRays(cam, {width, height});
   const glm::ivec2 p = fullPixelOfGridPixel(gx, gy, scale, width, height);
@@ -263,6 +264,7 @@ PixelTrace traceReferencePixel(const Scene& scene, const EmbreeScene& embree, co
   const Camera cam = toRenderSpace(camera, embree.anchor());
   FrameShading frame(scene, settings.shadingOverride, embree.anchor());
   frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
+  frame.setGlossSampling(settings.glossSamples, camera.sampleIndex);
   Whitted whitted(scene, embree, frame, TraceModes::reference(settings));
   const int spp = std::max(1, settings.referenceSpp);
   trace.samples = spp * spp;

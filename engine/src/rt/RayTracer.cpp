@@ -283,6 +283,7 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   const Camera cam = toRenderSpace(camera, embree.anchor());
   FrameShading frame(scene, settings.shadingOverride, embree.anchor());
   frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
+  frame.setGlossSampling(settings.glossSamples, camera.sampleIndex);
   const TraceModes modes = TraceModes::hybrid(settings);
   const ShadowCertainty* shadowMaps =
       settings.hybridShadows && (modes.primaryShadowRays || modes.secondaryShadowRays) ? &updateShadowMaps(scene, frame) : nullptr;
@@ -378,6 +379,7 @@ void RayTracer::referencePassWith(const Scene& scene, const Camera& camera, cons
   const Camera cam = toRenderSpace(camera, embree.anchor());  // camera-relative, as in trace()
   FrameShading frame(scene, settings.shadingOverride, embree.anchor());
   frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
+  frame.setGlossSampling(settings.glossSamples, camera.sampleIndex);
   Whitted whitted(scene, embree, frame, TraceModes::reference(settings));
   const int spp = std::max(1, settings.referenceSpp);
   const CameraRays cameraRays(cam, {width, height});

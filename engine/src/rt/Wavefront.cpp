@@ -154,6 +154,7 @@ void Wavefront::spawn(const SurfaceHit& hit, int depth, float throughput, std::i
   const TraceModes& modes = whitted_.modes();
   if (depth >= modes.maxDepth || (!modes.reflections && !modes.refraction)) return;
   WhittedWeights w = whitted_.weights(hit);
+  const std::size_t first = b_.nodes.size();
   auto queue = [&](RayKind kind, glm::vec3 dir, glm::vec3 weight, float weightMax) {
     // The sides of Whitted::secondary: reflection in front of the facet, transmission behind it.
     Buffers::Node& n = b_.nodes.emplace_back();
@@ -167,14 +168,32 @@ void Wavefront::spawn(const SurfaceHit& hit, int depth, float throughput, std::i
     if constexpr (Capture::kRecords)
       n.captured = capture.deferred(kind, n.origin, dir, 0.0f, std::numeric_limits<float>::infinity());
   };
+  // Glossy materials: several rays per kind at the primary hit (Whitted::secondary's, in its order).
+  const float rough = whitted_.frame().roughness[hit.material];
+  const int samples = whitted_.glossRays(hit.material, depth);
   if (modes.reflections && w.reflect > 0.0f && throughput * w.reflect >= modes.minContribution) {
-    ++counts.reflection;
-    queue(RayKind::Reflection, w.reflectDirW, glm::vec3(w.reflect), w.reflect);
+    const glm::vec3 weight(w.reflect / static_cast<float>(samples));
+    for (int k = 0; k < samples; ++k) {
+      ++counts.reflection;
+      queue(RayKind::Reflection,
+            whitted_.glossyRayDirection(hit, w.reflectDirW, rough, kGlossReflectStream, k, hit.geomNormalW), weight,
+            w.reflect);
+    }
   }
   const float wT = w.transmitMax();
   if (modes.refraction && wT > 0.0f && throughput * wT >= modes.minContribution) {
-    ++counts.refraction;
-    queue(RayKind::Refraction, w.refraction.dirW, w.transmit, wT);
+    const glm::vec3 weight = w.transmit / static_cast<float>(samples);
+    for (int k = 0; k < samples; ++k) {
+      ++counts.refraction;
+      queue(RayKind::Refraction,
+            whitted_.glossyRayDirection(hit, w.refraction.dirW, rough, kGlossRefractStream, k, -hit.geomNormalW),
+            weight, wT);
+    }
+  }
+  if (parent >= 0) {
+    Buffers::Node& p = b_.nodes[static_cast<std::size_t>(parent)];
+    p.firstChild = first;
+    p.children = static_cast<std::uint32_t>(b_.nodes.size() - first);
   }
 }
 
@@ -239,18 +258,25 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
     }
     begin = end;
   }
-  // Bottom up: children come after their parent, so walking back finishes every node's S and T before
-  // its own sum, which is the recursion's expression: colour + wR·S + wT·T (background on a miss).
+  // Bottom up: children come after their parent, so walking back finishes every node's rays before its own
+  // sum, which is the recursion's expression: colour + Σ wR·S + Σ wT·T (background on a miss), each Σ from
+  // zero in the order the rays were queued, as Whitted::secondary adds them.
   for (std::size_t i = b_.nodes.size(); i-- > 0;) {
-    const Buffers::Node& n = b_.nodes[i];
-    glm::vec3 radiance = n.hit ? n.local + n.reflected + n.transmitted : n.local;
-    glm::vec3 weighted = n.weight * radiance;
-    if (n.parent >= 0) {
-      Buffers::Node& p = b_.nodes[static_cast<std::size_t>(n.parent)];
-      (n.refraction ? p.transmitted : p.reflected) = weighted;
-    } else {
-      (n.refraction ? transmitted : reflected)[n.pixel] = glm::vec4(weighted, 1.0f);
+    Buffers::Node& n = b_.nodes[i];
+    glm::vec3 radiance = n.local;
+    if (n.hit) {
+      glm::vec3 s(0.0f), t(0.0f);
+      for (std::size_t c = n.firstChild; c < n.firstChild + n.children; ++c)
+        (b_.nodes[c].refraction ? t : s) += b_.nodes[c].weighted;
+      radiance = n.local + s + t;
     }
+    n.weighted = n.weight * radiance;
+  }
+  // The primary hits' rays, in order, into their pixels (zero until then; a = 1 where a ray was traced).
+  for (const Buffers::Node& n : b_.nodes) {
+    if (n.parent >= 0) continue;
+    glm::vec4& out = (n.refraction ? transmitted : reflected)[n.pixel];
+    out = glm::vec4(glm::vec3(out) + n.weighted, 1.0f);
   }
 }
 

@@ -83,8 +83,11 @@ class Wavefront {
       bool refraction = false;   // T rather than S of its parent
       bool hit = false;
       glm::vec3 local{0.0f};     // shaded local colour of the hit, or the background on a miss
-      glm::vec3 reflected{0.0f};    // wR·S of the hit (its children's results)
-      glm::vec3 transmitted{0.0f};  // wT·T
+      // The hit's rays (its children): nodes [firstChild, firstChild + children), reflections first, queued
+      // together by spawn (a glossy hit has several of each kind).
+      std::size_t firstChild = 0;
+      std::uint32_t children = 0;
+      glm::vec3 weighted{0.0f};  // weight ⊙ the ray's radiance: what it adds to its parent's sum
     };
     std::vector<Node> nodes;
     std::vector<RTCRayHit> rays;

@@ -250,28 +250,42 @@ void Whitted::secondary(const SurfaceHit& hit, int depth, float throughput, glm:
   rec.weights(w);
   // Reflected rays leave from the front of the facet and transmitted ones from its back: the directions
   // are on those sides by construction (WhittedWeights).
+  // A glossy material (roughness > 0) samples its rays from the lobe around each direction: glossSamples of
+  // them at the primary hit, one deeper (docs/glossy.md); each weighs 1/N of the sum.
+  const float rough = frame_.roughness[hit.material];
+  const int samples = glossRays(hit.material, depth);
   if (modes_.reflections && w.reflect > 0.0f && throughput * w.reflect >= modes_.minContribution) {
-    const glm::vec3 dir = w.reflectDirW, origin = spawnOrigin(hit, hit.geomNormalW);
-    ++counts.reflection;
+    const glm::vec3 origin = spawnOrigin(hit, hit.geomNormalW);
+    const glm::vec3 weight(w.reflect / static_cast<float>(samples));
     tracedReflection = true;
-    rec.beginRay(RayKind::Reflection, origin, dir, 0.0f, std::numeric_limits<float>::infinity(),
-                 glm::vec3(w.reflect), throughput * w.reflect);
-    const glm::vec3 s = radiance(origin, dir, depth + 1, throughput * w.reflect, counts, rec);
-    reflected = w.reflect * s;
-    rec.endRay(s, reflected);
+    for (int k = 0; k < samples; ++k) {
+      const glm::vec3 dir = glossyRayDirection(hit, w.reflectDirW, rough, kGlossReflectStream, k, hit.geomNormalW);
+      ++counts.reflection;
+      rec.beginRay(RayKind::Reflection, origin, dir, 0.0f, std::numeric_limits<float>::infinity(), weight,
+                   throughput * w.reflect);
+      const glm::vec3 s = radiance(origin, dir, depth + 1, throughput * w.reflect, counts, rec);
+      const glm::vec3 ws = weight * s;
+      reflected += ws;
+      rec.endRay(s, ws);
+    }
   } else {
     rec.skipped(RayKind::Reflection, w.reflect, throughput);
   }
   const float wT = w.transmitMax();
   if (modes_.refraction && wT > 0.0f && throughput * wT >= modes_.minContribution) {
-    const glm::vec3 dir = w.refraction.dirW, origin = spawnOrigin(hit, -hit.geomNormalW);
-    ++counts.refraction;
+    const glm::vec3 origin = spawnOrigin(hit, -hit.geomNormalW);
+    const glm::vec3 weight = w.transmit / static_cast<float>(samples);
     tracedRefraction = true;
-    rec.beginRay(RayKind::Refraction, origin, dir, 0.0f, std::numeric_limits<float>::infinity(), w.transmit,
-                 throughput * wT);
-    const glm::vec3 t = radiance(origin, dir, depth + 1, throughput * wT, counts, rec);
-    transmitted = w.transmit * t;
-    rec.endRay(t, transmitted);
+    for (int k = 0; k < samples; ++k) {
+      const glm::vec3 dir = glossyRayDirection(hit, w.refraction.dirW, rough, kGlossRefractStream, k, -hit.geomNormalW);
+      ++counts.refraction;
+      rec.beginRay(RayKind::Refraction, origin, dir, 0.0f, std::numeric_limits<float>::infinity(), weight,
+                   throughput * wT);
+      const glm::vec3 t = radiance(origin, dir, depth + 1, throughput * wT, counts, rec);
+      const glm::vec3 wt = weight * t;
+      transmitted += wt;
+      rec.endRay(t, wt);
+    }
   } else {
     rec.skipped(RayKind::Refraction, wT, throughput);
   }

@@ -255,6 +255,19 @@ class Whitted {
   const EmbreeScene& embree() const { return embree_; }
   const FrameShading& frame() const { return frame_; }
   const ShadowCertainty* shadowMaps() const { return shadowMaps_; }
+  /// Ray k of a hit's glossy reflection or refraction (stream kGlossReflectStream / kGlossRefractStream)
+  /// around `axis`, on the side `side` of the facet: the frame's sample glossBase + k of the hit's seed;
+  /// `axis` itself at roughness 0.
+  glm::vec3 glossyRayDirection(const SurfaceHit& hit, glm::vec3 axis, float roughness, int stream, int k,
+                               glm::vec3 side) const {
+    if (!(roughness > 0.0f)) return axis;
+    const glm::vec2 u = shading::tdLightSampleU(hit.lightSeed, stream, frame_.glossBase + static_cast<std::uint32_t>(k));
+    return glossyDirection(axis, roughness, u, side);
+  }
+  /// Rays per glossy reflection or refraction at `depth` for material `material` (1 unless glossy and primary).
+  int glossRays(std::uint32_t material, int depth) const {
+    return frame_.roughness[material] > 0.0f && depth == 0 ? frame_.glossSamples : 1;
+  }
 
  private:
   const Scene& scene_;

@@ -1,0 +1,133 @@
+// Glossy reflection and transmission in the frame (Material::roughness, FrameSettings::glossSamples;
+// docs/glossy.md), on assets/scenes/glossy.json: the hybrid frame equals the reference at the same lobe
+// samples, a nearly smooth material is the mirror, accumulated frames converge to the converged reference,
+// the thread count changes nothing, and raster reflections blur by the probe's mip level.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "gl/GlTestUtil.h"
+#include "tandem/ImageMetrics.h"
+#include "tandem/SceneFile.h"
+
+namespace tandem {
+namespace {
+
+constexpr int kW = 160, kH = 90;
+
+struct Frame {
+  std::unique_ptr<Renderer> renderer;
+  Camera camera;
+  FrameSettings base;
+};
+
+// The glossy scene with every glossy material's roughness set to `roughness` when it is >= 0; with
+// `pointLight`, its softbox is a point light at its centre (no light samples: a reflected point's shading
+// then does not depend on where exactly the ray met it).
+Frame load(GlContext& context, float roughness = -1.0f, int threads = 0, bool pointLight = false) {
+  Frame f;
+  auto scene = loadSceneFile(test::sourceDir() + "/assets/scenes/glossy.json");
+  EXPECT_TRUE(scene.ok()) << scene.error().message;
+  if (roughness >= 0.0f)
+    for (Material& m : scene->materials)
+      if (m.roughness > 0.0f) m.roughness = roughness;
+  if (pointLight)
+    for (Light& l : scene->lights)
+      if (isAreaLight(l.type)) l.type = LightType::Point;
+  RendererDesc desc;
+  desc.threads = threads;
+  auto renderer = Renderer::create(context, desc);
+  EXPECT_TRUE(renderer.ok()) << renderer.error().message;
+  f.renderer = std::move(*renderer);
+  f.camera = scene->camera;
+  f.base.width = kW;
+  f.base.height = kH;
+  EXPECT_TRUE(f.renderer->setScene(std::move(*scene)).ok());
+  return f;
+}
+
+FrameSettings preset(const Frame& f, const char* name, int glossSamples = 4) {
+  FrameSettings s = *presetSettings(name, f.base);
+  s.referenceSpp = 1;
+  s.glossSamples = glossSamples;
+  return s;
+}
+
+Image draw(Frame& f, const FrameSettings& s, FrameStats* stats = nullptr) {
+  FrameStats st = f.renderer->render(f.camera, s);
+  EXPECT_TRUE(st.error.empty()) << st.error;
+  if (stats != nullptr) *stats = st;
+  return f.renderer->readImage();
+}
+
+Image accumulate(Frame& f, FrameSettings s, int frames) {
+  s.accumulate = frames;
+  Image image;
+  for (int i = 0; i < frames; ++i) image = draw(f, s);
+  return image;
+}
+
+double flipMean(const Image& a, const Image& b) {
+  auto r = flip(a, b);
+  EXPECT_TRUE(r.ok()) << r.error().message;
+  return r.ok() ? r->mean : 1.0;
+}
+
+TEST(Glossy, TheHybridFrameIsTheReferenceAtItsSamples) {
+  // The wavefront queues a glossy hit's rays and sums them in the recursion's order: the hybrid frame's
+  // reflected and transmitted radiance is the reference's, sample for sample.
+  TD_REQUIRE_GL_CONTEXT();
+  Frame f = load(*glContext_);
+  FrameStats st, one;
+  const double e = flipMean(draw(f, preset(f, "hybrid-full"), &st), draw(f, preset(f, "reference")));
+  draw(f, preset(f, "hybrid-full", 1), &one);
+  std::printf("FLIP hybrid-full vs reference, 4 gloss samples: %.5f; reflection rays %llu (1 sample: %llu)\n", e,
+              static_cast<unsigned long long>(st.rays.reflection), static_cast<unsigned long long>(one.rays.reflection));
+  EXPECT_LT(e, 0.003);
+  EXPECT_GT(st.rays.reflection, 2 * one.rays.reflection) << "glossy hits trace several rays";
+}
+
+TEST(Glossy, ANearlySmoothMaterialIsTheMirror) {
+  TD_REQUIRE_GL_CONTEXT();
+  Frame smooth = load(*glContext_, 0.0f, 0, true), almost = load(*glContext_, 1e-4f, 0, true),
+        rough = load(*glContext_, -1.0f, 0, true);
+  for (const char* name : {"hybrid-full", "reference", "raster"}) {
+    const Image mirror = draw(smooth, preset(smooth, name));
+    const double e = flipMean(draw(almost, preset(almost, name)), mirror);
+    const double glossy = flipMean(draw(rough, preset(rough, name)), mirror);
+    std::printf("%s: FLIP roughness 1e-4 vs 0: %.6f (the scene's roughness vs 0: %.4f)\n", name, e, glossy);
+    EXPECT_LT(e, 0.001) << name;
+    EXPECT_GT(glossy, 0.01) << name << ": roughness must show";
+  }
+}
+
+TEST(Glossy, AccumulatedFramesConvergeToTheReference) {
+  TD_REQUIRE_GL_CONTEXT();
+  Frame f = load(*glContext_);
+  FrameSettings truthSettings = preset(f, "reference", 16);
+  truthSettings.referenceSpp = 2;
+  truthSettings.lightSamples = 8;
+  const Image truth = accumulate(f, truthSettings, 4);
+  const double one = flipMean(draw(f, preset(f, "hybrid-full")), truth);
+  const double sixteen = flipMean(accumulate(f, preset(f, "hybrid-full"), 16), truth);
+  const double reference = flipMean(accumulate(f, preset(f, "reference"), 16), truth);
+  std::printf("FLIP vs converged reference: 1 frame %.5f, 16 frames %.5f, reference 16 frames %.5f\n", one, sixteen,
+              reference);
+  EXPECT_LT(sixteen, 0.6 * one);
+  EXPECT_NEAR(sixteen, reference, 0.005);
+}
+
+TEST(Glossy, TheSameSeedGivesTheSameImageOnAnyThreadCount) {
+  TD_REQUIRE_GL_CONTEXT();
+  Frame one = load(*glContext_, -1.0f, 1), two = load(*glContext_, -1.0f, 2);
+  for (const char* name : {"hybrid-full", "reference"}) {
+    draw(one, preset(one, name));
+    draw(two, preset(two, name));
+    const ImageF a = one.renderer->readLinear(), b = two.renderer->readLinear();
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0) << name;
+  }
+}
+
+}  // namespace
+}  // namespace tandem
