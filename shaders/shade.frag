@@ -656,7 +656,7 @@ void shadePixel() {
 #if (TD_PROBES & TD_PROBE_REFRACT) != 0
     if (wTv.x > 0.0 || wTv.y > 0.0 || wTv.z > 0.0) {
       vec3 T = etaI == etaT ? -V : tdRefractOverFacet(normalize(eta * -V + (eta * cosI - sqrt(max(cos2T, 0.0))) * N), V, Ng, eta);
-      rays.transmitted += wTv * textureLod(probes, vec4(T, layer), lod).rgb;
+      rays.transmitted += wTv * textureLod(probes, vec4(T, layer), kt > 0.0 ? lod : 0.0).rgb;  // pass-through: sharp
     }
 #endif
   }

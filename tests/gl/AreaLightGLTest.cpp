@@ -52,26 +52,10 @@ const char* kAreaLights = R"(
       { "type": "sphere", "position": [0.5, 2.6, 2.2], "radius": 0.35, "intensity": 4,
         "color": [0.6, 0.8, 1], "attenuation": [0, 0, 1] })";
 
-struct Frame {
-  std::unique_ptr<Renderer> renderer;
-  Camera camera;
-  FrameSettings base;
-};
+using Frame = gltest::SceneFrame;
 
 Frame load(GlContext& context, const std::string& lights = kAreaLights, int threads = 0) {
-  Frame f;
-  auto scene = parseSceneJson(sceneText(lights), "area-lights", ".");
-  EXPECT_TRUE(scene.ok()) << scene.error().message;
-  RendererDesc desc;
-  desc.threads = threads;
-  auto renderer = Renderer::create(context, desc);
-  EXPECT_TRUE(renderer.ok()) << renderer.error().message;
-  f.renderer = std::move(*renderer);
-  f.camera = scene->camera;
-  f.base.width = kW;
-  f.base.height = kH;
-  EXPECT_TRUE(f.renderer->setScene(std::move(*scene)).ok());
-  return f;
+  return gltest::sceneFrame(context, parseSceneJson(sceneText(lights), "area-lights", "."), kW, kH, threads);
 }
 
 FrameSettings preset(const Frame& f, const char* name, int lightSamples = 4) {
@@ -81,20 +65,9 @@ FrameSettings preset(const Frame& f, const char* name, int lightSamples = 4) {
   return s;
 }
 
-Image draw(Frame& f, const FrameSettings& s, FrameStats* stats = nullptr) {
-  FrameStats st = f.renderer->render(f.camera, s);
-  EXPECT_TRUE(st.error.empty()) << st.error;
-  if (stats != nullptr) *stats = st;
-  return f.renderer->readImage();
-}
+Image draw(Frame& f, const FrameSettings& s, FrameStats* stats = nullptr) { return gltest::drawFrame(f, s, stats); }
 
-// The converged image of an accumulation of `frames` frames.
-Image accumulate(Frame& f, FrameSettings s, int frames) {
-  s.accumulate = frames;
-  Image image;
-  for (int i = 0; i < frames; ++i) image = draw(f, s);
-  return image;
-}
+Image accumulate(Frame& f, const FrameSettings& s, int frames) { return gltest::accumulateFrames(f, s, frames); }
 
 double flipMean(const Image& a, const Image& b) {
   auto r = flip(a, b);

@@ -110,4 +110,45 @@ inline std::unique_ptr<Renderer> whittedRenderer(GlContext& context, Scene& scen
   return set.ok() ? std::move(renderer) : nullptr;
 }
 
+/// A renderer holding one scene, its camera and the frame size its tests draw at.
+struct SceneFrame {
+  std::unique_ptr<Renderer> renderer;
+  Camera camera;
+  FrameSettings base;  // width and height only
+};
+
+/// `scene` (loaded or failed) in a renderer of its own with `threads` ray threads (0: all).
+inline SceneFrame sceneFrame(GlContext& context, Result<Scene> scene, int width, int height, int threads = 0) {
+  SceneFrame f;
+  EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().message);
+  if (!scene.ok()) return f;
+  RendererDesc desc;
+  desc.threads = threads;
+  auto renderer = Renderer::create(context, desc);
+  EXPECT_TRUE(renderer.ok()) << (renderer.ok() ? "" : renderer.error().message);
+  if (!renderer.ok()) return f;
+  f.renderer = std::move(*renderer);
+  f.camera = scene->camera;
+  f.base.width = width;
+  f.base.height = height;
+  EXPECT_TRUE(f.renderer->setScene(std::move(*scene)).ok());
+  return f;
+}
+
+/// One frame with `settings` from the frame's camera, its display image (the stats in `stats`).
+inline Image drawFrame(SceneFrame& f, const FrameSettings& settings, FrameStats* stats = nullptr) {
+  FrameStats st = f.renderer->render(f.camera, settings);
+  EXPECT_TRUE(st.error.empty()) << st.error;
+  if (stats != nullptr) *stats = st;
+  return f.renderer->readImage();
+}
+
+/// The converged image of an accumulation of `frames` frames (FrameSettings::accumulate).
+inline Image accumulateFrames(SceneFrame& f, FrameSettings settings, int frames) {
+  settings.accumulate = frames;
+  Image image;
+  for (int i = 0; i < frames; ++i) image = drawFrame(f, settings);
+  return image;
+}
+
 }  // namespace tandem::gltest

@@ -15,35 +15,20 @@ namespace {
 
 constexpr int kW = 160, kH = 90;
 
-struct Frame {
-  std::unique_ptr<Renderer> renderer;
-  Camera camera;
-  FrameSettings base;
-};
+using Frame = gltest::SceneFrame;
 
 // The glossy scene with every glossy material's roughness set to `roughness` when it is >= 0; with
 // `pointLight`, its softbox is a point light at its centre (no light samples: a reflected point's shading
 // then does not depend on where exactly the ray met it).
 Frame load(GlContext& context, float roughness = -1.0f, int threads = 0, bool pointLight = false) {
-  Frame f;
   auto scene = loadSceneFile(test::sourceDir() + "/assets/scenes/glossy.json");
-  EXPECT_TRUE(scene.ok()) << scene.error().message;
-  if (roughness >= 0.0f)
+  if (scene.ok() && roughness >= 0.0f)
     for (Material& m : scene->materials)
       if (m.roughness > 0.0f) m.roughness = roughness;
-  if (pointLight)
+  if (scene.ok() && pointLight)
     for (Light& l : scene->lights)
       if (isAreaLight(l.type)) l.type = LightType::Point;
-  RendererDesc desc;
-  desc.threads = threads;
-  auto renderer = Renderer::create(context, desc);
-  EXPECT_TRUE(renderer.ok()) << renderer.error().message;
-  f.renderer = std::move(*renderer);
-  f.camera = scene->camera;
-  f.base.width = kW;
-  f.base.height = kH;
-  EXPECT_TRUE(f.renderer->setScene(std::move(*scene)).ok());
-  return f;
+  return gltest::sceneFrame(context, std::move(scene), kW, kH, threads);
 }
 
 FrameSettings preset(const Frame& f, const char* name, int glossSamples = 4) {
@@ -53,19 +38,9 @@ FrameSettings preset(const Frame& f, const char* name, int glossSamples = 4) {
   return s;
 }
 
-Image draw(Frame& f, const FrameSettings& s, FrameStats* stats = nullptr) {
-  FrameStats st = f.renderer->render(f.camera, s);
-  EXPECT_TRUE(st.error.empty()) << st.error;
-  if (stats != nullptr) *stats = st;
-  return f.renderer->readImage();
-}
+Image draw(Frame& f, const FrameSettings& s, FrameStats* stats = nullptr) { return gltest::drawFrame(f, s, stats); }
 
-Image accumulate(Frame& f, FrameSettings s, int frames) {
-  s.accumulate = frames;
-  Image image;
-  for (int i = 0; i < frames; ++i) image = draw(f, s);
-  return image;
-}
+Image accumulate(Frame& f, const FrameSettings& s, int frames) { return gltest::accumulateFrames(f, s, frames); }
 
 double flipMean(const Image& a, const Image& b) {
   auto r = flip(a, b);

@@ -8,9 +8,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "rt/CpuComposite.h"
 #include "rt/PixelTrace.h"
 #include "rt/RtTestScenes.h"
+#include "support/TestSupport.h"
 #include "tandem/SceneFile.h"
 
 namespace tandem::rt {
@@ -53,9 +56,16 @@ void expectConsistentTree(const PixelTrace& t) {
     if (n.parent >= 0) {
       const TraceNode& p = t.nodes[static_cast<std::size_t>(n.parent)];
       EXPECT_EQ(n.depth, p.depth + 1);
-      EXPECT_EQ(n.kind == TraceRayKind::Reflection ? p.reflectionChild : p.refractionChild, static_cast<int>(i));
+      const std::vector<int>& siblings = n.kind == TraceRayKind::Reflection ? p.reflectionChildren : p.refractionChildren;
+      EXPECT_NE(std::find(siblings.begin(), siblings.end(), static_cast<int>(i)), siblings.end());
       EXPECT_EQ(n.contribution, n.weight * n.radiance);
-      EXPECT_EQ(n.kind == TraceRayKind::Reflection ? p.reflected : p.transmitted, n.contribution);
+    }
+    // Each kind's sum is its rays' contributions added from zero in order, as the recursion adds them.
+    for (const std::vector<int>* kind : {&n.reflectionChildren, &n.refractionChildren}) {
+      glm::vec3 sum(0.0f);
+      for (int c : *kind) sum += t.nodes[static_cast<std::size_t>(c)].contribution;
+      EXPECT_EQ(kind == &n.reflectionChildren ? n.reflected : n.transmitted, sum);
+      EXPECT_EQ(kind->empty() ? -1 : kind->front(), kind == &n.reflectionChildren ? n.reflectionChild : n.refractionChild);
     }
     if (!n.hit) continue;
     EXPECT_EQ(n.radiance, n.local + n.reflected + n.transmitted);
@@ -82,8 +92,8 @@ struct WhittedFrame {
   std::unique_ptr<RayTracer> tracer;
   VisibilityBuffer visibility;
   RayOutputs out;
-  explicit WhittedFrame(int w, int h, int scale = 1) {
-    auto loaded = loadDefaultScene();
+  explicit WhittedFrame(int w, int h, int scale = 1, const std::string& sceneFile = "") {
+    auto loaded = sceneFile.empty() ? loadDefaultScene() : loadSceneFile(tandem::test::sourceDir() + "/assets/scenes/" + sceneFile);
     EXPECT_TRUE(loaded.ok());
     if (loaded) scene = std::move(*loaded);
     settings = *presetSettings("hybrid-full", settingsFor(w, h));
@@ -186,10 +196,12 @@ TEST(PixelTrace, GlassSpherePixelOfTheWhittedScene) {
 
 // Every pixel of a small frame, at full and half ray resolution: the trace's reflected, transmitted and
 // light mask are the pass's, bit for bit, and its rays add up to the frame's counts.
+// glossy.json: several reflection and refraction rays per glossy hit, and an area light's samples.
 TEST(PixelTrace, EveryPixelEqualsTheRayPass) {
+  for (const char* sceneFile : {"", "glossy.json"})
   for (int scale : {1, 2}) {
-    SCOPED_TRACE("scale " + std::to_string(scale));
-    WhittedFrame f(96, 54, scale);
+    SCOPED_TRACE("scale " + std::to_string(scale) + " " + sceneFile);
+    WhittedFrame f(96, 54, scale, sceneFile);
     ASSERT_TRUE(f.tracer);
     const int gw = f.out.width, gh = f.out.height;
     ASSERT_EQ(f.out.reflected.size(), static_cast<std::size_t>(gw * gh));
@@ -202,13 +214,14 @@ TEST(PixelTrace, EveryPixelEqualsTheRayPass) {
         differing += glm::vec3(f.out.reflected[g]) != t.reflected || glm::vec3(f.out.transmitted[g]) != t.transmitted ||
                      (f.out.lightMask[g] & 3u) != (t.lightMask & 3u);
         background += !t.nodes.front().hit;
+        if (gx == gw / 2 && gy == gh / 2) expectConsistentTree(t);
         sum.primary += t.rays.primary;
         sum.shadow += t.rays.shadow;
         sum.reflection += t.rays.reflection;
         sum.refraction += t.rays.refraction;
       }
     EXPECT_EQ(differing, 0);
-    EXPECT_GT(background, 0);  // the sky is in view: its pixels are traced too
+    if (*sceneFile == '\0') EXPECT_GT(background, 0);  // the sky is in view: its pixels are traced too
     EXPECT_EQ(sum.primary, f.out.counts.primary);
     EXPECT_EQ(sum.shadow, f.out.counts.shadow);
     EXPECT_EQ(sum.reflection, f.out.counts.reflection);

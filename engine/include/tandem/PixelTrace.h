@@ -67,7 +67,7 @@ struct TraceNode {
   float tNear = 0.0f;
   float tFar = 0.0f;
   /// The weight its radiance gets in the parent's sum: wR (grey) for a reflection, the wT vector for a
-  /// refraction, 1 for a primary ray; throughput is the product of weights along the path (the value
+  /// refraction (each over N for one of a glossy hit's N rays), 1 for a primary ray; throughput is the product of weights along the path (the value
   /// minContribution is tested against).
   glm::vec3 weight{1.0f};
   float throughput = 1.0f;
@@ -99,9 +99,12 @@ struct TraceNode {
   glm::vec3 transmitWeight{0.0f};        // tdTransmitWeight(a, wT, tint)
   SecondaryRay reflection = SecondaryRay::NotByRays;
   SecondaryRay refraction = SecondaryRay::NotByRays;
-  int reflectionChild = -1;   // node index of the reflected ray, when traced
+  int reflectionChild = -1;   // node index of the (first) reflected ray, when traced
   int refractionChild = -1;
-  glm::vec3 reflected{0.0f};    // wR·S: what the reflected ray added (0 when not traced)
+  /// Every reflected and refracted ray, in the order traced: one each, or glossSamples at a glossy primary
+  /// hit (docs/glossy.md), whose contributions (weight wR/N or wT/N) add up to reflected and transmitted.
+  std::vector<int> reflectionChildren, refractionChildren;
+  glm::vec3 reflected{0.0f};    // wR·S: what the reflected rays added (0 when not traced)
   glm::vec3 transmitted{0.0f};  // wT·T
 
   /// The radiance along this ray: local + reflected + transmitted on a hit, the background on a miss.

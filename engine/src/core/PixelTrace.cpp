@@ -157,11 +157,9 @@ class Writer {
 
   void secondary(const TraceNode& n, TraceRayKind kind, int indent) {
     const bool reflection = kind == TraceRayKind::Reflection;
-    const int child = reflection ? n.reflectionChild : n.refractionChild;
-    if (child >= 0) {
-      ray(child, indent);
-      return;
-    }
+    const std::vector<int>& children = reflection ? n.reflectionChildren : n.refractionChildren;
+    for (int child : children) ray(child, indent);
+    if (!children.empty()) return;
     line(indent, std::string(toString(kind)) + ": none, " + std::string(toString(reflection ? n.reflection : n.refraction)));
   }
 

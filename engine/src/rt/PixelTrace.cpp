@@ -59,7 +59,9 @@ class TreeRecorder final : public RayRecorder {
     out_.nodes.push_back(std::move(n));
     if (const int parent = out_.nodes.back().parent; parent >= 0) {
       TraceNode& p = node(parent);
-      (kind == RayKind::Refraction ? p.refractionChild : p.reflectionChild) = index;
+      int& first = kind == RayKind::Refraction ? p.refractionChild : p.reflectionChild;
+      if (first < 0) first = index;
+      (kind == RayKind::Refraction ? p.refractionChildren : p.reflectionChildren).push_back(index);
       (kind == RayKind::Refraction ? p.refraction : p.reflection) = SecondaryRay::Traced;
     } else {
       out_.roots.push_back(index);
@@ -147,7 +149,8 @@ class TreeRecorder final : public RayRecorder {
     TraceNode& n = current();
     n.radiance = radiance;
     n.contribution = weighted;
-    if (n.parent >= 0) (n.kind == TraceRayKind::Refraction ? node(n.parent).transmitted : node(n.parent).reflected) = weighted;
+    // The parent's sum of this kind, from zero in the order the rays were traced (Whitted::secondary's).
+    if (n.parent >= 0) (n.kind == TraceRayKind::Refraction ? node(n.parent).transmitted : node(n.parent).reflected) += weighted;
     stack_.pop_back();
   }
 

@@ -63,12 +63,16 @@ void FrameShading::setGlossSampling(int samples, std::uint32_t sampleIndex) {
 float glossExponent(float roughness) {
   if (!(roughness > 0.0f)) return std::numeric_limits<float>::infinity();
   const double alpha = static_cast<double>(roughness) * static_cast<double>(roughness);
-  return static_cast<float>(std::max(2.0 / (alpha * alpha) - 2.0, 0.0));
+  const double e = std::max(2.0 / (alpha * alpha) - 2.0, 0.0);
+  // Below roughness ~1e-10 the exponent leaves float's range: a mirror.
+  return e > static_cast<double>(std::numeric_limits<float>::max()) ? std::numeric_limits<float>::infinity()
+                                                                    : static_cast<float>(e);
 }
 
 glm::vec3 glossyDirection(glm::vec3 axis, float roughness, glm::vec2 u, glm::vec3 side) {
   if (!(roughness > 0.0f)) return axis;
   const double e = static_cast<double>(glossExponent(roughness));
+  if (std::isinf(e)) return axis;
   // 1 − cos θ = 1 − u^(1/(e+1)) = −expm1(ln u / (e + 1)): exact for the narrow lobes of small roughness,
   // where cos θ rounds to 1. u.x = 0 is the lobe's rim direction at the most.
   const double ux = std::max(static_cast<double>(u.x), 1e-12);

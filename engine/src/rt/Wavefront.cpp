@@ -182,11 +182,13 @@ void Wavefront::spawn(const SurfaceHit& hit, int depth, float throughput, std::i
   }
   const float wT = w.transmitMax();
   if (modes.refraction && wT > 0.0f && throughput * wT >= modes.minContribution) {
-    const glm::vec3 weight = w.transmit / static_cast<float>(samples);
-    for (int k = 0; k < samples; ++k) {
+    const int rays = w.passThrough ? 1 : samples;  // an uncovered BLEND part goes straight on
+    const float lobe = w.passThrough ? 0.0f : rough;
+    const glm::vec3 weight = w.transmit / static_cast<float>(rays);
+    for (int k = 0; k < rays; ++k) {
       ++counts.refraction;
       queue(RayKind::Refraction,
-            whitted_.glossyRayDirection(hit, w.refraction.dirW, rough, kGlossRefractStream, k, -hit.geomNormalW),
+            whitted_.glossyRayDirection(hit, w.refraction.dirW, lobe, kGlossRefractStream, k, -hit.geomNormalW),
             weight, wT);
     }
   }

@@ -74,77 +74,49 @@ ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrig
 template <class Recorder>
 ShadowRay Whitted::shadowRayUnanswered(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins,
                                        Recorder rec) const {
-  ShadowRay r;
-  const GpuLight& l = frame_.lights[light];
-  if (!frame_.castsShadows(light)) {
-    r.visibleWithoutRay = true;
-    rec.noShadowRay(light, NoShadowRay::CastsNoShadows);
-    return r;
-  }
-  const GpuMaterial& m = frame_.materials[hit.material];
-  bool flat = static_cast<int>(m.krKtIorModel.w + 0.5f) == TD_MODEL_FLAT;
-  // The light is tested against the normal the model shades with, as in the shading formula.
-  glm::vec3 n = flat ? hit.geomNormalW : hit.normalW;
+  if (!frame_.castsShadows(light)) return noShadowRay(light, NoShadowRay::CastsNoShadows, rec);
   glm::vec3 toLight;
   float dist;
-  glm::vec3 e = tdLightIncident(l, hit.posW, toLight, dist);
-  if (!tdLightReaches(e, toLight, n)) {
-    r.visibleWithoutRay = true;
-    rec.noShadowRay(light, NoShadowRay::CannotReach);
-    return r;
-  }
-  // Leave from the side of the geometric surface the ray goes to (W&B offset, never a fixed epsilon).
-  r.originW = origins.towards(hit, glm::dot(toLight, hit.geomNormalW) >= 0.0f);
-  if (dist < 0.0f) {  // directional
-    r.dirW = toLight;
-    r.tFar = std::numeric_limits<float>::infinity();
-  } else {
-    if (!(dist > 0.0f) || !std::isfinite(dist)) {
-      r.visibleWithoutRay = true;  // the light sits on the point: nothing can be between them
-      rec.noShadowRay(light, NoShadowRay::AtThePoint);
-      return r;
-    }
-    // The direction and distance from the hit itself (tdLightIncident's): the offset origin is a few
-    // ULPs of the hit away, far inside the 1/4096 of the distance the ray stops short of the light.
-    r.dirW = toLight;
-    r.tFar = dist * kShadowRayEnd;
-  }
-  r.needed = isFinite(r.originW) && isFinite(r.dirW);
-  r.visibleWithoutRay = !r.needed;
-  if (!r.needed) {
-    rec.noShadowRay(light, NoShadowRay::NotFinite);
-  }
-  return r;
+  const glm::vec3 e = tdLightIncident(frame_.lights[light], hit.posW, toLight, dist);
+  return rayTowards(hit, light, e, toLight, dist, origins, rec);
 }
 
 template <class Recorder>
 ShadowRay Whitted::areaShadowRay(const SurfaceHit& hit, std::size_t light, int k, SpawnOrigins& origins,
                                  Recorder rec) const {
-  ShadowRay r;
-  if (!frame_.castsShadows(light)) {
-    r.visibleWithoutRay = true;
-    rec.noShadowRay(light, NoShadowRay::CastsNoShadows);
-    return r;
-  }
-  const GpuMaterial& m = frame_.materials[hit.material];
-  bool flat = static_cast<int>(m.krKtIorModel.w + 0.5f) == TD_MODEL_FLAT;
-  glm::vec3 n = flat ? hit.geomNormalW : hit.normalW;
+  if (!frame_.castsShadows(light)) return noShadowRay(light, NoShadowRay::CastsNoShadows, rec);
   glm::vec3 toLight;
   float dist;
-  glm::vec3 e = areaLightSample(frame_, light, hit.lightSeed, hit.posW, k, toLight, dist);
-  if (!tdLightReaches(e, toLight, n)) {
-    r.visibleWithoutRay = true;
-    rec.noShadowRay(light, NoShadowRay::CannotReach);
-    return r;
-  }
-  if (!(dist > 0.0f) || !std::isfinite(dist)) {
-    r.visibleWithoutRay = true;  // the sample is the point itself
-    rec.noShadowRay(light, NoShadowRay::AtThePoint);
-    return r;
-  }
+  const glm::vec3 e = areaLightSample(frame_, light, hit.lightSeed, hit.posW, k, toLight, dist);
+  return rayTowards(hit, light, e, toLight, dist, origins, rec);
+}
+
+template <class Recorder>
+ShadowRay Whitted::noShadowRay(std::size_t light, NoShadowRay why, Recorder rec) const {
+  ShadowRay r;
+  r.visibleWithoutRay = true;
+  rec.noShadowRay(light, why);
+  return r;
+}
+
+template <class Recorder>
+ShadowRay Whitted::rayTowards(const SurfaceHit& hit, std::size_t light, glm::vec3 e, glm::vec3 toLight, float dist,
+                              SpawnOrigins& origins, Recorder rec) const {
+  const GpuMaterial& m = frame_.materials[hit.material];
+  bool flat = static_cast<int>(m.krKtIorModel.w + 0.5f) == TD_MODEL_FLAT;
+  // The light is tested against the normal the model shades with, as in the shading formula.
+  glm::vec3 n = flat ? hit.geomNormalW : hit.normalW;
+  if (!tdLightReaches(e, toLight, n)) return noShadowRay(light, NoShadowRay::CannotReach, rec);
+  // A distance that is not > 0 (NaN included) and not a directional light's -1: the light (or the area
+  // light's sample) sits on the point, and nothing can be between them.
+  if (!(dist < 0.0f) && (!(dist > 0.0f) || !std::isfinite(dist))) return noShadowRay(light, NoShadowRay::AtThePoint, rec);
+  ShadowRay r;
+  // Leave from the side of the geometric surface the ray goes to (W&B offset, never a fixed epsilon).
   r.originW = origins.towards(hit, glm::dot(toLight, hit.geomNormalW) >= 0.0f);
+  // The direction and distance from the hit itself (tdLightIncident's): the offset origin is a few ULPs of
+  // the hit away, far inside the 1/4096 of the distance the ray stops short of the light.
   r.dirW = toLight;
-  r.tFar = dist * kShadowRayEnd;
+  r.tFar = dist < 0.0f ? std::numeric_limits<float>::infinity() : dist * kShadowRayEnd;  // < 0: directional
   r.needed = isFinite(r.originW) && isFinite(r.dirW);
   r.visibleWithoutRay = !r.needed;
   if (!r.needed) rec.noShadowRay(light, NoShadowRay::NotFinite);
@@ -230,6 +202,7 @@ WhittedWeights Whitted::weights(const SurfaceHit& hit) const {
   if (a < 1.0f && (kt <= 0.0f || w.refraction.totalInternal)) {
     w.refraction.dirW = -hit.toEyeW;  // crosses the facet: Ng faces V
     w.refraction.totalInternal = false;
+    w.passThrough = true;
   }
   w.reflect = a * wR;
   w.transmit = tdTransmitWeight(a, wT, scene_.materials[hit.material].transmissionTint);
@@ -274,10 +247,13 @@ void Whitted::secondary(const SurfaceHit& hit, int depth, float throughput, glm:
   const float wT = w.transmitMax();
   if (modes_.refraction && wT > 0.0f && throughput * wT >= modes_.minContribution) {
     const glm::vec3 origin = spawnOrigin(hit, -hit.geomNormalW);
-    const glm::vec3 weight = w.transmit / static_cast<float>(samples);
+    // Light passing an uncovered BLEND surface goes straight on: no lobe.
+    const int rays = w.passThrough ? 1 : samples;
+    const float lobe = w.passThrough ? 0.0f : rough;
+    const glm::vec3 weight = w.transmit / static_cast<float>(rays);
     tracedRefraction = true;
-    for (int k = 0; k < samples; ++k) {
-      const glm::vec3 dir = glossyRayDirection(hit, w.refraction.dirW, rough, kGlossRefractStream, k, -hit.geomNormalW);
+    for (int k = 0; k < rays; ++k) {
+      const glm::vec3 dir = glossyRayDirection(hit, w.refraction.dirW, lobe, kGlossRefractStream, k, -hit.geomNormalW);
       ++counts.refraction;
       rec.beginRay(RayKind::Refraction, origin, dir, 0.0f, std::numeric_limits<float>::infinity(), weight,
                    throughput * wT);

@@ -51,6 +51,9 @@ struct WhittedWeights {
   Refraction refraction;         // dirW: the refracted direction about N, bent through the facet
                                  // (tdRefractOverFacet), or straight through (−V) for a BLEND surface
                                  // that has no refracted ray of its own
+  /// T is the uncovered part of a BLEND surface passing straight through (−V), not a refraction: it is
+  /// never glossy.
+  bool passThrough = false;
   /// The largest component of transmit: what the minContribution test and the throughput use.
   float transmitMax() const { return std::max(transmit.x, std::max(transmit.y, transmit.z)); }
 };
@@ -270,6 +273,14 @@ class Whitted {
   }
 
  private:
+  /// The shadow ray towards a light (or an area light's sample) whose radiance, direction and distance at
+  /// the hit are e, toLight and dist (dist < 0: directional), or why none is needed.
+  template <class Recorder>
+  ShadowRay rayTowards(const SurfaceHit& hit, std::size_t light, glm::vec3 e, glm::vec3 toLight, float dist,
+                       SpawnOrigins& origins, Recorder rec) const;
+  template <class Recorder>
+  ShadowRay noShadowRay(std::size_t light, NoShadowRay why, Recorder rec) const;
+
   const Scene& scene_;
   const EmbreeScene& embree_;
   const FrameShading& frame_;
