@@ -65,15 +65,7 @@ FrameSettings preset(const Frame& f, const char* name, int lightSamples = 4) {
   return s;
 }
 
-Image draw(Frame& f, const FrameSettings& s, FrameStats* stats = nullptr) { return gltest::drawFrame(f, s, stats); }
-
-Image accumulate(Frame& f, const FrameSettings& s, int frames) { return gltest::accumulateFrames(f, s, frames); }
-
-double flipMean(const Image& a, const Image& b) {
-  auto r = flip(a, b);
-  EXPECT_TRUE(r.ok()) << r.error().message;
-  return r.ok() ? r->mean : 1.0;
-}
+using gltest::flipMean;
 
 TEST(AreaLight, TheHybridFrameIsTheReferenceAtItsSamples) {
   // The shade pass draws each pixel's samples from the seed the ray pass traced them with, and sums the
@@ -94,8 +86,8 @@ TEST(AreaLight, TheHybridFrameIsTheReferenceAtItsSamples) {
     FrameSettings reference = preset(f, "reference");
     hybrid.shadingOverride = reference.shadingOverride = model;
     FrameStats st;
-    const double e = flipMean(draw(f, hybrid, &st), draw(f, reference));
-    const double baseline = flipMean(draw(points, hybrid), draw(points, reference));
+    const double e = flipMean(gltest::drawFrame(f, hybrid, &st), gltest::drawFrame(f, reference));
+    const double baseline = flipMean(gltest::drawFrame(points, hybrid), gltest::drawFrame(points, reference));
     std::printf("model %d: FLIP hybrid-full vs reference, 4 light samples: %.5f (point lights: %.5f; %llu shadow rays)\n",
                 model ? static_cast<int>(*model) : -1, e, baseline, static_cast<unsigned long long>(st.rays.shadow));
     EXPECT_LT(e, baseline + 0.003);
@@ -109,7 +101,7 @@ TEST(AreaLight, TheHybridFrameIsTheReferenceAtItsSamples) {
     EXPECT_TRUE(st.error.empty());
     return f.renderer->readImage();
   }();
-  EXPECT_GT(flipMean(draw(f, preset(f, "hybrid-full")), other), 0.006);
+  EXPECT_GT(flipMean(gltest::drawFrame(f, preset(f, "hybrid-full")), other), 0.006);
 }
 
 TEST(AreaLight, AccumulatedFramesConvergeToTheReference) {
@@ -117,11 +109,11 @@ TEST(AreaLight, AccumulatedFramesConvergeToTheReference) {
   Frame f = load(*glContext_);
   FrameSettings truthSettings = preset(f, "reference", 16);
   truthSettings.referenceSpp = 2;
-  const Image truth = accumulate(f, truthSettings, 8);  // 4 × 16 × 8 = 512 samples per light and pixel
-  const double one = flipMean(draw(f, preset(f, "hybrid-full")), truth);
-  const double sixteen = flipMean(accumulate(f, preset(f, "hybrid-full"), 16), truth);
-  const double oneSampleSixteenFrames = flipMean(accumulate(f, preset(f, "hybrid-full", 1), 16), truth);
-  const double referenceSixteen = flipMean(accumulate(f, preset(f, "reference"), 16), truth);
+  const Image truth = gltest::accumulateFrames(f, truthSettings, 8);  // 4 × 16 × 8 = 512 samples per light and pixel
+  const double one = flipMean(gltest::drawFrame(f, preset(f, "hybrid-full")), truth);
+  const double sixteen = flipMean(gltest::accumulateFrames(f, preset(f, "hybrid-full"), 16), truth);
+  const double oneSampleSixteenFrames = flipMean(gltest::accumulateFrames(f, preset(f, "hybrid-full", 1), 16), truth);
+  const double referenceSixteen = flipMean(gltest::accumulateFrames(f, preset(f, "reference"), 16), truth);
   std::printf("FLIP vs converged reference: 1 frame x 4 samples %.5f, 16 frames x 4 %.5f, 16 frames x 1 %.5f, "
               "reference 16 frames x 4 %.5f\n",
               one, sixteen, oneSampleSixteenFrames, referenceSixteen);
@@ -139,7 +131,7 @@ TEST(AreaLight, APointSizedSphereIsThePointLight) {
   const char* point = R"({ "type": "point", "position": [-1, 3.5, 1.5], "intensity": 9, "attenuation": [0, 0, 1] })";
   Frame sphere = load(*glContext_, tinySphere), pointLit = load(*glContext_, point);
   for (const char* name : {"hybrid-full", "reference", "raster"}) {
-    const double e = flipMean(draw(sphere, preset(sphere, name)), draw(pointLit, preset(pointLit, name)));
+    const double e = flipMean(gltest::drawFrame(sphere, preset(sphere, name)), gltest::drawFrame(pointLit, preset(pointLit, name)));
     std::printf("%s: FLIP sphere radius 1e-5 vs point light %.6f\n", name, e);
     EXPECT_LT(e, 0.001) << name;
   }
@@ -149,8 +141,8 @@ TEST(AreaLight, TheSameSeedGivesTheSameImageOnAnyThreadCount) {
   TD_REQUIRE_GL_CONTEXT();
   Frame one = load(*glContext_, kAreaLights, 1), two = load(*glContext_, kAreaLights, 2);
   for (const char* name : {"hybrid-full", "hybrid-fast", "reference"}) {
-    draw(one, preset(one, name));
-    draw(two, preset(two, name));
+    gltest::drawFrame(one, preset(one, name));
+    gltest::drawFrame(two, preset(two, name));
     const ImageF a = one.renderer->readLinear(), b = two.renderer->readLinear();
     ASSERT_EQ(a.rgb.size(), b.rgb.size());
     EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0) << name;
@@ -164,9 +156,9 @@ TEST(AreaLight, EveryPresetStaysNearTheReference) {
   Frame f = load(*glContext_);
   FrameSettings truthSettings = preset(f, "reference", 16);
   truthSettings.referenceSpp = 2;
-  const Image truth = accumulate(f, truthSettings, 4);
+  const Image truth = gltest::accumulateFrames(f, truthSettings, 4);
   for (const char* name : {"hybrid-fast", "raster", "hybrid-full"}) {
-    const double e = flipMean(accumulate(f, preset(f, name), 8), truth);
+    const double e = flipMean(gltest::accumulateFrames(f, preset(f, name), 8), truth);
     std::printf("%s, 8 frames: FLIP vs converged reference %.5f\n", name, e);
     EXPECT_LT(e, 0.035) << name;
   }
@@ -182,12 +174,12 @@ TEST(AreaLight, AFrameKeepingLastFramesRaysIsTheFrameWithout) {
   keeping.reuseRays = true;
   FrameSettings scratch = keeping;
   scratch.reuseRays = false;
-  draw(kept, keeping);
+  gltest::drawFrame(kept, keeping);
   const glm::mat4 moved = glm::translate(glm::mat4(1.0f), glm::vec3(-0.6f, 0.5f, 0.3f));
   kept.renderer->setInstanceTransform(1, moved);
   fresh.renderer->setInstanceTransform(1, moved);
   FrameStats st;
-  const Image a = draw(kept, keeping, &st), b = draw(fresh, scratch);
+  const Image a = gltest::drawFrame(kept, keeping, &st), b = gltest::drawFrame(fresh, scratch);
   EXPECT_GT(st.rays.shadowKept, static_cast<std::uint64_t>(kW * kH)) << "the samples clear of the box keep their answers";
   ASSERT_EQ(a.rgba.size(), b.rgba.size());
   EXPECT_TRUE(a.rgba == b.rgba);
@@ -209,7 +201,7 @@ TEST(AreaLight, LightsChangingTypeKeepNoOtherLightsSamples) {
   keeping.reuseRays = true;
   FrameSettings scratch = keeping;
   scratch.reuseRays = false;
-  draw(kept, keeping);
+  gltest::drawFrame(kept, keeping);
   // Scene lights: 0 ambient, 1 rect, 2 point, 3 sphere, 4 point. The rect becomes a point light and the last
   // point a disk: still two area lights, the sphere's rank 1 → 0.
   for (Frame* f : {&kept, &fresh}) {
@@ -224,7 +216,7 @@ TEST(AreaLight, LightsChangingTypeKeepNoOtherLightsSamples) {
   const glm::mat4 moved = glm::translate(glm::mat4(1.0f), glm::vec3(-0.6f, 0.5f, 0.3f));
   kept.renderer->setInstanceTransform(1, moved);
   fresh.renderer->setInstanceTransform(1, moved);
-  const Image a = draw(kept, keeping), b = draw(fresh, scratch);
+  const Image a = gltest::drawFrame(kept, keeping), b = gltest::drawFrame(fresh, scratch);
   ASSERT_EQ(a.rgba.size(), b.rgba.size());
   EXPECT_TRUE(a.rgba == b.rgba);
 }
@@ -232,7 +224,7 @@ TEST(AreaLight, LightsChangingTypeKeepNoOtherLightsSamples) {
 TEST(AreaLight, SetLightRefusesABadShape) {
   TD_REQUIRE_GL_CONTEXT();
   Frame f = load(*glContext_);
-  const Image before = draw(f, preset(f, "hybrid-full"));
+  const Image before = gltest::drawFrame(f, preset(f, "hybrid-full"));
   for (float radius : {std::nanf(""), -1.0f, std::numeric_limits<float>::infinity()}) {
     Light l = f.renderer->scene().lights[3];  // the sphere
     l.radius = radius;
@@ -243,7 +235,7 @@ TEST(AreaLight, SetLightRefusesABadShape) {
   rect.dirW = glm::vec3(0.0f);
   f.renderer->setLight(1, rect);
   EXPECT_NE(f.renderer->scene().lights[1].dirW, glm::vec3(0.0f));
-  EXPECT_TRUE(draw(f, preset(f, "hybrid-full")).rgba == before.rgba);
+  EXPECT_TRUE(gltest::drawFrame(f, preset(f, "hybrid-full")).rgba == before.rgba);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "support/TestSupport.h"
 #include "tandem/Context.h"
 #include "tandem/Image.h"
+#include "tandem/ImageMetrics.h"
 #include "tandem/Primitives.h"
 #include "tandem/Renderer.h"
 #include "tandem/Scene.h"
@@ -149,6 +150,13 @@ inline Image accumulateFrames(SceneFrame& f, FrameSettings settings, int frames)
   Image image;
   for (int i = 0; i < frames; ++i) image = drawFrame(f, settings);
   return image;
+}
+
+/// Mean LDR-FLIP of two images (1 when they cannot be compared, with the failure recorded).
+inline double flipMean(const Image& a, const Image& b) {
+  auto r = flip(a, b);
+  EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+  return r.ok() ? r->mean : 1.0;
 }
 
 }  // namespace tandem::gltest

@@ -38,15 +38,7 @@ FrameSettings preset(const Frame& f, const char* name, int glossSamples = 4) {
   return s;
 }
 
-Image draw(Frame& f, const FrameSettings& s, FrameStats* stats = nullptr) { return gltest::drawFrame(f, s, stats); }
-
-Image accumulate(Frame& f, const FrameSettings& s, int frames) { return gltest::accumulateFrames(f, s, frames); }
-
-double flipMean(const Image& a, const Image& b) {
-  auto r = flip(a, b);
-  EXPECT_TRUE(r.ok()) << r.error().message;
-  return r.ok() ? r->mean : 1.0;
-}
+using gltest::flipMean;
 
 TEST(Glossy, TheHybridFrameIsTheReferenceAtItsSamples) {
   // The wavefront queues a glossy hit's rays and sums them in the recursion's order: the hybrid frame's
@@ -54,8 +46,8 @@ TEST(Glossy, TheHybridFrameIsTheReferenceAtItsSamples) {
   TD_REQUIRE_GL_CONTEXT();
   Frame f = load(*glContext_);
   FrameStats st, one;
-  const double e = flipMean(draw(f, preset(f, "hybrid-full"), &st), draw(f, preset(f, "reference")));
-  draw(f, preset(f, "hybrid-full", 1), &one);
+  const double e = flipMean(gltest::drawFrame(f, preset(f, "hybrid-full"), &st), gltest::drawFrame(f, preset(f, "reference")));
+  gltest::drawFrame(f, preset(f, "hybrid-full", 1), &one);
   std::printf("FLIP hybrid-full vs reference, 4 gloss samples: %.5f; reflection rays %llu (1 sample: %llu)\n", e,
               static_cast<unsigned long long>(st.rays.reflection), static_cast<unsigned long long>(one.rays.reflection));
   EXPECT_LT(e, 0.003);
@@ -67,9 +59,9 @@ TEST(Glossy, ANearlySmoothMaterialIsTheMirror) {
   Frame smooth = load(*glContext_, 0.0f, 0, true), almost = load(*glContext_, 1e-4f, 0, true),
         rough = load(*glContext_, -1.0f, 0, true);
   for (const char* name : {"hybrid-full", "reference", "raster"}) {
-    const Image mirror = draw(smooth, preset(smooth, name));
-    const double e = flipMean(draw(almost, preset(almost, name)), mirror);
-    const double glossy = flipMean(draw(rough, preset(rough, name)), mirror);
+    const Image mirror = gltest::drawFrame(smooth, preset(smooth, name));
+    const double e = flipMean(gltest::drawFrame(almost, preset(almost, name)), mirror);
+    const double glossy = flipMean(gltest::drawFrame(rough, preset(rough, name)), mirror);
     std::printf("%s: FLIP roughness 1e-4 vs 0: %.6f (the scene's roughness vs 0: %.4f)\n", name, e, glossy);
     EXPECT_LT(e, 0.001) << name;
     EXPECT_GT(glossy, 0.01) << name << ": roughness must show";
@@ -82,10 +74,10 @@ TEST(Glossy, AccumulatedFramesConvergeToTheReference) {
   FrameSettings truthSettings = preset(f, "reference", 16);
   truthSettings.referenceSpp = 2;
   truthSettings.lightSamples = 8;
-  const Image truth = accumulate(f, truthSettings, 4);
-  const double one = flipMean(draw(f, preset(f, "hybrid-full")), truth);
-  const double sixteen = flipMean(accumulate(f, preset(f, "hybrid-full"), 16), truth);
-  const double reference = flipMean(accumulate(f, preset(f, "reference"), 16), truth);
+  const Image truth = gltest::accumulateFrames(f, truthSettings, 4);
+  const double one = flipMean(gltest::drawFrame(f, preset(f, "hybrid-full")), truth);
+  const double sixteen = flipMean(gltest::accumulateFrames(f, preset(f, "hybrid-full"), 16), truth);
+  const double reference = flipMean(gltest::accumulateFrames(f, preset(f, "reference"), 16), truth);
   std::printf("FLIP vs converged reference: 1 frame %.5f, 16 frames %.5f, reference 16 frames %.5f\n", one, sixteen,
               reference);
   EXPECT_LT(sixteen, 0.6 * one);
@@ -96,8 +88,8 @@ TEST(Glossy, TheSameSeedGivesTheSameImageOnAnyThreadCount) {
   TD_REQUIRE_GL_CONTEXT();
   Frame one = load(*glContext_, -1.0f, 1), two = load(*glContext_, -1.0f, 2);
   for (const char* name : {"hybrid-full", "reference"}) {
-    draw(one, preset(one, name));
-    draw(two, preset(two, name));
+    gltest::drawFrame(one, preset(one, name));
+    gltest::drawFrame(two, preset(two, name));
     const ImageF a = one.renderer->readLinear(), b = two.renderer->readLinear();
     ASSERT_EQ(a.rgb.size(), b.rgb.size());
     EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0) << name;
