@@ -6,6 +6,7 @@
 // --trace-pixel prints that pixel's ray tree (Renderer::tracePixel) on stdout after the frame.
 // Exit 0 on success; non-zero with a one-line error on any bad input.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -86,6 +87,14 @@ int main(int argc, char** argv) {
   app.add_option("--trace-pixel", tracePixel,
                  "X,Y: after the frame, print that pixel's ray tree on stdout (every ray, hit, light, weight and the "
                  "sum that makes the pixel; row 0 at the top; printed under --quiet too) (default: none)");
+  std::optional<float> aperture, focusDistance;
+  app.add_option("--aperture", aperture,
+                 "Depth of field: the camera's lens diameter in world units, >= 0 (0: a pinhole); each sample of "
+                 "--aa or --accumulate sees through a new point of the lens, the reference through one per pixel "
+                 "sample (default: the scene camera's aperture)");
+  app.add_option("--focus-distance", focusDistance,
+                 "Depth of field: distance along the view of the plane in focus, > 0 (default: the scene camera's "
+                 "focusDistance, else the target's distance)");
   cli::addFrameOptions(app, frameOptions);
   try {
     app.parse(argc, argv);
@@ -104,6 +113,19 @@ int main(int argc, char** argv) {
 
   Result<Scene> scene = loadAnyScene(scenePath);
   if (!scene) return fail(scene.error().message);
+  if (aperture) {
+    if (!std::isfinite(*aperture) || *aperture < 0.0f)
+      return fail("--aperture: must be a finite lens diameter >= 0, got " + std::to_string(*aperture));
+    if (*aperture > 0.0f && scene->camera.orthographic)
+      return fail("--aperture: the scene's camera is orthographic and has no lens, got --aperture " +
+                  std::to_string(*aperture));
+    scene->camera.aperture = *aperture;
+  }
+  if (focusDistance) {
+    if (!std::isfinite(*focusDistance) || !(*focusDistance > 0.0f))
+      return fail("--focus-distance: must be a finite distance > 0, got " + std::to_string(*focusDistance));
+    scene->camera.focusDistance = *focusDistance;
+  }
 
   Result<cli::ResolvedFrame> resolved = cli::resolveFrame(frameOptions, scene->render);
   if (!resolved) return fail(resolved.error().message);

@@ -75,4 +75,8 @@ check --light-samples --light-samples 33
 check --light-samples --light-samples many
 check --gloss-samples --gloss-samples 0
 check --gloss-samples --gloss-samples 33
+check --aperture --aperture -0.5
+check --aperture --aperture nan
+check --focus-distance --focus-distance 0
+check --focus-distance --focus-distance inf
 exit $status

@@ -295,6 +295,19 @@ TEST(SceneFileErrors, SyntaxErrorsGiveLineAndColumn) {
   EXPECT_NE(big.error().message.find("1e400"), std::string::npos) << big.error().message;
 }
 
+TEST(SceneFile, CameraLens) {
+  auto s = parse(minimal(R"("camera": {"position": [0, 1, 5], "aperture": 0.25, "focusDistance": 4.5})"));
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  EXPECT_EQ(s->camera.aperture, 0.25f);
+  EXPECT_EQ(s->camera.focusDistance, 4.5f);
+  EXPECT_EQ(s->camera.lensUv, glm::vec2(0.5f));
+  expectError(minimal(R"("camera": {"aperture": -1})"), "/camera/aperture", "-1");
+  expectError(minimal(R"("camera": {"focusDistance": 0})"), "/camera/focusDistance", "0");
+  expectError(minimal(R"("camera": {"orthographic": true, "aperture": 0.1})"), "/camera/aperture", "orthographic");
+  // An aperture of 0 is the pinhole, on any camera.
+  EXPECT_TRUE(parse(minimal(R"("camera": {"orthographic": true, "aperture": 0})")).ok());
+}
+
 TEST(SceneFileErrors, WrongTypes) {
   expectError(R"([1, 2])", "/", "expected an object, got an array");
   expectError(minimal(R"("background": "blue")"), "/background", "expected [x, y, z] or a number, got a string");

@@ -2,6 +2,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/Sampling.h"
+
 namespace tandem {
 
 glm::mat4 Camera::viewFromWorld() const { return glm::lookAtRH(posW, targetW, upW); }
@@ -46,6 +48,44 @@ glm::mat4 Camera::clipFromView(glm::ivec2 size) const {
   shift[3][0] = -2.0f * jitterPx.x / float(size.x);
   shift[3][1] = 2.0f * jitterPx.y / float(size.y);
   return shift * m;
+}
+
+float Camera::focusPlane() const {
+  if (focusDistance > 0.0f && std::isfinite(focusDistance)) return focusDistance;
+  return glm::length(targetW - posW);
+}
+
+glm::vec3 Camera::lensOffsetW() const {
+  // NaN or negative apertures are no lens: per-frame code never fails, the scene file rejects them.
+  if (!(aperture > 0.0f) || !std::isfinite(aperture) || orthographic) return glm::vec3(0.0f);
+  const glm::vec3 forward = glm::normalize(targetW - posW);
+  const glm::vec3 right = glm::normalize(glm::cross(forward, upW));
+  const glm::vec3 up = glm::cross(right, forward);
+  const glm::vec2 d = 0.5f * aperture * squareToDisk(glm::clamp(lensUv, 0.0f, 1.0f));
+  return right * d.x + up * d.y;
+}
+
+Camera Camera::lensPinhole(glm::ivec2 size) const {
+  Camera c = *this;
+  const glm::vec3 offsetW = lensOffsetW();
+  const float focus = focusPlane();
+  if (offsetW == glm::vec3(0.0f) || !(focus > 0.0f) || !std::isfinite(focus)) return c;
+  c.aperture = 0.0f;
+  c.posW += offsetW;
+  // Far from the origin the move rounds to float's grain there: what counts is the move made, so the
+  // target moves by it too (the view direction stays) and the image shift below follows it.
+  const glm::vec3 movedW = c.posW - posW;
+  c.targetW += movedW;
+  // The focus plane's point seen at NDC n from the centre is posW + F·(forward + n·(t·aspect, t)); from the
+  // lens point it lies at NDC n − d / (F·(t·aspect, t)), d the offset in (right, up). A uniform image shift:
+  // d.x·H / (2·F·t) pixels left and d.y·H / (2·F·t) down (pixels run down, NDC up), whatever the aspect.
+  const glm::vec3 forward = glm::normalize(targetW - posW);
+  const glm::vec3 right = glm::normalize(glm::cross(forward, upW));
+  const glm::vec3 up = glm::cross(right, forward);
+  const float t = std::tan(glm::radians(yFovDeg) * 0.5f);
+  const float pxPerWorld = float(size.y) / (2.0f * focus * t);
+  c.jitterPx += glm::vec2(-glm::dot(movedW, right), glm::dot(movedW, up)) * pxPerWorld;
+  return c;
 }
 
 Ray Camera::rayThroughPixel(glm::vec2 pixel, glm::ivec2 size) const {

@@ -103,6 +103,10 @@ Result<void> validateScene(const Scene& scene) {
   if (!finite(c.posW) || !finite(c.targetW) || !finite(c.upW) || !(c.nearZ > 0.0f) || !(c.farZ > c.nearZ) ||
       !(c.yFovDeg > 0.0f && c.yFovDeg < 180.0f) || glm::length(c.targetW - c.posW) <= 0.0f)
     return Error{where + ": camera is invalid (needs finite position, target != position, 0 < near < far, 0 < fov < 180)"};
+  if (!std::isfinite(c.aperture) || c.aperture < 0.0f || std::isnan(c.focusDistance) || std::isinf(c.focusDistance))
+    return Error{where + ": camera lens is invalid (needs a finite aperture >= 0 and a finite focusDistance)"};
+  if (c.aperture > 0.0f && c.orthographic)
+    return Error{where + ": camera aperture needs a perspective camera (an orthographic camera has no lens)"};
   return {};
 }
 

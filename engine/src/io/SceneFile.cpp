@@ -716,7 +716,8 @@ class Builder {
   // ---- camera and render settings ----
   void camera(const Json& j, const std::string& path) {
     r_.object(j, path);
-    r_.checkKeys(j, path, {"position", "target", "up", "fov", "near", "far", "orthographic", "height"});
+    r_.checkKeys(j, path,
+                 {"position", "target", "up", "fov", "near", "far", "orthographic", "height", "aperture", "focusDistance"});
     Camera& c = scene_.camera;
     if (const Json* v = Reader::find(j, "position")) c.posW = r_.vec3(*v, child(path, "position"));
     if (const Json* v = Reader::find(j, "target")) c.targetW = r_.vec3(*v, child(path, "target"));
@@ -736,6 +737,13 @@ class Builder {
       r_.fail(child(path, "far"), "far (" + formatNumber(c.farZ) + ") must be greater than near (" + formatNumber(c.nearZ) + ")");
     if (const Json* v = Reader::find(j, "orthographic")) c.orthographic = r_.boolean(*v, child(path, "orthographic"));
     if (const Json* v = Reader::find(j, "height")) c.orthoHeight = r_.number(*v, child(path, "height"), kPositive);
+    if (const Json* v = Reader::find(j, "aperture")) {
+      c.aperture = r_.number(*v, child(path, "aperture"), Range{0.0});
+      if (c.aperture > 0.0f && c.orthographic)
+        r_.fail(child(path, "aperture"), "an orthographic camera has no lens (aperture needs a perspective camera)");
+    }
+    if (const Json* v = Reader::find(j, "focusDistance"))
+      c.focusDistance = r_.number(*v, child(path, "focusDistance"), kPositive);
     const glm::vec3 forward = c.targetW - c.posW;
     if (!(glm::length(forward) > 1e-6f)) r_.fail(child(path, "target"), "target must differ from position");
     const float upLen = glm::length(c.upW);

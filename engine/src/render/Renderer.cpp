@@ -296,9 +296,13 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   return finished();
 }
 
-bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn,
+bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamera, FrameStats& stats, bool lastDrawn,
                                 const std::vector<std::uint8_t>* only) {
   FrameStats sample;
+  // A thin lens is drawn one lens point at a time: the hybrid frame as the pinhole at that point (every pass
+  // sees an ordinary camera); the reference traces lens rays itself, a lens point per pixel sample.
+  const Camera camera =
+      plan.reference ? sampleCamera : sampleCamera.lensPinhole({plan.settings.width, plan.settings.height});
   // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
   const Camera glCamera = toRenderSpace(camera, caches.gpu().anchor());
   gl::ShadeInputs in;
@@ -458,7 +462,9 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
   auto addSample = [&](const std::vector<std::uint8_t>* only, const std::vector<std::uint8_t>* rayPixels) {
     Camera jittered = camera;
     jittered.sampleIndex = accum.next;  // new light samples with each new sub-pixel offset
-    jittered.jitterPx = subpixelJitter(accum.next++);
+    jittered.jitterPx = subpixelJitter(accum.next);
+    if (camera.aperture > 0.0f) jittered.lensUv = lensSample(accum.next);  // and a new point of the lens
+    ++accum.next;
     const bool catchUp = !single && !caches.probesCurrent();
     if (!drawSample(catchUp ? caughtUp : plan, jittered, stats, drawnOnce, rayPixels)) {
       accum.release();  // a sample is missing: the sums no longer stand for these settings

@@ -397,7 +397,7 @@ void RayTracer::referencePassWith(const Scene& scene, const Camera& camera, cons
           glm::vec3 sum(0.0f);
           for (int sy = 0; sy < spp; ++sy)
             for (int sx = 0; sx < spp; ++sx) {
-              Ray ray = cameraRays.through(referenceSamplePoint(x, y, sx, sy, spp, cameraRays.jitter()));
+              Ray ray = referenceRay(cameraRays, x, y, sx, sy, spp);
               float tNear, tFar;
               cameraSpan(cam, ray, tNear, tFar);
               ++c.primary;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/Sampling.h"
 #include "rt/RayMath.h"
 
 namespace tandem::rt {
@@ -23,6 +24,24 @@ CameraRays::CameraRays(const Camera& camera, glm::ivec2 size)
   forward_ = glm::normalize(camera.targetW - camera.posW);
   right_ = glm::normalize(glm::cross(forward_, camera.upW));
   up_ = glm::cross(right_, forward_);
+  // Camera::lensOffsetW's rules: a finite positive aperture on a perspective camera with a plane in focus.
+  if (camera.aperture > 0.0f && std::isfinite(camera.aperture) && !camera.orthographic) {
+    lensRadius_ = 0.5f * camera.aperture;
+    focus_ = camera.focusPlane();
+    if (!(focus_ > 0.0f) || !std::isfinite(focus_)) lensRadius_ = 0.0f;
+    lensUv_ = camera.lensUv;
+  }
+}
+
+Ray CameraRays::throughLens(glm::vec2 pixel, glm::vec2 lensU) const {
+  Ray r = through(pixel);
+  if (lensRadius_ <= 0.0f) return r;
+  // The centre's ray meets the plane in focus at depth focus_ along forward_.
+  const glm::vec3 focusW = r.origin + r.dir * (focus_ / glm::dot(r.dir, forward_));
+  const glm::vec2 d = lensRadius_ * squareToDisk(glm::clamp(lensU, 0.0f, 1.0f));
+  r.origin += right_ * d.x + up_ * d.y;
+  r.dir = glm::normalize(focusW - r.origin);
+  return r;
 }
 
 InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject, glm::vec3 anchor) {

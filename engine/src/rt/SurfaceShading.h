@@ -44,12 +44,21 @@ class CameraRays {
     r.dir = glm::normalize(forward_ + right_ * (nx * tanHalf_ * aspect_) + up_ * (ny * tanHalf_));
     return r;
   }
+  /// Whether the camera is a thin lens (Camera::aperture, perspective).
+  bool hasLens() const { return lensRadius_ > 0.0f; }
+  /// The camera's own lens point (Camera::lensUv).
+  glm::vec2 lensUv() const { return lensUv_; }
+  /// The thin lens's ray through `pixel` from lens point `lensU` ([0, 1)², squareToDisk): from that point
+  /// of the lens to where the lens centre's ray meets the plane in focus. Without a lens, through(pixel).
+  Ray throughLens(glm::vec2 pixel, glm::vec2 lensU) const;
 
  private:
   glm::vec3 pos_, forward_, right_, up_;
   glm::vec2 jitter_;
   float sizeX_, sizeY_, aspect_, tanHalf_, halfH_;
   bool orthographic_;
+  float lensRadius_ = 0.0f, focus_ = 0.0f;
+  glm::vec2 lensUv_{0.5f};
 };
 
 /// The [tNear, tFar] span of a camera ray that the rasterizer keeps (between its near and far planes).
@@ -78,6 +87,20 @@ inline glm::vec2 referenceSampleOffset(int x, int y, int sx, int sy, int spp) {
 inline glm::vec2 referenceSamplePoint(int x, int y, int sx, int sy, int spp, glm::vec2 jitter) {
   const glm::vec2 moved = referenceSampleOffset(x, y, sx, sy, spp) + jitter;
   return glm::vec2(x, y) + (moved - glm::floor(moved)) - jitter;
+}
+
+/// The reference frame's camera ray for sample (sx, sy) of pixel (x, y): through referenceSamplePoint and, with
+/// a lens, from a lens point of its own (hashed per pixel and sample, moved by the camera's lensUv so the
+/// frames of an accumulation draw new ones); with one sample, from the camera's own lens point, as the
+/// hybrid frame's Camera::lensPinhole sees.
+inline Ray referenceRay(const CameraRays& rays, int x, int y, int sx, int sy, int spp) {
+  const glm::vec2 pixel = referenceSamplePoint(x, y, sx, sy, spp, rays.jitter());
+  if (!rays.hasLens()) return rays.through(pixel);
+  if (spp <= 1) return rays.throughLens(pixel, rays.lensUv());
+  const auto sample = static_cast<std::uint32_t>(sy * spp + sx);
+  const auto ux = static_cast<std::uint32_t>(x), uy = static_cast<std::uint32_t>(y);
+  const glm::vec2 u = glm::vec2(random01(ux, uy, sample, 2), random01(ux, uy, sample, 3)) + rays.lensUv();
+  return rays.throughLens(pixel, u - glm::floor(u));
 }
 
 /// An instance's transforms as the ray pass uses them (the same copy Embree was given), in render space.
