@@ -53,11 +53,7 @@ Image draw(Whitted& w, const FrameSettings& s, const Camera& camera, FrameStats*
   return w.renderer->readImage();
 }
 
-double flipMean(const Image& a, const Image& b) {
-  auto f = flip(a, b);
-  EXPECT_TRUE(f.ok()) << f.error().message;
-  return f.ok() ? f->mean : 1.0;
-}
+using gltest::flipMean;
 
 bool sameLinear(const ImageF& a, const ImageF& b) {
   return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&

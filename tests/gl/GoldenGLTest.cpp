@@ -1,6 +1,7 @@
 // Golden images of the default (Whitted) scene: one per shading model with every effect off, and one per
 // preset; and of assets/scenes/area-lights.json and glossy.json (soft shadows and glossy rays at the default
-// 4 samples, first sample of the sequence: the same seed gives the same image). Tolerances (tests/golden/README.md):
+// 4 samples, first sample of the sequence: the same seed gives the same image), and distribution.json (all of
+// them with depth of field, 8 anti-aliasing and lens samples in one frame). Tolerances (tests/golden/README.md):
 //   raster-only frames: every channel within 2/255 on at least 99.9 % of pixels (as Filament's CI does on
 //   Mesa software rasterizers);
 //   frames with ray-traced effects: additionally LDR-FLIP mean under 0.01 (Embree's SIMD paths may differ
@@ -101,6 +102,19 @@ TEST(Golden, AreaLightsHybridFull) {
 }
 TEST(Golden, GlossyRaster) { checkGolden("glossy-raster", preset("raster"), false, "glossy.json"); }
 TEST(Golden, GlossyHybridFull) { checkGolden("glossy-hybrid-full", preset("hybrid-full"), true, "glossy.json"); }
+
+FrameSettings supersampled(const char* name, int samples) {
+  FrameSettings s = preset(name);
+  s.aa = AntiAlias::Ssaa;
+  s.aaSamples = samples;
+  return s;
+}
+TEST(Golden, DistributionRaster) {
+  checkGolden("distribution-raster", supersampled("raster", 8), false, "distribution.json");
+}
+TEST(Golden, DistributionHybridFull) {
+  checkGolden("distribution-hybrid-full", supersampled("hybrid-full", 8), true, "distribution.json");
+}
 
 }  // namespace
 }  // namespace tandem

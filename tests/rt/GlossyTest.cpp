@@ -55,7 +55,9 @@ TEST(Glossy, DirectionsStayOnTheirSideAndFinite) {
         const glm::vec3 d = glossyDirection(axis, roughness, sampleU(i), side);
         ASSERT_TRUE(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z));
         ASSERT_NEAR(glm::length(d), 1.0f, 1e-5f);
-        if (glm::dot(axis, side) > 0.0f) ASSERT_GE(glm::dot(d, side), 0.0f) << roughness;
+        if (glm::dot(axis, side) > 0.0f) {
+          ASSERT_GE(glm::dot(d, side), 0.0f) << roughness;
+        }
       }
   // u = 0 (the sequence's first point under a zero shift) is the lobe's rim, still finite.
   const glm::vec3 d = glossyDirection(glm::vec3(0.0f, 1.0f, 0.0f), 0.3f, glm::vec2(0.0f), glm::vec3(0.0f, 1.0f, 0.0f));

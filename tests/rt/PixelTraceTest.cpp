@@ -221,7 +221,9 @@ TEST(PixelTrace, EveryPixelEqualsTheRayPass) {
         sum.refraction += t.rays.refraction;
       }
     EXPECT_EQ(differing, 0);
-    if (*sceneFile == '\0') EXPECT_GT(background, 0);  // the sky is in view: its pixels are traced too
+    if (*sceneFile == '\0') {
+      EXPECT_GT(background, 0);  // the sky is in view: its pixels are traced too
+    }
     EXPECT_EQ(sum.primary, f.out.counts.primary);
     EXPECT_EQ(sum.shadow, f.out.counts.shadow);
     EXPECT_EQ(sum.reflection, f.out.counts.reflection);

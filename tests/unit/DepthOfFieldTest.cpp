@@ -49,6 +49,7 @@ TEST(NestedShuffle, KeepsEveryAlignedBlockAndShufflesWithinIt) {
           EXPECT_EQ(v >> k << k, high) << "k " << k << " index " << i;  // the same aligned block
           low.insert(v & (n - 1u));
         }
+
         EXPECT_EQ(low.size(), n) << "k " << k << ": a permutation of the block";
       }
     }

@@ -29,9 +29,10 @@ TEST(Sampling, EveryAlignedBlockIsANet) {
       std::set<std::uint32_t> cells, columns, rows;
       for (std::uint32_t i = start; i < start + n; ++i) {
         const glm::vec2 u = subpixelJitter(i) + 0.5f;
-        cells.insert(static_cast<std::uint32_t>(u.x * side) * side + static_cast<std::uint32_t>(u.y * side));
-        columns.insert(static_cast<std::uint32_t>(u.x * n));
-        rows.insert(static_cast<std::uint32_t>(u.y * n));
+        const auto fs = static_cast<float>(side), fn = static_cast<float>(n);
+        cells.insert(static_cast<std::uint32_t>(u.x * fs) * side + static_cast<std::uint32_t>(u.y * fs));
+        columns.insert(static_cast<std::uint32_t>(u.x * fn));
+        rows.insert(static_cast<std::uint32_t>(u.y * fn));
       }
       EXPECT_EQ(cells.size(), n) << "k " << k << " from " << start;
       EXPECT_EQ(columns.size(), n) << "k " << k << " from " << start;
@@ -69,7 +70,7 @@ TEST(Sampling, AJitteredCameraProjectsItsRaysOntoTheirSamplePoints) {
       const Ray r = c.rayThroughPixel(px, size);
       const glm::vec4 clip = c.clipFromView(size) * c.viewFromWorld() * glm::vec4(r.origin + 7.0f * r.dir, 1.0f);
       const glm::vec2 ndc = glm::vec2(clip) / clip.w;
-      const glm::vec2 landed((ndc.x + 1.0f) * 0.5f * size.x, (1.0f - ndc.y) * 0.5f * size.y);
+      const glm::vec2 landed((ndc.x + 1.0f) * 0.5f * float(size.x), (1.0f - ndc.y) * 0.5f * float(size.y));
       EXPECT_NEAR(landed.x, px.x, 2e-3f) << (ortho ? "ortho" : "perspective");
       EXPECT_NEAR(landed.y, px.y, 2e-3f) << (ortho ? "ortho" : "perspective");
       Camera plain = c;

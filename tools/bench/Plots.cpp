@@ -103,6 +103,36 @@ void plotPareto(const PlotContext& pc, const std::vector<ParetoPanel>& panels) {
   runGnuplot(pc, "pareto", s.str());
 }
 
+void plotConvergence(const PlotContext& pc, const std::vector<ConvergeCurve>& curves) {
+  if (curves.empty()) return;
+  std::vector<std::string> panels;
+  for (const ConvergeCurve& c : curves)
+    if (std::find(panels.begin(), panels.end(), c.panel) == panels.end()) panels.push_back(c.panel);
+  const int cols = columnsFor(panels.size(), pc.rows);
+  std::ostringstream s;
+  s << header(pc, "convergence", 560 * cols, 440 * pc.rows, pc.rows, cols,
+              "Error against the reference vs accumulated frames (new samples every frame)");
+  s << "set logscale xy\nset grid xtics ytics mxtics mytics lc rgb '#dddddd'\n";
+  s << "set xlabel 'frames accumulated (log scale)'\nset ylabel 'FLIP mean vs reference (log scale)'\n";
+  s << "set key top right box opaque font ',8'\nset format y '%g'\nset format x '%g'\n";
+  for (const std::string& panel : panels) {
+    s << "set title '" << panel << "'\nplot ";
+    bool first = true;
+    for (const ConvergeCurve& c : curves) {
+      if (c.panel != panel) continue;
+      const std::string data = "data/convergence-" + safe(c.panel + "-" + c.name) + ".dat";
+      std::ofstream f(fs::path(pc.out) / data);
+      f << "# frames total_ms flip\n";
+      for (const ConvergeCurve::Point& p : c.points) f << p.frames << " " << p.totalMs << " " << std::max(p.flip, 1e-5) << "\n";
+      s << (first ? "" : ", \\\n     ") << "'" << data << "' using 1:3 with linespoints lw 2 pt 7 title '" << c.name << "'";
+      first = false;
+    }
+    s << "\n";
+  }
+  s << "unset multiplot\n";
+  runGnuplot(pc, "convergence", s.str());
+}
+
 void plotStages(const PlotContext& pc, const std::vector<StagePanel>& panels, const std::vector<std::string>& stages) {
   if (panels.empty()) return;
   int cols = columnsFor(panels.size(), pc.rows);

@@ -52,12 +52,24 @@ struct HeavyRow {
   RayCounts rays;
 };
 
+struct ConvergeCurve {
+  std::string panel, name;  // panel: "scene size"
+  struct Point {
+    int frames = 0;
+    double totalMs = 0;
+    double flip = 0;
+  };
+  std::vector<Point> points;
+};
+
 /// FLIP vs frame time, log-log, one panel per scene × size, the Pareto front as a line.
 void plotPareto(const PlotContext& pc, const std::vector<ParetoPanel>& panels);
 /// Stacked stage times per preset, one panel per scene × size.
 void plotStages(const PlotContext& pc, const std::vector<StagePanel>& panels, const std::vector<std::string>& stages);
 /// Per effect one figure heat-EFFECT.png: the FLIP map between "effect ray traced" and "raster" per scene × size.
 void plotHeat(const PlotContext& pc, const std::vector<HeatPanel>& panels);
+/// FLIP vs accumulated frames, log-log, one panel per scene × size, one line per combination.
+void plotConvergence(const PlotContext& pc, const std::vector<ConvergeCurve>& curves);
 void writeHeavyTables(const std::string& out, const std::vector<HeavyRow>& rows, const std::vector<std::string>& stages,
                       const std::string& cpu, const std::string& gl, int threads);
 void plotHeavy(const PlotContext& pc, const std::vector<HeavyRow>& rows, const std::vector<std::string>& stages);

@@ -68,8 +68,10 @@ std::string modes(const FrameSettings& s) {
 /// two budget runs after them (kBudgetFractions): enough to draw a front and measure the budget's error
 /// table, few enough for about 15 minutes on two cores. A scene with area lights adds their sample counts
 /// over hybrid-full (1 and 16; the presets draw 4) and the raster preset's soft shadows at 16; one with glossy
-/// materials, their ray counts over hybrid-full (1 and 16).
-std::vector<Combo> makeCombos(const FrameSettings& base, bool areaLights = false, bool glossy = false) {
+/// materials, their ray counts over hybrid-full (1 and 16); one whose camera has a lens, 16 lens samples (ssaa
+/// 16) over hybrid-full and raster.
+std::vector<Combo> makeCombos(const FrameSettings& base, bool areaLights = false, bool glossy = false,
+                              bool lens = false) {
   std::vector<Combo> c;
   for (const std::string& p : presetNames()) {
     FrameSettings s = *presetSettings(p, base);
@@ -139,11 +141,32 @@ std::vector<Combo> makeCombos(const FrameSettings& base, bool areaLights = false
     c.push_back({"hybrid-full-light16", "light-samples", sixteen});
     c.push_back({"raster-light16", "light-samples", rasterSixteen});
   }
+  if (lens) {
+    // Depth of field: every anti-aliasing sample sees through a new lens point (docs/depth-of-field.md).
+    FrameSettings fullLens = full, rasterLens = raster;
+    fullLens.aa = rasterLens.aa = AntiAlias::Ssaa;
+    fullLens.aaSamples = rasterLens.aaSamples = 16;
+    c.push_back({"hybrid-full-lens16", "lens-samples", fullLens});
+    c.push_back({"raster-lens16", "lens-samples", rasterLens});
+  }
   return c;
 }
 
+/// One point of the error-vs-frames curve: after `frames` accumulated frames of `combo`, their summed time
+/// and the error of the converged image so far against the reference.
+struct ConvergePoint {
+  std::string scene;
+  Size size;
+  std::string combo;
+  int frames = 0;
+  double totalMs = 0;
+  double flipMean = 0;
+};
+
 /// The budget's points: hybrid-full with a target of these fractions of its own measured frame time.
 constexpr double kBudgetFractions[] = {0.75, 0.5};
+/// The presets whose accumulation the error-vs-frames curve follows.
+constexpr const char* kConvergePresets[] = {"hybrid-fast", "hybrid-full"};
 /// Frames a budget run gets to settle before it is measured (the model learns from the first ones).
 constexpr int kBudgetSettleFrames = 30;
 
@@ -378,6 +401,24 @@ void writeSweepMarkdown(const std::string& path, const std::vector<Row>& rows, c
   }
 }
 
+/// convergence.csv and convergence.md: the error-vs-frames curves.
+void writeConvergence(const SweepOptions& o, const std::vector<ConvergePoint>& points) {
+  if (points.empty()) return;
+  std::ofstream csv(fs::path(o.out) / "convergence.csv");
+  csv << "scene,width,height,combination,frames,total_ms,flip_mean\n";
+  for (const ConvergePoint& p : points)
+    csv << p.scene << "," << p.size.width << "," << p.size.height << "," << p.combo << "," << p.frames << ","
+        << p.totalMs << "," << p.flipMean << "\n";
+  std::ofstream md(fs::path(o.out) / "convergence.md");
+  md << "# Error against the reference vs accumulated frames\n\nEach frame of an accumulation adds new pixel, "
+        "area-light, gloss and lens samples (FrameSettings::accumulate); FLIP mean against the reference after "
+        "N frames, and the N frames' summed time in ms.\n\n| scene | size | combination | frames | total ms | FLIP |\n"
+        "|---|---|---|---|---|---|\n";
+  for (const ConvergePoint& p : points)
+    md << "| " << p.scene << " | " << p.size.label() << " | " << p.combo << " | " << p.frames << " | "
+       << fmt("%.0f", p.totalMs) << " | " << fmt("%.4f", p.flipMean) << " |\n";
+}
+
 void writeCeilingCsv(const std::string& path, const std::vector<Ceiling>& ceilings) {
   std::ofstream f(path);
   f << "scene,width,height,threads,rays_shadow,rays_reflection,rays_refraction,pass_ms,renderer_rays_ms,floor_ms,"
@@ -503,8 +544,10 @@ int runSweep(const SweepOptions& o) {
       if (m.roughness > 0.0f && (m.kr > 0.0f || m.kt > 0.0f)) return true;
     return false;
   };
+  auto hasLens = [](const Scene& scene) { return scene.camera.aperture > 0.0f && !scene.camera.orthographic; };
   auto combosFor = [&](const Scene& scene) {
-    return makeCombos(FrameSettings{}, hasAreaLights(scene), hasGloss(scene)).size() + std::size(kBudgetFractions);
+    return makeCombos(FrameSettings{}, hasAreaLights(scene), hasGloss(scene), hasLens(scene)).size() +
+           std::size(kBudgetFractions) + (o.convergeFrames > 0 ? std::size(kConvergePresets) : 0);
   };
   std::size_t totalSteps = 0;
   for (const Loaded& l : scenes) totalSteps += o.sizes.size() * (combosFor(l.scene) + 2);  // + truth + ceiling
@@ -519,6 +562,7 @@ int runSweep(const SweepOptions& o) {
   };
 
   std::vector<Row> rows;
+  std::vector<ConvergePoint> converge;
   std::vector<Ceiling> ceilings;
   std::vector<HeatPanel> heat;
   for (Loaded& l : scenes) {
@@ -549,7 +593,7 @@ int runSweep(const SweepOptions& o) {
 
       std::map<std::string, Image> images;
       std::vector<std::size_t> mine;
-      for (const Combo& combo : makeCombos(base, hasAreaLights(l.scene), hasGloss(l.scene))) {
+      for (const Combo& combo : makeCombos(base, hasAreaLights(l.scene), hasGloss(l.scene), hasLens(l.scene))) {
         FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup, o.frames);
         Row row = measuredRow(l.label, size, combo, o.frames, run, truth.image);
         (void)writePng((fs::path(o.out) / "images" / (prefix + "-" + combo.name + ".png")).string(), run.image);
@@ -580,6 +624,26 @@ int runSweep(const SweepOptions& o) {
       std::vector<Row*> group;
       for (std::size_t i : mine) group.push_back(&rows[i]);
       markPareto(group);
+
+      // The error-vs-frames curve: each frame of an accumulation adds new pixel, light, gloss and lens
+      // samples (FrameSettings::accumulate); FLIP against the reference after 1, 2, 4, ... frames.
+      for (const char* name : kConvergePresets) {
+        if (o.convergeFrames <= 0) break;
+        FrameSettings s = *presetSettings(name, base);
+        s.accumulate = o.convergeFrames;
+        s.reuseRays = false;
+        double totalMs = 0;
+        std::string line;
+        for (int frame = 1; frame <= o.convergeFrames; ++frame) {
+          totalMs += renderer.render(camera, s).totalMs;
+          if ((frame & (frame - 1)) != 0 && frame != o.convergeFrames) continue;  // powers of two and the last
+          ConvergePoint p{l.label, size, name, frame, totalMs, 1.0};
+          if (auto e = compare(renderer.readImage(), truth.image)) p.flipMean = e->flipMean;
+          line += fmt(" %d:", frame) + fmt("%.4f", p.flipMean);
+          converge.push_back(p);
+        }
+        progress(l.label + " " + size.label() + " " + name + " accumulated, FLIP after N frames:" + line);
+      }
 
       // Per effect: where raster and ray traced disagree, the effect alone over the raster preset.
       for (const char* effect : {"shadows", "reflections", "refraction"}) {
@@ -623,6 +687,7 @@ int runSweep(const SweepOptions& o) {
   writeCeilingCsv((fs::path(o.out) / "ceiling.csv").string(), ceilings);
   writeSweepMarkdown((fs::path(o.out) / "sweep.md").string(), rows, ceilings, setup.machine, gl, setup.threads, o);
   writeBudgetTable((fs::path(o.out) / "budget-table.md").string(), rows);
+  writeConvergence(o, converge);
 
   if (o.plots) {
     std::vector<ParetoPanel> pareto;
@@ -650,9 +715,17 @@ int runSweep(const SweepOptions& o) {
     plotPareto(pc, pareto);
     plotStages(pc, stages, stageNames);
     plotHeat(pc, heat);
+    std::vector<ConvergeCurve> curves;
+    for (const ConvergePoint& p : converge) {
+      const std::string panel = p.scene + " " + p.size.label();
+      if (curves.empty() || curves.back().panel != panel || curves.back().name != p.combo)
+        curves.push_back({panel, p.combo, {}});
+      curves.back().points.push_back({p.frames, p.totalMs, p.flipMean});
+    }
+    plotConvergence(pc, curves);
   }
-  std::printf("wrote %s/sweep.csv, sweep.md, ceiling.csv%s in %s\n", o.out.c_str(),
-              o.plots ? ", pareto.png, stages.png, heat-*.png" : "", formatDuration(elapsed()).c_str());
+  std::printf("wrote %s/sweep.csv, sweep.md, ceiling.csv, convergence.csv%s in %s\n", o.out.c_str(),
+              o.plots ? ", pareto.png, stages.png, heat-*.png, convergence.png" : "", formatDuration(elapsed()).c_str());
   return 0;
 }
 

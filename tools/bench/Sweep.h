@@ -20,6 +20,7 @@ struct SweepOptions {
   int threads = 0;   // ray-pass threads, 0 = all
   std::string out = "out/bench";
   bool plots = true;
+  int convergeFrames = 32;  // the error-vs-frames curve: accumulated frames per curve (0: none)
   // --heavy
   std::vector<std::size_t> heavyCounts;
   std::vector<Size> heavySizes;

@@ -1,5 +1,6 @@
 // tandem-bench: what each render setting costs and buys (docs/bench.md).
 //   tandem-bench --sweep [--scenes a.json,b.gltf] [--sizes 640x360,1280x720] [--frames N] [--warmup W] [--out DIR]
+//                        [--converge-frames N]
 //   tandem-bench --summary [--scenes ...] [--sizes 640x360,1280x720,1920x1080] [--frames N] [--warmup W]
 //   tandem-bench --budget [--targets 100,85,75] [--budget-preset hybrid-full] [--budget-size 640x360]
 //   tandem-bench --heavy [--heavy-counts 10000,100000,500000,2000000] [--heavy-sizes 640x360,1280x720]
@@ -79,6 +80,10 @@ int sweepMain(int argc, char** argv) {
   app.add_option("--warmup", o.warmup, "Warm-up frames per combination")->check(CLI::Range(0, 1000))->capture_default_str();
   app.add_option("--truth-spp", o.truthSpp, "Reference N (N×N spp); 0 = 8 up to 640×360, else 4")
       ->check(CLI::Range(0, 64))->capture_default_str();
+  app.add_option("--converge-frames", o.convergeFrames,
+                 "--sweep: the error-vs-frames curve, FLIP after 1, 2, 4, ... accumulated frames up to N (0: none)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
   app.add_option("--threads", o.threads, "Ray-pass threads (0 = all)")->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--out", o.out, "Output folder")->capture_default_str();
   app.add_option("--heavy-counts", heavyCounts, "Triangle counts for --heavy")->capture_default_str();
