@@ -338,7 +338,7 @@ void RayTracer::hybridPass(const Scene& scene, const Camera& camera, const Frame
   out.lightMask.resize(n);
   out.areaLights = 0;
   out.areaLightBits = 0;
-  if (modes.primaryShadowRays) {
+  if (TraceModes::hybrid(settings).primaryShadowRays) {
     const std::vector<const Light*> lights = scene.directLights();
     for (std::size_t j = 0; j < lights.size(); ++j)
       if (isAreaLight(lights[j]->type)) {
