@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
   app.add_option("--trace-pixel", tracePixel,
                  "X,Y: after the frame, print that pixel's ray tree on stdout (every ray, hit, light, weight and the "
                  "sum that makes the pixel; row 0 at the top; printed under --quiet too) (default: none)");
-  std::optional<float> aperture, focusDistance;
+  std::optional<float> aperture, focusDistance, shutter;
   app.add_option("--aperture", aperture,
                  "Depth of field: the camera's lens diameter in world units, >= 0 (0: a pinhole); each sample of "
                  "--aa or --accumulate sees through a new point of the lens, the reference through one per pixel "
@@ -95,6 +95,10 @@ int main(int argc, char** argv) {
   app.add_option("--focus-distance", focusDistance,
                  "Depth of field: distance along the view of the plane in focus, > 0 (default: the scene camera's "
                  "focusDistance, else the target's distance)");
+  app.add_option("--shutter", shutter,
+                 "Motion blur: seconds the camera's shutter stays open, >= 0 (0: none); instances with a scene "
+                 "`motion` move meanwhile, each sample of --aa or --accumulate at a new time, the reference at one "
+                 "per pixel sample (default: the scene camera's shutter)");
   cli::addFrameOptions(app, frameOptions);
   try {
     app.parse(argc, argv);
@@ -120,6 +124,11 @@ int main(int argc, char** argv) {
       return fail("--aperture: the scene's camera is orthographic and has no lens, got --aperture " +
                   std::to_string(*aperture));
     scene->camera.aperture = *aperture;
+  }
+  if (shutter) {
+    if (!std::isfinite(*shutter) || *shutter < 0.0f)
+      return fail("--shutter: must be a finite number of seconds >= 0, got " + std::to_string(*shutter));
+    scene->camera.shutter = *shutter;
   }
   if (focusDistance) {
     if (!std::isfinite(*focusDistance) || !(*focusDistance > 0.0f))

@@ -79,4 +79,6 @@ check --aperture --aperture -0.5
 check --aperture --aperture nan
 check --focus-distance --focus-distance 0
 check --focus-distance --focus-distance inf
+check --shutter --shutter -0.1
+check --shutter --shutter inf
 exit $status

@@ -308,6 +308,25 @@ TEST(SceneFile, CameraLens) {
   EXPECT_TRUE(parse(minimal(R"("camera": {"orthographic": true, "aperture": 0})")).ok());
 }
 
+TEST(SceneFile, InstanceMotionAndShutter) {
+  auto s = parse(R"({"meshes": {"s": {"primitive": "sphere"}}, "materials": {"m": {}},
+                     "instances": [{"mesh": "s", "material": "m",
+                                    "motion": {"velocity": [1, 0, -2], "angularVelocity": [0, 90, 0]}}],
+                     "camera": {"shutter": 0.05}})");
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  EXPECT_EQ(s->instances[0].velocity, glm::vec3(1.0f, 0.0f, -2.0f));
+  EXPECT_NEAR(s->instances[0].angularVelocity.y, 1.5707963f, 1e-6f) << "degrees per second in the file, radians in the scene";
+  EXPECT_EQ(s->camera.shutter, 0.05f);
+  EXPECT_EQ(s->camera.timeU, 0.5f);
+  expectError(R"({"meshes": {"s": {"primitive": "sphere"}}, "materials": {"m": {}},
+                  "instances": [{"mesh": "s", "material": "m", "motion": {"speed": 3}}]})",
+              "/instances/0/motion/speed", "unknown key");
+  expectError(R"({"meshes": {"s": {"primitive": "sphere"}}, "materials": {"m": {}},
+                  "instances": [{"mesh": "s", "material": "m", "motion": {"velocity": [1, 2]}}]})",
+              "/instances/0/motion/velocity", "array of 2");
+  expectError(minimal(R"("camera": {"shutter": -0.1})"), "/camera/shutter", "-0.1");
+}
+
 TEST(SceneFileErrors, WrongTypes) {
   expectError(R"([1, 2])", "/", "expected an object, got an array");
   expectError(minimal(R"("background": "blue")"), "/background", "expected [x, y, z] or a number, got a string");

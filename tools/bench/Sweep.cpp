@@ -14,6 +14,7 @@
 
 #include "BenchCommon.h"
 #include "Plots.h"
+#include "core/Motion.h"
 #include "core/Timer.h"
 #include "render/FrameBudget.h"
 #include "rt/RayCapture.h"
@@ -68,10 +69,10 @@ std::string modes(const FrameSettings& s) {
 /// two budget runs after them (kBudgetFractions): enough to draw a front and measure the budget's error
 /// table, few enough for about 15 minutes on two cores. A scene with area lights adds their sample counts
 /// over hybrid-full (1 and 16; the presets draw 4) and the raster preset's soft shadows at 16; one with glossy
-/// materials, their ray counts over hybrid-full (1 and 16); one whose camera has a lens, 16 lens samples (ssaa
-/// 16) over hybrid-full and raster.
+/// materials, their ray counts over hybrid-full (1 and 16); one whose camera has a lens or moving instances,
+/// 16 lens and time samples (ssaa 16) over hybrid-full and raster.
 std::vector<Combo> makeCombos(const FrameSettings& base, bool areaLights = false, bool glossy = false,
-                              bool lens = false) {
+                              bool lensOrMotion = false) {
   std::vector<Combo> c;
   for (const std::string& p : presetNames()) {
     FrameSettings s = *presetSettings(p, base);
@@ -141,13 +142,14 @@ std::vector<Combo> makeCombos(const FrameSettings& base, bool areaLights = false
     c.push_back({"hybrid-full-light16", "light-samples", sixteen});
     c.push_back({"raster-light16", "light-samples", rasterSixteen});
   }
-  if (lens) {
-    // Depth of field: every anti-aliasing sample sees through a new lens point (docs/depth-of-field.md).
-    FrameSettings fullLens = full, rasterLens = raster;
-    fullLens.aa = rasterLens.aa = AntiAlias::Ssaa;
-    fullLens.aaSamples = rasterLens.aaSamples = 16;
-    c.push_back({"hybrid-full-lens16", "lens-samples", fullLens});
-    c.push_back({"raster-lens16", "lens-samples", rasterLens});
+  if (lensOrMotion) {
+    // Depth of field and motion blur: every anti-aliasing sample sees through a new lens point at a new time
+    // of the shutter (docs/depth-of-field.md, docs/motion-blur.md).
+    FrameSettings fullSampled = full, rasterSampled = raster;
+    fullSampled.aa = rasterSampled.aa = AntiAlias::Ssaa;
+    fullSampled.aaSamples = rasterSampled.aaSamples = 16;
+    c.push_back({"hybrid-full-ssaa16", "lens-time-samples", fullSampled});
+    c.push_back({"raster-ssaa16", "lens-time-samples", rasterSampled});
   }
   return c;
 }
@@ -544,7 +546,12 @@ int runSweep(const SweepOptions& o) {
       if (m.roughness > 0.0f && (m.kr > 0.0f || m.kt > 0.0f)) return true;
     return false;
   };
-  auto hasLens = [](const Scene& scene) { return scene.camera.aperture > 0.0f && !scene.camera.orthographic; };
+  auto hasLens = [](const Scene& scene) {
+    if (scene.camera.aperture > 0.0f && !scene.camera.orthographic) return true;
+    for (const Instance& inst : scene.instances)
+      if (isMoving(inst, scene.camera.shutter)) return true;
+    return false;
+  };
   auto combosFor = [&](const Scene& scene) {
     return makeCombos(FrameSettings{}, hasAreaLights(scene), hasGloss(scene), hasLens(scene)).size() +
            std::size(kBudgetFractions) + (o.convergeFrames > 0 ? std::size(kConvergePresets) : 0);

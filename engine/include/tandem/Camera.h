@@ -39,6 +39,12 @@ struct Camera {
   /// The point of the lens this frame sees through, in [0, 1)² mapped onto the lens disk (squareToDisk,
   /// core/Sampling.h); (0.5, 0.5) is its centre, the pinhole. Accumulated samples move it (lensSample).
   glm::vec2 lensUv{0.5f};
+  /// Motion blur: seconds the shutter stays open, centred on the frame's time; 0 (the default) freezes
+  /// every instance at its transform. Instance::velocity and angularVelocity say how things move meanwhile.
+  float shutter = 0.0f;
+  /// When within the shutter this frame is drawn, in [0, 1] (0 opens it, 1 closes it; 0.5, the default, is
+  /// the frame's own time, where instances stand at their transforms). Accumulated samples move it (timeSample).
+  float timeU = 0.5f;
 
   glm::mat4 viewFromWorld() const;
   glm::mat4 worldFromView() const;

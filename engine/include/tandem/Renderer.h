@@ -54,6 +54,10 @@ class Renderer {
   /// level only: no mesh's BVH is rebuilt. Shadow maps and probes are re-rendered (the scene changed).
   /// Setting the transform (or, with setLight, the light) it already has changes nothing.
   void setInstanceTransform(std::uint32_t instance, const glm::mat4& worldFromObject);
+  /// Motion blur: how an instance moves while the camera's shutter is open (Instance::velocity in world units
+  /// per second, angularVelocity in radians per second about its origin; docs/motion-blur.md). A game sets it
+  /// with the transform each frame; non-finite values are refused (logged, the old motion kept).
+  void setInstanceMotion(std::uint32_t instance, glm::vec3 velocity, glm::vec3 angularVelocity);
   void setLight(std::uint32_t light, const Light& value);
 
   /// Makes the frame's GL targets for width × height now, so that a size the GL cannot hold is an error

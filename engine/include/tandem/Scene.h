@@ -137,6 +137,12 @@ struct Instance {
   std::uint32_t material = 0;
   glm::mat4 worldFromObject{1.0f};
   bool dynamic = false;
+  /// Motion blur (docs/motion-blur.md): how the instance moves while the camera's shutter is open, a rigid
+  /// motion about its own origin (worldFromObject's translation): world units per second, and radians per
+  /// second about the world axis along angularVelocity. worldFromObject is its place at the middle of the
+  /// exposure. Zero (the default) is an instance at rest.
+  glm::vec3 velocity{0.0f};
+  glm::vec3 angularVelocity{0.0f};
 };
 
 /// Defaults that a scene file may give for rendering it (the command line overrides them).

@@ -83,4 +83,11 @@ inline glm::vec2 lensSample(std::uint32_t index) {
   return glm::vec2(u >> 8u) * (1.0f / 16777216.0f);  // 24 bits: exact in float, < 1
 }
 
+/// The shutter time of accumulated sample `index` (Camera::timeU) in [0, 1): van der Corput's sequence at
+/// nestedShuffle'd indices (its own seed), so every 2^k samples from a multiple of 2^k fall one in each
+/// 1/2^k of the shutter, in an order unrelated to the sub-pixel offsets and the lens points.
+inline float timeSample(std::uint32_t index) {
+  return static_cast<float>(sobol02(nestedShuffle(index, 0xBB67AE85u)).x >> 8) * (1.0f / 16777216.0f);
+}
+
 }  // namespace tandem

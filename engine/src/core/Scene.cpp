@@ -98,6 +98,7 @@ Result<void> validateScene(const Scene& scene) {
     if (inst.mesh >= scene.meshes.size()) return Error{id + ": mesh index out of range"};
     if (inst.material >= scene.materials.size()) return Error{id + ": material index out of range"};
     if (!finite(inst.worldFromObject)) return Error{id + ": transform is NaN or infinite"};
+    if (!finite(inst.velocity) || !finite(inst.angularVelocity)) return Error{id + ": motion is NaN or infinite"};
   }
   const Camera& c = scene.camera;
   if (!finite(c.posW) || !finite(c.targetW) || !finite(c.upW) || !(c.nearZ > 0.0f) || !(c.farZ > c.nearZ) ||
@@ -105,6 +106,8 @@ Result<void> validateScene(const Scene& scene) {
     return Error{where + ": camera is invalid (needs finite position, target != position, 0 < near < far, 0 < fov < 180)"};
   if (!std::isfinite(c.aperture) || c.aperture < 0.0f || std::isnan(c.focusDistance) || std::isinf(c.focusDistance))
     return Error{where + ": camera lens is invalid (needs a finite aperture >= 0 and a finite focusDistance)"};
+  if (!std::isfinite(c.shutter) || c.shutter < 0.0f || !std::isfinite(c.timeU))
+    return Error{where + ": camera shutter is invalid (needs a finite shutter >= 0 and a finite timeU)"};
   if (c.aperture > 0.0f && c.orthographic)
     return Error{where + ": camera aperture needs a perspective camera (an orthographic camera has no lens)"};
   return {};

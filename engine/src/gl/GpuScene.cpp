@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/Motion.h"
 #include "core/RenderSpace.h"
 #include "core/Shading.h"
 
@@ -47,13 +48,15 @@ Buffer bufferOf(std::string_view label, const std::vector<T>& v) {
 
 // Instance transforms in render space (core/RenderSpace.h): their translations rebased on the anchor in
 // double, so vertices far from the world origin are transformed with small, precise numbers.
-std::vector<GpuInstance> packInstances(const Scene& scene, glm::vec3 anchor) {
+std::vector<GpuInstance> packInstances(const Scene& scene, glm::vec3 anchor, float shutter = 0.0f, float u = 0.5f) {
   std::vector<GpuInstance> out;
   out.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances) {
     GpuInstance g;
-    g.worldFromObject = toRenderSpace(inst.worldFromObject, anchor);
-    glm::mat3 m(inst.worldFromObject);
+    // A moving instance at shutter time u: its render-space steps blended as the ray scene blends them.
+    g.worldFromObject = isMoving(inst, shutter) ? motionAt(motionSteps(inst, shutter, anchor), u)
+                                                : toRenderSpace(inst.worldFromObject, anchor);
+    glm::mat3 m(g.worldFromObject);  // the upper 3x3 render space keeps from world space
     float det = glm::determinant(m);
     // A singular transform has no inverse: a zero matrix makes every normal fall back to Ng, as on the CPU.
     g.normalFromObject = std::isfinite(det) && det != 0.0f ? glm::mat4(glm::transpose(glm::inverse(m))) : glm::mat4(0.0f);
@@ -287,9 +290,9 @@ void GpuScene::bakeRamps(const Scene& scene) {
   glTextureSubImage2D(toonRamps_.id(), 0, 0, 0, TD_TOON_RAMP_SIZE, rows, GL_RED, GL_FLOAT, ramps.data());
 }
 
-void GpuScene::updateInstances(const Scene& scene) {
+void GpuScene::updateInstances(const Scene& scene, float shutter, float u) {
   assert(static_cast<int>(scene.instances.size()) == instanceCount_ && "updateInstances: instance count changed");
-  std::vector<GpuInstance> packed = packInstances(scene, anchor_);
+  std::vector<GpuInstance> packed = packInstances(scene, anchor_, shutter, u);
   glNamedBufferSubData(instances_.id(), 0, static_cast<GLsizeiptr>(packed.size() * sizeof(GpuInstance)),
                        packed.data());
 }

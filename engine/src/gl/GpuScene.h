@@ -51,8 +51,10 @@ std::vector<std::uint32_t> probeInstances(const Scene& scene);
 class GpuScene {
  public:
   void upload(const Scene& scene, std::optional<ShadingModel> shadingOverride);
-  /// Rewrites every instance record (a few hundred bytes each): cheaper than tracking which moved.
-  void updateInstances(const Scene& scene);
+  /// Rewrites every instance record (a few hundred bytes each): cheaper than tracking which moved. With a
+  /// shutter (Camera::shutter), instances that move while it is open are drawn where time u ∈ [0, 1] of it
+  /// puts them (core/Motion.h motionAt, the transform the ray scene gives rays of that time).
+  void updateInstances(const Scene& scene, float shutter = 0.0f, float u = 0.5f);
   void updateLights(const Scene& scene);
   /// Re-packs materials when the shading override changes.
   void updateMaterials(const Scene& scene, std::optional<ShadingModel> shadingOverride);

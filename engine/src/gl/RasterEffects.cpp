@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "core/Motion.h"
 #include "core/RenderSpace.h"
 #include "core/Shading.h"
 
@@ -74,12 +75,16 @@ std::vector<Bounds> meshBounds(const Scene& scene) {
   return out;
 }
 
-std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>& meshes, glm::vec3 anchor) {
+std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>& meshes, glm::vec3 anchor,
+                                   float shutter, float u) {
   std::vector<Bounds> out(scene.instances.size());
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {
-    const Bounds& b = meshes[scene.instances[i].mesh];
+    const Instance& inst = scene.instances[i];
+    const Bounds& b = meshes[inst.mesh];
     if (b.empty()) continue;
-    const glm::mat4 m = toRenderSpace(scene.instances[i].worldFromObject, anchor);
+    // A moving instance where time u of the shutter puts it, as the GL copy draws it (GpuScene::updateInstances).
+    const glm::mat4 m = isMoving(inst, shutter) ? motionAt(motionSteps(inst, shutter, anchor), u)
+                                                : toRenderSpace(inst.worldFromObject, anchor);
     for (int k = 0; k < 8; ++k) {
       glm::vec3 corner((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z);
       out[i].add(glm::vec3(m * glm::vec4(corner, 1.0f)));

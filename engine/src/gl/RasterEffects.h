@@ -36,7 +36,9 @@ struct Bounds {
 /// Object-space bounds of every mesh (computed once per scene).
 std::vector<Bounds> meshBounds(const Scene& scene);
 /// Bounds of each instance in render space (world − anchor, core/RenderSpace.h): the space of the GL copy.
-std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>& meshes, glm::vec3 anchor);
+/// `shutter`, `u`: a moving instance where time u of the shutter puts it (core/Motion.h).
+std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>& meshes, glm::vec3 anchor,
+                                   float shutter = 0.0f, float u = 0.5f);
 
 /// The camera of cube-map face `face` (GL's order +X, −X, +Y, −Y, +Z, −Z) seen from `eye`: a face rendered by
 /// the ordinary raster and shade passes is then addressed by direction with no flip.

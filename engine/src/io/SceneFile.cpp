@@ -502,7 +502,7 @@ class Builder {
   }
 
   void meshInstance(const Json& j, const std::string& path, std::string name) {
-    r_.checkKeys(j, path, {"name", "mesh", "material", "transform", "dynamic"}, "a mesh instance");
+    r_.checkKeys(j, path, {"name", "mesh", "material", "transform", "dynamic", "motion"}, "a mesh instance");
     Instance inst;
     const std::string meshName = r_.string(r_.require(j, path, "mesh", "or 'gltf' for a glTF placement"), child(path, "mesh"));
     auto m = meshIndex_.find(meshName);
@@ -511,9 +511,19 @@ class Builder {
     inst.material = materialByName(r_.require(j, path, "material"), child(path, "material"));
     if (const Json* v = Reader::find(j, "transform")) inst.worldFromObject = transform(*v, child(path, "transform"));
     if (const Json* v = Reader::find(j, "dynamic")) inst.dynamic = r_.boolean(*v, child(path, "dynamic"));
+    if (const Json* v = Reader::find(j, "motion")) motion(*v, child(path, "motion"), inst);
     inst.name = name.empty() ? meshName : std::move(name);
     charge(path, "the instance", sizeof(Instance) + inst.name.size());
     scene_.instances.push_back(std::move(inst));
+  }
+
+  // Motion blur: world units per second and degrees per second about the instance's origin (docs/motion-blur.md).
+  void motion(const Json& j, const std::string& path, Instance& inst) {
+    r_.object(j, path);
+    r_.checkKeys(j, path, {"velocity", "angularVelocity"});
+    if (const Json* v = Reader::find(j, "velocity")) inst.velocity = r_.vec3(*v, child(path, "velocity"));
+    if (const Json* v = Reader::find(j, "angularVelocity"))
+      inst.angularVelocity = glm::radians(r_.vec3(*v, child(path, "angularVelocity")));
   }
 
   std::uint32_t materialByName(const Json& j, const std::string& path) const {
@@ -717,7 +727,8 @@ class Builder {
   void camera(const Json& j, const std::string& path) {
     r_.object(j, path);
     r_.checkKeys(j, path,
-                 {"position", "target", "up", "fov", "near", "far", "orthographic", "height", "aperture", "focusDistance"});
+                 {"position", "target", "up", "fov", "near", "far", "orthographic", "height", "aperture", "focusDistance",
+                  "shutter"});
     Camera& c = scene_.camera;
     if (const Json* v = Reader::find(j, "position")) c.posW = r_.vec3(*v, child(path, "position"));
     if (const Json* v = Reader::find(j, "target")) c.targetW = r_.vec3(*v, child(path, "target"));
@@ -744,6 +755,7 @@ class Builder {
     }
     if (const Json* v = Reader::find(j, "focusDistance"))
       c.focusDistance = r_.number(*v, child(path, "focusDistance"), kPositive);
+    if (const Json* v = Reader::find(j, "shutter")) c.shutter = r_.number(*v, child(path, "shutter"), Range{0.0});
     const glm::vec3 forward = c.targetW - c.posW;
     if (!(glm::length(forward) > 1e-6f)) r_.fail(child(path, "target"), "target must differ from position");
     const float upLen = glm::length(c.upW);

@@ -9,6 +9,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/Motion.h"
 #include "core/RenderSpace.h"
 #include "core/Sampling.h"
 #include "core/Shading.h"
@@ -102,7 +103,7 @@ struct Renderer::Impl {
 
   // The frame's stages (Renderer::render calls them in order). A stage that cannot go on sets
   // stats.error and returns false: the frame is then not drawn.
-  bool prepare(FramePlan& plan, FrameStats& stats);
+  bool prepare(FramePlan& plan, const Camera& camera, FrameStats& stats);
   void raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
   void readback(const FramePlan& plan);
   void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats, const rt::RayReuse* reuse);
@@ -239,6 +240,23 @@ void Renderer::setInstanceTransform(std::uint32_t instance, const glm::mat4& wor
   r.last.sceneChanged = true;
 }
 
+void Renderer::setInstanceMotion(std::uint32_t instance, glm::vec3 velocity, glm::vec3 angularVelocity) {
+  Impl& r = *impl_;
+  assert(instance < r.scene.instances.size() && "Renderer::setInstanceMotion: instance out of range");
+  auto finite = [](glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!finite(velocity) || !finite(angularVelocity)) {
+    logWarning("Renderer::setInstanceMotion: instance " + std::to_string(instance) +
+               " given a NaN or infinite motion; kept the previous one");
+    return;
+  }
+  Instance& inst = r.scene.instances[instance];
+  if (inst.velocity == velocity && inst.angularVelocity == angularVelocity) return;
+  inst.velocity = velocity;
+  inst.angularVelocity = angularVelocity;
+  r.caches.instanceMoved();
+  r.last.sceneChanged = true;
+}
+
 void Renderer::setLight(std::uint32_t light, const Light& value) {
   Impl& r = *impl_;
   assert(light < r.scene.lights.size() && "Renderer::setLight: light out of range");
@@ -285,7 +303,7 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   // With a frame-time budget, the settings this frame can afford; otherwise the requested ones.
   const SceneFacts facts = sceneFacts(r.scene);
   FramePlan plan = planFrame(facts, r.budget.choose(requested.resolved(), facts));
-  if (!timed(stats.prepareMs, [&] { return r.prepare(plan, stats); })) return finished();
+  if (!timed(stats.prepareMs, [&] { return r.prepare(plan, camera, stats); })) return finished();
   const FrameSettings& s = plan.settings;
   if (s.aa == AntiAlias::Off && s.accumulate <= 1) {
     if (r.accum.active) r.accum.release();  // cost follows the settings: no sums held while they are off
@@ -303,6 +321,9 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
   // sees an ordinary camera); the reference traces lens rays itself, a lens point per pixel sample.
   const Camera camera =
       plan.reference ? sampleCamera : sampleCamera.lensPinhole({plan.settings.width, plan.settings.height});
+  // Motion blur: the GL copy's moving instances where this sample's shutter time puts them (the rays of the
+  // sample run at that time too).
+  if (!plan.reference) caches.syncGpu(scene, plan.settings.shadingOverride, camera.shutter, camera.timeU);
   // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
   const Camera glCamera = toRenderSpace(camera, caches.gpu().anchor());
   gl::ShadeInputs in;
@@ -464,6 +485,7 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
     jittered.sampleIndex = accum.next;  // new light samples with each new sub-pixel offset
     jittered.jitterPx = subpixelJitter(accum.next);
     if (camera.aperture > 0.0f) jittered.lensUv = lensSample(accum.next);  // and a new point of the lens
+    if (camera.shutter > 0.0f) jittered.timeU = timeSample(accum.next);   // and a new time in the shutter
     ++accum.next;
     const bool catchUp = !single && !caches.probesCurrent();
     if (!drawSample(catchUp ? caughtUp : plan, jittered, stats, drawnOnce, rayPixels)) {
@@ -547,15 +569,15 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
 
 // prepare: the frame's GL targets, the GL copy, and (when rays run) the Embree scene — the only place
 // Embree commits. Without an Embree scene the plan loses its rays.
-bool Renderer::Impl::prepare(FramePlan& plan, FrameStats& stats) {
+bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& stats) {
   const FrameSettings& s = plan.settings;
   // A size the GL cannot hold: nothing to draw into. Reported, not drawn black.
   if (auto targets = allocateFrame(s.width, s.height); !targets) {
     stats.error = frameError(s, targets.error().message);
     return false;
   }
-  caches.syncGpu(scene, s.shadingOverride);
-  if (plan.needsRayScene() && !caches.syncRays(scene, *tracer)) plan.withoutRays();
+  caches.syncGpu(scene, s.shadingOverride, camera.shutter, camera.timeU);
+  if (plan.needsRayScene() && !caches.syncRays(scene, camera.shutter, *tracer)) plan.withoutRays();
   if (!plan.reference && gl::ShadePass::samplesDepth(caches.gpu().features(), s.debugView)) {
     if (auto copy = shadePass.reserveSampledDepth(s.width, s.height); !copy) {
       stats.error = frameError(s, copy.error().message);
@@ -634,6 +656,10 @@ bool Renderer::Impl::keepsSome(const FramePlan& plan, const Camera& camera, bool
   if (!plan.settings.reuseRays || !lastDrawn || !last.sceneChanged || last.sceneReplaced || !plan.rayPass ||
       !plan.rays.primaryShadows || rays.lightMask.empty() || !(last.camera == camera) || !sameRayInputs(last.plan, plan))
     return false;
+  // Motion blur: the reuse gate bounds instances at their transforms, and with a shutter open a moving one is
+  // where its time puts it (and its motion may have changed with the transform unchanged): nothing kept.
+  for (const Instance& inst : scene.instances)
+    if (isMoving(inst, camera.shutter)) return false;
   const std::vector<const Light*> lights = scene.directLights();
   if (last.transforms.size() != scene.instances.size() || last.directLights.size() != lights.size()) return false;
   reuse.moved.clear();
@@ -746,7 +772,7 @@ Result<PixelTrace> Renderer::tracePixel(int x, int y) {
     return Error{"tracePixel: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
                  std::to_string(width) + "x" + std::to_string(height) + " frame"};
   // A frame without rays did not need the Embree scene; the trace does (the scene is the frame's: unchanged).
-  if (!r.caches.syncRays(r.scene, *r.tracer))
+  if (!r.caches.syncRays(r.scene, f.camera.shutter, *r.tracer))
     return Error{"tracePixel: the ray pass cannot use this scene (Embree refused it)"};
 
   PixelTrace trace;

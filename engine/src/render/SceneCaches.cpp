@@ -1,6 +1,9 @@
 #include "render/SceneCaches.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include "core/Motion.h"
 
 #include "tandem/Log.h"
 
@@ -22,32 +25,52 @@ void SceneCaches::lightChanged() {
   rtTransformsStale_ = true;
 }
 
-void SceneCaches::syncGpu(const Scene& scene, std::optional<ShadingModel> shadingOverride) {
+void SceneCaches::syncGpu(const Scene& scene, std::optional<ShadingModel> shadingOverride, float shutter,
+                          float timeU) {
+  const float open = shutter > 0.0f && std::isfinite(shutter) ? shutter : 0.0f;
+  const float time = std::isfinite(timeU) ? std::clamp(timeU, 0.0f, 1.0f) : 0.5f;
+  if (open != gpuShutter_ || time != gpuTime_) {
+    // Only instances that move (under the new shutter or the old) look any different at another time.
+    bool moving = false;
+    for (const Instance& inst : scene.instances) moving = moving || isMoving(inst, open) || isMoving(inst, gpuShutter_);
+    gpuShutter_ = open;
+    gpuTime_ = time;
+    if (moving) gpuTimeStale_ = true;
+  }
   if (gpuStale_) {
     gpu_.upload(scene, shadingOverride);
+    if (gpuShutter_ > 0.0f) gpu_.updateInstances(scene, gpuShutter_, gpuTime_);
     meshBounds_ = gl::meshBounds(scene);
     gpuStale_ = gpuInstancesStale_ = gpuLightsStale_ = false;
     ++gpuVersion_;
     ++gpuLayoutVersion_;
   }
-  if (gpuInstancesStale_) gpu_.updateInstances(scene), ++gpuVersion_;
+  if (gpuInstancesStale_) {
+    gpu_.updateInstances(scene, gpuShutter_, gpuTime_), ++gpuVersion_;
+  } else if (gpuTimeStale_) {
+    // Only the time moved: the shadow maps follow it (timeVersion_); the probes keep the time they were
+    // drawn at, or every sample of an accumulation would re-render them and none would ever be current.
+    gpu_.updateInstances(scene, gpuShutter_, gpuTime_), ++timeVersion_;
+  }
+  gpuTimeStale_ = false;
   if (gpuLightsStale_) gpu_.updateLights(scene), ++gpuVersion_;
   if (gpu_.shadingOverride() != shadingOverride)
     gpu_.updateMaterials(scene, shadingOverride), ++gpuVersion_, ++gpuLayoutVersion_;
   gpuInstancesStale_ = gpuLightsStale_ = false;
 }
 
-bool SceneCaches::syncRays(const Scene& scene, rt::RayTracer& tracer) {
+bool SceneCaches::syncRays(const Scene& scene, float shutter, rt::RayTracer& tracer) {
   if (rtBroken_) return false;
+  const float open = shutter > 0.0f && std::isfinite(shutter) ? shutter : 0.0f;
   if (rtSceneStale_) {
-    auto built = tracer.setScene(scene);
+    auto built = tracer.setScene(scene, open);
     if (!built) {
       logError("Renderer: the ray pass cannot use this scene, ray effects are off: " + built.error().message);
       rtBroken_ = true;
     }
     rtSceneStale_ = rtTransformsStale_ = false;
-  } else if (rtTransformsStale_) {
-    tracer.updateTransforms(scene);
+  } else if (rtTransformsStale_ || open != tracer.shutter()) {
+    tracer.updateTransforms(scene, open);
     rtTransformsStale_ = false;
   }
   return !rtBroken_;
@@ -57,13 +80,15 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
                                     gl::ShadePass& shade, gl::ShadeInputs& in) {
   const int probeEffects = (plan.probeReflections ? gl::kProbeReflect : 0) | (plan.probeRefraction ? gl::kProbeRefract : 0);
   std::vector<gl::Bounds> instanceBounds;
-  if (plan.rasterShadows || probeEffects != 0) instanceBounds = gl::instanceBounds(scene, meshBounds_, gpu_.anchor());
+  if (plan.rasterShadows || probeEffects != 0)
+    instanceBounds = gl::instanceBounds(scene, meshBounds_, gpu_.anchor(), gpuShutter_, gpuTime_);
   if (plan.rasterShadows) {
-    if (shadowVersion_ != gpuVersion_) {
+    if (shadowVersion_ != gpuVersion_ || shadowTimeVersion_ != timeVersion_) {
       gl::Bounds world;
       for (const gl::Bounds& b : instanceBounds) world.add(b);
       shadowMaps_.update(scene, gpu_, raster, world);
       shadowVersion_ = gpuVersion_;
+      shadowTimeVersion_ = timeVersion_;
     }
     if (shadowMaps_.mapCount() + shadowMaps_.cubeCount() > 0) in.shadowMaps = &shadowMaps_;
   } else if (shadowVersion_ != 0) {

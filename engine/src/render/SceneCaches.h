@@ -27,11 +27,14 @@ class SceneCaches {
   void lightChanged();
 
   // ---- syncs ----
-  /// The GL copy: uploaded or patched as needed, re-packed when the shading override changes.
-  void syncGpu(const Scene& scene, std::optional<ShadingModel> shadingOverride);
-  /// The Embree scene (the only place it is built or committed). False when Embree refused the scene:
-  /// logged once; the frames of this scene then run without rays.
-  bool syncRays(const Scene& scene, rt::RayTracer& tracer);
+  /// The GL copy: uploaded or patched as needed, re-packed when the shading override changes; moving
+  /// instances drawn at time `timeU` of a `shutter` (Camera::shutter, timeU; docs/motion-blur.md), the
+  /// raster effects made from it following each new time.
+  void syncGpu(const Scene& scene, std::optional<ShadingModel> shadingOverride, float shutter = 0.0f,
+               float timeU = 0.5f);
+  /// The Embree scene (the only place it is built or committed), with motion for `shutter`. False when
+  /// Embree refused the scene: logged once; the frames of this scene then run without rays.
+  bool syncRays(const Scene& scene, float shutter, rt::RayTracer& tracer);
   /// The raster effects the plan asks for, re-rendered only when the GL copy changed since they were made
   /// (probes also when the shadowing they were shaded with changed) and released when not asked for;
   /// fills what the shade pass takes from them into `in` (which already holds the frame's shading inputs).
@@ -56,6 +59,9 @@ class SceneCaches {
   bool gpuStale_ = true;
   bool gpuInstancesStale_ = false;
   bool gpuLightsStale_ = false;
+  float gpuShutter_ = 0.0f, gpuTime_ = 0.5f;  // the shutter and time the GL copy's moving instances show
+  bool gpuTimeStale_ = false;                 // moving instances to be drawn at a new time
+  std::uint64_t timeVersion_ = 0, shadowTimeVersion_ = 0;  // counts those re-draws; what the shadow maps show
   bool rtSceneStale_ = true;
   bool rtTransformsStale_ = false;
   bool rtBroken_ = false;

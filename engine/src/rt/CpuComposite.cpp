@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 
+#include "core/Motion.h"
 #include "rt/RayMath.h"
 #include "rt/SurfaceShading.h"
 
@@ -31,7 +32,12 @@ void compositeOnCpu(const Scene& scene, const Camera& camera, const FrameSetting
       if (id.x == 0 || id.x > scene.instances.size()) continue;
       std::uint32_t instance = id.x - 1;
       if (id.y >= scene.meshes[scene.instances[instance].mesh].triangleCount()) continue;
-      InstanceTransform transform = makeInstanceTransform(scene.instances[instance].worldFromObject, anchor);
+      // A moving instance where the frame's shutter time puts it, as the rasterizer drew it.
+      const Instance& inst = scene.instances[instance];
+      InstanceTransform transform =
+          isMoving(inst, camera.shutter)
+              ? makeInstanceTransform(motionAt(motionSteps(inst, camera.shutter, anchor), camera.timeU))
+              : makeInstanceTransform(inst.worldFromObject, anchor);
       Ray ray = cam.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
       SurfaceHit hit = resolveHit(scene, transform, instance, id.y, ray);
       hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);

@@ -144,6 +144,8 @@ Result<void> checkEmbreeInput(const Scene& scene, const std::string& where) {
     const Instance& inst = scene.instances[i];
     if (inst.mesh >= scene.meshes.size() || inst.material >= scene.materials.size())
       return Error{where + ": instance " + std::to_string(i) + ": mesh or material index out of range"};
+    if (!isFinite(inst.velocity) || !isFinite(inst.angularVelocity))
+      return Error{where + ": instance " + std::to_string(i) + ": motion is NaN or infinite"};
     for (int c = 0; c < 4; ++c)
       if (!std::isfinite(inst.worldFromObject[c].x) || !std::isfinite(inst.worldFromObject[c].y) ||
           !std::isfinite(inst.worldFromObject[c].z) || !std::isfinite(inst.worldFromObject[c].w))
@@ -159,7 +161,7 @@ Error embreeFailure(EmbreeDevice& device, const std::string& where, const std::s
 
 }  // namespace
 
-Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, const Scene& scene) {
+Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, const Scene& scene, float shutter) {
   device.clearError();
   const std::string where = scene.name.empty() ? std::string("scene") : "scene '" + scene.name + "'";
   if (auto checked = checkEmbreeInput(scene, where); !checked) return checked.error();
@@ -168,6 +170,7 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, co
   // Camera-relative: positions are kept relative to where the camera is, so their precision follows
   // the distance to the viewer rather than to the world origin (docs/numerics.md, "Position").
   out->anchor_ = renderAnchor(scene);
+  out->shutter_ = shutter > 0.0f && std::isfinite(shutter) ? shutter : 0.0f;
   out->collectMaskCutouts(scene);
   if (auto built = out->buildMeshScenes(device, scene, where); !built) return built.error();
   if (auto built = out->buildTopLevel(device, scene, where); !built) return built.error();
@@ -281,15 +284,15 @@ Result<void> EmbreeScene::buildTopLevel(EmbreeDevice& device, const Scene& scene
     RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_INSTANCE);
     if (!geom) return embreeFailure(device, where, "instance " + std::to_string(i));
     rtcSetGeometryInstancedScene(geom, meshScenes_[inst.mesh].get());
-    rtcSetGeometryTimeStepCount(geom, 1);
-    InstanceTransform t = makeInstanceTransform(inst.worldFromObject, anchor_);
-    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &t.worldFromObject[0][0]);
-    rtcCommitGeometry(geom);
+    transforms_.emplace_back();
+    worldFromObject_.push_back(inst.worldFromObject);
+    motionSteps_.emplace_back();
+    velocity_.push_back(inst.velocity);
+    angularVelocity_.push_back(inst.angularVelocity);
+    setInstanceMotion(geom, i, inst);
     // geomID = instance index, so a hit's instID is the Scene::instances index the rasterizer writes.
     rtcAttachGeometryByID(top_.get(), geom, static_cast<unsigned>(i));
     rtcReleaseGeometry(geom);
-    transforms_.push_back(t);
-    worldFromObject_.push_back(inst.worldFromObject);
     triangleCounts_.push_back(scene.meshes[inst.mesh].triangleCount());
   }
   rtcCommitScene(top_.get());
@@ -297,24 +300,50 @@ Result<void> EmbreeScene::buildTopLevel(EmbreeDevice& device, const Scene& scene
   return {};
 }
 
-void EmbreeScene::updateTransforms(const Scene& scene) {
+void EmbreeScene::setInstanceMotion(RTCGeometry geom, std::size_t i, const Instance& inst) {
+  transforms_[i] = makeInstanceTransform(inst.worldFromObject, anchor_);
+  const bool wasMoving = !motionSteps_[i].empty();
+  motionSteps_[i] = motionSteps(inst, shutter_, anchor_);
+  const bool nowMoving = !motionSteps_[i].empty();
+  if (nowMoving && !wasMoving) ++moving_;
+  if (wasMoving && !nowMoving) --moving_;
+  const std::vector<glm::mat4>& steps = motionSteps_[i];
+  if (steps.empty()) {
+    rtcSetGeometryTimeStepCount(geom, 1);
+    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &transforms_[i].worldFromObject[0][0]);
+  } else {
+    // Embree interpolates the steps linearly over the ray's time in [0, 1], as motionAt does.
+    rtcSetGeometryTimeStepCount(geom, static_cast<unsigned>(steps.size()));
+    for (std::size_t k = 0; k < steps.size(); ++k)
+      rtcSetGeometryTransform(geom, static_cast<unsigned>(k), RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &steps[k][0][0]);
+  }
+  rtcCommitGeometry(geom);
+}
+
+void EmbreeScene::updateTransforms(const Scene& scene, float shutter) {
   assert(scene.instances.size() == transforms_.size() && "updateTransforms: the scene's instances changed; call setScene");
   bool moved = false;
+  const float open = shutter > 0.0f && std::isfinite(shutter) ? shutter : 0.0f;
+  const bool newShutter = open != shutter_;
+  shutter_ = open;
   std::size_t n = std::min(scene.instances.size(), transforms_.size());
   for (std::size_t i = 0; i < n; ++i) {
     const Instance& inst = scene.instances[i];
     // Static instances too: every instance is a top-level instance of its mesh's BLAS, so moving one
     // never needs a BLAS rebuilt (a full build of every mesh was a hitch of a whole frame or more).
-    if (inst.worldFromObject == worldFromObject_[i]) continue;
-    bool finite = true;
+    const bool hasMotion = inst.velocity != glm::vec3(0.0f) || inst.angularVelocity != glm::vec3(0.0f);
+    const bool changed = inst.worldFromObject != worldFromObject_[i] || inst.velocity != velocity_[i] ||
+                         inst.angularVelocity != angularVelocity_[i] ||
+                         (newShutter && (hasMotion || !motionSteps_[i].empty()));
+    if (!changed) continue;
+    bool finite = isFinite(inst.velocity) && isFinite(inst.angularVelocity);
     for (int c = 0; c < 4; ++c) finite = finite && isFinite(glm::vec3(inst.worldFromObject[c])) && std::isfinite(inst.worldFromObject[c].w);
     // Per-frame code never fails: a non-finite transform keeps the instance where it was.
     if (!finite) continue;
-    RTCGeometry geom = rtcGetGeometry(top_.get(), static_cast<unsigned>(i));
-    transforms_[i] = makeInstanceTransform(inst.worldFromObject, anchor_);
     worldFromObject_[i] = inst.worldFromObject;
-    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &transforms_[i].worldFromObject[0][0]);
-    rtcCommitGeometry(geom);
+    velocity_[i] = inst.velocity;
+    angularVelocity_[i] = inst.angularVelocity;
+    setInstanceMotion(rtcGetGeometry(top_.get(), static_cast<unsigned>(i)), i, inst);
     moved = true;
   }
   if (moved) rtcCommitScene(top_.get());  // the top level only: every BLAS stays as built

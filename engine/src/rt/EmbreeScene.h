@@ -13,6 +13,7 @@
 
 #include <embree3/rtcore.h>
 
+#include "core/Motion.h"
 #include "rt/SurfaceShading.h"
 #include "tandem/Result.h"
 #include "tandem/Scene.h"
@@ -73,16 +74,30 @@ class EmbreeScene {
  public:
   /// Builds every BLAS and the top level. Bad input (non-finite positions, indices out of range) and
   /// Embree errors (out of memory included) come back as an error value; nothing half-built escapes.
-  static Result<std::unique_ptr<EmbreeScene>> build(EmbreeDevice& device, const Scene& scene);
-  /// Moves instances to their current transforms: per-geometry transform + top-level commit.
-  void updateTransforms(const Scene& scene);
+  /// `shutter`: the camera's (Camera::shutter); instances that move while it is open (Instance::velocity,
+  /// angularVelocity) become Embree motion-blur instances with the time steps of core/Motion.h, and rays
+  /// carry their time in [0, 1] (Camera::timeU, SurfaceHit::time).
+  static Result<std::unique_ptr<EmbreeScene>> build(EmbreeDevice& device, const Scene& scene, float shutter = 0.0f);
+  /// Moves instances to their current transforms and motions: per-geometry transform (or time steps) +
+  /// top-level commit.
+  void updateTransforms(const Scene& scene, float shutter = 0.0f);
 
   RTCScene top() const { return top_.get(); }
   /// The origin of render space (SurfaceShading.h, toRenderSpace): the scene camera's position at build.
   /// Rays given to top() and the transforms below are relative to it.
   glm::vec3 anchor() const { return anchor_; }
-  /// The instance's transform in render space.
+  /// The instance's transform in render space (a moving instance's at the middle of the shutter).
   const InstanceTransform& transform(std::size_t instance) const { return transforms_[instance]; }
+  /// The instance's transform at shutter time u ∈ [0, 1] as Embree interpolates it (motionAt of its steps):
+  /// what a ray with that time hits. transform(instance) for an instance at rest.
+  InstanceTransform transformAt(std::size_t instance, float u) const {
+    const std::vector<glm::mat4>& steps = motionSteps_[instance];
+    return steps.empty() ? transforms_[instance] : makeInstanceTransform(motionAt(steps, u));
+  }
+  /// Whether some instance moves while the shutter is open (rays then see it where their time puts it).
+  bool hasMotion() const { return moving_ > 0; }
+  /// The shutter the motion steps were made for.
+  float shutter() const { return shutter_; }
   std::size_t instanceCount() const { return transforms_.size(); }
   /// Whether the instance's mesh has this triangle (guards ids read back from the rasterizer).
   bool hasTriangle(std::size_t instance, std::uint32_t triangle) const {
@@ -131,6 +146,12 @@ class EmbreeScene {
   glm::vec3 anchor_{0.0f};
   std::vector<InstanceTransform> transforms_;  // the copy Embree holds (render space), used to rebuild hits
   std::vector<glm::mat4> worldFromObject_;     // the scene's world-space matrices, to detect moves
+  std::vector<std::vector<glm::mat4>> motionSteps_;  // per instance: render-space time steps, empty at rest
+  std::vector<glm::vec3> velocity_, angularVelocity_;  // the motions the steps were made from
+  float shutter_ = 0.0f;
+  std::size_t moving_ = 0;
+  // An instance's transform, or time steps when it moves (geometry already attached or not).
+  void setInstanceMotion(RTCGeometry geom, std::size_t i, const Instance& inst);
   std::vector<std::size_t> triangleCounts_;
 };
 

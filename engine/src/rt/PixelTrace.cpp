@@ -240,7 +240,9 @@ PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const
     return trace;
   }
   const std::uint32_t instance = id.x - 1;
-  SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, id.y, ray);
+  const float time = std::clamp(std::isfinite(camera.timeU) ? camera.timeU : 0.5f, 0.0f, 1.0f);
+  SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, time), instance, id.y, ray);
+  hit.time = time;
   hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);  // the pass's seed for this pixel
   ++trace.rays.primary;
   rec.primaryHit(hit, ray);
@@ -278,6 +280,7 @@ PixelTrace traceReferencePixel(const Scene& scene, const EmbreeScene& embree, co
   for (int sy = 0; sy < spp; ++sy)
     for (int sx = 0; sx < spp; ++sx) {
       Ray ray = referenceRay(cameraRays, x, y, sx, sy, spp);
+      const float time = referenceTime(camera, x, y, sx, sy, spp);
       float tNear, tFar;
       cameraSpan(cam, ray, tNear, tFar);
       ++trace.rays.primary;
@@ -285,8 +288,9 @@ PixelTrace traceReferencePixel(const Scene& scene, const EmbreeScene& embree, co
       // renderReference's sample: the camera ray within the camera's span, then the hit's full shading.
       std::uint32_t instance, triangle;
       glm::vec3 c = frame.background;
-      if (whitted.intersect(ray.origin, ray.dir, tNear, tFar, instance, triangle, recorder)) {
-        SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, triangle, ray);
+      if (whitted.intersect(ray.origin, ray.dir, tNear, tFar, time, instance, triangle, recorder)) {
+        SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, time), instance, triangle, ray);
+        hit.time = time;
         hit.lightSeed = shading::tdPixelSeed(x, y, static_cast<std::uint32_t>(sy * spp + sx));
         rec.surface(hit);
         c = whitted.shade(hit, 0, 1.0f, trace.rays, recorder);

@@ -89,10 +89,10 @@ std::size_t RayTracer::embreeBytes() const { return impl_->device ? impl_->devic
 void RayTracer::setEmbreeMemoryLimit(std::size_t bytes) { impl_->device->setMemoryLimit(bytes); }
 void RayTracer::setProgressCallback(RayPassProgressCallback progress) { impl_->progress = std::move(progress); }
 
-Result<void> RayTracer::setScene(const Scene& scene) {
+Result<void> RayTracer::setScene(const Scene& scene, float shutter) {
   Result<std::unique_ptr<EmbreeScene>> built = Error{};
   // Inside the arena so Embree's TBB build uses the requested thread count.
-  impl_->arena.execute([&] { built = EmbreeScene::build(*impl_->device, scene); });
+  impl_->arena.execute([&] { built = EmbreeScene::build(*impl_->device, scene, shutter); });
   if (!built) {
     logError("ray pass: " + built.error().message);
     return built.error();
@@ -104,12 +104,14 @@ Result<void> RayTracer::setScene(const Scene& scene) {
   return {};
 }
 
-void RayTracer::updateTransforms(const Scene& scene) {
+void RayTracer::updateTransforms(const Scene& scene, float shutter) {
   assert(impl_->scene && "updateTransforms before a successful setScene");
   if (!impl_->scene) return;
-  impl_->arena.execute([&] { impl_->scene->updateTransforms(scene); });
+  impl_->arena.execute([&] { impl_->scene->updateTransforms(scene, shutter); });
   impl_->shadowMapsStale = true;
 }
+
+float RayTracer::shutter() const { return impl_->scene ? impl_->scene->shutter() : 0.0f; }
 
 void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSettings& settings,
                       const VisibilityBuffer& visibility, RayOutputs& out, const RayReuse* reuse) {
@@ -230,7 +232,9 @@ struct HybridTiles {
         assert(embree.hasTriangle(instance, id.y) && "trace: visibility id not in the scene");
         if (!embree.hasTriangle(instance, id.y)) continue;
         Ray ray = cameraRays.through(glm::vec2(p) + 0.5f);
-        SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, id.y, ray);
+        // The rasterizer drew the instance where the frame's shutter time puts it (Camera::timeU).
+        SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, cameraRays.time()), instance, id.y, ray);
+        hit.time = cameraRays.time();
         hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);  // the shade pass draws this pixel's light samples too
         ++counts.primary;
         if constexpr (Capture::kRecords) capture.rasterPrimary(ray.origin, ray.dir);
@@ -286,7 +290,10 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   frame.setGlossSampling(settings.glossSamples, camera.sampleIndex);
   const TraceModes modes = TraceModes::hybrid(settings);
   const ShadowCertainty* shadowMaps =
-      settings.hybridShadows && (modes.primaryShadowRays || modes.secondaryShadowRays) ? &updateShadowMaps(scene, frame) : nullptr;
+      // The maps see the scene at one time: with motion blur every shadow ray runs at its own (docs/motion-blur.md).
+      settings.hybridShadows && !embree.hasMotion() && (modes.primaryShadowRays || modes.secondaryShadowRays)
+          ? &updateShadowMaps(scene, frame)
+          : nullptr;
   Whitted whitted(scene, embree, frame, modes, shadowMaps);
   const CameraRays cameraRays(cam, {visibility.width, visibility.height});
   const ReuseGate gate = reuse && batchedShadowRays && modes.primaryShadowRays
@@ -398,16 +405,18 @@ void RayTracer::referencePassWith(const Scene& scene, const Camera& camera, cons
           for (int sy = 0; sy < spp; ++sy)
             for (int sx = 0; sx < spp; ++sx) {
               Ray ray = referenceRay(cameraRays, x, y, sx, sy, spp);
+              const float time = referenceTime(camera, x, y, sx, sy, spp);
               float tNear, tFar;
               cameraSpan(cam, ray, tNear, tFar);
               ++c.primary;
               rec.beginRay(RayKind::Primary, ray.origin, ray.dir, tNear, tFar, glm::vec3(1.0f), 1.0f);
               std::uint32_t instance, triangle;
-              if (!whitted.intersect(ray.origin, ray.dir, tNear, tFar, instance, triangle, rec)) {
+              if (!whitted.intersect(ray.origin, ray.dir, tNear, tFar, time, instance, triangle, rec)) {
                 sum += frame.background;
                 continue;
               }
-              SurfaceHit hit = resolveHit(scene, embree.transform(instance), instance, triangle, ray);
+              SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, time), instance, triangle, ray);
+              hit.time = time;
               // With one sample per pixel, the hybrid frame's seed: the same light samples as its pixel.
               hit.lightSeed = shading::tdPixelSeed(x, y, static_cast<std::uint32_t>(sy * spp + sx));
               sum += whitted.shade(hit, 0, 1.0f, c, rec);
@@ -443,7 +452,7 @@ PixelTrace RayTracer::tracePixel(const Scene& scene, const Camera& camera, const
   if (!impl_->scene) return {};
   // Hybrid shadows with the maps the last pass used (a stale map would still be exact, but not the frame's).
   const ShadowCertainty* maps = nullptr;
-  if (settings.hybridShadows && !impl_->shadowMapsStale &&
+  if (settings.hybridShadows && !impl_->scene->hasMotion() && !impl_->shadowMapsStale &&
       impl_->shadowMaps.builtFor(FrameShading(scene, settings.shadingOverride, impl_->scene->anchor())))
     maps = &impl_->shadowMaps;
   return traceHybridPixel(scene, *impl_->scene, camera, settings, visibility, gx, gy, maps);
@@ -473,7 +482,7 @@ void RayTracer::castVisibility(const Camera& camera, int width, int height, Visi
           float tNear, tFar;
           cameraSpan(cam, ray, tNear, tFar);
           RTCRayHit rh;
-          if (!makeEmbreeRay(rh.ray, ray.origin, ray.dir, tNear, tFar)) continue;
+          if (!makeEmbreeRay(rh.ray, ray.origin, ray.dir, tNear, tFar, cameraRays.time())) continue;
           rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
           rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
           RTCIntersectContext ctx;

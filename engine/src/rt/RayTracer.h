@@ -45,10 +45,13 @@ class RayTracer {
 
   /// Builds the two-level Embree scene: one static BLAS per mesh, instanced. Embree errors (out of
   /// memory included) come back as an error value and leave the previous scene in place.
-  Result<void> setScene(const Scene& scene);
-  /// Re-reads every instance's transform (static or dynamic) and commits the top level only: no mesh's
-  /// BVH is rebuilt.
-  void updateTransforms(const Scene& scene);
+  Result<void> setScene(const Scene& scene, float shutter = 0.0f);
+  /// Re-reads every instance's transform (static or dynamic) and motion and commits the top level only: no
+  /// mesh's BVH is rebuilt. `shutter` (Camera::shutter): instances that move while it is open get Embree
+  /// motion-blur time steps (docs/motion-blur.md); every frame's rays then carry a time.
+  void updateTransforms(const Scene& scene, float shutter = 0.0f);
+  /// The shutter the ray scene's motion was made for (0 before setScene).
+  float shutter() const;
 
   /// The hybrid ray pass: per grid pixel, the exact primary hit of the visible triangle, then shadow
   /// rays, Whitted reflection and refraction as the settings ask. Never fails. With `reuse` (the camera

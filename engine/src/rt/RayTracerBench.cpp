@@ -29,11 +29,12 @@ void RayTracerBench::renderReference(RayTracer& tracer, const Scene& scene, cons
 namespace {
 constexpr unsigned kInvalid = RTC_INVALID_GEOMETRY_ID;
 
-bool toEmbree(const CapturedRay& c, RTCRay& r) { return makeEmbreeRay(r, c.origin, c.dir, c.tnear, c.tfar); }
+// Captured rays keep no shutter time: re-traced at the middle of the shutter (a timing, not an image).
+bool toEmbree(const CapturedRay& c, RTCRay& r) { return makeEmbreeRay(r, c.origin, c.dir, c.tnear, c.tfar, 0.5f); }
 bool toEmbree(const CapturedRay& c, RTCRayHit& rh) {
   rh.hit.geomID = kInvalid;
   rh.hit.instID[0] = kInvalid;
-  return makeEmbreeRay(rh.ray, c.origin, c.dir, c.tnear, c.tfar);
+  return makeEmbreeRay(rh.ray, c.origin, c.dir, c.tnear, c.tfar, 0.5f);
 }
 bool answered(const RTCRay& r) { return r.tfar < 0.0f; }  // occluded: Embree sets tfar = -inf
 bool answered(const RTCRayHit& rh) { return rh.hit.geomID != kInvalid && rh.hit.instID[0] != kInvalid; }

@@ -24,6 +24,7 @@ CameraRays::CameraRays(const Camera& camera, glm::ivec2 size)
   forward_ = glm::normalize(camera.targetW - camera.posW);
   right_ = glm::normalize(glm::cross(forward_, camera.upW));
   up_ = glm::cross(right_, forward_);
+  time_ = std::clamp(std::isfinite(camera.timeU) ? camera.timeU : 0.5f, 0.0f, 1.0f);
   // Camera::lensOffsetW's rules: a finite positive aperture on a perspective camera with a plane in focus.
   if (camera.aperture > 0.0f && std::isfinite(camera.aperture) && !camera.orthographic) {
     lensRadius_ = 0.5f * camera.aperture;

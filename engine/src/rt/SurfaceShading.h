@@ -48,6 +48,8 @@ class CameraRays {
   bool hasLens() const { return lensRadius_ > 0.0f; }
   /// The camera's own lens point (Camera::lensUv).
   glm::vec2 lensUv() const { return lensUv_; }
+  /// The frame's shutter time (Camera::timeU), the time of its camera rays.
+  float time() const { return time_; }
   /// The thin lens's ray through `pixel` from lens point `lensU` ([0, 1)², squareToDisk): from that point
   /// of the lens to where the lens centre's ray meets the plane in focus. Without a lens, through(pixel).
   Ray throughLens(glm::vec2 pixel, glm::vec2 lensU) const;
@@ -59,6 +61,7 @@ class CameraRays {
   bool orthographic_;
   float lensRadius_ = 0.0f, focus_ = 0.0f;
   glm::vec2 lensUv_{0.5f};
+  float time_ = 0.5f;
 };
 
 /// The [tNear, tFar] span of a camera ray that the rasterizer keeps (between its near and far planes).
@@ -101,6 +104,17 @@ inline Ray referenceRay(const CameraRays& rays, int x, int y, int sx, int sy, in
   const auto ux = static_cast<std::uint32_t>(x), uy = static_cast<std::uint32_t>(y);
   const glm::vec2 u = glm::vec2(random01(ux, uy, sample, 2), random01(ux, uy, sample, 3)) + rays.lensUv();
   return rays.throughLens(pixel, u - glm::floor(u));
+}
+
+/// The reference frame's shutter time for sample (sx, sy) of pixel (x, y): hashed per pixel and sample, moved
+/// by the camera's timeU (so accumulated frames draw new ones); with one sample, the camera's own timeU, the
+/// hybrid frame's. In [0, 1).
+inline float referenceTime(const Camera& camera, int x, int y, int sx, int sy, int spp) {
+  const float own = std::clamp(std::isfinite(camera.timeU) ? camera.timeU : 0.5f, 0.0f, 1.0f);
+  if (spp <= 1 || !(camera.shutter > 0.0f)) return own;
+  const auto sample = static_cast<std::uint32_t>(sy * spp + sx);
+  const float t = random01(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y), sample, 4) + own;
+  return t - std::floor(t);
 }
 
 /// An instance's transforms as the ray pass uses them (the same copy Embree was given), in render space.
@@ -186,6 +200,9 @@ struct SurfaceHit {
   /// Seed of the point's area-light samples (tdLightSampleU): resolveHit makes it from the point itself
   /// (secondary hits); a primary hit gets its pixel's (tdPixelSeed), which the shade pass can make too.
   std::uint32_t lightSeed = 0;
+  /// When within the shutter the ray that found it ran (Camera::timeU; 0.5 without motion blur): the rays
+  /// it spawns run then too, and a moving instance is where that time puts it (EmbreeScene::transformAt).
+  float time = 0.5f;
 };
 
 /// Sample k of area light `light` seen from `posW` for a point with `seed`: tdAreaLightSample at the frame's

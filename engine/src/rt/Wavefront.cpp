@@ -45,7 +45,7 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
           continue;
         }
         rays_.emplace_back();
-        makeEmbreeRay(rays_.back(), s.originW, s.dirW, 0.0f, s.tFar);
+        makeEmbreeRay(rays_.back(), s.originW, s.dirW, 0.0f, s.tFar, hit.time);
         slots_.push_back(slot);
         bits_.push_back(1u << j);
         areaWords_.push_back(&word);
@@ -72,7 +72,7 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
       continue;
     }
     rays_.emplace_back();
-    makeEmbreeRay(rays_.back(), s.originW, s.dirW, 0.0f, s.tFar);  // finite: shadowRay checked
+    makeEmbreeRay(rays_.back(), s.originW, s.dirW, 0.0f, s.tFar, hit.time);  // finite: shadowRay checked
     slots_.push_back(slot);
     bits_.push_back(1u << j);
     areaWords_.push_back(nullptr);
@@ -160,6 +160,7 @@ void Wavefront::spawn(const SurfaceHit& hit, int depth, float throughput, std::i
     Buffers::Node& n = b_.nodes.emplace_back();
     n.origin = spawnOrigin(hit, kind == RayKind::Refraction ? -hit.geomNormalW : hit.geomNormalW);
     n.dir = dir;
+    n.time = hit.time;
     n.weight = weight;
     n.throughput = throughput * weightMax;
     n.parent = parent;
@@ -215,7 +216,7 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
       Buffers::Node& n = b_.nodes[i];
       n.local = frame.background;  // until a hit says otherwise
       RTCRayHit rh;
-      if (!makeEmbreeRay(rh.ray, n.origin, n.dir, 0.0f, std::numeric_limits<float>::infinity())) {
+      if (!makeEmbreeRay(rh.ray, n.origin, n.dir, 0.0f, std::numeric_limits<float>::infinity(), n.time)) {
         if constexpr (Capture::kRecords) capture.answer(n.refraction ? RayKind::Refraction : RayKind::Reflection, n.captured, false, false);
         continue;
       }
@@ -238,8 +239,9 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
       if constexpr (Capture::kRecords) capture.answer(n.refraction ? RayKind::Refraction : RayKind::Reflection, n.captured, !missed);
       if (missed || !embree.hasTriangle(rh.hit.instID[0], rh.hit.primID)) continue;
       n.hit = true;
-      b_.hits.push_back(resolveHit(whitted_.scene(), embree.transform(rh.hit.instID[0]), rh.hit.instID[0], rh.hit.primID,
-                                   Ray{n.origin, n.dir}));
+      b_.hits.push_back(resolveHit(whitted_.scene(), embree.transformAt(rh.hit.instID[0], n.time), rh.hit.instID[0],
+                                   rh.hit.primID, Ray{n.origin, n.dir}));
+      b_.hits.back().time = n.time;
       b_.hitNodes.push_back(b_.rayNodes[k]);
     }
     // Shadow rays of every hit of this depth (Whitted::shade: secondary hits use rays when asked).
@@ -254,7 +256,7 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
     for (std::size_t h = 0; h < b_.hits.size(); ++h) {
       const SurfaceHit& hit = b_.hits[h];
       std::size_t node = b_.hitNodes[h];
-      b_.nodes[node].local = shadeLocal(whitted_.scene(), frame, embree.transform(hit.instance), hit, b_.masks[h],
+      b_.nodes[node].local = shadeLocal(whitted_.scene(), frame, embree.transformAt(hit.instance, hit.time), hit, b_.masks[h],
                                         modes.secondaryShadowRays ? &b_.area[h] : nullptr);
       spawn(hit, depth, b_.nodes[node].throughput, static_cast<std::int64_t>(node), b_.nodes[node].pixel, counts, capture);
     }

@@ -75,6 +75,7 @@ class Wavefront {
     struct Node {
       glm::vec3 origin{0.0f};
       glm::vec3 dir{0.0f};
+      float time = 0.5f;        // within the shutter: its parent hit's (SurfaceHit::time)
       glm::vec3 weight{0.0f};   // wR or wT of the parent's Whitted sum (WhittedWeights), over N for a glossy hit's N rays
       float throughput = 0.0f;  // product of the weights (largest component) from the primary hit
       std::int64_t parent = -1;  // node index; -1: a primary hit's ray, whose S or T goes to `pixel`

@@ -1,5 +1,6 @@
 #include "rt/Whitted.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -32,7 +33,7 @@ TraceModes TraceModes::from(const RayEffects& e, const FrameSettings& s) {
   return m;
 }
 
-bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar) {
+bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, float time) {
   if (!isFinite(originW) || !isFinite(dirW) || std::isnan(tNear) || std::isnan(tFar) || !(tFar >= tNear)) return false;
   ray.org_x = originW.x;
   ray.org_y = originW.y;
@@ -41,7 +42,7 @@ bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, 
   ray.dir_x = dirW.x;
   ray.dir_y = dirW.y;
   ray.dir_z = dirW.z;
-  ray.time = 0.0f;
+  ray.time = std::clamp(std::isfinite(time) ? time : 0.5f, 0.0f, 1.0f);  // Embree's time range
   ray.tfar = tFar;
   ray.mask = 0xFFFFFFFFu;
   ray.id = 0;
@@ -141,7 +142,7 @@ std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts, Recor
   SpawnOrigins origins;
   auto occluded = [&](const ShadowRay& s) {
     RTCRay ray;
-    makeEmbreeRay(ray, s.originW, s.dirW, 0.0f, s.tFar);
+    makeEmbreeRay(ray, s.originW, s.dirW, 0.0f, s.tFar, hit.time);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     rtcOccluded1(embree_.top(), &ctx, &ray);
@@ -236,7 +237,7 @@ void Whitted::secondary(const SurfaceHit& hit, int depth, float throughput, glm:
       ++counts.reflection;
       rec.beginRay(RayKind::Reflection, origin, dir, 0.0f, std::numeric_limits<float>::infinity(), weight,
                    throughput * w.reflect);
-      const glm::vec3 s = radiance(origin, dir, depth + 1, throughput * w.reflect, counts, rec);
+      const glm::vec3 s = radiance(origin, dir, hit.time, depth + 1, throughput * w.reflect, counts, rec);
       const glm::vec3 ws = weight * s;
       reflected += ws;
       rec.endRay(s, ws);
@@ -257,7 +258,7 @@ void Whitted::secondary(const SurfaceHit& hit, int depth, float throughput, glm:
       ++counts.refraction;
       rec.beginRay(RayKind::Refraction, origin, dir, 0.0f, std::numeric_limits<float>::infinity(), weight,
                    throughput * wT);
-      const glm::vec3 t = radiance(origin, dir, depth + 1, throughput * wT, counts, rec);
+      const glm::vec3 t = radiance(origin, dir, hit.time, depth + 1, throughput * wT, counts, rec);
       const glm::vec3 wt = weight * t;
       transmitted += wt;
       rec.endRay(t, wt);
@@ -272,7 +273,8 @@ glm::vec3 Whitted::shade(const SurfaceHit& hit, int depth, float throughput, Ray
   bool shadowRays = depth == 0 ? modes_.primaryShadowRays : modes_.secondaryShadowRays;
   AreaSampleBits area{};
   std::uint32_t mask = shadowRays ? lightMask(hit, counts, rec, &area) : ~0u;
-  glm::vec3 color = shadeLocal(scene_, frame_, embree_.transform(hit.instance), hit, mask, shadowRays ? &area : nullptr);
+  glm::vec3 color = shadeLocal(scene_, frame_, embree_.transformAt(hit.instance, hit.time), hit, mask,
+                               shadowRays ? &area : nullptr);
   rec.local(color, mask, shadowRays);
   glm::vec3 reflected, transmitted;
   bool tracedR, tracedT;
@@ -281,10 +283,10 @@ glm::vec3 Whitted::shade(const SurfaceHit& hit, int depth, float throughput, Ray
 }
 
 template <class Recorder>
-bool Whitted::intersect(glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, std::uint32_t& instance,
-                        std::uint32_t& triangle, Recorder rec) const {
+bool Whitted::intersect(glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, float time,
+                        std::uint32_t& instance, std::uint32_t& triangle, Recorder rec) const {
   RTCRayHit rh;
-  if (!makeEmbreeRay(rh.ray, originW, dirW, tNear, tFar)) {
+  if (!makeEmbreeRay(rh.ray, originW, dirW, tNear, tFar, time)) {
     rec.notTraced();
     return false;
   }
@@ -302,13 +304,14 @@ bool Whitted::intersect(glm::vec3 originW, glm::vec3 dirW, float tNear, float tF
 }
 
 template <class Recorder>
-glm::vec3 Whitted::radiance(glm::vec3 originW, glm::vec3 dirW, int depth, float throughput, RayCounts& counts,
-                            Recorder rec) const {
+glm::vec3 Whitted::radiance(glm::vec3 originW, glm::vec3 dirW, float time, int depth, float throughput,
+                            RayCounts& counts, Recorder rec) const {
   std::uint32_t instance, triangle;
-  if (!intersect(originW, dirW, 0.0f, std::numeric_limits<float>::infinity(), instance, triangle, rec))
+  if (!intersect(originW, dirW, 0.0f, std::numeric_limits<float>::infinity(), time, instance, triangle, rec))
     return frame_.background;
   Ray ray{originW, dirW};
-  SurfaceHit hit = resolveHit(scene_, embree_.transform(instance), instance, triangle, ray);
+  SurfaceHit hit = resolveHit(scene_, embree_.transformAt(instance, time), instance, triangle, ray);
+  hit.time = time;
   rec.surface(hit);
   return shade(hit, depth, throughput, counts, rec);
 }
@@ -330,11 +333,11 @@ template void Whitted::secondary(const SurfaceHit&, int, float, glm::vec3&, glm:
                                  Recording) const;
 template glm::vec3 Whitted::shade(const SurfaceHit&, int, float, RayCounts&, NoRecorder) const;
 template glm::vec3 Whitted::shade(const SurfaceHit&, int, float, RayCounts&, Recording) const;
-template glm::vec3 Whitted::radiance(glm::vec3, glm::vec3, int, float, RayCounts&, NoRecorder) const;
-template glm::vec3 Whitted::radiance(glm::vec3, glm::vec3, int, float, RayCounts&, Recording) const;
-template bool Whitted::intersect(glm::vec3, glm::vec3, float, float, std::uint32_t&, std::uint32_t&,
+template glm::vec3 Whitted::radiance(glm::vec3, glm::vec3, float, int, float, RayCounts&, NoRecorder) const;
+template glm::vec3 Whitted::radiance(glm::vec3, glm::vec3, float, int, float, RayCounts&, Recording) const;
+template bool Whitted::intersect(glm::vec3, glm::vec3, float, float, float, std::uint32_t&, std::uint32_t&,
                                  NoRecorder) const;
-template bool Whitted::intersect(glm::vec3, glm::vec3, float, float, std::uint32_t&, std::uint32_t&,
+template bool Whitted::intersect(glm::vec3, glm::vec3, float, float, float, std::uint32_t&, std::uint32_t&,
                                  Recording) const;
 
 }  // namespace tandem::rt

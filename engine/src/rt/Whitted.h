@@ -220,13 +220,14 @@ class Whitted {
     return shade(hit, depth, throughput, counts, NoRecorder{});
   }
   /// Radiance arriving along a ray: the shaded nearest hit, or the background.
-  glm::vec3 radiance(glm::vec3 originW, glm::vec3 dirW, int depth, float throughput, RayCounts& counts) const {
-    return radiance(originW, dirW, depth, throughput, counts, NoRecorder{});
+  /// `time`: the ray's within the shutter (SurfaceHit::time).
+  glm::vec3 radiance(glm::vec3 originW, glm::vec3 dirW, float time, int depth, float throughput, RayCounts& counts) const {
+    return radiance(originW, dirW, time, depth, throughput, counts, NoRecorder{});
   }
-  /// Nearest hit of a ray in (tNear, tFar); false when it escapes or the ray is not finite.
+  /// Nearest hit of a ray in (tNear, tFar) at shutter time `time`; false when it escapes or the ray is not finite.
   bool intersect(glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, std::uint32_t& instance,
-                 std::uint32_t& triangle) const {
-    return intersect(originW, dirW, tNear, tFar, instance, triangle, NoRecorder{});
+                 std::uint32_t& triangle, float time = 0.5f) const {
+    return intersect(originW, dirW, tNear, tFar, time, instance, triangle, NoRecorder{});
   }
 
   // The same, reporting to a recorder; instantiated for NoRecorder and Recording only.
@@ -247,10 +248,10 @@ class Whitted {
   template <class Recorder>
   glm::vec3 shade(const SurfaceHit& hit, int depth, float throughput, RayCounts& counts, Recorder rec) const;
   template <class Recorder>
-  glm::vec3 radiance(glm::vec3 originW, glm::vec3 dirW, int depth, float throughput, RayCounts& counts,
+  glm::vec3 radiance(glm::vec3 originW, glm::vec3 dirW, float time, int depth, float throughput, RayCounts& counts,
                      Recorder rec) const;
   template <class Recorder>
-  bool intersect(glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, std::uint32_t& instance,
+  bool intersect(glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, float time, std::uint32_t& instance,
                  std::uint32_t& triangle, Recorder rec) const;
 
   const TraceModes& modes() const { return modes_; }
@@ -290,7 +291,7 @@ class Whitted {
 
 /// Fills an Embree ray; false (and nothing to trace) when any component is NaN or infinite, which
 /// Debian's Embree does not filter out.
-bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar);
+bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, float time);
 
 /// Packets of this many rays (rtcOccluded8 / rtcIntersect8): AVX2's width; 16-wide packets measured no
 /// faster on this project's 2-core machine, which has AVX-512 (docs/bench.md).

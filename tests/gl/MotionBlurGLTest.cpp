@@ -1,0 +1,168 @@
+// Motion blur (Instance::velocity, angularVelocity, Camera::shutter, timeU; docs/motion-blur.md): each hybrid
+// sample draws the scene at one time of the shutter, the rasterizer and the rays agreeing on where moving
+// instances are; its accumulation and the reference's rays with a time each converge to the same image; the
+// middle of the shutter is the frame without motion; any thread count gives the same image.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+
+#include "core/Motion.h"
+#include "gl/GlTestUtil.h"
+#include "tandem/SceneFile.h"
+
+namespace tandem {
+namespace {
+
+constexpr int kW = 160, kH = 90;
+constexpr float kShutter = 0.25f;
+
+// whitted.json with the box sliding and turning and the mirror sphere rising, during a quarter second.
+Result<Scene> movingWhitted() {
+  auto scene = loadSceneFile(test::sourceDir() + "/assets/scenes/whitted.json");
+  if (!scene) return scene;
+  for (Instance& inst : scene->instances) {
+    if (inst.name == "matte-box") inst.velocity = glm::vec3(3.0f, 0.0f, 1.0f), inst.angularVelocity = glm::vec3(0.0f, 4.0f, 0.0f);
+    if (inst.name == "mirror-sphere") inst.velocity = glm::vec3(0.0f, 2.0f, 0.0f);
+  }
+  scene->camera.shutter = kShutter;
+  return scene;
+}
+
+gltest::SceneFrame load(GlContext& context, int threads = 0) {
+  return gltest::sceneFrame(context, movingWhitted(), kW, kH, threads);
+}
+
+FrameSettings preset(const gltest::SceneFrame& f, const char* name, int samples = 1) {
+  FrameSettings s = *presetSettings(name, f.base);
+  if (samples > 1) {
+    s.aa = AntiAlias::Ssaa;
+    s.aaSamples = samples;
+  }
+  s.referenceSpp = 1;
+  return s;
+}
+
+Image drawWith(gltest::SceneFrame& f, const Camera& camera, const FrameSettings& s) {
+  FrameStats st = f.renderer->render(camera, s);
+  EXPECT_TRUE(st.error.empty()) << st.error;
+  return f.renderer->readImage();
+}
+
+bool sameImage(const Image& a, const Image& b) { return a.width == b.width && a.height == b.height && a.rgba == b.rgba; }
+
+TEST(MotionBlur, TheMiddleOfTheShutterIsTheFrameWithoutMotion) {
+  TD_REQUIRE_GL_CONTEXT();
+  gltest::SceneFrame f = load(*glContext_);
+  Camera closed = f.camera;
+  closed.shutter = 0.0f;
+  for (const char* name : {"hybrid-full", "hybrid-fast", "raster", "reference"})
+    EXPECT_TRUE(sameImage(gltest::drawFrame(f, preset(f, name)), drawWith(f, closed, preset(f, name)))) << name;
+}
+
+TEST(MotionBlur, ASampleShowsTheSceneWhereItsTimePutsIt) {
+  // A frame at time 0.15 of the shutter against the scene with each moving instance placed where the exact
+  // motion has it then (the steps' blend strays from it by under 1.6e-4 of the radius), shutter closed: the
+  // GL copy, the raster shadows and the rays all moved it.
+  TD_REQUIRE_GL_CONTEXT();
+  gltest::SceneFrame f = load(*glContext_);
+  Camera at = f.camera;
+  at.timeU = 0.15f;
+  auto placed = movingWhitted();
+  ASSERT_TRUE(placed.ok());
+  for (Instance& inst : placed->instances) {
+    inst.worldFromObject = glm::mat4(rigidMotionAt(inst, kShutter, 0.15));
+    inst.velocity = inst.angularVelocity = glm::vec3(0.0f);
+  }
+  placed->camera.shutter = 0.0f;
+  gltest::SceneFrame moved = gltest::sceneFrame(*glContext_, std::move(placed), kW, kH);
+  for (const char* name : {"raster", "hybrid-full", "reference"}) {
+    const Image sample = drawWith(f, at, preset(f, name));
+    const double e = gltest::flipMean(sample, gltest::drawFrame(moved, preset(moved, name)));
+    const double still = gltest::flipMean(sample, gltest::drawFrame(f, preset(f, name)));
+    std::printf("%s at time 0.15: FLIP vs the scene moved there %.6f, vs the middle of the shutter %.5f\n", name, e, still);
+    EXPECT_LT(e, 0.001) << name;
+    EXPECT_GT(still, 20.0 * e + 0.005) << name;
+  }
+}
+
+TEST(MotionBlur, ASamplesHybridFrameIsTheReferenceAtThatTime) {
+  TD_REQUIRE_GL_CONTEXT();
+  gltest::SceneFrame f = load(*glContext_);
+  Camera at = f.camera;
+  at.timeU = 0.9f;
+  const double same = gltest::flipMean(drawWith(f, at, preset(f, "hybrid-full")), drawWith(f, at, preset(f, "reference")));
+  std::printf("FLIP hybrid-full vs reference, both at time 0.9: %.5f\n", same);
+  EXPECT_LT(same, 0.004);
+}
+
+TEST(MotionBlur, HybridAndReferenceConvergeToTheSameImage) {
+  TD_REQUIRE_GL_CONTEXT();
+  gltest::SceneFrame f = load(*glContext_);
+  FrameSettings truthSettings = preset(f, "reference");
+  truthSettings.referenceSpp = 8;
+  const Image truth = gltest::accumulateFrames(f, truthSettings, 4);  // 256 times and pixel samples
+  Camera closed = f.camera;
+  closed.shutter = 0.0f;
+  const double sharp = gltest::flipMean(drawWith(f, closed, preset(f, "hybrid-full", 16)), truth);
+  double previous = 1.0, hybrid64 = 1.0;
+  for (int samples : {4, 16, 64}) {
+    hybrid64 = gltest::flipMean(gltest::drawFrame(f, preset(f, "hybrid-full", samples)), truth);
+    std::printf("hybrid-full, %d time samples: FLIP vs reference %.5f\n", samples, hybrid64);
+    EXPECT_LT(hybrid64, previous) << samples;
+    previous = hybrid64;
+  }
+  FrameSettings reference64 = preset(f, "reference");
+  reference64.referenceSpp = 8;
+  const double referenceNoise = gltest::flipMean(gltest::drawFrame(f, reference64), truth);
+  std::printf("without motion %.5f, reference 64 samples %.5f\n", sharp, referenceNoise);
+  EXPECT_LT(hybrid64, 0.5 * sharp) << "the motion must blur";
+  EXPECT_LT(hybrid64, referenceNoise + 0.006);
+  // Raster frames (shadow maps drawn at each sample's time) converge near it too.
+  const double raster = gltest::flipMean(gltest::drawFrame(f, preset(f, "raster", 64)), truth);
+  const double rasterSharp = gltest::flipMean(drawWith(f, closed, preset(f, "raster", 64)), truth);
+  std::printf("raster, 64 samples: %.5f (without motion %.5f)\n", raster, rasterSharp);
+  EXPECT_LT(raster, rasterSharp);
+}
+
+TEST(MotionBlur, TheSameSamplesGiveTheSameImageOnAnyThreadCount) {
+  TD_REQUIRE_GL_CONTEXT();
+  gltest::SceneFrame one = load(*glContext_, 1), two = load(*glContext_, 2);
+  for (const char* name : {"hybrid-full", "hybrid-fast"}) {
+    gltest::drawFrame(one, preset(one, name, 8));
+    gltest::drawFrame(two, preset(two, name, 8));
+    const ImageF a = one.renderer->readLinear(), b = two.renderer->readLinear();
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0) << name;
+  }
+  FrameSettings reference = preset(one, "reference");
+  reference.referenceSpp = 3;
+  gltest::drawFrame(one, reference);
+  gltest::drawFrame(two, reference);
+  const ImageF a = one.renderer->readLinear(), b = two.renderer->readLinear();
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0) << "reference";
+}
+
+TEST(MotionBlur, SetInstanceMotionStartsTheAccumulationAgain) {
+  TD_REQUIRE_GL_CONTEXT();
+  gltest::SceneFrame f = load(*glContext_);
+  FrameSettings acc = preset(f, "hybrid-fast");
+  acc.accumulate = 8;
+  FrameStats st;
+  for (int i = 0; i < 3; ++i) st = f.renderer->render(f.camera, acc);
+  EXPECT_EQ(st.accumulated, 3);
+  const Image blurred = f.renderer->readImage();
+  f.renderer->setInstanceMotion(3, glm::vec3(0.0f), glm::vec3(0.0f));  // the box stops
+  st = f.renderer->render(f.camera, acc);
+  EXPECT_EQ(st.accumulated, 1);
+  for (int i = 0; i < 2; ++i) st = f.renderer->render(f.camera, acc);
+  EXPECT_GT(gltest::flipMean(f.renderer->readImage(), blurred), 0.002);
+  // A non-finite motion is refused: nothing changes, the accumulation goes on.
+  f.renderer->setInstanceMotion(3, glm::vec3(std::nanf(""), 0.0f, 0.0f), glm::vec3(0.0f));
+  st = f.renderer->render(f.camera, acc);
+  EXPECT_EQ(st.accumulated, 4);
+}
+
+}  // namespace
+}  // namespace tandem
