@@ -3,6 +3,8 @@
 // with the reason (these tests exist to exercise GL; skipping would hide a broken machine).
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <cstring>
 #include <memory>
 #include <string>
 
@@ -144,6 +146,29 @@ inline Image drawFrame(SceneFrame& f, const FrameSettings& settings, FrameStats*
   return f.renderer->readImage();
 }
 
+/// One frame with `settings` from `camera` (not the frame's), its display image.
+inline Image drawFrame(SceneFrame& f, const Camera& camera, const FrameSettings& settings) {
+  FrameStats st = f.renderer->render(camera, settings);
+  EXPECT_TRUE(st.error.empty()) << st.error;
+  return f.renderer->readImage();
+}
+
+/// Preset `name` at the frame's size; `samples` > 1: that many supersamples in one frame (ssaa), each with
+/// its own sub-pixel offset, lens point and shutter time. The reference at 1 spp.
+inline FrameSettings presetFor(const SceneFrame& f, const char* name, int samples = 1) {
+  FrameSettings s = *presetSettings(name, f.base);
+  if (samples > 1) {
+    s.aa = AntiAlias::Ssaa;
+    s.aaSamples = samples;
+  }
+  s.referenceSpp = 1;
+  return s;
+}
+
+inline bool sameImage(const Image& a, const Image& b) {
+  return a.width == b.width && a.height == b.height && a.rgba == b.rgba;
+}
+
 /// The converged image of an accumulation of `frames` frames (FrameSettings::accumulate).
 inline Image accumulateFrames(SceneFrame& f, FrameSettings settings, int frames) {
   settings.accumulate = frames;
@@ -152,11 +177,58 @@ inline Image accumulateFrames(SceneFrame& f, FrameSettings settings, int frames)
   return image;
 }
 
+/// Draws one frame with `settings` in both renderers (of the same scene, different ray thread counts) and
+/// expects their linear frames identical to the bit.
+inline void expectSameFrame(SceneFrame& one, SceneFrame& two, const FrameSettings& settings, const std::string& what) {
+  drawFrame(one, settings);
+  drawFrame(two, settings);
+  const ImageF a = one.renderer->readLinear(), b = two.renderer->readLinear();
+  ASSERT_EQ(a.rgb.size(), b.rgb.size()) << what;
+  EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0) << what;
+}
+
 /// Mean LDR-FLIP of two images (1 when they cannot be compared, with the failure recorded).
 inline double flipMean(const Image& a, const Image& b) {
   auto r = flip(a, b);
   EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
   return r.ok() ? r->mean : 1.0;
+}
+
+/// The sampled effects' thread check: hybrid-full and hybrid-fast at 8 supersamples and the reference at 3×3
+/// spp, identical from renderers of 1 and of 2 ray threads.
+inline void expectSameOnAnyThreadCount(SceneFrame& one, SceneFrame& two) {
+  for (const char* name : {"hybrid-full", "hybrid-fast"}) expectSameFrame(one, two, presetFor(one, name, 8), name);
+  FrameSettings reference = presetFor(one, "reference");
+  reference.referenceSpp = 3;
+  expectSameFrame(one, two, reference, "reference");
+}
+
+/// A sampled effect's convergence (depth of field, motion blur): hybrid-full at 4, 16 and 64 supersamples in
+/// one frame against a 256-sample reference (8×8 spp × 4 accumulated frames), each nearer than the last; the
+/// reference's own 64 samples; and hybrid-full at 16 from `without`, the camera without the effect.
+struct Convergence {
+  Image truth, hybrid64;
+  double error64 = 1.0, withoutEffect = 1.0, reference64 = 1.0;
+};
+inline Convergence converge(SceneFrame& f, const Camera& without, const char* what) {
+  Convergence c;
+  FrameSettings truthSettings = presetFor(f, "reference");
+  truthSettings.referenceSpp = 8;
+  c.truth = accumulateFrames(f, truthSettings, 4);
+  c.withoutEffect = flipMean(drawFrame(f, without, presetFor(f, "hybrid-full", 16)), c.truth);
+  double previous = 1.0;
+  for (int samples : {4, 16, 64}) {
+    c.hybrid64 = drawFrame(f, presetFor(f, "hybrid-full", samples));
+    c.error64 = flipMean(c.hybrid64, c.truth);
+    std::printf("hybrid-full, %d %s samples: FLIP vs reference %.5f\n", samples, what, c.error64);
+    EXPECT_LT(c.error64, previous) << samples << " " << what << " samples";
+    previous = c.error64;
+  }
+  FrameSettings reference64 = presetFor(f, "reference");
+  reference64.referenceSpp = 8;
+  c.reference64 = flipMean(drawFrame(f, reference64), c.truth);
+  std::printf("without the effect %.5f, reference 64 samples %.5f\n", c.withoutEffect, c.reference64);
+  return c;
 }
 
 }  // namespace tandem::gltest

@@ -33,33 +33,6 @@ gltest::SceneFrame load(GlContext& context, int threads = 0) {
   return gltest::sceneFrame(context, movingWhitted(), kW, kH, threads);
 }
 
-FrameSettings preset(const gltest::SceneFrame& f, const char* name, int samples = 1) {
-  FrameSettings s = *presetSettings(name, f.base);
-  if (samples > 1) {
-    s.aa = AntiAlias::Ssaa;
-    s.aaSamples = samples;
-  }
-  s.referenceSpp = 1;
-  return s;
-}
-
-Image drawWith(gltest::SceneFrame& f, const Camera& camera, const FrameSettings& s) {
-  FrameStats st = f.renderer->render(camera, s);
-  EXPECT_TRUE(st.error.empty()) << st.error;
-  return f.renderer->readImage();
-}
-
-bool sameImage(const Image& a, const Image& b) { return a.width == b.width && a.height == b.height && a.rgba == b.rgba; }
-
-TEST(MotionBlur, TheMiddleOfTheShutterIsTheFrameWithoutMotion) {
-  TD_REQUIRE_GL_CONTEXT();
-  gltest::SceneFrame f = load(*glContext_);
-  Camera closed = f.camera;
-  closed.shutter = 0.0f;
-  for (const char* name : {"hybrid-full", "hybrid-fast", "raster", "reference"})
-    EXPECT_TRUE(sameImage(gltest::drawFrame(f, preset(f, name)), drawWith(f, closed, preset(f, name)))) << name;
-}
-
 TEST(MotionBlur, ASampleShowsTheSceneWhereItsTimePutsIt) {
   // A frame at time 0.15 of the shutter against the scene with each moving instance placed where the exact
   // motion has it then (the steps' blend strays from it by under 1.6e-4 of the radius), shutter closed: the
@@ -77,9 +50,9 @@ TEST(MotionBlur, ASampleShowsTheSceneWhereItsTimePutsIt) {
   placed->camera.shutter = 0.0f;
   gltest::SceneFrame moved = gltest::sceneFrame(*glContext_, std::move(placed), kW, kH);
   for (const char* name : {"raster", "hybrid-full", "reference"}) {
-    const Image sample = drawWith(f, at, preset(f, name));
-    const double e = gltest::flipMean(sample, gltest::drawFrame(moved, preset(moved, name)));
-    const double still = gltest::flipMean(sample, gltest::drawFrame(f, preset(f, name)));
+    const Image sample = gltest::drawFrame(f, at, gltest::presetFor(f, name));
+    const double e = gltest::flipMean(sample, gltest::drawFrame(moved, gltest::presetFor(moved, name)));
+    const double still = gltest::flipMean(sample, gltest::drawFrame(f, gltest::presetFor(f, name)));
     std::printf("%s at time 0.15: FLIP vs the scene moved there %.6f, vs the middle of the shutter %.5f\n", name, e, still);
     EXPECT_LT(e, 0.001) << name;
     EXPECT_GT(still, 20.0 * e + 0.005) << name;
@@ -91,7 +64,7 @@ TEST(MotionBlur, ASamplesHybridFrameIsTheReferenceAtThatTime) {
   gltest::SceneFrame f = load(*glContext_);
   Camera at = f.camera;
   at.timeU = 0.9f;
-  const double same = gltest::flipMean(drawWith(f, at, preset(f, "hybrid-full")), drawWith(f, at, preset(f, "reference")));
+  const double same = gltest::flipMean(gltest::drawFrame(f, at, gltest::presetFor(f, "hybrid-full")), gltest::drawFrame(f, at, gltest::presetFor(f, "reference")));
   std::printf("FLIP hybrid-full vs reference, both at time 0.9: %.5f\n", same);
   EXPECT_LT(same, 0.004);
 }
@@ -99,28 +72,15 @@ TEST(MotionBlur, ASamplesHybridFrameIsTheReferenceAtThatTime) {
 TEST(MotionBlur, HybridAndReferenceConvergeToTheSameImage) {
   TD_REQUIRE_GL_CONTEXT();
   gltest::SceneFrame f = load(*glContext_);
-  FrameSettings truthSettings = preset(f, "reference");
-  truthSettings.referenceSpp = 8;
-  const Image truth = gltest::accumulateFrames(f, truthSettings, 4);  // 256 times and pixel samples
   Camera closed = f.camera;
   closed.shutter = 0.0f;
-  const double sharp = gltest::flipMean(drawWith(f, closed, preset(f, "hybrid-full", 16)), truth);
-  double previous = 1.0, hybrid64 = 1.0;
-  for (int samples : {4, 16, 64}) {
-    hybrid64 = gltest::flipMean(gltest::drawFrame(f, preset(f, "hybrid-full", samples)), truth);
-    std::printf("hybrid-full, %d time samples: FLIP vs reference %.5f\n", samples, hybrid64);
-    EXPECT_LT(hybrid64, previous) << samples;
-    previous = hybrid64;
-  }
-  FrameSettings reference64 = preset(f, "reference");
-  reference64.referenceSpp = 8;
-  const double referenceNoise = gltest::flipMean(gltest::drawFrame(f, reference64), truth);
-  std::printf("without motion %.5f, reference 64 samples %.5f\n", sharp, referenceNoise);
-  EXPECT_LT(hybrid64, 0.5 * sharp) << "the motion must blur";
-  EXPECT_LT(hybrid64, referenceNoise + 0.006);
+  const gltest::Convergence c = gltest::converge(f, closed, "time");
+  const Image& truth = c.truth;
+  EXPECT_LT(c.error64, 0.5 * c.withoutEffect) << "the motion must blur";
+  EXPECT_LT(c.error64, c.reference64 + 0.006);
   // Raster frames (shadow maps drawn at each sample's time) converge near it too.
-  const double raster = gltest::flipMean(gltest::drawFrame(f, preset(f, "raster", 64)), truth);
-  const double rasterSharp = gltest::flipMean(drawWith(f, closed, preset(f, "raster", 64)), truth);
+  const double raster = gltest::flipMean(gltest::drawFrame(f, gltest::presetFor(f, "raster", 64)), truth);
+  const double rasterSharp = gltest::flipMean(gltest::drawFrame(f, closed, gltest::presetFor(f, "raster", 64)), truth);
   std::printf("raster, 64 samples: %.5f (without motion %.5f)\n", raster, rasterSharp);
   EXPECT_LT(raster, rasterSharp);
 }
@@ -128,26 +88,13 @@ TEST(MotionBlur, HybridAndReferenceConvergeToTheSameImage) {
 TEST(MotionBlur, TheSameSamplesGiveTheSameImageOnAnyThreadCount) {
   TD_REQUIRE_GL_CONTEXT();
   gltest::SceneFrame one = load(*glContext_, 1), two = load(*glContext_, 2);
-  for (const char* name : {"hybrid-full", "hybrid-fast"}) {
-    gltest::drawFrame(one, preset(one, name, 8));
-    gltest::drawFrame(two, preset(two, name, 8));
-    const ImageF a = one.renderer->readLinear(), b = two.renderer->readLinear();
-    ASSERT_EQ(a.rgb.size(), b.rgb.size());
-    EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0) << name;
-  }
-  FrameSettings reference = preset(one, "reference");
-  reference.referenceSpp = 3;
-  gltest::drawFrame(one, reference);
-  gltest::drawFrame(two, reference);
-  const ImageF a = one.renderer->readLinear(), b = two.renderer->readLinear();
-  ASSERT_EQ(a.rgb.size(), b.rgb.size());
-  EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0) << "reference";
+  gltest::expectSameOnAnyThreadCount(one, two);
 }
 
 TEST(MotionBlur, SetInstanceMotionStartsTheAccumulationAgain) {
   TD_REQUIRE_GL_CONTEXT();
   gltest::SceneFrame f = load(*glContext_);
-  FrameSettings acc = preset(f, "hybrid-fast");
+  FrameSettings acc = gltest::presetFor(f, "hybrid-fast");
   acc.accumulate = 8;
   FrameStats st;
   for (int i = 0; i < 3; ++i) st = f.renderer->render(f.camera, acc);
