@@ -131,6 +131,11 @@ TEST(LensPinhole, WithoutALensOrAtItsCentreIsThePinhole) {
     EXPECT_EQ(b.lensOffsetW(), glm::vec3(0.0f)) << bad;
     EXPECT_EQ(b.lensPinhole({64, 48}).posW, b.posW) << bad;
   }
+  // A NaN lens point is the centre.
+  Camera nan = c;
+  nan.lensUv = glm::vec2(std::nanf(""), 0.3f);
+  const Camera nanPinhole = nan.lensPinhole({64, 48});
+  EXPECT_TRUE(std::isfinite(nanPinhole.posW.x) && std::isfinite(nanPinhole.jitterPx.x) && std::isfinite(nanPinhole.jitterPx.y));
   Camera ortho = c;
   ortho.orthographic = true;
   ortho.lensUv = glm::vec2(0.1f, 0.9f);
@@ -220,6 +225,9 @@ TEST(LensPinhole, SceneValidationRefusesABadLens) {
   EXPECT_FALSE(validateScene(s).ok());
   s.camera.focusDistance = 3.0f;
   EXPECT_TRUE(validateScene(s).ok()) << validateScene(s).error().message;
+  s.camera.lensUv = glm::vec2(0.5f, std::nanf(""));
+  EXPECT_FALSE(validateScene(s).ok());
+  s.camera.lensUv = glm::vec2(0.5f);
   s.camera.orthographic = true;
   auto r = validateScene(s);
   ASSERT_FALSE(r.ok());

@@ -104,6 +104,16 @@ TEST(Motion, StepsFollowTheArcAtEveryScale) {
   }
 }
 
+TEST(Motion, AnyFiniteSpinGivesFiniteSteps) {
+  // |ω|·shutter far beyond int's range: the step count is clamped before it becomes an int.
+  const Instance inst = moving(glm::vec3(1.0f, 2.0f, 3.0f), 1.0f, glm::vec3(0.0f), glm::vec3(0.0f, 3e38f, 0.0f));
+  const std::vector<glm::mat4> steps = motionSteps(inst, 1e3f, glm::vec3(0.0f));
+  ASSERT_EQ(steps.size(), static_cast<std::size_t>(kMaxMotionSteps));
+  for (const glm::mat4& m : steps)
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) ASSERT_TRUE(std::isfinite(m[c][r]));
+}
+
 TEST(Motion, TimesOutsideTheShutterAreClamped) {
   const Instance inst = moving(glm::vec3(0.0f), 1.0f, glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(0.0f));
   const std::vector<glm::mat4> steps = motionSteps(inst, 1.0f, glm::vec3(0.0f));

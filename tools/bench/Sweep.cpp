@@ -646,7 +646,10 @@ int runSweep(const SweepOptions& o) {
           if ((frame & (frame - 1)) != 0 && frame != o.convergeFrames) continue;  // powers of two and the last
           ConvergePoint p{l.label, size, name, frame, totalMs, 1.0};
           if (auto e = compare(renderer.readImage(), truth.image)) p.flipMean = e->flipMean;
-          line += fmt(" %d:", frame) + fmt("%.4f", p.flipMean);
+          line += ' ';
+          line += std::to_string(frame);
+          line += ':';
+          line += fmt("%.4f", p.flipMean);
           converge.push_back(p);
         }
         progress(l.label + " " + size.label() + " " + name + " accumulated, FLIP after N frames:" + line);
@@ -731,8 +734,11 @@ int runSweep(const SweepOptions& o) {
     }
     plotConvergence(pc, curves);
   }
-  std::printf("wrote %s/sweep.csv, sweep.md, ceiling.csv, convergence.csv%s in %s\n", o.out.c_str(),
-              o.plots ? ", pareto.png, stages.png, heat-*.png, convergence.png" : "", formatDuration(elapsed()).c_str());
+  const bool curves = !converge.empty();
+  std::printf("wrote %s/sweep.csv, sweep.md, ceiling.csv%s%s in %s\n", o.out.c_str(), curves ? ", convergence.csv/.md" : "",
+              o.plots ? (curves ? ", pareto.png, stages.png, heat-*.png, convergence.png" : ", pareto.png, stages.png, heat-*.png")
+                      : "",
+              formatDuration(elapsed()).c_str());
   return 0;
 }
 

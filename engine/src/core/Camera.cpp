@@ -61,7 +61,9 @@ glm::vec3 Camera::lensOffsetW() const {
   const glm::vec3 forward = glm::normalize(targetW - posW);
   const glm::vec3 right = glm::normalize(glm::cross(forward, upW));
   const glm::vec3 up = glm::cross(right, forward);
-  const glm::vec2 d = 0.5f * aperture * squareToDisk(glm::clamp(lensUv, 0.0f, 1.0f));
+  // A NaN lens point is the centre (per-frame code never fails; the scene check refuses it).
+  const glm::vec2 uv(std::isfinite(lensUv.x) ? lensUv.x : 0.5f, std::isfinite(lensUv.y) ? lensUv.y : 0.5f);
+  const glm::vec2 d = 0.5f * aperture * squareToDisk(glm::clamp(uv, 0.0f, 1.0f));
   return right * d.x + up * d.y;
 }
 

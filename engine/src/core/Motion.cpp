@@ -33,7 +33,8 @@ std::vector<glm::mat4> motionSteps(const Instance& inst, float shutter, glm::vec
   constexpr double kStepRadians = 2.0 * 3.14159265358979323846 / 180.0;
   // An even count puts a step at u = 0.5, the transform itself: a frame drawn at the middle of the shutter
   // is the frame without motion blur, bit for bit.
-  int segments = std::clamp(static_cast<int>(std::ceil(turned / kStepRadians)), 2, kMaxMotionSteps - 1);
+  // Clamped in double: a huge spin times shutter would overflow the conversion to int.
+  int segments = static_cast<int>(std::clamp(std::ceil(turned / kStepRadians), 2.0, double(kMaxMotionSteps - 1)));
   segments += segments % 2;
   std::vector<glm::mat4> steps;
   steps.reserve(static_cast<std::size_t>(segments) + 1);

@@ -106,6 +106,8 @@ Result<void> validateScene(const Scene& scene) {
     return Error{where + ": camera is invalid (needs finite position, target != position, 0 < near < far, 0 < fov < 180)"};
   if (!std::isfinite(c.aperture) || c.aperture < 0.0f || std::isnan(c.focusDistance) || std::isinf(c.focusDistance))
     return Error{where + ": camera lens is invalid (needs a finite aperture >= 0 and a finite focusDistance)"};
+  if (!std::isfinite(c.lensUv.x) || !std::isfinite(c.lensUv.y))
+    return Error{where + ": camera lensUv is NaN or infinite"};
   if (!std::isfinite(c.shutter) || c.shutter < 0.0f || !std::isfinite(c.timeU))
     return Error{where + ": camera shutter is invalid (needs a finite shutter >= 0 and a finite timeU)"};
   if (c.aperture > 0.0f && c.orthographic)

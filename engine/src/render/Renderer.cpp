@@ -67,6 +67,7 @@ struct Renderer::Impl {
     FramePlan plan;
     bool shadowMaps = false;    // primary hits' lights by the shadow maps
     int probeEffects = 0;       // gl::kProbeReflect / kProbeRefract in use
+    bool moving = false;        // some instance moved under its open shutter (motion blur)
     // What the scene was when it was drawn, for reuse when something moved since.
     std::vector<glm::mat4> transforms;  // every instance's worldFromObject
     std::vector<Light> directLights;    // Scene::directLights() order
@@ -576,7 +577,8 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
     stats.error = frameError(s, targets.error().message);
     return false;
   }
-  caches.syncGpu(scene, s.shadingOverride, camera.shutter, camera.timeU);
+  // The GL copy's time is each sample's (drawSample): here only the shutter, leaving the time as it is.
+  caches.syncGpu(scene, s.shadingOverride, camera.shutter, caches.gpuTime());
   if (plan.needsRayScene() && !caches.syncRays(scene, camera.shutter, *tracer)) plan.withoutRays();
   if (!plan.reference && gl::ShadePass::samplesDepth(caches.gpu().features(), s.debugView)) {
     if (auto copy = shadePass.reserveSampledDepth(s.width, s.height); !copy) {
@@ -657,7 +659,9 @@ bool Renderer::Impl::keepsSome(const FramePlan& plan, const Camera& camera, bool
       !plan.rays.primaryShadows || rays.lightMask.empty() || !(last.camera == camera) || !sameRayInputs(last.plan, plan))
     return false;
   // Motion blur: the reuse gate bounds instances at their transforms, and with a shutter open a moving one is
-  // where its time puts it (and its motion may have changed with the transform unchanged): nothing kept.
+  // where its time puts it (and its motion may have changed with the transform unchanged): nothing kept while
+  // anything moves, nor just after (the last frame's rays saw the instances where their time put them).
+  if (last.moving) return false;
   for (const Instance& inst : scene.instances)
     if (isMoving(inst, camera.shutter)) return false;
   const std::vector<const Light*> lights = scene.directLights();
@@ -758,6 +762,8 @@ void Renderer::Impl::remember(const FramePlan& plan, const Camera& camera, const
   }
   last.shadowMaps = in.shadowMaps != nullptr;
   last.probeEffects = in.probeCubes ? in.probeEffects : 0;
+  last.moving = std::any_of(scene.instances.begin(), scene.instances.end(),
+                            [&](const Instance& inst) { return isMoving(inst, camera.shutter); });
 }
 
 Result<PixelTrace> Renderer::tracePixel(int x, int y) {

@@ -82,11 +82,14 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
   std::vector<gl::Bounds> instanceBounds;
   if (plan.rasterShadows || probeEffects != 0)
     instanceBounds = gl::instanceBounds(scene, meshBounds_, gpu_.anchor(), gpuShutter_, gpuTime_);
+  auto drawShadowMaps = [&](const std::vector<gl::Bounds>& bounds) {
+    gl::Bounds world;
+    for (const gl::Bounds& b : bounds) world.add(b);
+    shadowMaps_.update(scene, gpu_, raster, world);
+  };
   if (plan.rasterShadows) {
     if (shadowVersion_ != gpuVersion_ || shadowTimeVersion_ != timeVersion_) {
-      gl::Bounds world;
-      for (const gl::Bounds& b : instanceBounds) world.add(b);
-      shadowMaps_.update(scene, gpu_, raster, world);
+      drawShadowMaps(instanceBounds);
       shadowVersion_ = gpuVersion_;
       shadowTimeVersion_ = timeVersion_;
     }
@@ -100,15 +103,32 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     // The probes see local shading only (no ray results, no probes): one bounce.
     const gl::ShadeInputs local = in;
     const int budget = plan.settings.probesPerFrame;
-    if (probeLayoutVersion_ != gpuLayoutVersion_ || probesShadowed_ != shadowed || probeVersion_ == 0 ||
-        (budget <= 0 && probeVersion_ != gpuVersion_)) {
-      probes_.update(scene, gpu_, raster, shade, local, instanceBounds);
+    const bool all = probeLayoutVersion_ != gpuLayoutVersion_ || probesShadowed_ != shadowed || probeVersion_ == 0 ||
+                     (budget <= 0 && probeVersion_ != gpuVersion_);
+    // Probes show moving instances at the middle of the shutter, lit by shadow maps of that time, whatever
+    // sample's time the GL copy is at: what they hold must not depend on which sample happened to draw them.
+    const bool atSampleTime = gpuShutter_ > 0.0f && gpuTime_ != 0.5f &&
+                              std::any_of(scene.instances.begin(), scene.instances.end(),
+                                          [&](const Instance& inst) { return isMoving(inst, gpuShutter_); });
+    std::vector<gl::Bounds> middleBounds;
+    if ((all || probeVersion_ != gpuVersion_) && atSampleTime) {
+      gpu_.updateInstances(scene, gpuShutter_, 0.5f);
+      middleBounds = gl::instanceBounds(scene, meshBounds_, gpu_.anchor(), gpuShutter_, 0.5f);
+      if (shadowed) drawShadowMaps(middleBounds);
+    }
+    const std::vector<gl::Bounds>& probeBounds = middleBounds.empty() ? instanceBounds : middleBounds;
+    if (all) {
+      probes_.update(scene, gpu_, raster, shade, local, probeBounds);
       probeSlotVersions_.assign(static_cast<std::size_t>(probes_.probeCount()), gpuVersion_);
       probeVersion_ = gpuVersion_;
       probeLayoutVersion_ = gpuLayoutVersion_;
       probesShadowed_ = shadowed;
     } else if (probeVersion_ != gpuVersion_) {
-      refreshOldestProbes(budget, raster, shade, local, instanceBounds);
+      refreshOldestProbes(budget, raster, shade, local, probeBounds);
+    }
+    if (!middleBounds.empty()) {  // back to the sample's time
+      gpu_.updateInstances(scene, gpuShutter_, gpuTime_);
+      if (shadowed) drawShadowMaps(instanceBounds);
     }
     if (probes_.probeCount() > 0) {
       in.probeCubes = &probes_.cubes();

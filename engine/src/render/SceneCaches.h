@@ -44,6 +44,8 @@ class SceneCaches {
   /// Whether every probe shows the scene as it is (true when there are none): with
   /// FrameSettings::probesPerFrame > 0 they catch up over several frames after a move.
   bool probesCurrent() const { return probeVersion_ == 0 || probeVersion_ == gpuVersion_; }
+  /// The shutter time the GL copy's moving instances are drawn at (syncGpu's timeU).
+  float gpuTime() const { return gpuTime_; }
 
   gl::GpuScene& gpu() { return gpu_; }
   const gl::GpuScene& gpu() const { return gpu_; }

@@ -40,6 +40,7 @@ void compositeOnCpu(const Scene& scene, const Camera& camera, const FrameSetting
               : makeInstanceTransform(inst.worldFromObject, anchor);
       Ray ray = cam.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
       SurfaceHit hit = resolveHit(scene, transform, instance, id.y, ray);
+      hit.time = camera.timeU;
       hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);
       std::uint32_t mask = rays.lightMask.empty() ? ~0u : rays.lightMask[g];
       AreaSampleBits area{};

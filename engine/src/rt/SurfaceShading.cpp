@@ -39,7 +39,8 @@ Ray CameraRays::throughLens(glm::vec2 pixel, glm::vec2 lensU) const {
   if (lensRadius_ <= 0.0f) return r;
   // The centre's ray meets the plane in focus at depth focus_ along forward_.
   const glm::vec3 focusW = r.origin + r.dir * (focus_ / glm::dot(r.dir, forward_));
-  const glm::vec2 d = lensRadius_ * squareToDisk(glm::clamp(lensU, 0.0f, 1.0f));
+  const glm::vec2 u(std::isfinite(lensU.x) ? lensU.x : 0.5f, std::isfinite(lensU.y) ? lensU.y : 0.5f);
+  const glm::vec2 d = lensRadius_ * squareToDisk(glm::clamp(u, 0.0f, 1.0f));
   r.origin += right_ * d.x + up_ * d.y;
   r.dir = glm::normalize(focusW - r.origin);
   return r;
