@@ -67,6 +67,9 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
                  "Glossy materials (roughness > 0): reflection and refraction rays per primary hit and frame, sampled "
                  "from the lobe (deeper bounces take one; accumulated frames draw new ones); 1..32 (default " +
                      std::to_string(d.glossSamples) + ")");
+  app.add_option("--gi", o.gi,
+                 "Diffuse interreflection: none | path (the reference preset only: a path tracer with next-event "
+                 "estimation and Russian roulette, the ambient term left out; docs/path-tracing.md) (default: none)");
   app.add_flag("--classic-whitted", o.classicWhitted,
                "I = local + kr·S + kt·T (default: the Fresnel-weighted sum, docs/shading.md)");
   app.add_flag("--schlick", o.schlick, "Schlick's Fresnel approximation (default: the exact dielectric form)");
@@ -188,6 +191,13 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
                    std::to_string(*o.glossSamples)};
     s.glossSamples = *o.glossSamples;
   }
+  if (o.gi) {
+    auto g = parseGlobalIllumination(*o.gi);
+    if (!g) return Error{"--gi: expected none or path, got " + inQuotes(*o.gi)};
+    if (*g != GlobalIllumination::None && !s.reference)
+      return Error{"--gi: only the reference preset traces paths (add --preset reference), got --gi " + *o.gi};
+    s.gi = *g;
+  }
   if (s.aa != AntiAlias::Off && s.reference)
     return Error{"--aa: the reference preset takes its samples per pixel from --spp, got --aa " + o.aa->front()};
   if (s.accumulate > 1 && o.targetFps)
@@ -269,6 +279,7 @@ std::string describeSettings(const FrameSettings& s) {
   if (s.reference)
     return d + ", primary visibility by rays, " + std::to_string(s.referenceSpp) + "×" +
            std::to_string(s.referenceSpp) + " samples per pixel" +
+           (s.gi == GlobalIllumination::Path ? std::string(", path-traced interreflection") : std::string()) +
            (s.accumulate > 1 ? ", accumulating up to " + std::to_string(s.accumulate) + " frames" : std::string());
   d += ", scale 1/" + std::to_string(s.rayScale);
   if (s.aa == AntiAlias::Ssaa) d += ", ssaa " + std::to_string(s.aaSamples);

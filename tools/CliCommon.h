@@ -34,6 +34,7 @@ struct FrameOptions {
   std::optional<int> accumulate;
   std::optional<int> lightSamples;
   std::optional<int> glossSamples;
+  std::optional<std::string> gi;  // none | path
   bool classicWhitted = false;
   bool schlick = false;
 };

@@ -143,6 +143,9 @@ int main(int argc, char** argv) {
   // Checked against the frame before anything renders, like every other value.
   std::optional<glm::ivec2> tracedPixel;
   if (tracePixel) {
+    if (settings.gi == GlobalIllumination::Path)
+      return fail("--trace-pixel: a path-traced reference (--gi path) has no ray tree to print, got --trace-pixel " +
+                  *tracePixel);
     auto pixel = cli::parseTracePixel(*tracePixel, settings.width, settings.height);
     if (!pixel) return fail(pixel.error().message);
     tracedPixel = *pixel;

@@ -93,6 +93,24 @@ TEST(FrameOptions, SppWithoutTheReferencePresetIsAnError) {
   EXPECT_EQ(fromBase->referenceSpp, 3);
 }
 
+TEST(FrameOptions, PathTracingIsTheReferencesAlone) {
+  for (auto preset : {"raster", "hybrid-fast", "hybrid-full"})
+    EXPECT_TRUE(startsWith(errorOf({"--preset", preset, "--gi", "path"}), "--gi: only the reference preset")) << preset;
+  EXPECT_TRUE(startsWith(errorOf({"--preset", "reference", "--gi", "radiosity"}), "--gi: expected none or path"));
+  auto ok = resolveArgs({"--preset", "reference", "--gi", "path"});
+  ASSERT_TRUE(ok) << ok.error().message;
+  EXPECT_EQ(ok->gi, GlobalIllumination::Path);
+  auto none = resolveArgs({"--preset", "hybrid-full", "--gi", "none"});
+  ASSERT_TRUE(none) << none.error().message;
+  EXPECT_EQ(none->gi, GlobalIllumination::None);
+  // Settings made in code: resolved() keeps paths to the reference frame.
+  FrameSettings s = *presetSettings("hybrid-full");
+  s.gi = GlobalIllumination::Path;
+  EXPECT_EQ(s.resolved().gi, GlobalIllumination::None);
+  EXPECT_EQ(parseGlobalIllumination("path"), GlobalIllumination::Path);
+  EXPECT_EQ(toString(GlobalIllumination::Path), "path");
+}
+
 TEST(FrameOptions, ScaleWithTheReferencePresetIsAnError) {
   EXPECT_TRUE(startsWith(errorOf({"--preset", "reference", "--scale", "2"}), "--scale: the reference preset"));
   auto ok = resolveArgs({"--preset", "hybrid-full", "--scale", "4"});

@@ -81,4 +81,7 @@ check --focus-distance --focus-distance 0
 check --focus-distance --focus-distance inf
 check --shutter --shutter -0.1
 check --shutter --shutter inf
+check --gi --gi radiosity --preset reference
+check --gi --gi path
+check --trace-pixel --preset reference --gi path --trace-pixel 1,1
 exit $status

@@ -17,6 +17,9 @@ enum class FresnelMode : std::uint8_t { Exact = 0, Schlick = 1 };
 enum class ToneMap : std::uint8_t { None = 0, Reinhard = 1, Aces = 2 };
 /// Anti-aliasing of the frame (FrameSettings::aa, docs/antialiasing.md).
 enum class AntiAlias : std::uint8_t { Off = 0, Ssaa = 1, Adaptive = 2 };
+/// Light bouncing between diffuse surfaces (FrameSettings::gi). None: the ambient term stands in for it.
+/// Path: the reference frame traces it (docs/path-tracing.md), the ground truth for the rest.
+enum class GlobalIllumination : std::uint8_t { None = 0, Path = 1 };
 
 /// What the frame shows: the final image, or one G-buffer channel / ray result as a debug view.
 enum class DebugView : std::uint8_t {
@@ -94,6 +97,10 @@ struct FrameSettings {
   /// Glossy materials (Material::roughness > 0; docs/glossy.md): reflection and refraction rays per primary
   /// hit and frame, sampled from the lobe (deeper bounces take one); accumulated frames draw new ones. [1, 32]
   int glossSamples = 4;
+  /// Diffuse interreflection (docs/path-tracing.md): Path makes the reference frame a path tracer on the same
+  /// scene and shading model (next-event estimation to every light, no ambient term, Russian roulette).
+  /// Only the reference traces paths: resolved() turns it off for the other frames.
+  GlobalIllumination gi = GlobalIllumination::None;
 
   /// Clamps ranges and applies dependencies (e.g. rayScale rounded to 1, 2 or 4).
   FrameSettings resolved() const;
@@ -118,6 +125,8 @@ std::optional<DebugView> parseDebugView(std::string_view s);
 bool isRadianceView(DebugView v);
 std::optional<ToneMap> parseToneMap(std::string_view s);  // none | reinhard | aces
 std::optional<AntiAlias> parseAntiAlias(std::string_view s);  // off | ssaa | adaptive
+std::optional<GlobalIllumination> parseGlobalIllumination(std::string_view s);  // none | path
+std::string_view toString(GlobalIllumination g);
 std::string_view toString(AntiAlias a);
 std::string_view toString(EffectMode m);
 std::string_view toString(ToneMap m);

@@ -23,6 +23,7 @@ FrameSettings FrameSettings::resolved() const {
   s.glossSamples = std::clamp(s.glossSamples, 1, 32);
   if (s.reference || s.targetMs > 0.0f) s.aa = AntiAlias::Off;
   if (s.targetMs > 0.0f) s.accumulate = 0;
+  if (!s.reference) s.gi = GlobalIllumination::None;
   return s;
 }
 
@@ -109,6 +110,20 @@ std::optional<AntiAlias> parseAntiAlias(std::string_view s) {
   if (s == "ssaa") return AntiAlias::Ssaa;
   if (s == "adaptive") return AntiAlias::Adaptive;
   return std::nullopt;
+}
+
+std::optional<GlobalIllumination> parseGlobalIllumination(std::string_view s) {
+  if (s == "none") return GlobalIllumination::None;
+  if (s == "path") return GlobalIllumination::Path;
+  return std::nullopt;
+}
+
+std::string_view toString(GlobalIllumination g) {
+  switch (g) {
+    case GlobalIllumination::None: return "none";
+    case GlobalIllumination::Path: return "path";
+  }
+  return "?";
 }
 
 std::string_view toString(AntiAlias a) {

@@ -773,6 +773,8 @@ Result<PixelTrace> Renderer::tracePixel(int x, int y) {
   if (f.sceneChanged)
     return Error{"tracePixel: the scene changed since the last frame (setScene, setInstanceTransform or setLight); "
                  "render a frame, then trace it"};
+  if (f.plan.settings.gi == GlobalIllumination::Path)
+    return Error{"tracePixel: a path-traced reference frame (FrameSettings::gi) has no ray tree"};
   const int width = f.plan.settings.width, height = f.plan.settings.height;
   if (x < 0 || y < 0 || x >= width || y >= height)
     return Error{"tracePixel: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +

@@ -11,6 +11,7 @@
 
 #include "rt/EmbreeScene.h"
 #include "rt/Parallel.h"
+#include "rt/PathTracer.h"
 #include "rt/PixelTrace.h"
 #include "rt/RayMath.h"
 #include "rt/RayReuse.h"
@@ -387,7 +388,11 @@ void RayTracer::referencePassWith(const Scene& scene, const Camera& camera, cons
   FrameShading frame(scene, settings.shadingOverride, embree.anchor());
   frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
   frame.setGlossSampling(settings.glossSamples, camera.sampleIndex);
+  // Path-traced interreflection replaces the ambient term (docs/path-tracing.md).
+  const bool paths = settings.gi == GlobalIllumination::Path;
+  if (paths) frame.ambient = glm::vec3(0.0f);
   Whitted whitted(scene, embree, frame, TraceModes::reference(settings));
+  const PathTracer pathTracer(whitted);
   const int spp = std::max(1, settings.referenceSpp);
   const CameraRays cameraRays(cam, {width, height});
   AtomicCounts total;
@@ -419,7 +424,10 @@ void RayTracer::referencePassWith(const Scene& scene, const Camera& camera, cons
               hit.time = time;
               // With one sample per pixel, the hybrid frame's seed: the same light samples as its pixel.
               hit.lightSeed = shading::tdPixelSeed(x, y, static_cast<std::uint32_t>(sy * spp + sx));
-              sum += whitted.shade(hit, 0, 1.0f, c, rec);
+              // Accumulated frames draw new paths: the sample index runs on across frames.
+              const std::uint32_t sample = camera.sampleIndex * static_cast<std::uint32_t>(spp * spp) +
+                                           static_cast<std::uint32_t>(sy * spp + sx);
+              sum += paths ? pathTracer.radiance(hit, x, y, sample, c) : whitted.shade(hit, 0, 1.0f, c, rec);
             }
           out.at(x, y) = sum / static_cast<float>(spp * spp);
         }
