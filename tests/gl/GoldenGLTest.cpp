@@ -1,7 +1,8 @@
 // Golden images of the default (Whitted) scene: one per shading model with every effect off, and one per
 // preset; and of assets/scenes/area-lights.json and glossy.json (soft shadows and glossy rays at the default
 // 4 samples, first sample of the sequence: the same seed gives the same image), and distribution.json (all of
-// them with depth of field, 8 anti-aliasing and lens samples in one frame). Tolerances (tests/golden/README.md):
+// them with depth of field and motion blur, 8 anti-aliasing, lens and time samples in one frame), and the
+// Cornell box (hybrid-full, and the path-traced reference at 2×2 spp). Tolerances (tests/golden/README.md):
 //   raster-only frames: every channel within 2/255 on at least 99.9 % of pixels (as Filament's CI does on
 //   Mesa software rasterizers);
 //   frames with ray-traced effects: additionally LDR-FLIP mean under 0.01 (Embree's SIMD paths may differ
@@ -115,6 +116,13 @@ TEST(Golden, DistributionRaster) {
 TEST(Golden, DistributionHybridFull) {
   checkGolden("distribution-hybrid-full", supersampled("hybrid-full", 8), true, "distribution.json");
 }
+TEST(Golden, CornellBoxPathTraced) {
+  FrameSettings s = preset("reference");
+  s.gi = GlobalIllumination::Path;
+  s.referenceSpp = 2;
+  checkGolden("cornell-box-path", s, true, "cornell-box.json");
+}
+TEST(Golden, CornellBoxHybridFull) { checkGolden("cornell-box-hybrid-full", preset("hybrid-full"), true, "cornell-box.json"); }
 
 }  // namespace
 }  // namespace tandem
