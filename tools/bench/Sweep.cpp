@@ -546,14 +546,14 @@ int runSweep(const SweepOptions& o) {
       if (m.roughness > 0.0f && (m.kr > 0.0f || m.kt > 0.0f)) return true;
     return false;
   };
-  auto hasLens = [](const Scene& scene) {
+  auto hasLensOrMotion = [](const Scene& scene) {
     if (scene.camera.aperture > 0.0f && !scene.camera.orthographic) return true;
     for (const Instance& inst : scene.instances)
       if (isMoving(inst, scene.camera.shutter)) return true;
     return false;
   };
   auto combosFor = [&](const Scene& scene) {
-    return makeCombos(FrameSettings{}, hasAreaLights(scene), hasGloss(scene), hasLens(scene)).size() +
+    return makeCombos(FrameSettings{}, hasAreaLights(scene), hasGloss(scene), hasLensOrMotion(scene)).size() +
            std::size(kBudgetFractions) + (o.convergeFrames > 0 ? std::size(kConvergePresets) : 0);
   };
   std::size_t totalSteps = 0;
@@ -600,7 +600,7 @@ int runSweep(const SweepOptions& o) {
 
       std::map<std::string, Image> images;
       std::vector<std::size_t> mine;
-      for (const Combo& combo : makeCombos(base, hasAreaLights(l.scene), hasGloss(l.scene), hasLens(l.scene))) {
+      for (const Combo& combo : makeCombos(base, hasAreaLights(l.scene), hasGloss(l.scene), hasLensOrMotion(l.scene))) {
         FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup, o.frames);
         Row row = measuredRow(l.label, size, combo, o.frames, run, truth.image);
         (void)writePng((fs::path(o.out) / "images" / (prefix + "-" + combo.name + ".png")).string(), run.image);

@@ -6,6 +6,22 @@
 
 namespace tandem {
 
+namespace {
+
+// The camera's view basis (right-handed, y up): the one rayThroughPixel and the lens share.
+struct ViewBasis {
+  glm::vec3 forward, right, up;
+};
+ViewBasis viewBasis(const Camera& c) {
+  ViewBasis b;
+  b.forward = glm::normalize(c.targetW - c.posW);
+  b.right = glm::normalize(glm::cross(b.forward, c.upW));
+  b.up = glm::cross(b.right, b.forward);
+  return b;
+}
+
+}  // namespace
+
 glm::mat4 Camera::viewFromWorld() const { return glm::lookAtRH(posW, targetW, upW); }
 
 glm::mat4 Camera::worldFromView() const { return glm::inverse(viewFromWorld()); }
@@ -58,9 +74,7 @@ float Camera::focusPlane() const {
 glm::vec3 Camera::lensOffsetW() const {
   // NaN or negative apertures are no lens: per-frame code never fails, the scene file rejects them.
   if (!(aperture > 0.0f) || !std::isfinite(aperture) || orthographic) return glm::vec3(0.0f);
-  const glm::vec3 forward = glm::normalize(targetW - posW);
-  const glm::vec3 right = glm::normalize(glm::cross(forward, upW));
-  const glm::vec3 up = glm::cross(right, forward);
+  const auto [forward, right, up] = viewBasis(*this);
   // A NaN lens point is the centre (per-frame code never fails; the scene check refuses it).
   const glm::vec2 uv(std::isfinite(lensUv.x) ? lensUv.x : 0.5f, std::isfinite(lensUv.y) ? lensUv.y : 0.5f);
   const glm::vec2 d = 0.5f * aperture * squareToDisk(glm::clamp(uv, 0.0f, 1.0f));
@@ -81,9 +95,7 @@ Camera Camera::lensPinhole(glm::ivec2 size) const {
   // The focus plane's point seen at NDC n from the centre is posW + F·(forward + n·(t·aspect, t)); from the
   // lens point it lies at NDC n − d / (F·(t·aspect, t)), d the offset in (right, up). A uniform image shift:
   // d.x·H / (2·F·t) pixels left and d.y·H / (2·F·t) down (pixels run down, NDC up), whatever the aspect.
-  const glm::vec3 forward = glm::normalize(targetW - posW);
-  const glm::vec3 right = glm::normalize(glm::cross(forward, upW));
-  const glm::vec3 up = glm::cross(right, forward);
+  const auto [forward, right, up] = viewBasis(*this);
   const float t = std::tan(glm::radians(yFovDeg) * 0.5f);
   const float pxPerWorld = float(size.y) / (2.0f * focus * t);
   c.jitterPx += glm::vec2(-glm::dot(movedW, right), glm::dot(movedW, up)) * pxPerWorld;
@@ -96,9 +108,7 @@ Ray Camera::rayThroughPixel(glm::vec2 pixel, glm::ivec2 size) const {
   // NDC of the point, y up.
   float nx = pixel.x / float(size.x) * 2.0f - 1.0f;
   float ny = 1.0f - pixel.y / float(size.y) * 2.0f;
-  glm::vec3 forward = glm::normalize(targetW - posW);
-  glm::vec3 right = glm::normalize(glm::cross(forward, upW));
-  glm::vec3 up = glm::cross(right, forward);
+  const auto [forward, right, up] = viewBasis(*this);
   Ray r;
   if (orthographic) {
     float halfH = orthoHeight * 0.5f;

@@ -89,10 +89,15 @@ class EmbreeScene {
   /// The instance's transform in render space (a moving instance's at the middle of the shutter).
   const InstanceTransform& transform(std::size_t instance) const { return transforms_[instance]; }
   /// The instance's transform at shutter time u ∈ [0, 1] as Embree interpolates it (motionAt of its steps):
-  /// what a ray with that time hits. transform(instance) for an instance at rest.
-  InstanceTransform transformAt(std::size_t instance, float u) const {
+  /// what a ray with that time hits. transform(instance) for an instance at rest. Every hit asks, so an
+  /// instance at rest costs no copy: a moving one's transform is made in a per-thread slot, valid until this
+  /// thread's next call (use it within the expression that asked).
+  const InstanceTransform& transformAt(std::size_t instance, float u) const {
     const std::vector<glm::mat4>& steps = motionSteps_[instance];
-    return steps.empty() ? transforms_[instance] : makeInstanceTransform(motionAt(steps, u));
+    if (steps.empty()) return transforms_[instance];
+    thread_local InstanceTransform moving;
+    moving = makeInstanceTransform(motionAt(steps, u));
+    return moving;
   }
   /// Whether some instance moves while the shutter is open (rays then see it where their time puts it).
   bool hasMotion() const { return moving_ > 0; }
