@@ -265,6 +265,40 @@ TD_FN vec3 tdAmbient(GpuMaterial m, vec3 Ia, vec2 uv, vec3 tint) {
   return vec3(m.kaToon) * Ia * tint * ratio;
 }
 
+// ---- Radiosity (docs/radiosity.md) ----
+// A triangle with radiosity is cut into n × n sub-triangles (the patches) by lines parallel to its edges.
+// Grid vertex (i, j), i + j <= n, lies at barycentrics (1 − (i + j)/n, i/n, j/n); its number within the
+// triangle's block counts rows j = 0..n of n + 1 − j vertices each.
+TD_FN int tdGridVertex(int i, int j, int n) { return j * (n + 1) - (j * (j - 1)) / 2 + i; }
+
+// The grid vertices of the sub-triangle holding barycentrics `b` and b's weights there: the solution
+// interpolated linearly over each patch, Gouraud's way. Points a rounding error outside the triangle take
+// the nearest sub-triangle's (extrapolated) values.
+TD_FN void tdGridCorners(vec3 b, int n, TD_OUT(ivec3) corner, TD_OUT(vec3) weight) {
+  float fn = float(n);
+  float u = clamp(b.y, 0.0f, 1.0f) * fn;
+  float v = clamp(b.z, 0.0f, 1.0f) * fn;
+  int j = int(floor(v));
+  if (j > n - 1) j = n - 1;
+  int i = int(floor(u));
+  if (i > n - 1 - j) i = n - 1 - j;
+  float fu = u - float(i);
+  float fv = v - float(j);
+  if (fu + fv > 1.0f && i + j <= n - 2) {
+    // The upper sub-triangle (i+1, j), (i+1, j+1), (i, j+1).
+    corner = ivec3(tdGridVertex(i + 1, j, n), tdGridVertex(i + 1, j + 1, n), tdGridVertex(i, j + 1, n));
+    weight = vec3(1.0f - fv, fu + fv - 1.0f, 1.0f - fu);
+  } else {
+    corner = ivec3(tdGridVertex(i, j, n), tdGridVertex(i + 1, j, n), tdGridVertex(i, j + 1, n));
+    weight = vec3(1.0f - fu - fv, fu, fv);
+  }
+}
+
+// The radiosity term that replaces the ambient one: the surface colour C times the indirect irradiance H
+// (light that reached the point after at least one diffuse bounce, in the units a light's E has here, so
+// a Lambertian surface reflects C·H as it reflects kd·E·cosθ).
+TD_FN vec3 tdRadiosityTerm(GpuMaterial m, vec3 H, vec2 uv, vec3 tint) { return tdSurfaceColor(m, uv, tint) * H; }
+
 // ---- glTF surface extras: alpha coverage, normal maps, transmission ----
 // Coverage of a surface point from its kd texture's alpha `texA` (1 without a texture). The alpha code
 // folds glTF's alphaMode, alphaCutoff and baseColorFactor.a (`opacity`) into one float (packMaterial):

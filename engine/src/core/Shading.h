@@ -17,6 +17,7 @@ using glm::clamp;
 using glm::cross;
 using glm::dot;
 using glm::floor;
+using glm::ivec3;
 using glm::normalize;
 using glm::max;
 using glm::pow;

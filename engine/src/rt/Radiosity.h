@@ -1,0 +1,106 @@
+#pragma once
+// Progressive refinement radiosity (Cohen, Chen, Wallace and Greenberg 1988) on the scene's meshes, for the
+// two-pass frame (docs/radiosity.md): diffuse interreflection from here, shown per vertex by the raster and
+// read at the ray pass's hits; direct and specular light stay the frame's own.
+//
+// Patches: each triangle of every instance cut into n × n sub-triangles (the grid of core/Radiosity.h), n
+// from a target patch area; each patch has two sides. Reflectance: the material's kd (× its texture's and
+// vertex colours' mean); emission: the material's. The analytic lights' direct light, with shadow rays,
+// is the first unshot light; ambient lights are what the solution replaces and play no part.
+//
+// Form factors (receiver j from shooter i): the mean over j of the exact point-to-polygon form factor of i
+// (Lambert's contour integral, i clipped to the point's hemisphere; a 3-point rule, on finer parts of j
+// where i is near), times the fraction of rays from j's points to points of i that Embree finds
+// unobstructed. With exact
+// point form factors, every receiver's form factors in a closed scene sum to 1 (up to the quadrature),
+// so the furnace holds at any patch size.
+//
+// Not thread-safe: one thread calls shoot(); shoot() runs its receivers on the TBB arena.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/Radiosity.h"
+#include "rt/EmbreeScene.h"
+#include "tandem/Scene.h"
+
+namespace tandem::rt {
+
+struct RadiosityOptions {
+  /// Largest patch area (world units²); 0: the scene's surface area over targetPatches.
+  float patchArea = 0.0f;
+  int targetPatches = 2048;
+  int maxSegments = 64;  // n is at most this per triangle (n² patches)
+  /// Visibility rays per receiver–shooter pair: 4, then this many where the first 4 disagree (a shadow edge).
+  int visibilityRays = 16;
+  /// Direct-light points per patch side (each with a shadow ray per light; area lights: one point of the
+  /// light each).
+  int lightSamples = 16;
+};
+
+/// One side of one patch. Positions are in render space (EmbreeScene::anchor()).
+struct RadiosityPatch {
+  std::uint32_t instance = 0, triangle = 0;
+  glm::vec3 cornerW[3];
+  glm::vec3 normalW{0.0f, 1.0f, 0.0f};  // unit, towards this side
+  float area = 0.0f;
+  glm::vec3 reflectance{0.0f};
+  glm::vec3 emission{0.0f};
+  glm::vec3 centreW() const { return (cornerW[0] + cornerW[1] + cornerW[2]) * (1.0f / 3.0f); }
+};
+
+/// Exact form factor from the point x with unit normal n to the planar convex polygon `corners` (count <= 4),
+/// clipped to x's hemisphere: Lambert's formula, in double precision. 0 when nothing of it is above x's plane.
+double pointToPolygonFormFactor(glm::dvec3 x, glm::dvec3 n, const glm::dvec3* corners, int count);
+
+class RadiositySolver {
+ public:
+  /// Cuts the scene into patches and gathers the lights' direct light at them (the first unshot light):
+  /// shadow rays through `embree`, which must be built from `scene` and outlive the solver.
+  RadiositySolver(const Scene& scene, const EmbreeScene& embree, const RadiosityOptions& options = {});
+
+  /// Shoots the patch with the most unshot power, up to `maxShots` times while the residual is above
+  /// `residualTarget`; returns the shots taken.
+  int shoot(int maxShots, float residualTarget = 0.0f);
+  /// Unshot power over the power that entered the solution (emission and direct light): 1 before the first
+  /// shot, 0 when nothing is left to distribute.
+  float residual() const;
+  std::size_t shots() const { return shots_; }
+  std::size_t patchCount() const { return patches_.size(); }
+  const RadiosityPatch& patch(std::size_t p) const { return patches_[p]; }
+  /// The patch's radiosity B (emission + reflected direct + reflected indirect) and indirect irradiance H.
+  glm::vec3 radiosity(std::size_t p) const { return radiosity_[p]; }
+  glm::vec3 indirect(std::size_t p) const { return indirect_[p]; }
+  glm::vec3 direct(std::size_t p) const { return direct_[p]; }
+  /// The form factor from receiver patch j to shooter patch i, with visibility, as shoot() uses it.
+  float formFactor(std::size_t receiver, std::size_t shooter) const;
+  /// The solution per grid vertex (patch values averaged at each vertex, across the triangles of an
+  /// instance that share it with a normal within 25 degrees), with the unshot light's ambient estimate.
+  RadiosityField field() const;
+
+ private:
+  void gatherDirect(const Scene& scene);
+  bool visible(glm::vec3 fromW, glm::vec3 fromN, glm::vec3 toW, glm::vec3 toN) const;
+
+  const EmbreeScene& embree_;
+  RadiosityOptions options_;
+  std::vector<RadiosityPatch> patches_;  // side s of sub-triangle e is patch 2e + s
+  // The grid: per covered triangle, its instance, n and first patch; per instance, its first triangle.
+  struct GridTriangle {
+    std::uint32_t instance = 0, triangle = 0;
+    int n = 1;
+    std::size_t firstPatch = 0;  // sub-triangle k of the grid: patches firstPatch + 2k, +2k+1
+  };
+  std::vector<GridTriangle> triangles_;
+  std::vector<std::size_t> instanceFirst_;   // index into triangles_, or SIZE_MAX
+  std::vector<std::size_t> instanceTriangles_;
+  std::vector<glm::vec3> radiosity_, indirect_, direct_, unshot_;
+  std::vector<float> shotFactors_;  // the current shot's form factors, one per receiver
+  double enteredPower_ = 0.0;  // Σ (emission + reflected direct) · area, in luminance
+  glm::vec3 meanReflectance_{0.0f};
+  std::size_t shots_ = 0;
+};
+
+}  // namespace tandem::rt

@@ -1,0 +1,336 @@
+// Progressive refinement radiosity (rt/Radiosity.h; docs/radiosity.md): the point-to-polygon form factor
+// against closed forms, form factors that sum to 1 in a closed box, reciprocity and conservation, the
+// furnace's E / (1 − ρ) at any scale and far from the origin, convergence by shots, colour bleeding, no
+// direct light in the indirect term, and the field the frame reads.
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "rt/Radiosity.h"
+#include "rt/RtTestScenes.h"
+#include "tandem/Primitives.h"
+
+namespace tandem::rt {
+namespace {
+
+using namespace tandem::rt::test;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Differential area at the origin facing +z to the a × b rectangle [0, a] × [0, b] at height c (Howell's
+// catalogue, configuration B-3): the closed form.
+double parallelRectangle(double a, double b, double c) {
+  const double x = a / c, y = b / c;
+  const double sx = std::sqrt(1.0 + x * x), sy = std::sqrt(1.0 + y * y);
+  return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2.0 * kPi);
+}
+
+double rectangleByTriangles(glm::dvec3 x, glm::dvec3 n, glm::dvec3 p0, glm::dvec3 p1, glm::dvec3 p2, glm::dvec3 p3) {
+  const glm::dvec3 t0[3] = {p0, p1, p2}, t1[3] = {p0, p2, p3};
+  return pointToPolygonFormFactor(x, n, t0, 3) + pointToPolygonFormFactor(x, n, t1, 3);
+}
+
+TEST(Radiosity, PointToPolygonMeetsTheClosedForms) {
+  for (double c : {0.01, 0.5, 1.0, 3.0, 100.0}) {
+    const double a = 1.0, b = 2.0;
+    const double expected = parallelRectangle(a, b, c);
+    const glm::dvec3 quad[4] = {{0, 0, c}, {a, 0, c}, {a, b, c}, {0, b, c}};
+    EXPECT_NEAR(pointToPolygonFormFactor({0, 0, 0}, {0, 0, 1}, quad, 4), expected, 1e-12 + 1e-9 * expected) << c;
+    // Split into two triangles, and seen from far from the origin at a tiny scale: the same.
+    for (double scale : {1e-3, 1.0, 1e3}) {
+      const glm::dvec3 o(1e5, -2e5, 3e4);
+      const double got = rectangleByTriangles(o, {0, 0, 1}, o + scale * quad[0], o + scale * quad[1],
+                                              o + scale * quad[2], o + scale * quad[3]);
+      EXPECT_NEAR(got, expected, 1e-7 + 1e-6 * expected) << "c " << c << " scale " << scale;
+    }
+  }
+  // Behind the point's plane: nothing; straddling it: only the part in front (a rectangle half below the
+  // plane z = 0 seen from a point facing +z gives the upper half's value).
+  const glm::dvec3 below[4] = {{0, 0, -1}, {1, 0, -1}, {1, 1, -1}, {0, 1, -1}};
+  EXPECT_EQ(pointToPolygonFormFactor({0, 0, 0}, {0, 0, 1}, below, 4), 0.0);
+  // A wall x = 1 spanning z in [-1, 1], y in [0, 2]: its upper half [0, 1] is the perpendicular case, which
+  // the whole hemisphere's closure fixes: the five faces of a cube around a point at the centre of the
+  // floor face sum to 1.
+  const double h = 0.5;
+  const glm::dvec3 x(0, 0, 0), n(0, 0, 1);
+  double sum = 0.0;
+  const glm::dvec3 top[4] = {{-h, -h, 2 * h}, {h, -h, 2 * h}, {h, h, 2 * h}, {-h, h, 2 * h}};
+  sum += pointToPolygonFormFactor(x, n, top, 4);
+  for (int k = 0; k < 4; ++k) {
+    const double angle = k * kPi / 2.0;
+    const glm::dvec3 u(std::cos(angle), std::sin(angle), 0.0), v(-std::sin(angle), std::cos(angle), 0.0);
+    // Walls reach below the floor: the clip keeps their upper part.
+    const glm::dvec3 wall[4] = {h * u - h * v + glm::dvec3(0, 0, -h), h * u + h * v + glm::dvec3(0, 0, -h),
+                                h * u + h * v + glm::dvec3(0, 0, 2 * h), h * u - h * v + glm::dvec3(0, 0, 2 * h)};
+    sum += pointToPolygonFormFactor(x, n, wall, 4);
+  }
+  EXPECT_NEAR(sum, 1.0, 1e-12);
+}
+
+// A closed box of side `side` at `centre`, every face emitting E and reflecting ρ.
+Scene closedBox(float rho, glm::vec3 emission, float side, glm::vec3 centre) {
+  Scene s;
+  Material m = diffuse(glm::vec3(rho));
+  m.ka = glm::vec3(0.0f);
+  m.emission = emission;
+  addInstance(s, addMesh(s, makeBox(glm::vec3(side))), addMaterial(s, m), translate(centre));
+  s.camera.posW = centre;
+  s.camera.targetW = centre + glm::vec3(0.0f, 0.0f, -side);
+  return s;
+}
+
+struct Solved {
+  Scene scene;
+  std::unique_ptr<EmbreeDevice> device;
+  std::unique_ptr<EmbreeScene> embree;
+  std::unique_ptr<RadiositySolver> solver;
+};
+
+Solved solve(Scene scene, const RadiosityOptions& options) {
+  Solved out;
+  out.scene = std::move(scene);
+  auto device = EmbreeDevice::create();
+  EXPECT_TRUE(device.ok());
+  out.device = std::move(*device);
+  auto embree = EmbreeScene::build(*out.device, out.scene);
+  EXPECT_TRUE(embree.ok());
+  out.embree = std::move(*embree);
+  out.solver = std::make_unique<RadiositySolver>(out.scene, *out.embree, options);
+  return out;
+}
+
+// The sides of a closed box's patches that face its inside (the centre is in front of them).
+bool facesInside(const RadiosityPatch& p, glm::vec3 centreRender) {
+  return glm::dot(centreRender - p.centreW(), p.normalW) > 0.0f;
+}
+
+TEST(Radiosity, FormFactorsInAClosedBoxSumToOneAndAreReciprocal) {
+  RadiosityOptions options;
+  options.patchArea = 1.0f / 8.0f;  // 2 triangles per face cut 2 × 2: 8 patches a face, 48 in all
+  Solved s = solve(closedBox(0.5f, glm::vec3(1.0f), 1.0f, glm::vec3(0.0f)), options);
+  const RadiositySolver& solver = *s.solver;
+  const glm::vec3 centre = -s.embree->anchor();
+  int inside = 0;
+  double worstSum = 0.0, worstReciprocity = 0.0;
+  for (std::size_t j = 0; j < solver.patchCount(); ++j) {
+    if (!facesInside(solver.patch(j), centre)) continue;
+    ++inside;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < solver.patchCount(); ++i) {
+      const float f = solver.formFactor(j, i);
+      sum += f;
+      if (!facesInside(solver.patch(i), centre)) {
+        EXPECT_EQ(f, 0.0f) << "an outside face seen from inside";
+        continue;
+      }
+      // Reciprocity: Aj·Fji = Ai·Fij, for patches whose centres are at least two patch sizes apart (closer,
+      // the receiver's 3-point quadrature is coarse against the kernel's 1/r²).
+      const float apart = glm::length(solver.patch(i).centreW() - solver.patch(j).centreW());
+      if (apart < 2.0f * std::sqrt(2.0f * options.patchArea)) continue;
+      const double aj = solver.patch(j).area * static_cast<double>(f);
+      const double ai = solver.patch(i).area * static_cast<double>(solver.formFactor(i, j));
+      worstReciprocity = std::max(worstReciprocity, std::abs(aj - ai) / std::max(aj, ai));
+    }
+    worstSum = std::max(worstSum, std::abs(sum - 1.0));
+  }
+  std::printf("closed box: %d inside patches, worst |sum F - 1| %.2e, worst reciprocity %.3f\n", inside, worstSum,
+              worstReciprocity);
+  EXPECT_EQ(inside, 48);
+  EXPECT_LT(worstSum, 1e-4);
+  EXPECT_LT(worstReciprocity, 0.05);
+}
+
+TEST(Radiosity, TheFurnaceMeetsTheAnalyticRadiosityAtAnyScale) {
+  const float rho = 0.6f;
+  const glm::vec3 e(0.5f, 1.0f, 2.0f);
+  const glm::vec3 expected = e / (1.0f - rho);
+  for (float side : {1e-3f, 1.0f, 1e3f})
+    for (glm::vec3 centre : {glm::vec3(0.0f), glm::vec3(1e5f, -1e5f, 1e5f)}) {
+      RadiosityOptions options;
+      options.patchArea = side * side / 8.0f;
+      Solved s = solve(closedBox(rho, e, side, centre), options);
+      RadiositySolver& solver = *s.solver;
+      solver.shoot(100000, 1e-5f);
+      EXPECT_LE(solver.residual(), 1e-5f);
+      const glm::vec3 inside = centre - s.embree->anchor();
+      double worst = 0.0;
+      for (std::size_t p = 0; p < solver.patchCount(); ++p) {
+        if (!facesInside(solver.patch(p), inside)) continue;
+        const glm::vec3 b = solver.radiosity(p);
+        for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(b[c] / expected[c] - 1.0));
+      }
+      std::printf("furnace side %g at %g: %zu shots, worst relative error %.2e\n", side, centre.x, solver.shots(), worst);
+      EXPECT_LT(worst, 2e-3) << "side " << side << " centre " << centre.x;
+    }
+}
+
+// The Cornell-like room: a closed white box, a red wall on the left, a point light under the ceiling. Its
+// numbers are multiples of 1/64, so the room moved to 1e5 (where floats are 1/128 apart) is the same room.
+Scene room(float scale, glm::vec3 offset) {
+  Scene s;
+  Material white = diffuse(glm::vec3(0.75f)), red = diffuse(glm::vec3(0.75f, 0.05f, 0.05f));
+  white.ka = red.ka = glm::vec3(0.0f);
+  const std::uint32_t w = addMaterial(s, white), r = addMaterial(s, red);
+  addInstance(s, addMesh(s, makeBox(glm::vec3(scale))), w, translate(offset));
+  // The red wall: a thin slab just inside the left face.
+  addInstance(s, addMesh(s, makeBox(glm::vec3(0.03125f, 0.875f, 0.875f) * scale)), r,
+              translate(offset + glm::vec3(-0.46875f, 0.0f, 0.0f) * scale));
+  s.lights.push_back(pointLight(offset + glm::vec3(0.0f, 0.375f, 0.0f) * scale, 1.0f));
+  s.lights.back().attenuation = glm::vec3(0.0f, 0.0f, 1.0f / (scale * scale));
+  s.camera.posW = offset + glm::vec3(0.0f, 0.0f, 0.4375f) * scale;
+  s.camera.targetW = offset;
+  return s;
+}
+
+TEST(Radiosity, ResidualFallsWithEveryShotAndTheSolutionConverges) {
+  RadiosityOptions options;
+  options.targetPatches = 400;
+  Solved s = solve(room(1.0f, glm::vec3(0.0f)), options);
+  RadiositySolver& solver = *s.solver;
+  EXPECT_FLOAT_EQ(solver.residual(), 1.0f);
+  std::vector<float> residuals;
+  std::vector<std::vector<glm::vec3>> snapshots;
+  for (int round = 0; round < 6; ++round) {
+    solver.shoot(round == 0 ? 25 : 50 << round);
+    residuals.push_back(solver.residual());
+    std::vector<glm::vec3> h;
+    for (std::size_t p = 0; p < solver.patchCount(); ++p) h.push_back(solver.indirect(p));
+    snapshots.push_back(std::move(h));
+  }
+  for (std::size_t k = 1; k < residuals.size(); ++k) EXPECT_LT(residuals[k], residuals[k - 1]);
+  EXPECT_LT(residuals.back(), 0.01f);
+  // The distance to the last solution falls round by round.
+  auto distance = [&](std::size_t k) {
+    double sum = 0.0;
+    for (std::size_t p = 0; p < solver.patchCount(); ++p) {
+      const glm::vec3 d = snapshots[k][p] - snapshots.back()[p];
+      sum += glm::dot(d, d) * solver.patch(p).area;
+    }
+    return std::sqrt(sum);
+  };
+  for (std::size_t k = 1; k + 1 < snapshots.size(); ++k) {
+    std::printf("round %zu: residual %.4f, distance to the last %.5f\n", k, residuals[k], distance(k));
+    EXPECT_LT(distance(k), distance(k - 1));
+  }
+}
+
+TEST(Radiosity, EveryShotDistributesAtMostItsPowerAndReflectsLessThanItReceives) {
+  RadiosityOptions options;
+  options.targetPatches = 300;
+  Solved s = solve(room(1.0f, glm::vec3(0.0f)), options);
+  const RadiositySolver& solver = *s.solver;
+  // Σj Aj·Fji <= Ai for every shooter: a patch sends out at most all of its light. The receivers' quadrature
+  // keeps it within 5 % even for the slab's back, 1/32 from the wall (shoot() scales a shot that would
+  // overshoot down to exactly its power).
+  double worst = 0.0;
+  for (std::size_t i = 0; i < solver.patchCount(); i += 7) {
+    double sent = 0.0;
+    for (std::size_t j = 0; j < solver.patchCount(); ++j) sent += solver.patch(j).area * solver.formFactor(j, i);
+    worst = std::max(worst, sent / solver.patch(i).area);
+  }
+  std::printf("largest share of a shooter's power received: %.4f\n", worst);
+  EXPECT_LT(worst, 1.05);
+  s.solver->shoot(2000, 1e-3f);
+  double received = 0.0, reflected = 0.0;
+  for (std::size_t p = 0; p < solver.patchCount(); ++p) {
+    const RadiosityPatch& patch = solver.patch(p);
+    const glm::vec3 h = solver.indirect(p);
+    received += (h.x + h.y + h.z) * patch.area;
+    reflected += glm::dot(patch.reflectance, h) * patch.area;
+  }
+  EXPECT_GT(received, 0.0);
+  EXPECT_LE(reflected, received);
+}
+
+TEST(Radiosity, TheRedWallBleedsOntoTheFloorAndDirectLightStaysOut) {
+  RadiosityOptions options;
+  options.targetPatches = 600;
+  Solved s = solve(room(1.0f, glm::vec3(0.0f)), options);
+  RadiositySolver& solver = *s.solver;
+  solver.shoot(20000, 2e-3f);
+  // Floor patches (facing up, at the bottom) near the red wall get redder indirect light than those across.
+  const glm::vec3 anchor = s.embree->anchor();
+  double nearRed = 0.0, farRed = 0.0;
+  for (std::size_t p = 0; p < solver.patchCount(); ++p) {
+    const RadiosityPatch& patch = solver.patch(p);
+    const glm::vec3 c = patch.centreW() + anchor;
+    if (patch.normalW.y < 0.99f || c.y > -0.49f) continue;
+    const glm::vec3 h = solver.indirect(p);
+    const double ratio = h.x / std::max(h.z, 1e-9f);
+    if (c.x < -0.3f) nearRed = std::max(nearRed, ratio);
+    if (c.x > 0.3f) farRed = std::max(farRed, ratio);
+  }
+  std::printf("floor's red/blue indirect: %.3f near the red wall, %.3f across\n", nearRed, farRed);
+  EXPECT_GT(nearRed, 1.15 * farRed);
+  EXPECT_GT(farRed, 1.0);
+
+  // A lone floor under a light: nothing bounces back, so the indirect term is exactly 0 (direct light is
+  // the frame's own, never counted twice).
+  Scene lone;
+  addInstance(lone, addMesh(lone, makePlane(glm::vec2(2.0f), 1)), addMaterial(lone, diffuse(glm::vec3(0.8f))),
+              glm::mat4(1.0f));
+  lone.lights.push_back(pointLight(glm::vec3(0.0f, 1.0f, 0.0f)));
+  Solved l = solve(std::move(lone), options);
+  l.solver->shoot(1000);
+  EXPECT_EQ(l.solver->residual(), 0.0f);
+  for (std::size_t p = 0; p < l.solver->patchCount(); ++p) {
+    EXPECT_EQ(l.solver->indirect(p), glm::vec3(0.0f));
+    if (l.solver->patch(p).normalW.y > 0.0f) {
+      EXPECT_GT(l.solver->direct(p).x, 0.0f);
+    }
+  }
+}
+
+TEST(Radiosity, TheSolutionIsTheSameAtAnyScaleAndFarFromTheOrigin) {
+  RadiosityOptions options;
+  options.targetPatches = 300;
+  auto run = [&](float scale, glm::vec3 offset) {
+    Solved s = solve(room(scale, offset), options);
+    s.solver->shoot(600);
+    std::vector<glm::vec3> h;
+    for (std::size_t p = 0; p < s.solver->patchCount(); ++p) h.push_back(s.solver->indirect(p));
+    return h;
+  };
+  const std::vector<glm::vec3> unit = run(1.0f, glm::vec3(0.0f));
+  for (auto [scale, offset] : {std::pair{1e-3f, glm::vec3(0.0f)}, std::pair{1e3f, glm::vec3(0.0f)},
+                               std::pair{1.0f, glm::vec3(1e5f, 2e5f, -1e5f)}, std::pair{1e3f, glm::vec3(1e5f, 0.0f, 0.0f)}}) {
+    const std::vector<glm::vec3> other = run(scale, offset);
+    ASSERT_EQ(other.size(), unit.size());
+    double worst = 0.0, peak = 0.0;
+    for (std::size_t p = 0; p < unit.size(); ++p) {
+      peak = std::max(peak, double(unit[p].x));
+      worst = std::max(worst, double(glm::length(other[p] - unit[p])));
+    }
+    std::printf("scale %g at %g: worst difference %.2e of peak %.3f\n", scale, offset.x, worst, peak);
+    EXPECT_LT(worst, 2e-3 * peak) << "scale " << scale << " offset " << offset.x;
+  }
+}
+
+TEST(Radiosity, TheFieldInterpolatesPatchValuesAtGridVertices) {
+  RadiosityOptions options;
+  options.patchArea = 1.0f / 32.0f;
+  Solved s = solve(closedBox(0.5f, glm::vec3(1.0f), 1.0f, glm::vec3(0.0f)), options);
+  s.solver->shoot(100000, 1e-5f);
+  const RadiosityField field = s.solver->field();
+  ASSERT_EQ(field.instanceCount, 1u);
+  // Inside the furnace every point's H is ρE/(1−ρ)·... = (B − E)/ρ = E/(1 − ρ) at every point of every face,
+  // seen from the inside: the faces' inner side is the one the camera (at the centre) sees.
+  const Mesh& mesh = s.scene.meshes[0];
+  for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t)
+    for (glm::vec3 bary : {glm::vec3(1, 0, 0), glm::vec3(0.2f, 0.3f, 0.5f), glm::vec3(0.0f, 0.5f, 0.5f)}) {
+      glm::vec3 p[3];
+      for (int k = 0; k < 3; ++k) p[k] = mesh.positions[mesh.indices[3 * t + k]];
+      const glm::vec3 front = glm::cross(p[1] - p[0], p[2] - p[0]);
+      const glm::vec3 pos = bary.x * p[0] + bary.y * p[1] + bary.z * p[2];
+      const bool insideIsBack = glm::dot(front, -pos) < 0.0f;
+      const glm::vec3 h = field.at(0, t, bary, insideIsBack);
+      EXPECT_NEAR(h.x, 2.0f, 5e-3f) << t;
+      const glm::vec3 outside = field.at(0, t, bary, !insideIsBack);
+      EXPECT_EQ(outside, field.ambient) << t;
+    }
+  EXPECT_EQ(field.at(5, 0, glm::vec3(1, 0, 0), false), field.ambient);
+}
+
+}  // namespace
+}  // namespace tandem::rt
