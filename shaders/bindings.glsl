@@ -55,6 +55,10 @@
 // ---- texture units: area lights' sample visibility (ShadePass) ----
 #define TD_UNIT_AREA_SAMPLES 21
 
+// ---- texture units: the radiosity solution (GpuScene::uploadRadiosity; core/Radiosity.h) ----
+#define TD_UNIT_RADIOSITY_TABLE_TEX 23  // RG32UI: per instance (first triangle entry, count), per triangle (first value, n)
+#define TD_UNIT_RADIOSITY_TEX 24        // RGB32F: indirect irradiance per grid vertex and side
+
 // ---- frame channels (docs/gbuffer.md) ----
 // TD_CHANNEL_X: the GL internal format, and the pixel format and type its CPU copies (uploads and
 // read-backs) travel in; C++ only (GLSL never expands them). TD_SAMPLER_X / TD_OUTPUT_X: the type the

@@ -143,6 +143,14 @@ layout(location = 11) uniform int rayScale;
 #ifndef TD_USE_EMISSIVE
 #define TD_USE_EMISSIVE 1    // some material has an emissive texture (in the kd array)
 #endif
+#ifndef TD_USE_RADIOSITY
+#define TD_USE_RADIOSITY 1   // the radiosity solution replaces the ambient term (docs/radiosity.md)
+#endif
+#if TD_USE_RADIOSITY
+layout(binding = TD_UNIT_RADIOSITY_TABLE_TEX) uniform usamplerBuffer radiosityTable;  // core/Radiosity.h's table
+layout(binding = TD_UNIT_RADIOSITY_TEX) uniform samplerBuffer radiosityValues;        // RGB32F, 2 per grid vertex
+layout(location = 17) uniform vec3 radiosityAmbient;  // RadiosityField::ambient
+#endif
 #ifndef TD_USE_ALPHA_BLEND
 #define TD_USE_ALPHA_BLEND 1 // some material is BLEND: coverage scales the surface, the rest passes through
 #endif
@@ -184,6 +192,21 @@ void cameraRay(vec2 fragXY, out vec3 origin, out vec3 dir) {
     dir = normalize(cameraForward + cameraRight * nx + cameraUp * ny);
   }
 }
+
+#if TD_USE_RADIOSITY
+// The indirect irradiance H at barycentrics b of a triangle, seen from its back or front: RadiosityField::at.
+vec3 radiosityAt(uint instance, uint triangle, vec3 b, bool backFace) {
+  uvec2 first = texelFetch(radiosityTable, int(instance)).xy;
+  if (first.x == 0xffffffffu || triangle >= first.y) return radiosityAmbient;
+  uvec2 tri = texelFetch(radiosityTable, int(first.x + triangle)).xy;
+  ivec3 corner;
+  vec3 w;
+  tdGridCorners(b, int(tri.y), corner, w);
+  int base = int(tri.x) + (backFace ? 1 : 0);
+  return radiosityAmbient + w.x * texelFetch(radiosityValues, base + 2 * corner.x).rgb +
+         w.y * texelFetch(radiosityValues, base + 2 * corner.y).rgb + w.z * texelFetch(radiosityValues, base + 2 * corner.z).rgb;
+}
+#endif
 
 // ---- the visible triangle ----
 struct Triangle {
@@ -684,6 +707,9 @@ void shadePixel() {
     local = C + emission;
   } else {
     local = emission + tdAmbient(m, ambientIa, uv, tint);
+#if TD_USE_RADIOSITY
+    local += tdRadiosityTerm(m, radiosityAt(instance, id.y, b, side < 0.0), uv, tint);
+#endif
     vec3 ks = vec3(m.ksNs);
     float ns = m.ksNs.w;
     vec3 Ns = model == TD_MODEL_FLAT ? Ng : N;

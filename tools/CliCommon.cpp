@@ -70,6 +70,18 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
   app.add_option("--gi", o.gi,
                  "Diffuse interreflection: none | path (the reference preset only: a path tracer with next-event "
                  "estimation and Russian roulette, the ambient term left out; docs/path-tracing.md) (default: none)");
+  app.add_option("--radiosity", o.radiosity,
+                 "off | on: diffuse interreflection from a progressive-refinement radiosity solution in place of the "
+                 "ambient term, solved before the frame; raster and rays both show it (docs/radiosity.md); not with "
+                 "--gi path (default: the scene's render.radiosity, else off)");
+  app.add_option("--radiosity-error", o.radiosityError,
+                 "Radiosity: stop shooting when the unshot light is this fraction of the light that entered, 0..1 "
+                 "(default " + number(d.radiosityError) + ")");
+  app.add_option("--radiosity-shots", o.radiosityShots,
+                 "Radiosity: stop after N shots whatever is left, 1..100000000 (default: no cap)");
+  app.add_option("--radiosity-patches", o.radiosityPatches,
+                 "Radiosity: about how many patches the scene's surfaces are cut into, 16..1048576 (default " +
+                     std::to_string(d.radiosityPatches) + ")");
   app.add_flag("--classic-whitted", o.classicWhitted,
                "I = local + kr·S + kt·T (default: the Fresnel-weighted sum, docs/shading.md)");
   app.add_flag("--schlick", o.schlick, "Schlick's Fresnel approximation (default: the exact dielectric form)");
@@ -198,6 +210,34 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
       return Error{"--gi: only the reference preset traces paths (add --preset reference), got --gi " + *o.gi};
     s.gi = *g;
   }
+  if (o.radiosity) {
+    if (*o.radiosity != "off" && *o.radiosity != "on")
+      return Error{"--radiosity: expected off or on, got " + inQuotes(*o.radiosity)};
+    s.radiosity = *o.radiosity == "on";
+  }
+  if (s.radiosity && s.gi == GlobalIllumination::Path) {
+    if (o.radiosity)
+      return Error{"--radiosity: the path tracer (--gi path) carries diffuse interreflection itself; use one of them"};
+    s.radiosity = false;  // the scene's render.radiosity gives way to --gi path
+  }
+  if (o.radiosityError) {
+    if (!std::isfinite(*o.radiosityError) || *o.radiosityError < 0.0f || *o.radiosityError > 1.0f)
+      return Error{"--radiosity-error: must be 0..1, got " + number(*o.radiosityError)};
+    s.radiosityError = *o.radiosityError;
+  }
+  if (o.radiosityShots) {
+    if (*o.radiosityShots < 1 || *o.radiosityShots > 100000000)
+      return Error{"--radiosity-shots: must be 1..100000000, got " + std::to_string(*o.radiosityShots)};
+    s.radiosityShots = *o.radiosityShots;
+  }
+  if (o.radiosityPatches) {
+    if (*o.radiosityPatches < 16 || *o.radiosityPatches > (1 << 20))
+      return Error{"--radiosity-patches: must be 16..1048576, got " + std::to_string(*o.radiosityPatches)};
+    s.radiosityPatches = *o.radiosityPatches;
+  }
+  if ((o.radiosityError || o.radiosityShots || o.radiosityPatches) && !s.radiosity)
+    return Error{"--radiosity-error, --radiosity-shots and --radiosity-patches set up the radiosity solve: add "
+                 "--radiosity on (or the scene's render.radiosity)"};
   if (s.aa != AntiAlias::Off && s.reference)
     return Error{"--aa: the reference preset takes its samples per pixel from --spp, got --aa " + o.aa->front()};
   if (s.accumulate > 1 && o.targetFps)
@@ -227,6 +267,7 @@ Result<ResolvedFrame> resolveFrame(const FrameOptions& o, const SceneRenderDefau
   FrameSettings base;
   base.width = scene.width;
   base.height = scene.height;
+  if (scene.radiosity >= 0) base.radiosity = scene.radiosity == 1;
   if (o.preset) {
     out.preset = *o.preset;  // resolveFrameOptions applies (or refuses) it
     out.presetSource = "--preset";

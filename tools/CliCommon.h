@@ -35,6 +35,10 @@ struct FrameOptions {
   std::optional<int> lightSamples;
   std::optional<int> glossSamples;
   std::optional<std::string> gi;  // none | path
+  std::optional<std::string> radiosity;  // off | on
+  std::optional<float> radiosityError;
+  std::optional<int> radiosityShots;
+  std::optional<int> radiosityPatches;
   bool classicWhitted = false;
   bool schlick = false;
 };

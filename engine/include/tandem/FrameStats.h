@@ -43,6 +43,16 @@ struct BudgetStats {
 /// "1/2 d2 refraction raster" for a step > 0, "as requested" for step 0, "" when inactive.
 std::string describeBudget(const BudgetStats& b);
 
+/// The radiosity solution a frame showed (FrameSettings::radiosity; docs/radiosity.md).
+struct RadiosityStats {
+  bool active = false;     // the frame showed a solution
+  bool converged = false;  // the solve has stopped: at radiosityError or radiosityShots
+  int patches = 0;         // patch sides
+  std::uint64_t shots = 0;
+  float residual = 1.0f;   // unshot light over the light that entered
+  double solveMs = 0;      // time the solve has taken so far (its own thread's, in the background)
+};
+
 struct FrameStats {
   double prepareMs = 0;    // settings, GL buffer and Embree scene sync
   double rasterMs = 0;     // G-buffer (visibility) pass, including glFinish
@@ -75,6 +85,7 @@ struct FrameStats {
   int accumulated = 1;
   /// FrameSettings::targetMs: the choice this frame was drawn with.
   BudgetStats budget;
+  RadiosityStats radiosity;
   /// Empty when the frame was drawn. Otherwise why it was not: the GL could not hold this frame size
   /// (a limit it exceeds, or an allocation the driver refused, named as Renderer::resize names them).
   /// readImage() is then empty when the frame's own targets failed, else it keeps the last frame drawn.

@@ -151,6 +151,7 @@ struct SceneRenderDefaults {
   int height = 720;
   std::string preset;  // empty: the application's default (tandem-render: hybrid-full); the Renderer reads none of this
   int maxDepth = -1;   // -1 = the preset's
+  int radiosity = -1;  // FrameSettings::radiosity: -1 = the application's (tandem-render: off), 0 off, 1 on
 };
 
 struct Scene {

@@ -101,6 +101,22 @@ struct FrameSettings {
   /// scene and shading model (next-event estimation to every light, no ambient term, Russian roulette).
   /// Only the reference traces paths: resolved() turns it off for the other frames.
   GlobalIllumination gi = GlobalIllumination::None;
+  /// Radiosity (docs/radiosity.md): diffuse interreflection from a progressive-refinement solution on the
+  /// scene's surfaces, in place of the ambient term, at every point the frame shades (the raster's pixels,
+  /// the rays' hits): the classic two-pass frame, direct and specular light staying exact. The solution is
+  /// the scene's (view-independent): solved again when an instance moves, a light changes or the scene is
+  /// replaced. Off under gi = Path (the paths carry that light).
+  bool radiosity = false;
+  /// Shooting stops when the unshot light is this fraction of the light that entered (emission and the
+  /// lights' direct light), or after radiosityShots shots (0: no cap). [0, 1] and [0, 1e8]
+  float radiosityError = 0.01f;
+  int radiosityShots = 0;
+  /// About how many patches (each two-sided) the scene's surfaces are cut into. [16, 1 << 20]
+  int radiosityPatches = 2048;
+  /// Off: render() solves before the frame, to radiosityError (a converged frame: tandem-render). On: the
+  /// solve runs on a thread of its own and each frame shows the latest solution, its unshot light as an
+  /// ambient estimate (a game: FrameStats::radiosity says how far it is).
+  bool radiosityBackground = false;
 
   /// Clamps ranges and applies dependencies (e.g. rayScale rounded to 1, 2 or 4).
   FrameSettings resolved() const;

@@ -24,6 +24,10 @@ FrameSettings FrameSettings::resolved() const {
   if (s.reference || s.targetMs > 0.0f) s.aa = AntiAlias::Off;
   if (s.targetMs > 0.0f) s.accumulate = 0;
   if (!s.reference) s.gi = GlobalIllumination::None;
+  if (s.gi == GlobalIllumination::Path) s.radiosity = false;
+  s.radiosityError = std::isfinite(s.radiosityError) ? std::clamp(s.radiosityError, 0.0f, 1.0f) : 0.01f;
+  s.radiosityShots = std::clamp(s.radiosityShots, 0, 100000000);
+  s.radiosityPatches = std::clamp(s.radiosityPatches, 16, 1 << 20);
   return s;
 }
 

@@ -26,6 +26,7 @@ inline constexpr GLuint kUnitShadowMaps = TD_UNIT_SHADOW_MAPS, kUnitShadowCubes 
                         kUnitProbes = TD_UNIT_PROBES;
 inline constexpr GLuint kUnitTangentsTex = TD_UNIT_TANGENTS_TEX, kUnitNormalMaps = TD_UNIT_NORMAL_MAPS;
 inline constexpr GLuint kUnitAreaSamples = TD_UNIT_AREA_SAMPLES;
+inline constexpr GLuint kUnitRadiosityTableTex = TD_UNIT_RADIOSITY_TABLE_TEX, kUnitRadiosityTex = TD_UNIT_RADIOSITY_TEX;
 
 /// A frame channel's GL internal format, and the pixel format and type of its CPU copies (docs/gbuffer.md).
 struct ChannelFormat {

@@ -387,6 +387,37 @@ void GpuScene::bindShading() const {
   if (features_.uniformMaterials > 0) glBindBufferBase(GL_UNIFORM_BUFFER, kBlockMaterials, materials_.id());
 }
 
+void GpuScene::uploadRadiosity(const RadiosityField* field) {
+  if (!field || field->empty()) {
+    radiosityTable_ = {};
+    radiosityValues_ = {};
+    radiosityTableTex_ = {};
+    radiosityValuesTex_ = {};
+    radiosityVersion_ = 0;
+    return;
+  }
+  if (field->version == radiosityVersion_) return;
+  // Same sizes (more shots of one solve): the data goes into the buffers the views already show.
+  const std::size_t tableBytes = field->table.size() * sizeof(glm::uvec2);
+  const std::size_t valueBytes = field->values.size() * sizeof(glm::vec3);
+  if (radiosityTable_ && radiosityBytes_ == glm::uvec2(tableBytes, valueBytes)) {
+    glNamedBufferSubData(radiosityTable_.id(), 0, static_cast<GLsizeiptr>(tableBytes), field->table.data());
+    glNamedBufferSubData(radiosityValues_.id(), 0, static_cast<GLsizeiptr>(valueBytes), field->values.data());
+  } else {
+    radiosityTable_ = bufferOf("radiosity table", field->table);
+    radiosityValues_ = bufferOf("radiosity values", field->values);
+    radiosityTableTex_ = createBufferTexture("radiosity table view", GL_RG32UI, radiosityTable_);
+    radiosityValuesTex_ = createBufferTexture("radiosity values view", GL_RGB32F, radiosityValues_);
+    radiosityBytes_ = glm::uvec2(tableBytes, valueBytes);
+  }
+  radiosityVersion_ = field->version == 0 ? 1 : field->version;
+}
+
+void GpuScene::bindRadiosity() const {
+  glBindTextureUnit(kUnitRadiosityTableTex, radiosityTableTex_.id());
+  glBindTextureUnit(kUnitRadiosityTex, radiosityValuesTex_.id());
+}
+
 void GpuScene::drawAll() const {
   if (instanceCount_ == 0) return;
   glBindVertexArray(vao_.id());

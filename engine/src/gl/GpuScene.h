@@ -9,6 +9,7 @@
 
 #include "gl/Bindings.h"
 #include "gl/GlObjects.h"
+#include "core/Radiosity.h"
 #include "tandem/Scene.h"
 
 namespace tandem::gl {
@@ -64,6 +65,11 @@ class GpuScene {
   void bind(GLuint kdUnit, GLuint rampUnit) const;
   /// What the shade pass reads besides bind(): buffer-texture views (kUnit*Tex) and uniform blocks.
   void bindShading() const;
+  /// The radiosity solution the shade pass reads (TD_USE_RADIOSITY; core/Radiosity.h), uploaded when its
+  /// version differs from the one held; null releases it.
+  void uploadRadiosity(const RadiosityField* field);
+  bool hasRadiosity() const { return radiosityVersion_ != 0; }
+  void bindRadiosity() const;
   /// All instances in one glMultiDrawElementsIndirect; the visibility shader reads the instance from a
   /// per-instance attribute offset by each command's baseInstance.
   void drawAll() const;
@@ -95,6 +101,10 @@ class GpuScene {
       uvTransformsTex_, tangentsTex_;
   VertexArray vao_;
   Texture kdTextures_, toonRamps_, normalMaps_;
+  Buffer radiosityTable_, radiosityValues_;
+  Texture radiosityTableTex_, radiosityValuesTex_;
+  std::uint64_t radiosityVersion_ = 0;  // RadiosityField::version held; 0: none
+  glm::uvec2 radiosityBytes_{0u};       // the two buffers' sizes
   int instanceCount_ = 0;
   int lightCount_ = 0;
   std::optional<ShadingModel> override_;

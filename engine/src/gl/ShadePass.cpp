@@ -192,7 +192,8 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in)
                         "\n#define TD_PROBES " + std::to_string(in.probeCubes ? in.probeEffects : 0) +
                         "\n#define TD_FRESNEL_SCHLICK " + std::to_string(in.fresnel == FresnelMode::Schlick ? 1 : 0) +
                         "\n#define TD_FRESNEL_WEIGHTED " + std::to_string(in.fresnelWeighted ? 1 : 0) +
-                        "\n#define TD_FUSED_OUTPUT " + std::to_string(in.fusedOutput ? 1 : 0) + "\n";
+                        "\n#define TD_FUSED_OUTPUT " + std::to_string(in.fusedOutput ? 1 : 0) +
+                        "\n#define TD_USE_RADIOSITY " + std::to_string(in.radiosity ? 1 : 0) + "\n";
   auto found = variants_.find(defines);
   if (found != variants_.end()) return found->second;
   auto built = buildProgram("shade", {{GL_VERTEX_SHADER, "shaders/fullscreen.vert"},
@@ -266,6 +267,7 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   glProgramUniform2i(p, 12, std::max(in.rayWidth, 1), std::max(in.rayHeight, 1));
   assert((in.rayInputs & ~in.rayChannels) == 0 && "shade: a ray result the variant was not compiled for");
   glProgramUniform1i(p, 13, in.rayInputs & in.rayChannels);
+  if (in.radiosity) glProgramUniform3fv(p, 17, 1, glm::value_ptr(in.radiosityAmbient));
   if (in.fusedOutput) {
     glProgramUniform1f(p, 14, in.exposure);
     glProgramUniform1i(p, 15, static_cast<int>(in.toneMap));
@@ -274,6 +276,8 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
 
   scene.bind(kUnitKd, kUnitRamps);
   scene.bindShading();
+  assert((!in.radiosity || scene.hasRadiosity()) && "shadeInto: radiosity asked for and none uploaded");
+  if (in.radiosity) scene.bindRadiosity();
   glBindTextureUnit(kUnitIds, ids.id());
   // The shader never reads the attached depth: that is a feedback loop, undefined even with depth writes
   // off (a GPU that compresses or tiles depth may hand the sampler stale or compressed data). Frames that

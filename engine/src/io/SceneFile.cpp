@@ -766,7 +766,7 @@ class Builder {
 
   void render(const Json& j, const std::string& path) {
     r_.object(j, path);
-    r_.checkKeys(j, path, {"width", "height", "preset", "maxDepth"});
+    r_.checkKeys(j, path, {"width", "height", "preset", "maxDepth", "radiosity"});
     SceneRenderDefaults& d = scene_.render;
     if (const Json* v = Reader::find(j, "width")) d.width = r_.integer(*v, child(path, "width"), 1, kMaxImageSide);
     if (const Json* v = Reader::find(j, "height")) d.height = r_.integer(*v, child(path, "height"), 1, kMaxImageSide);
@@ -778,6 +778,7 @@ class Builder {
         r_.fail(p, "unknown preset '" + d.preset + "' (known: " + joinNames(known) + ")");
     }
     if (const Json* v = Reader::find(j, "maxDepth")) d.maxDepth = r_.integer(*v, child(path, "maxDepth"), 0, kMaxDepthLimit);
+    if (const Json* v = Reader::find(j, "radiosity")) d.radiosity = r_.boolean(*v, child(path, "radiosity")) ? 1 : 0;
   }
 
   Reader r_;

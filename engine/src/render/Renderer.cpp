@@ -27,6 +27,7 @@
 #include "rt/RayReuse.h"
 #include "rt/RayTracer.h"
 #include "render/FrameBudget.h"
+#include "render/RadiosityJob.h"
 #include "render/FramePlan.h"
 #include "render/SceneCaches.h"
 #include "tandem/Log.h"
@@ -40,6 +41,7 @@ struct Renderer::Impl {
   gl::ShadePass shadePass;
   gl::OutputPass outputPass;
   SceneCaches caches;  // the GL copy, the raster effects and the Embree scene, with what they miss
+  RadiosityJob radiosity;  // FrameSettings::radiosity: the solution, solved from the scene as it is
   FrameBudget budget;  // FrameSettings::targetMs: what each frame is drawn with
   Scene scene;
 
@@ -215,6 +217,7 @@ Result<void> Renderer::setScene(Scene scene) {
   if (!valid) return Error{"Renderer::setScene: " + valid.error().message + " (the previous scene stays)"};
   impl_->scene = std::move(scene);
   impl_->caches.sceneChanged();
+  impl_->radiosity.invalidate(true);
   impl_->last.sceneChanged = true;
   impl_->last.sceneReplaced = true;
   impl_->releaseKept();
@@ -238,6 +241,7 @@ void Renderer::setInstanceTransform(std::uint32_t instance, const glm::mat4& wor
   if (inst.worldFromObject == worldFromObject) return;
   inst.worldFromObject = worldFromObject;
   r.caches.instanceMoved();
+  r.radiosity.invalidate(false);
   r.last.sceneChanged = true;
 }
 
@@ -274,6 +278,7 @@ void Renderer::setLight(std::uint32_t light, const Light& value) {
   if (r.scene.lights[light] == value) return;  // unchanged: as for setInstanceTransform
   r.scene.lights[light] = value;
   r.caches.lightChanged();
+  r.radiosity.invalidate(false);
   r.last.sceneChanged = true;
 }
 
@@ -580,6 +585,18 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
   // The GL copy's time is each sample's (drawSample): here only the shutter, leaving the time as it is.
   caches.syncGpu(scene, s.shadingOverride, camera.shutter, caches.gpuTime());
   if (plan.needsRayScene() && !caches.syncRays(scene, camera.shutter, *tracer)) plan.withoutRays();
+  // The radiosity solution (docs/radiosity.md): solved here, or the background solve's latest. A new one
+  // changes every point the frame shades: nothing of the last frame's rays or samples is kept.
+  if (s.radiosity) {
+    if (radiosity.sync(scene, s)) last.sceneChanged = true;
+    caches.gpu().uploadRadiosity(radiosity.field().get());
+    tracer->setRadiosity(radiosity.field());
+    stats.radiosity = radiosity.stats();
+  } else if (radiosity.field()) {
+    radiosity.release();
+    caches.gpu().uploadRadiosity(nullptr);
+    tracer->setRadiosity(nullptr);
+  }
   if (!plan.reference && gl::ShadePass::samplesDepth(caches.gpu().features(), s.debugView)) {
     if (auto copy = shadePass.reserveSampledDepth(s.width, s.height); !copy) {
       stats.error = frameError(s, copy.error().message);
@@ -594,7 +611,10 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
 void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in) {
   const FrameSettings& s = plan.settings;
   in.background = scene.background;
-  in.ambient = scene.ambientIntensity();
+  // The radiosity solution replaces the ambient term where there is one.
+  in.radiosity = s.radiosity && caches.gpu().hasRadiosity();
+  in.ambient = in.radiosity ? glm::vec3(0.0f) : scene.ambientIntensity();
+  if (in.radiosity) in.radiosityAmbient = radiosity.field()->ambient;
   in.fresnel = s.fresnel;
   in.fresnelWeighted = s.fresnelWeighted;
   // The probes are shaded from these inputs as they stand: the final view of local shading.

@@ -205,7 +205,7 @@ void summarise(PixelTrace& trace) {
 
 PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const Camera& camera,
                             const FrameSettings& settings, const VisibilityBuffer& visibility, int gx, int gy,
-                            const ShadowCertainty* shadowMaps) {
+                            const ShadowCertainty* shadowMaps, const RadiosityField* radiosity) {
   PixelTrace trace;
   const int scale = std::max(1, settings.rayScale);
   const int width = visibility.width, height = visibility.height;
@@ -218,9 +218,7 @@ PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const
   trace.gridY = gy;
   // RayTracer::trace's set-up and per-pixel steps, for this one pixel.
   const Camera cam = toRenderSpace(camera, embree.anchor());
-  FrameShading frame(scene, settings.shadingOverride, embree.anchor());
-  frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
-  frame.setGlossSampling(settings.glossSamples, camera.sampleIndex);
+  const FrameShading frame = FrameShading::forFrame(scene, settings, camera.sampleIndex, embree.anchor(), radiosity);
   Whitted whitted(scene, embree, frame, TraceModes::hybrid(settings), shadowMaps);
   const CameraRays cameraRays(cam, {width, height});
   const glm::ivec2 p = fullPixelOfGridPixel(gx, gy, scale, width, height);
@@ -256,7 +254,7 @@ PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const
 }
 
 PixelTrace traceReferencePixel(const Scene& scene, const EmbreeScene& embree, const Camera& camera,
-                               const FrameSettings& settings, int x, int y) {
+                               const FrameSettings& settings, int x, int y, const RadiosityField* radiosity) {
   PixelTrace trace;
   const int width = settings.width, height = settings.height;
   trace.x = trace.gridX = trace.tracedX = x;
@@ -267,9 +265,7 @@ PixelTrace traceReferencePixel(const Scene& scene, const EmbreeScene& embree, co
   trace.settings = settings;
   // RayTracer::renderReference's set-up and sample loop, for this one pixel.
   const Camera cam = toRenderSpace(camera, embree.anchor());
-  FrameShading frame(scene, settings.shadingOverride, embree.anchor());
-  frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
-  frame.setGlossSampling(settings.glossSamples, camera.sampleIndex);
+  const FrameShading frame = FrameShading::forFrame(scene, settings, camera.sampleIndex, embree.anchor(), radiosity);
   Whitted whitted(scene, embree, frame, TraceModes::reference(settings));
   const int spp = std::max(1, settings.referenceSpp);
   trace.samples = spp * spp;

@@ -23,11 +23,11 @@ namespace tandem::rt {
 /// Renderer: its raster effects) replaces them and adds the notes.
 PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const Camera& camera,
                             const FrameSettings& settings, const VisibilityBuffer& visibility, int gx, int gy,
-                            const ShadowCertainty* shadowMaps = nullptr);
+                            const ShadowCertainty* shadowMaps = nullptr, const RadiosityField* radiosity = nullptr);
 
 /// RayTracer::renderReference's work for pixel (x, y) of a settings.width × settings.height frame: every
 /// sample's camera ray, recorded; `color` is the frame's pixel.
 PixelTrace traceReferencePixel(const Scene& scene, const EmbreeScene& embree, const Camera& camera,
-                               const FrameSettings& settings, int x, int y);
+                               const FrameSettings& settings, int x, int y, const RadiosityField* radiosity = nullptr);
 
 }  // namespace tandem::rt

@@ -219,7 +219,7 @@ RadiositySolver::RadiositySolver(const Scene& scene, const EmbreeScene& embree, 
   indirect_.assign(patches_.size(), glm::vec3(0.0f));
   direct_.assign(patches_.size(), glm::vec3(0.0f));
   unshot_.assign(patches_.size(), glm::vec3(0.0f));
-  shotFactors_.assign(patches_.size(), 0.0f);
+  rows_.resize(patches_.size());
   gatherDirect(scene);
 }
 
@@ -356,12 +356,21 @@ int RadiositySolver::shoot(int maxShots, float residualTarget) {
     // Receiver j gets H += F(j→i)·ΔB_i (reciprocity turned the shooter's power into the receiver's
     // irradiance), reflects ρj of it and keeps that to shoot. The receivers together get at most the power
     // shot (Σj Aj·F(j→i) <= Ai): where the quadrature overshoots, the shot is scaled down to conserve it.
-    parallelIndices(0, patches_.size(), [&](std::size_t j) { shotFactors_[j] = j == best ? 0.0f : formFactor(j, best); });
-    double received = 0.0;
-    for (std::size_t j = 0; j < patches_.size(); ++j) received += static_cast<double>(shotFactors_[j]) * patches_[j].area;
-    const float scale = received > patches_[best].area ? static_cast<float>(patches_[best].area / received) : 1.0f;
+    // A patch is shot again and again as light keeps arriving (about 4 times each in the Cornell box): its
+    // form factors are kept from the first time, within the cache's budget.
+    std::vector<float>& row = rows_[best];
+    if (row.empty()) {
+      row.resize(patches_.size());
+      parallelIndices(0, patches_.size(), [&](std::size_t j) { row[j] = j == best ? 0.0f : formFactor(j, best); });
+      double received = 0.0;
+      for (std::size_t j = 0; j < patches_.size(); ++j) received += static_cast<double>(row[j]) * patches_[j].area;
+      if (received > patches_[best].area) {
+        const auto scale = static_cast<float>(patches_[best].area / received);
+        for (float& f : row) f *= scale;
+      }
+    }
     for (std::size_t j = 0; j < patches_.size(); ++j) {
-      const float f = shotFactors_[j] * scale;
+      const float f = row[j];
       if (!(f > 0.0f)) continue;
       const glm::vec3 h = f * shot;
       indirect_[j] += h;
@@ -371,6 +380,12 @@ int RadiositySolver::shoot(int maxShots, float residualTarget) {
     }
     ++shots_;
     ++taken;
+    const std::size_t rowBytes = patches_.size() * sizeof(float);
+    if (cachedBytes_ + rowBytes <= options_.cacheBytes) {
+      cachedBytes_ += rowBytes;
+    } else {
+      std::vector<float>().swap(row);  // over budget: this row is made again the next time
+    }
   }
   return taken;
 }

@@ -38,6 +38,9 @@ struct RadiosityOptions {
   /// Direct-light points per patch side (each with a shadow ray per light; area lights: one point of the
   /// light each).
   int lightSamples = 16;
+  /// Memory for the form factors of patches already shot (a patch is shot several times as light keeps
+  /// arriving): past it, a patch's form factors are computed again at each of its shots.
+  std::size_t cacheBytes = std::size_t{256} << 20;
 };
 
 /// One side of one patch. Positions are in render space (EmbreeScene::anchor()).
@@ -97,7 +100,8 @@ class RadiositySolver {
   std::vector<std::size_t> instanceFirst_;   // index into triangles_, or SIZE_MAX
   std::vector<std::size_t> instanceTriangles_;
   std::vector<glm::vec3> radiosity_, indirect_, direct_, unshot_;
-  std::vector<float> shotFactors_;  // the current shot's form factors, one per receiver
+  std::vector<std::vector<float>> rows_;  // per shooter: its form factors, one per receiver (empty: not kept)
+  std::size_t cachedBytes_ = 0;
   double enteredPower_ = 0.0;  // Σ (emission + reflected direct) · area, in luminance
   glm::vec3 meanReflectance_{0.0f};
   std::size_t shots_ = 0;

@@ -286,9 +286,7 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   const EmbreeScene& embree = *impl_->scene;
   // Camera-relative rendering (docs/numerics.md): rays and lights in the Embree scene's render space.
   const Camera cam = toRenderSpace(camera, embree.anchor());
-  FrameShading frame(scene, settings.shadingOverride, embree.anchor());
-  frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
-  frame.setGlossSampling(settings.glossSamples, camera.sampleIndex);
+  FrameShading frame = FrameShading::forFrame(scene, settings, camera.sampleIndex, embree.anchor(), impl_->radiosity.get());
   const TraceModes modes = TraceModes::hybrid(settings);
   const ShadowCertainty* shadowMaps =
       // The maps see the scene at one time: with motion blur every shadow ray runs at its own (docs/motion-blur.md).
@@ -385,12 +383,9 @@ void RayTracer::referencePassWith(const Scene& scene, const Camera& camera, cons
   const int width = settings.width, height = settings.height;
   const EmbreeScene& embree = *impl_->scene;
   const Camera cam = toRenderSpace(camera, embree.anchor());  // camera-relative, as in trace()
-  FrameShading frame(scene, settings.shadingOverride, embree.anchor());
-  frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
-  frame.setGlossSampling(settings.glossSamples, camera.sampleIndex);
-  // Path-traced interreflection replaces the ambient term (docs/path-tracing.md).
+  const FrameShading frame =
+      FrameShading::forFrame(scene, settings, camera.sampleIndex, embree.anchor(), impl_->radiosity.get());
   const bool paths = settings.gi == GlobalIllumination::Path;
-  if (paths) frame.ambient = glm::vec3(0.0f);
   Whitted whitted(scene, embree, frame, TraceModes::reference(settings));
   const PathTracer pathTracer(whitted);
   const int spp = std::max(1, settings.referenceSpp);
@@ -452,6 +447,8 @@ void RayTracer::referencePass(const Scene& scene, const Camera& camera, const Fr
     referencePassWith<NoCapture>(scene, camera, settings, out, counts, nullptr);
 }
 
+void RayTracer::setRadiosity(std::shared_ptr<const RadiosityField> field) { impl_->radiosity = std::move(field); }
+
 PixelTrace RayTracer::tracePixel(const Scene& scene, const Camera& camera, const FrameSettings& settings,
                                  const VisibilityBuffer& visibility, int gx, int gy) const {
   assert(impl_->scene && "tracePixel before a successful setScene");
@@ -463,14 +460,14 @@ PixelTrace RayTracer::tracePixel(const Scene& scene, const Camera& camera, const
   if (settings.hybridShadows && !impl_->scene->hasMotion() && !impl_->shadowMapsStale &&
       impl_->shadowMaps.builtFor(FrameShading(scene, settings.shadingOverride, impl_->scene->anchor())))
     maps = &impl_->shadowMaps;
-  return traceHybridPixel(scene, *impl_->scene, camera, settings, visibility, gx, gy, maps);
+  return traceHybridPixel(scene, *impl_->scene, camera, settings, visibility, gx, gy, maps, impl_->radiosity.get());
 }
 
 PixelTrace RayTracer::tracePixelReference(const Scene& scene, const Camera& camera, const FrameSettings& settings,
                                           int x, int y) const {
   assert(impl_->scene && "tracePixelReference before a successful setScene");
   if (!impl_->scene) return {};
-  return traceReferencePixel(scene, *impl_->scene, camera, settings, x, y);
+  return traceReferencePixel(scene, *impl_->scene, camera, settings, x, y, impl_->radiosity.get());
 }
 
 void RayTracer::castVisibility(const Camera& camera, int width, int height, VisibilityBuffer& out) {

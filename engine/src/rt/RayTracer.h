@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/Radiosity.h"
 #include "rt/RayBuffers.h"
 #include "tandem/FrameStats.h"
 #include "tandem/Image.h"
@@ -77,6 +78,9 @@ class RayTracer {
   void castVisibility(const Camera& camera, int width, int height, VisibilityBuffer& out);
 
   int threads() const;
+  /// The radiosity solution the passes read in place of the ambient term (FrameShading::forFrame); null: none.
+  /// Never called while a pass runs.
+  void setRadiosity(std::shared_ptr<const RadiosityField> field);
   /// Bytes Embree reports in use on this tracer's device.
   std::size_t embreeBytes() const;
   /// Hybrid shadows (FrameSettings::hybridShadows): how many times the light-space maps were built (after

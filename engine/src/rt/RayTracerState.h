@@ -19,6 +19,7 @@ struct RayTracerState {
   std::unique_ptr<EmbreeDevice> device;
   std::unique_ptr<EmbreeScene> scene;
   RayPassProgressCallback progress;  // setProgressCallback
+  std::shared_ptr<const RadiosityField> radiosity;  // setRadiosity
   std::vector<ReuseBox> meshBounds;  // object space, per mesh of the scene (reuse across frames)
   // Hybrid shadows' light-space maps: built by the first pass that needs them after the geometry
   // (setScene, updateTransforms) or a light changed.

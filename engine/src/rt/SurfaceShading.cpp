@@ -248,6 +248,20 @@ SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, st
   return h;
 }
 
+FrameShading FrameShading::forFrame(const Scene& scene, const FrameSettings& settings, std::uint32_t sampleIndex,
+                                   glm::vec3 anchor, const RadiosityField* radiosity) {
+  FrameShading frame(scene, settings.shadingOverride, anchor);
+  frame.setLightSampling(settings.lightSamples, sampleIndex);
+  frame.setGlossSampling(settings.glossSamples, sampleIndex);
+  if (settings.gi == GlobalIllumination::Path) {
+    frame.ambient = glm::vec3(0.0f);  // docs/path-tracing.md
+  } else if (radiosity && !radiosity->empty()) {
+    frame.radiosity = radiosity;
+    frame.ambient = glm::vec3(0.0f);  // docs/radiosity.md
+  }
+  return frame;
+}
+
 glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const InstanceTransform& transform,
                      const SurfaceHit& hit, std::uint32_t visibleLights, const AreaSampleBits* areaSamples) {
   const GpuMaterial& m = frame.materials[hit.material];
@@ -256,6 +270,8 @@ glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const Instan
   // BLEND: the covered fraction of the surface shades; the rest is the ray pass's straight-through T.
   if (m.emissionFlags.w > 0.5f) return hit.coverage * (c + emission);
   glm::vec3 color = emission + tdAmbient(m, frame.ambient, hit.uv, hit.tint);
+  if (frame.radiosity)
+    color += tdRadiosityTerm(m, frame.radiosity->at(hit.instance, hit.triangle, hit.bary, hit.backFace), hit.uv, hit.tint);
   glm::vec3 ks(m.ksNs);
   float ns = m.ksNs.w;
   int model = static_cast<int>(m.krKtIorModel.w + 0.5f);

@@ -12,11 +12,13 @@
 
 #include <glm/glm.hpp>
 
+#include "core/Radiosity.h"
 #include "core/RenderSpace.h"
 #include "core/Shading.h"
 #include "rt/RayMath.h"
 #include "tandem/Camera.h"
 #include "tandem/Scene.h"
+#include "tandem/Settings.h"
 
 namespace tandem::rt {
 
@@ -135,6 +137,9 @@ struct FrameShading {
   std::vector<shading::GpuMaterial> materials;
   std::vector<std::array<float, TD_TOON_RAMP_SIZE>> toonRamps;
   glm::vec3 ambient{0.0f};     // Ia
+  /// The radiosity solution, which replaces the ambient term (ambient is then 0): shadeLocal adds C·H at
+  /// every hit, primary and secondary (docs/radiosity.md). Null: none.
+  const RadiosityField* radiosity = nullptr;
   glm::vec3 background{0.0f};  // radiance of escaped rays
   int areaLights = 0;          // area lights among `lights` (GpuLight::shapeU.w numbers them)
   /// Area-light samples per point this frame (FrameSettings::lightSamples), and the sequence index of the
@@ -155,6 +160,12 @@ struct FrameShading {
   void setGlossSampling(int samples, std::uint32_t sampleIndex);
   /// Material m's roughness (Material::roughness; 0: mirror reflection and sharp refraction).
   std::vector<float> roughness;
+  /// A frame's shading records as the ray passes use them: the settings' override, their area-light and
+  /// glossy sampling at the camera's `sampleIndex`, and what stands for diffuse interreflection: the
+  /// radiosity solution when given (not with gi = Path), or nothing at all for the path tracer (its paths
+  /// are the interreflection), or the ambient term.
+  static FrameShading forFrame(const Scene& scene, const FrameSettings& settings, std::uint32_t sampleIndex,
+                               glm::vec3 anchor, const RadiosityField* radiosity);
   bool castsShadows(std::size_t light) const { return lights[light].radiance.w > 0.5f; }
   int lightType(std::size_t light) const { return static_cast<int>(lights[light].posType.w + 0.5f); }
   bool isArea(std::size_t light) const { return shading::tdIsAreaLight(lightType(light)); }
