@@ -251,6 +251,11 @@ int main(int argc, char** argv) {
     if (areaLights > 0)
       std::printf("  area lights: %d, %d sample(s) each per point and frame%s\n", areaLights, settings.lightSamples,
                   settings.shadows == EffectMode::Ray ? ", a shadow ray each" : "");
+    if (last.radiosity.active)
+      std::printf("  radiosity: %d patches, %llu shots, unshot light %.4f of what entered, solved in %.0f ms (in "
+                  "the first frame's prepare)\n",
+                  last.radiosity.patches, static_cast<unsigned long long>(last.radiosity.shots),
+                  static_cast<double>(last.radiosity.residual), last.radiosity.solveMs);
     if (reused > 0)
       std::printf("  %d of %d frame(s) reused the frame before's rays (--reuse on: nothing moved)\n", reused, frames);
     if (last.budget.active) {
@@ -302,6 +307,13 @@ int main(int argc, char** argv) {
                            {"accumulated", last.accumulated}};
     }
     if (areaLights > 0) j["area_lights"] = {{"count", areaLights}, {"light_samples", settings.lightSamples}};
+    if (last.radiosity.active)
+      j["radiosity"] = {{"patches", last.radiosity.patches},
+                        {"shots", last.radiosity.shots},
+                        {"residual", last.radiosity.residual},
+                        {"solve_ms", last.radiosity.solveMs},
+                        {"error_target", settings.radiosityError},
+                        {"shot_cap", settings.radiosityShots}};
     j["reuse"] = settings.reuseRays;
     j["frames_reusing_rays"] = reused;
     if (last.budget.active) {

@@ -123,6 +123,13 @@ TEST(Golden, CornellBoxPathTraced) {
   checkGolden("cornell-box-path", s, true, "cornell-box.json");
 }
 TEST(Golden, CornellBoxHybridFull) { checkGolden("cornell-box-hybrid-full", preset("hybrid-full"), true, "cornell-box.json"); }
+TEST(Golden, CornellBoxRadiosity) {
+  // The two-pass frame: the radiosity solution (1024 patches, to 1 % unshot) in place of the ambient term.
+  FrameSettings s = preset("hybrid-full");
+  s.radiosity = true;
+  s.radiosityPatches = 1024;
+  checkGolden("cornell-box-radiosity", s, true, "cornell-box.json");
+}
 
 }  // namespace
 }  // namespace tandem

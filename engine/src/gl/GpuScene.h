@@ -69,6 +69,8 @@ class GpuScene {
   /// version differs from the one held; null releases it.
   void uploadRadiosity(const RadiosityField* field);
   bool hasRadiosity() const { return radiosityVersion_ != 0; }
+  /// The version of the solution held (RadiosityField::version), 0 for none.
+  std::uint64_t radiosityVersion() const { return radiosityVersion_; }
   void bindRadiosity() const;
   /// All instances in one glMultiDrawElementsIndirect; the visibility shader reads the instance from a
   /// per-instance attribute offset by each command's baseInstance.

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <climits>
-#include <cstdio>
-#include <cstdlib>
 #include <string>
 
 #include "core/Timer.h"
@@ -101,7 +99,6 @@ void RadiosityJob::solve(Shared& shared, const Scene& scene, Options options, bo
     }
   }
   if (!shared.stop || !publishedOnce) publish(!shared.stop);
-  if (std::getenv("TD_RADIOSITY_DEBUG")) std::fprintf(stderr, "radiosity: %zu patches, %zu shots, residual %.4f, %.0f ms\n", solver.patchCount(), solver.shots(), solver.residual(), timer.ms());
   shared.done = true;
 }
 

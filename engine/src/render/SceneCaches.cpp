@@ -103,8 +103,10 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     // The probes see local shading only (no ray results, no probes): one bounce.
     const gl::ShadeInputs local = in;
     const int budget = plan.settings.probesPerFrame;
+    // A new radiosity solution changes every surface they show, as a new shadowing does.
+    const std::uint64_t radiosity = in.radiosity ? gpu_.radiosityVersion() : 0;
     const bool all = probeLayoutVersion_ != gpuLayoutVersion_ || probesShadowed_ != shadowed || probeVersion_ == 0 ||
-                     (budget <= 0 && probeVersion_ != gpuVersion_);
+                     probesRadiosity_ != radiosity || (budget <= 0 && probeVersion_ != gpuVersion_);
     // Probes show moving instances at the middle of the shutter, lit by shadow maps of that time, whatever
     // sample's time the GL copy is at: what they hold must not depend on which sample happened to draw them.
     const bool atSampleTime = gpuShutter_ > 0.0f && gpuTime_ != 0.5f &&
@@ -123,6 +125,7 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
       probeVersion_ = gpuVersion_;
       probeLayoutVersion_ = gpuLayoutVersion_;
       probesShadowed_ = shadowed;
+      probesRadiosity_ = radiosity;
     } else if (probeVersion_ != gpuVersion_) {
       refreshOldestProbes(budget, raster, shade, local, probeBounds);
     }

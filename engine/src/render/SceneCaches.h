@@ -71,6 +71,7 @@ class SceneCaches {
   std::uint64_t gpuVersion_ = 1;
   std::uint64_t shadowVersion_ = 0, probeVersion_ = 0;
   bool probesShadowed_ = false;
+  std::uint64_t probesRadiosity_ = 0;  // the radiosity solution they were shaded with (0: none)
   // What decides which probes exist and how they shade (a new GL copy, the shading override): a change
   // re-renders every probe whatever FrameSettings::probesPerFrame says.
   std::uint64_t gpuLayoutVersion_ = 1, probeLayoutVersion_ = 0;
