@@ -150,6 +150,7 @@ layout(location = 11) uniform int rayScale;
 layout(binding = TD_UNIT_RADIOSITY_TABLE_TEX) uniform usamplerBuffer radiosityTable;  // core/Radiosity.h's table
 layout(binding = TD_UNIT_RADIOSITY_TEX) uniform samplerBuffer radiosityValues;        // RGB32F, 2 per grid vertex
 layout(location = 17) uniform vec3 radiosityAmbient;  // RadiosityField::ambient
+layout(location = 18) uniform int radiosityInstances;  // RadiosityField::instanceCount
 #endif
 #ifndef TD_USE_ALPHA_BLEND
 #define TD_USE_ALPHA_BLEND 1 // some material is BLEND: coverage scales the surface, the rest passes through
@@ -194,17 +195,21 @@ void cameraRay(vec2 fragXY, out vec3 origin, out vec3 dir) {
 }
 
 #if TD_USE_RADIOSITY
-// The indirect irradiance H at barycentrics b of a triangle, seen from its back or front: RadiosityField::at.
-vec3 radiosityAt(uint instance, uint triangle, vec3 b, bool backFace) {
+// The indirect irradiance H at barycentrics b of a triangle, seen from its back or front, and whether the
+// solution covers the triangle: RadiosityField::at.
+bool radiosityAt(uint instance, uint triangle, vec3 b, bool backFace, out vec3 H) {
+  H = vec3(0.0);
+  if (int(instance) >= radiosityInstances) return false;
   uvec2 first = texelFetch(radiosityTable, int(instance)).xy;
-  if (first.x == 0xffffffffu || triangle >= first.y) return radiosityAmbient;
+  if (first.x == 0xffffffffu || triangle >= first.y) return false;
   uvec2 tri = texelFetch(radiosityTable, int(first.x + triangle)).xy;
   ivec3 corner;
   vec3 w;
   tdGridCorners(b, int(tri.y), corner, w);
   int base = int(tri.x) + (backFace ? 1 : 0);
-  return radiosityAmbient + w.x * texelFetch(radiosityValues, base + 2 * corner.x).rgb +
-         w.y * texelFetch(radiosityValues, base + 2 * corner.y).rgb + w.z * texelFetch(radiosityValues, base + 2 * corner.z).rgb;
+  H = radiosityAmbient + w.x * texelFetch(radiosityValues, base + 2 * corner.x).rgb +
+      w.y * texelFetch(radiosityValues, base + 2 * corner.y).rgb + w.z * texelFetch(radiosityValues, base + 2 * corner.z).rgb;
+  return true;
 }
 #endif
 
@@ -706,9 +711,13 @@ void shadePixel() {
   if (m.emissionFlags.w > 0.5) {
     local = C + emission;
   } else {
-    local = emission + tdAmbient(m, ambientIa, uv, tint);
+    // Diffuse interreflection: the radiosity solution where it covers the surface, else the ambient term.
 #if TD_USE_RADIOSITY
-    local += tdRadiosityTerm(m, radiosityAt(instance, id.y, b, side < 0.0), uv, tint);
+    vec3 H;
+    local = emission + (radiosityAt(instance, id.y, b, side < 0.0, H) ? tdRadiosityTerm(m, H, uv, tint)
+                                                                       : tdAmbient(m, ambientIa, uv, tint));
+#else
+    local = emission + tdAmbient(m, ambientIa, uv, tint);
 #endif
     vec3 ks = vec3(m.ksNs);
     float ns = m.ksNs.w;

@@ -1,7 +1,7 @@
 // Radiosity in the frame (FrameSettings::radiosity; docs/radiosity.md): every preset shows the solution in
 // place of the ambient term and agrees with the path-traced ground truth; the raster's pixels and the rays'
 // hits read the same solution; a mirror shows the radiosity-lit room; the background solve converges to
-// the solution a frame solves for itself, and starts again when something moves.
+// the solution a frame solves for itself, and follows a moving light.
 #include <chrono>
 #include <thread>
 
@@ -132,13 +132,14 @@ TEST(RadiosityGL, AMirrorShowsTheRoomTheSolutionLit) {
   }
 }
 
-TEST(RadiosityGL, TheBackgroundSolveConvergesToTheFramesOwnAndRestartsWhenSomethingMoves) {
+TEST(RadiosityGL, TheBackgroundSolveConvergesToTheFramesOwnAndFollowsAMovingLight) {
   TD_REQUIRE_GL_CONTEXT();
   GlContext* context = glContext_;
   SceneFrame solved = sceneFrame(*context, cornellBox(), kSize, kSize);
   SceneFrame game = sceneFrame(*context, cornellBox(), kSize, kSize);
   ASSERT_TRUE(solved.renderer && game.renderer);
-  const FrameSettings s = withRadiosity(presetFor(solved, "hybrid-full"));
+  FrameSettings s = withRadiosity(presetFor(solved, "hybrid-full"));
+  s.radiosityError = 0.002f;  // two solutions 1 % short of converged can differ by FLIP 0.02: compare closer ones
   const Image expected = drawFrame(solved, s);
   FrameSettings background = s;
   background.radiosityBackground = true;
@@ -162,7 +163,9 @@ TEST(RadiosityGL, TheBackgroundSolveConvergesToTheFramesOwnAndRestartsWhenSometh
   EXPECT_GT(frames, 1);  // the frames went on while it solved
   EXPECT_TRUE(sameImage(shown, expected));
 
-  // Moving the light starts the solve again: the next frames show a new solution, which again converges.
+  // Moving the light: the running solve takes the new light and carries its solution over (negative unshot
+  // light where patches lost some, the form factors kept); it converges to what a fresh solve for the moved
+  // light gives, to within what is left unshot.
   Light light = game.renderer->scene().lights[1];
   light.posW.x -= 1.0f;
   game.renderer->setLight(1, light);
@@ -174,7 +177,11 @@ TEST(RadiosityGL, TheBackgroundSolveConvergesToTheFramesOwnAndRestartsWhenSometh
   }
   ASSERT_TRUE(stats.radiosity.converged);
   solved.renderer->setLight(1, light);
-  EXPECT_TRUE(sameImage(shown, drawFrame(solved, s)));
+  const Image fresh = drawFrame(solved, s);
+  const double flip = flipMean(shown, fresh), moved = flipMean(expected, fresh);
+  std::printf("after the light moved: FLIP %.5f against a fresh solve (the old light's frame: %.5f)\n", flip, moved);
+  EXPECT_LT(flip, 0.01);
+  EXPECT_LT(flip, 0.25 * moved);
 }
 
 }  // namespace

@@ -282,6 +282,32 @@ TEST(Radiosity, TheRedWallBleedsOntoTheFloorAndDirectLightStaysOut) {
   }
 }
 
+TEST(Radiosity, RelightingCarriesTheSolutionOverToTheNewLights) {
+  // Incremental radiosity: after the light moves, the change of direct light is shot (negative where it was
+  // lost) with the form factors already made, and the solution converges to a fresh solve's for the new light.
+  RadiosityOptions options;
+  options.targetPatches = 300;
+  Solved s = solve(room(1.0f, glm::vec3(0.0f)), options);
+  s.solver->shoot(100000, 1e-4f);
+  Scene moved = s.scene;
+  moved.lights[0].posW = glm::vec3(0.25f, 0.125f, -0.25f);
+  const std::size_t shotsBefore = s.solver->shots();
+  s.solver->relight(moved);
+  EXPECT_GT(s.solver->residual(), 0.05f);
+  s.solver->shoot(100000, 1e-4f);
+  Solved fresh = solve(moved, options);
+  fresh.solver->shoot(100000, 1e-4f);
+  double worst = 0.0, peak = 0.0;
+  for (std::size_t p = 0; p < fresh.solver->patchCount(); ++p) {
+    peak = std::max(peak, double(fresh.solver->indirect(p).x));
+    worst = std::max(worst, double(glm::length(s.solver->indirect(p) - fresh.solver->indirect(p))));
+    EXPECT_EQ(s.solver->direct(p), fresh.solver->direct(p));
+  }
+  std::printf("relit: %zu more shots (a fresh solve: %zu), worst difference %.2e of peak %.3f\n",
+              s.solver->shots() - shotsBefore, fresh.solver->shots(), worst, peak);
+  EXPECT_LT(worst, 2e-3 * peak);
+}
+
 TEST(Radiosity, TheSolutionIsTheSameAtAnyScaleAndFarFromTheOrigin) {
   RadiosityOptions options;
   options.targetPatches = 300;
@@ -324,12 +350,28 @@ TEST(Radiosity, TheFieldInterpolatesPatchValuesAtGridVertices) {
       const glm::vec3 front = glm::cross(p[1] - p[0], p[2] - p[0]);
       const glm::vec3 pos = bary.x * p[0] + bary.y * p[1] + bary.z * p[2];
       const bool insideIsBack = glm::dot(front, -pos) < 0.0f;
-      const glm::vec3 h = field.at(0, t, bary, insideIsBack);
+      glm::vec3 h, outside;
+      ASSERT_TRUE(field.at(0, t, bary, insideIsBack, h));
       EXPECT_NEAR(h.x, 2.0f, 5e-3f) << t;
-      const glm::vec3 outside = field.at(0, t, bary, !insideIsBack);
+      ASSERT_TRUE(field.at(0, t, bary, !insideIsBack, outside));
       EXPECT_EQ(outside, field.ambient) << t;
     }
-  EXPECT_EQ(field.at(5, 0, glm::vec3(1, 0, 0), false), field.ambient);
+  glm::vec3 h;
+  EXPECT_FALSE(field.at(1, 0, glm::vec3(1, 0, 0), false, h));  // no such instance
+  EXPECT_FALSE(field.at(0, static_cast<std::uint32_t>(mesh.triangleCount()), glm::vec3(1, 0, 0), false, h));
+
+  // A solve that left instances out (the Renderer leaves the dynamic ones out): the solved instance keeps
+  // its values under its own index, the others are not covered.
+  const RadiosityField spread = field.forInstances({2}, 4);
+  ASSERT_EQ(spread.instanceCount, 4u);
+  for (std::uint32_t i : {0u, 1u, 3u}) EXPECT_FALSE(spread.at(i, 0, glm::vec3(1, 0, 0), false, h)) << i;
+  for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t)
+    for (bool back : {false, true}) {
+      glm::vec3 a, b;
+      ASSERT_TRUE(field.at(0, t, glm::vec3(0.2f, 0.3f, 0.5f), back, a));
+      ASSERT_TRUE(spread.at(2, t, glm::vec3(0.2f, 0.3f, 0.5f), back, b));
+      EXPECT_EQ(a, b);
+    }
 }
 
 }  // namespace

@@ -133,6 +133,27 @@ void plotConvergence(const PlotContext& pc, const std::vector<ConvergeCurve>& cu
   runGnuplot(pc, "convergence", s.str());
 }
 
+void plotRadiosity(const PlotContext& pc, const std::vector<ConvergeCurve>& curves, double ambientFlip) {
+  if (curves.empty()) return;
+  std::ostringstream s;
+  s << header(pc, "radiosity", 640, 460, 1, 1, "Radiosity: error against the path-traced truth vs solve time");
+  s << "set logscale xy\nset grid xtics ytics mxtics mytics lc rgb '#dddddd'\n";
+  s << "set xlabel 'solve time, ms (log scale)'\nset ylabel 'FLIP mean vs path-traced (log scale)'\n";
+  s << "set key top right box opaque font ',8'\nset format y '%g'\nset format x '%g'\n";
+  s << "set title '" << curves.front().panel << "'\nplot ";
+  for (std::size_t i = 0; i < curves.size(); ++i) {
+    const ConvergeCurve& c = curves[i];
+    const std::string data = "data/radiosity-" + safe(c.name) + ".dat";
+    std::ofstream f(fs::path(pc.out) / data);
+    f << "# shots solve_ms flip\n";
+    for (const ConvergeCurve::Point& p : c.points) f << p.frames << " " << std::max(p.totalMs, 1e-3) << " " << std::max(p.flip, 1e-5) << "\n";
+    s << (i == 0 ? "" : ", \\\n     ") << "'" << data << "' using 2:3 with linespoints lw 2 pt 7 title '" << c.name << "'";
+  }
+  s << ", \\\n     " << std::max(ambientFlip, 1e-5) << " with lines dt 2 lc rgb '#888888' title 'ambient term'\n";
+  s << "unset multiplot\n";
+  runGnuplot(pc, "radiosity", s.str());
+}
+
 void plotStages(const PlotContext& pc, const std::vector<StagePanel>& panels, const std::vector<std::string>& stages) {
   if (panels.empty()) return;
   int cols = columnsFor(panels.size(), pc.rows);

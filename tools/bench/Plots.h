@@ -70,6 +70,9 @@ void plotStages(const PlotContext& pc, const std::vector<StagePanel>& panels, co
 void plotHeat(const PlotContext& pc, const std::vector<HeatPanel>& panels);
 /// FLIP vs accumulated frames, log-log, one panel per scene × size, one line per combination.
 void plotConvergence(const PlotContext& pc, const std::vector<ConvergeCurve>& curves);
+/// Radiosity: FLIP against the path-traced truth vs solve time, log-log, one line per patch count (each
+/// curve's points: shots, solve ms, FLIP), the ambient term's FLIP as a level line.
+void plotRadiosity(const PlotContext& pc, const std::vector<ConvergeCurve>& curves, double ambientFlip);
 void writeHeavyTables(const std::string& out, const std::vector<HeavyRow>& rows, const std::vector<std::string>& stages,
                       const std::string& cpu, const std::string& gl, int threads);
 void plotHeavy(const PlotContext& pc, const std::vector<HeavyRow>& rows, const std::vector<std::string>& stages);

@@ -3,6 +3,7 @@
 //                        [--converge-frames N]
 //   tandem-bench --summary [--scenes ...] [--sizes 640x360,1280x720,1920x1080] [--frames N] [--warmup W]
 //   tandem-bench --budget [--targets 100,85,75] [--budget-preset hybrid-full] [--budget-size 640x360]
+//   tandem-bench --radiosity [--radiosity-patches 512,2048] [--truth-spp N] [--frames N]
 //   tandem-bench --heavy [--heavy-counts 10000,100000,500000,2000000] [--heavy-sizes 640x360,1280x720]
 //   tandem-bench [--benchmark_filter=REGEX ...]     (Google Benchmark micro-benchmarks, the default)
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "BenchCommon.h"
 #include "Budget.h"
 #include "Micro.h"
+#include "RadiosityBench.h"
 #include "Sweep.h"
 
 using namespace tandem::bench;
@@ -49,7 +51,8 @@ bool parseSizes(const std::string& s, std::vector<Size>& out, std::string& error
 
 int sweepMain(int argc, char** argv) {
   CLI::App app{"tandem-bench: the speed-for-accuracy sweep, the ceiling and the heavy-scene table"};
-  bool sweep = false, heavy = false, summary = false, budget = false, noPlots = false;
+  bool sweep = false, heavy = false, summary = false, budget = false, radiosity = false, noPlots = false;
+  std::string radiosityPatches = "512,2048";
   std::string targets;
   BudgetOptions b;
   std::string scenes, sizes = "640x360,1280x720", heavyCounts = "10000,100000,500000,2000000",
@@ -73,6 +76,11 @@ int sweepMain(int argc, char** argv) {
   app.add_option("--budget-frames", b.frames, "--budget: frames per run")->check(CLI::Range(2, 100000))->capture_default_str();
   app.add_option("--error-every", b.errorEvery, "--budget: FLIP every Nth frame")
       ->check(CLI::Range(1, 100000))->capture_default_str();
+  app.add_flag("--radiosity", radiosity,
+               "Radiosity on the Cornell box: solve time and error against the path-traced truth per patch count, "
+               "the per-frame cost of showing it, the box three ways (docs/radiosity.md)");
+  app.add_option("--radiosity-patches", radiosityPatches, "--radiosity: comma-separated patch counts")
+      ->capture_default_str();
   app.add_option("--scenes", scenes, "Comma-separated scenes (.json, .gltf, .glb, heavy:N); missing ones are skipped")
       ->capture_default_str();
   app.add_option("--sizes", sizes, "Comma-separated WxH")->capture_default_str();
@@ -95,6 +103,30 @@ int sweepMain(int argc, char** argv) {
     return app.exit(e);
   }
   o.plots = !noPlots;
+  if (radiosity) {
+    if (sweep || heavy || summary || budget) {
+      std::fprintf(stderr, "tandem-bench: --radiosity runs alone\n");
+      return 1;
+    }
+    RadiosityBenchOptions ro;
+    ro.patches.clear();
+    for (const std::string& p : split(radiosityPatches)) {
+      char* end = nullptr;
+      const long n = std::strtol(p.c_str(), &end, 10);
+      if (end == p.c_str() || *end != '\0' || n < 16 || n > (1 << 20)) {
+        std::fprintf(stderr, "tandem-bench: --radiosity-patches: bad count '%s' (16..1048576)\n", p.c_str());
+        return 1;
+      }
+      ro.patches.push_back(static_cast<int>(n));
+    }
+    if (app.count("--scenes") > 0) ro.scene = split(scenes).front();
+    if (app.count("--truth-spp") > 0 && o.truthSpp > 0) ro.truthSpp = o.truthSpp;
+    if (app.count("--frames") > 0) ro.frames = o.frames;
+    ro.threads = o.threads;
+    ro.out = o.out;
+    ro.plots = !noPlots;
+    return runRadiosity(ro);
+  }
   if (budget && (sweep || heavy || summary)) {
     std::fprintf(stderr, "tandem-bench: --budget runs alone\n");
     return 1;
@@ -152,7 +184,7 @@ int sweepMain(int argc, char** argv) {
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (!std::strcmp(argv[i], "--sweep") || !std::strcmp(argv[i], "--heavy") || !std::strcmp(argv[i], "--summary") ||
-        !std::strcmp(argv[i], "--budget"))
+        !std::strcmp(argv[i], "--budget") || !std::strcmp(argv[i], "--radiosity"))
       return sweepMain(argc, argv);
   registerMicroBenchmarks();
   benchmark::Initialize(&argc, argv);

@@ -34,20 +34,37 @@ struct RadiosityField {
   bool empty() const { return table.empty(); }
 
   /// H at barycentrics `bary` of `triangle` of `instance`, seen from its back (backFace) or front:
-  /// tdGridCorners over the triangle's grid, plus `ambient`. 0 (plus ambient) where nothing is covered.
-  glm::vec3 at(std::uint32_t instance, std::uint32_t triangle, glm::vec3 bary, bool backFace) const {
-    if (instance >= instanceCount) return ambient;
+  /// tdGridCorners over the triangle's grid, plus `ambient`. False where the solution does not cover the
+  /// triangle (a dynamic instance): the ambient term lights it as before.
+  bool at(std::uint32_t instance, std::uint32_t triangle, glm::vec3 bary, bool backFace, glm::vec3& h) const {
+    if (instance >= instanceCount) return false;
     const glm::uvec2 first = table[instance];
-    if (first.x == kNone || triangle >= first.y) return ambient;
+    if (first.x == kNone || triangle >= first.y) return false;
     const glm::uvec2 tri = table[first.x + triangle];
     glm::ivec3 corner;
     glm::vec3 weight;
     shading::tdGridCorners(bary, static_cast<int>(tri.y), corner, weight);
     const std::uint32_t side = backFace ? 1u : 0u;
-    glm::vec3 h = ambient;
+    h = ambient;
     for (int k = 0; k < 3; ++k)
       h += weight[k] * values[tri.x + 2u * static_cast<std::uint32_t>(corner[k]) + side];
-    return h;
+    return true;
+  }
+
+  /// The field of a solve that left some instances out (Renderer: the dynamic ones), for the scene with
+  /// all `count` instances: `solved[k]` is the scene's index of the solve's instance k; the others get none.
+  RadiosityField forInstances(const std::vector<std::uint32_t>& solved, std::size_t count) const {
+    RadiosityField out;
+    out.values = values;
+    out.ambient = ambient;
+    out.version = version;
+    out.instanceCount = count;
+    out.table.assign(count, glm::uvec2(kNone, 0u));
+    const auto shift = static_cast<std::uint32_t>(count) - static_cast<std::uint32_t>(instanceCount);
+    for (std::size_t k = 0; k < solved.size() && k < instanceCount; ++k)
+      if (table[k].x != kNone) out.table[solved[k]] = glm::uvec2(table[k].x + shift, table[k].y);
+    out.table.insert(out.table.end(), table.begin() + static_cast<std::ptrdiff_t>(instanceCount), table.end());
+    return out;
   }
 };
 

@@ -267,7 +267,10 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   glProgramUniform2i(p, 12, std::max(in.rayWidth, 1), std::max(in.rayHeight, 1));
   assert((in.rayInputs & ~in.rayChannels) == 0 && "shade: a ray result the variant was not compiled for");
   glProgramUniform1i(p, 13, in.rayInputs & in.rayChannels);
-  if (in.radiosity) glProgramUniform3fv(p, 17, 1, glm::value_ptr(in.radiosityAmbient));
+  if (in.radiosity) {
+    glProgramUniform3fv(p, 17, 1, glm::value_ptr(in.radiosityAmbient));
+    glProgramUniform1i(p, 18, in.radiosityInstances);
+  }
   if (in.fusedOutput) {
     glProgramUniform1f(p, 14, in.exposure);
     glProgramUniform1i(p, 15, static_cast<int>(in.toneMap));

@@ -25,10 +25,11 @@ namespace tandem::gl {
 struct ShadeInputs {
   glm::vec3 background{0.0f};
   glm::vec3 ambient{0.0f};  // Ia
-  /// The radiosity solution replaces the ambient term (GpuScene::uploadRadiosity holds it; `ambient` is then
-  /// 0): C·H per pixel, H interpolated over the patch grid, plus the unshot light's estimate.
+  /// The radiosity solution replaces the ambient term where it covers a surface (GpuScene::uploadRadiosity
+  /// holds it): C·H per pixel, H interpolated over the patch grid, plus the unshot light's estimate.
   bool radiosity = false;
   glm::vec3 radiosityAmbient{0.0f};
+  int radiosityInstances = 0;  // RadiosityField::instanceCount
   /// RayInput bits the frame's plan can produce: the variant is compiled for these, so a frame whose
   /// rays leave a channel empty (nothing reflective in view) does not switch variants mid-game.
   int rayChannels = 0;

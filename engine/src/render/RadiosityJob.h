@@ -26,9 +26,14 @@ class RadiosityJob {
 
   /// What the solution depends on changed (an instance moved, a light changed, a new scene): the next sync
   /// starts again from the scene as it is then.
-  /// `sceneReplaced`: the solution shown so far belongs to another scene and is dropped at once; otherwise
-  /// (something moved) it stays on screen until the new solve publishes.
+  /// The geometry changed (a static instance moved, or `sceneReplaced`: a new scene): the next sync starts
+  /// again from the scene as it is then. A replaced scene's solution is dropped at once; otherwise the old
+  /// one stays on screen until the new solve publishes. In the background a solve that has not published
+  /// yet is let run until it does, so that a static instance moved every frame still shows solutions.
   void invalidate(bool sceneReplaced);
+  /// Only the lights changed: in the background, the running solve takes the new lights at its next shot
+  /// and carries its solution over (RadiositySolver::relight); before the frame, the next sync solves again.
+  void lightsChanged();
   /// Brings the solution to `settings` for `scene`: in the background (radiosityBackground), starts a solve
   /// when none runs for this scene and these options and hands back the latest solution it published;
   /// otherwise solves on this thread, when the scene or options changed, until radiosityError or
@@ -51,6 +56,7 @@ class RadiosityJob {
   void stop();
   static void solve(Shared& shared, const Scene& scene, Options options, bool background);
 
+  bool lightsStale_ = false;
   std::shared_ptr<Shared> shared_;
   std::thread worker_;
   // Solves told to stop that may still be finishing a shot: joined once done (or at destruction), so a

@@ -241,7 +241,7 @@ void Renderer::setInstanceTransform(std::uint32_t instance, const glm::mat4& wor
   if (inst.worldFromObject == worldFromObject) return;
   inst.worldFromObject = worldFromObject;
   r.caches.instanceMoved();
-  r.radiosity.invalidate(false);
+  if (!inst.dynamic) r.radiosity.invalidate(false);  // dynamic instances are not in the solution
   r.last.sceneChanged = true;
 }
 
@@ -278,7 +278,7 @@ void Renderer::setLight(std::uint32_t light, const Light& value) {
   if (r.scene.lights[light] == value) return;  // unchanged: as for setInstanceTransform
   r.scene.lights[light] = value;
   r.caches.lightChanged();
-  r.radiosity.invalidate(false);
+  r.radiosity.lightsChanged();
   r.last.sceneChanged = true;
 }
 
@@ -611,10 +611,13 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
 void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in) {
   const FrameSettings& s = plan.settings;
   in.background = scene.background;
-  // The radiosity solution replaces the ambient term where there is one.
+  // The radiosity solution replaces the ambient term where it covers a surface.
   in.radiosity = s.radiosity && caches.gpu().hasRadiosity();
-  in.ambient = in.radiosity ? glm::vec3(0.0f) : scene.ambientIntensity();
-  if (in.radiosity) in.radiosityAmbient = radiosity.field()->ambient;
+  in.ambient = scene.ambientIntensity();
+  if (in.radiosity) {
+    in.radiosityAmbient = radiosity.field()->ambient;
+    in.radiosityInstances = static_cast<int>(radiosity.field()->instanceCount);
+  }
   in.fresnel = s.fresnel;
   in.fresnelWeighted = s.fresnelWeighted;
   // The probes are shaded from these inputs as they stand: the final view of local shading.

@@ -103,17 +103,22 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     // The probes see local shading only (no ray results, no probes): one bounce.
     const gl::ShadeInputs local = in;
     const int budget = plan.settings.probesPerFrame;
-    // A new radiosity solution changes every surface they show, as a new shadowing does.
+    // A new radiosity solution changes what they show as a change of the GL copy does (probesPerFrame
+    // spreads their re-rendering over frames alike: a background solve publishes ~10 times a second).
     const std::uint64_t radiosity = in.radiosity ? gpu_.radiosityVersion() : 0;
+    if (radiosity != probesRadiosity_) {
+      probesRadiosity_ = radiosity;
+      ++radiosityChanges_;
+    }
     const bool all = probeLayoutVersion_ != gpuLayoutVersion_ || probesShadowed_ != shadowed || probeVersion_ == 0 ||
-                     probesRadiosity_ != radiosity || (budget <= 0 && probeVersion_ != gpuVersion_);
+                     (budget <= 0 && probeVersion_ != probeInputs());
     // Probes show moving instances at the middle of the shutter, lit by shadow maps of that time, whatever
     // sample's time the GL copy is at: what they hold must not depend on which sample happened to draw them.
     const bool atSampleTime = gpuShutter_ > 0.0f && gpuTime_ != 0.5f &&
                               std::any_of(scene.instances.begin(), scene.instances.end(),
                                           [&](const Instance& inst) { return isMoving(inst, gpuShutter_); });
     std::vector<gl::Bounds> middleBounds;
-    if ((all || probeVersion_ != gpuVersion_) && atSampleTime) {
+    if ((all || probeVersion_ != probeInputs()) && atSampleTime) {
       gpu_.updateInstances(scene, gpuShutter_, 0.5f);
       middleBounds = gl::instanceBounds(scene, meshBounds_, gpu_.anchor(), gpuShutter_, 0.5f);
       if (shadowed) drawShadowMaps(middleBounds);
@@ -121,12 +126,11 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     const std::vector<gl::Bounds>& probeBounds = middleBounds.empty() ? instanceBounds : middleBounds;
     if (all) {
       probes_.update(scene, gpu_, raster, shade, local, probeBounds);
-      probeSlotVersions_.assign(static_cast<std::size_t>(probes_.probeCount()), gpuVersion_);
-      probeVersion_ = gpuVersion_;
+      probeSlotVersions_.assign(static_cast<std::size_t>(probes_.probeCount()), probeInputs());
+      probeVersion_ = probeInputs();
       probeLayoutVersion_ = gpuLayoutVersion_;
       probesShadowed_ = shadowed;
-      probesRadiosity_ = radiosity;
-    } else if (probeVersion_ != gpuVersion_) {
+    } else if (probeVersion_ != probeInputs()) {
       refreshOldestProbes(budget, raster, shade, local, probeBounds);
     }
     if (!middleBounds.empty()) {  // back to the sample's time
@@ -150,17 +154,17 @@ void SceneCaches::refreshOldestProbes(int budget, const gl::VisibilityPass& rast
                                       const gl::ShadeInputs& local, const std::vector<gl::Bounds>& instanceBounds) {
   std::vector<int> stale;
   for (std::size_t slot = 0; slot < probeSlotVersions_.size(); ++slot)
-    if (probeSlotVersions_[slot] != gpuVersion_) stale.push_back(static_cast<int>(slot));
+    if (probeSlotVersions_[slot] != probeInputs()) stale.push_back(static_cast<int>(slot));
   // Oldest first; ties by slot, so the order does not depend on anything but the versions.
   std::stable_sort(stale.begin(), stale.end(), [&](int a, int b) {
     return probeSlotVersions_[static_cast<std::size_t>(a)] < probeSlotVersions_[static_cast<std::size_t>(b)];
   });
   if (stale.size() > static_cast<std::size_t>(budget)) stale.resize(static_cast<std::size_t>(budget));
   probes_.updateSlots(gpu_, raster, shade, local, instanceBounds, stale);
-  for (int slot : stale) probeSlotVersions_[static_cast<std::size_t>(slot)] = gpuVersion_;
-  std::uint64_t oldest = gpuVersion_;
+  for (int slot : stale) probeSlotVersions_[static_cast<std::size_t>(slot)] = probeInputs();
+  std::uint64_t oldest = probeInputs();
   for (std::uint64_t v : probeSlotVersions_) oldest = std::min(oldest, v);
-  if (oldest == gpuVersion_) probeVersion_ = gpuVersion_;
+  if (oldest == probeInputs()) probeVersion_ = probeInputs();
 }
 
 }  // namespace tandem

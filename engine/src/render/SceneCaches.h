@@ -43,7 +43,7 @@ class SceneCaches {
 
   /// Whether every probe shows the scene as it is (true when there are none): with
   /// FrameSettings::probesPerFrame > 0 they catch up over several frames after a move.
-  bool probesCurrent() const { return probeVersion_ == 0 || probeVersion_ == gpuVersion_; }
+  bool probesCurrent() const { return probeVersion_ == 0 || probeVersion_ == probeInputs(); }
   /// The shutter time the GL copy's moving instances are drawn at (syncGpu's timeU).
   float gpuTime() const { return gpuTime_; }
 
@@ -71,7 +71,10 @@ class SceneCaches {
   std::uint64_t gpuVersion_ = 1;
   std::uint64_t shadowVersion_ = 0, probeVersion_ = 0;
   bool probesShadowed_ = false;
-  std::uint64_t probesRadiosity_ = 0;  // the radiosity solution they were shaded with (0: none)
+  std::uint64_t probesRadiosity_ = 0;  // the radiosity solution the probes last saw (0: none)
+  std::uint64_t radiosityChanges_ = 0;  // how often it changed
+  /// What the probes show changed: the GL copy or the radiosity solution (both counters only grow).
+  std::uint64_t probeInputs() const { return gpuVersion_ + radiosityChanges_; }
   // What decides which probes exist and how they shade (a new GL copy, the shading override): a change
   // re-renders every probe whatever FrameSettings::probesPerFrame says.
   std::uint64_t gpuLayoutVersion_ = 1, probeLayoutVersion_ = 0;

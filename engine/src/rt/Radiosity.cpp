@@ -220,6 +220,7 @@ RadiositySolver::RadiositySolver(const Scene& scene, const EmbreeScene& embree, 
   direct_.assign(patches_.size(), glm::vec3(0.0f));
   unshot_.assign(patches_.size(), glm::vec3(0.0f));
   rows_.resize(patches_.size());
+  buildLayout(scene);
   gatherDirect(scene);
 }
 
@@ -238,7 +239,8 @@ bool RadiositySolver::visible(glm::vec3 fromW, glm::vec3 fromN, glm::vec3 toW, g
   return ray.tfar >= 0.0f;  // Embree sets tfar to -inf when something is in the way
 }
 
-void RadiositySolver::gatherDirect(const Scene& scene) {
+std::vector<glm::vec3> RadiositySolver::directLight(const Scene& scene) const {
+  std::vector<glm::vec3> direct(patches_.size(), glm::vec3(0.0f));
   const FrameShading frame(scene, std::nullopt, embree_.anchor());
   const int samples = std::max(1, options_.lightSamples);
   parallelIndices(0, patches_.size(), [&](std::size_t p) {
@@ -278,20 +280,44 @@ void RadiositySolver::gatherDirect(const Scene& scene) {
         sum += e * cosine;
       }
     }
-    direct_[p] = sum * (1.0f / static_cast<float>(samples));
+    direct[p] = sum * (1.0f / static_cast<float>(samples));
   });
-  enteredPower_ = 0.0;
+  return direct;
+}
+
+void RadiositySolver::gatherDirect(const Scene& scene) {
+  direct_ = directLight(scene);
   glm::dvec3 rhoArea(0.0);
   double area = 0.0;
   for (std::size_t p = 0; p < patches_.size(); ++p) {
     const RadiosityPatch& patch = patches_[p];
     radiosity_[p] = patch.emission + patch.reflectance * direct_[p];
     unshot_[p] = radiosity_[p];
-    enteredPower_ += static_cast<double>(luminance(unshot_[p])) * patch.area;
     rhoArea += glm::dvec3(patch.reflectance) * static_cast<double>(patch.area);
     area += patch.area;
   }
   meanReflectance_ = area > 0.0 ? glm::vec3(rhoArea / area) : glm::vec3(0.0f);
+  enteredPower_ = enteredPower();
+}
+
+double RadiositySolver::enteredPower() const {
+  double power = 0.0;
+  for (std::size_t p = 0; p < patches_.size(); ++p)
+    power += static_cast<double>(luminance(patches_[p].emission + patches_[p].reflectance * direct_[p])) * patches_[p].area;
+  return power;
+}
+
+void RadiositySolver::relight(const Scene& scene) {
+  // Incremental (Chen 1990): the change in each patch's reflected direct light becomes unshot light, negative
+  // where a patch lost light; shooting it moves the solution to the new lights' with the form factors kept.
+  const std::vector<glm::vec3> direct = directLight(scene);
+  for (std::size_t p = 0; p < patches_.size(); ++p) {
+    const glm::vec3 change = patches_[p].reflectance * (direct[p] - direct_[p]);
+    radiosity_[p] += change;
+    unshot_[p] += change;
+  }
+  direct_ = direct;
+  enteredPower_ = enteredPower();
 }
 
 float RadiositySolver::formFactor(std::size_t receiver, std::size_t shooter) const {
@@ -340,11 +366,11 @@ float RadiositySolver::formFactor(std::size_t receiver, std::size_t shooter) con
 int RadiositySolver::shoot(int maxShots, float residualTarget) {
   int taken = 0;
   while (taken < maxShots && residual() > residualTarget) {
-    // The patch with the most unshot power.
+    // The patch with the most unshot power, gained or (after relight) lost.
     std::size_t best = 0;
     float bestPower = 0.0f;
     for (std::size_t p = 0; p < patches_.size(); ++p) {
-      const float power = luminance(unshot_[p]) * patches_[p].area;
+      const float power = luminance(glm::abs(unshot_[p])) * patches_[p].area;
       if (power > bestPower) {
         bestPower = power;
         best = p;
@@ -394,32 +420,94 @@ float RadiositySolver::residual() const {
   if (!(enteredPower_ > 0.0)) return 0.0f;
   double left = 0.0;
   for (std::size_t p = 0; p < patches_.size(); ++p)
-    left += static_cast<double>(luminance(unshot_[p])) * patches_[p].area;
+    left += static_cast<double>(luminance(glm::abs(unshot_[p]))) * patches_[p].area;
   return static_cast<float>(left / enteredPower_);
+}
+
+void RadiositySolver::buildLayout(const Scene& scene) {
+  // The table: the instances' entries, then each covered triangle's (its first value, n), in triangles_
+  // order (instance-major, triangle order).
+  table_.assign(instanceFirst_.size(), glm::uvec2(RadiosityField::kNone, 0u));
+  for (std::size_t inst = 0; inst < instanceFirst_.size(); ++inst) {
+    if (instanceTriangles_[inst] == 0) continue;
+    table_[inst] = glm::uvec2(static_cast<std::uint32_t>(table_.size()), static_cast<std::uint32_t>(instanceTriangles_[inst]));
+    table_.resize(table_.size() + instanceTriangles_[inst], glm::uvec2(0u));
+  }
+  std::size_t values = 0;
+  for (const GridTriangle& g : triangles_) {
+    table_[table_[g.instance].x + g.triangle] = glm::uvec2(static_cast<std::uint32_t>(values), static_cast<std::uint32_t>(g.n));
+    values += 2u * static_cast<std::size_t>((g.n + 1) * (g.n + 2) / 2);
+  }
+  valueCount_ = values;
+
+  // Welding: the grid vertices on a triangle's edges and corners that other triangles of the instance share,
+  // on sides whose normals agree within 25°, take one mean, so the solution is continuous across the
+  // triangles of a smooth surface and not across a crease (a box's edge). A shared vertex is found by its
+  // position in object space made the same way from either triangle: an edge's points are interpolated from
+  // its lexicographically smaller end, so both triangles round them alike (vertices shared by index or only
+  // by position, and a coarser neighbour's points where they coincide).
+  struct Member {
+    std::uint32_t value;
+    glm::vec3 normal;
+  };
+  std::map<std::tuple<std::uint32_t, float, float, float>, std::vector<Member>> groups;
+  auto lexLess = [](glm::vec3 a, glm::vec3 b) {
+    return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
+  };
+  for (const GridTriangle& g : triangles_) {
+    const Mesh& mesh = scene.meshes[scene.instances[g.instance].mesh];
+    glm::vec3 p[3];
+    for (int k = 0; k < 3; ++k) p[k] = mesh.positions[mesh.indices[3 * g.triangle + static_cast<std::size_t>(k)]];
+    const std::size_t base = table_[table_[g.instance].x + g.triangle].x;
+    auto onEdge = [&](int a, int b, int k) {  // point k of n from corner a towards corner b
+      const bool flip = lexLess(p[b], p[a]);
+      const glm::vec3 from = flip ? p[b] : p[a], to = flip ? p[a] : p[b];
+      const int steps = flip ? g.n - k : k;
+      return from + (to - from) * (static_cast<float>(steps) / static_cast<float>(g.n));
+    };
+    auto add = [&](int i, int j, glm::vec3 pos) {
+      const std::size_t v = base + 2u * static_cast<std::size_t>(shading::tdGridVertex(i, j, g.n));
+      for (int side = 0; side < 2; ++side)
+        groups[{g.instance * 2u + static_cast<std::uint32_t>(side), pos.x, pos.y, pos.z}].push_back(
+            {static_cast<std::uint32_t>(v) + static_cast<std::uint32_t>(side),
+             patches_[g.firstPatch + static_cast<std::size_t>(side)].normalW});
+    };
+    add(0, 0, p[0]);
+    add(g.n, 0, p[1]);
+    add(0, g.n, p[2]);
+    for (int k = 1; k < g.n; ++k) {
+      add(k, 0, onEdge(0, 1, k));          // p0 → p1: (k, 0)
+      add(0, k, onEdge(0, 2, k));          // p0 → p2: (0, k)
+      add(g.n - k, k, onEdge(1, 2, k));    // p1 → p2: (n − k, k)
+    }
+  }
+  // Per value slot, the slots it takes its mean over (itself included), as offsets into weldMembers_.
+  weldStart_.assign(values + 1, 0);
+  std::vector<std::vector<std::uint32_t>> lists(values);
+  const float cosWeld = std::cos(glm::radians(25.0f));
+  for (const auto& [key, members] : groups)
+    for (const Member& m : members)
+      for (const Member& o : members)
+        if (glm::dot(o.normal, m.normal) >= cosWeld) lists[m.value].push_back(o.value);
+  weldMembers_.clear();
+  for (std::size_t v = 0; v < values; ++v) {
+    weldStart_[v] = static_cast<std::uint32_t>(weldMembers_.size());
+    if (lists[v].empty()) weldMembers_.push_back(static_cast<std::uint32_t>(v));  // an interior vertex: itself
+    else weldMembers_.insert(weldMembers_.end(), lists[v].begin(), lists[v].end());
+  }
+  weldStart_[values] = static_cast<std::uint32_t>(weldMembers_.size());
 }
 
 RadiosityField RadiositySolver::field() const {
   RadiosityField out;
   out.instanceCount = instanceFirst_.size();
-  out.table.assign(instanceFirst_.size(), glm::uvec2(RadiosityField::kNone, 0u));
-  // Per triangle: n and its grid vertices' first value.
-  std::size_t values = 0;
-  for (std::size_t inst = 0; inst < instanceFirst_.size(); ++inst) {
-    if (instanceTriangles_[inst] == 0) continue;
-    out.table[inst] = glm::uvec2(static_cast<std::uint32_t>(out.table.size() + 0), static_cast<std::uint32_t>(instanceTriangles_[inst]));
-    // Placeholder entries, filled below in triangles_ order (instance-major, triangle order).
-    out.table.resize(out.table.size() + instanceTriangles_[inst], glm::uvec2(0u));
-  }
+  out.table = table_;
+  // Each grid vertex: the area-weighted mean of its patches within the triangle, then of the vertices it is
+  // welded to.
+  std::vector<glm::vec3> sum(valueCount_, glm::vec3(0.0f));
+  std::vector<float> weight(valueCount_, 0.0f);
   for (const GridTriangle& g : triangles_) {
-    const std::size_t entry = out.table[g.instance].x + g.triangle;
-    out.table[entry] = glm::uvec2(static_cast<std::uint32_t>(values), static_cast<std::uint32_t>(g.n));
-    values += 2u * static_cast<std::size_t>((g.n + 1) * (g.n + 2) / 2);
-  }
-  // Each grid vertex: the area-weighted mean of its patches within the triangle.
-  std::vector<glm::vec3> sum(values, glm::vec3(0.0f));
-  std::vector<float> weight(values, 0.0f);
-  for (const GridTriangle& g : triangles_) {
-    const std::size_t base = out.table[out.table[g.instance].x + g.triangle].x;
+    const std::size_t base = table_[table_[g.instance].x + g.triangle].x;
     const int n = g.n;
     std::size_t p = g.firstPatch;
     auto accumulate = [&](int i0, int j0, int i1, int j1, int i2, int j2) {
@@ -438,42 +526,17 @@ RadiosityField RadiositySolver::field() const {
         if (i + j <= n - 2) accumulate(i + 1, j, i + 1, j + 1, i, j + 1);
       }
   }
-  // Welding: grid vertices of one instance at the same position, on sides whose normals agree within 25°,
-  // share their mean, so the solution is continuous across the triangles of a smooth surface and not
-  // across a crease (a box's edge).
-  out.values.assign(values, glm::vec3(0.0f));
-  struct Member {
-    std::size_t value;
-    glm::vec3 normal;
-  };
-  std::map<std::tuple<std::uint32_t, float, float, float>, std::vector<Member>> groups;
-  for (const GridTriangle& g : triangles_) {
-    const std::size_t base = out.table[out.table[g.instance].x + g.triangle].x;
-    const RadiosityPatch& first = patches_[g.firstPatch];
-    // The triangle's corners (render space) from its first patch's: corner 0 is the grid's (0, 0), corner 1
-    // its (1, 0) step; the grid vertex (i, j) is corner0 + i·du + j·dv.
-    const glm::vec3 o = first.cornerW[0], du = first.cornerW[1] - o, dv = first.cornerW[2] - o;
-    for (int j = 0; j <= g.n; ++j)
-      for (int i = 0; i + j <= g.n; ++i) {
-        const glm::vec3 pos = o + static_cast<float>(i) * du + static_cast<float>(j) * dv;
-        const std::size_t v = base + 2u * static_cast<std::size_t>(shading::tdGridVertex(i, j, g.n));
-        for (int side = 0; side < 2; ++side)
-          groups[{g.instance * 2u + static_cast<std::uint32_t>(side), pos.x, pos.y, pos.z}].push_back(
-              {v + static_cast<std::size_t>(side), patches_[g.firstPatch + static_cast<std::size_t>(side)].normalW});
-      }
-  }
-  const float cosWeld = std::cos(glm::radians(25.0f));
-  for (const auto& [key, members] : groups)
-    for (const Member& m : members) {
-      glm::vec3 s(0.0f);
-      float w = 0.0f;
-      for (const Member& o : members)
-        if (glm::dot(o.normal, m.normal) >= cosWeld) {
-          s += sum[o.value];
-          w += weight[o.value];
-        }
-      out.values[m.value] = w > 0.0f ? s / w : glm::vec3(0.0f);
+  out.values.assign(valueCount_, glm::vec3(0.0f));
+  for (std::size_t v = 0; v < valueCount_; ++v) {
+    glm::vec3 s(0.0f);
+    float w = 0.0f;
+    for (std::uint32_t k = weldStart_[v]; k < weldStart_[v + 1]; ++k) {
+      s += sum[weldMembers_[k]];
+      w += weight[weldMembers_[k]];
     }
+    // Light taken back after a relight can leave a patch a little under 0 until its neighbours' shots arrive.
+    out.values[v] = w > 0.0f ? glm::max(s / w, 0.0f) : glm::vec3(0.0f);
+  }
   // The unshot light, spread as ambient (Cohen et al. 1988): unshot power over the area the light has
   // reached (the sides with some radiosity: a closed room's outsides never get any), times the
   // interreflection factor 1 / (1 − mean ρ).
@@ -485,7 +548,7 @@ RadiosityField RadiositySolver::field() const {
   }
   if (area > 0.0) {
     const glm::dvec3 rho = glm::min(glm::dvec3(meanReflectance_), glm::dvec3(0.95));
-    out.ambient = glm::vec3(unshot / area / (glm::dvec3(1.0) - rho));
+    out.ambient = glm::max(glm::vec3(unshot / area / (glm::dvec3(1.0) - rho)), 0.0f);
   }
   return out;
 }

@@ -67,8 +67,8 @@ class RadiositySolver {
   /// Shoots the patch with the most unshot power, up to `maxShots` times while the residual is above
   /// `residualTarget`; returns the shots taken.
   int shoot(int maxShots, float residualTarget = 0.0f);
-  /// Unshot power over the power that entered the solution (emission and direct light): 1 before the first
-  /// shot, 0 when nothing is left to distribute.
+  /// Unshot power (gained or, after relight, lost) over the power that entered the solution (emission and
+  /// reflected direct light): 1 before the first shot, 0 when nothing is left to distribute.
   float residual() const;
   std::size_t shots() const { return shots_; }
   std::size_t patchCount() const { return patches_.size(); }
@@ -77,6 +77,10 @@ class RadiositySolver {
   glm::vec3 radiosity(std::size_t p) const { return radiosity_[p]; }
   glm::vec3 indirect(std::size_t p) const { return indirect_[p]; }
   glm::vec3 direct(std::size_t p) const { return direct_[p]; }
+  /// The scene's lights changed (the geometry did not): the change of each patch's direct light becomes
+  /// unshot light, negative where it lost some, and the next shots carry the solution over to the new
+  /// lights with the form factors already made (incremental radiosity, Chen 1990).
+  void relight(const Scene& scene);
   /// The form factor from receiver patch j to shooter patch i, with visibility, as shoot() uses it.
   float formFactor(std::size_t receiver, std::size_t shooter) const;
   /// The solution per grid vertex (patch values averaged at each vertex, across the triangles of an
@@ -85,6 +89,9 @@ class RadiositySolver {
 
  private:
   void gatherDirect(const Scene& scene);
+  std::vector<glm::vec3> directLight(const Scene& scene) const;  // per patch side, the lights' irradiance
+  double enteredPower() const;  // Σ luminance(emission + ρ·direct)·area
+  void buildLayout(const Scene& scene);
   bool visible(glm::vec3 fromW, glm::vec3 fromN, glm::vec3 toW, glm::vec3 toN) const;
 
   const EmbreeScene& embree_;
@@ -98,6 +105,11 @@ class RadiositySolver {
   };
   std::vector<GridTriangle> triangles_;
   std::vector<std::size_t> instanceFirst_;   // index into triangles_, or SIZE_MAX
+  // The field's layout (buildLayout): its table, its value count, and per value slot the slots it is
+  // averaged with (weldMembers_[weldStart_[v] .. weldStart_[v + 1]]).
+  std::vector<glm::uvec2> table_;
+  std::size_t valueCount_ = 0;
+  std::vector<std::uint32_t> weldStart_, weldMembers_;
   std::vector<std::size_t> instanceTriangles_;
   std::vector<glm::vec3> radiosity_, indirect_, direct_, unshot_;
   std::vector<std::vector<float>> rows_;  // per shooter: its form factors, one per receiver (empty: not kept)

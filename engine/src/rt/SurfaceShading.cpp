@@ -256,8 +256,7 @@ FrameShading FrameShading::forFrame(const Scene& scene, const FrameSettings& set
   if (settings.gi == GlobalIllumination::Path) {
     frame.ambient = glm::vec3(0.0f);  // docs/path-tracing.md
   } else if (radiosity && !radiosity->empty()) {
-    frame.radiosity = radiosity;
-    frame.ambient = glm::vec3(0.0f);  // docs/radiosity.md
+    frame.radiosity = radiosity;  // in place of the ambient term where it covers a surface (docs/radiosity.md)
   }
   return frame;
 }
@@ -269,9 +268,11 @@ glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const Instan
   glm::vec3 c = tdSurfaceColor(m, hit.uv, hit.tint);
   // BLEND: the covered fraction of the surface shades; the rest is the ray pass's straight-through T.
   if (m.emissionFlags.w > 0.5f) return hit.coverage * (c + emission);
-  glm::vec3 color = emission + tdAmbient(m, frame.ambient, hit.uv, hit.tint);
-  if (frame.radiosity)
-    color += tdRadiosityTerm(m, frame.radiosity->at(hit.instance, hit.triangle, hit.bary, hit.backFace), hit.uv, hit.tint);
+  // Diffuse interreflection: the radiosity solution where it covers the surface, else the ambient term.
+  glm::vec3 h;
+  glm::vec3 color = emission + (frame.radiosity && frame.radiosity->at(hit.instance, hit.triangle, hit.bary, hit.backFace, h)
+                                    ? tdRadiosityTerm(m, h, hit.uv, hit.tint)
+                                    : tdAmbient(m, frame.ambient, hit.uv, hit.tint));
   glm::vec3 ks(m.ksNs);
   float ns = m.ksNs.w;
   int model = static_cast<int>(m.krKtIorModel.w + 0.5f);

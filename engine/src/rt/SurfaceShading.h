@@ -137,8 +137,8 @@ struct FrameShading {
   std::vector<shading::GpuMaterial> materials;
   std::vector<std::array<float, TD_TOON_RAMP_SIZE>> toonRamps;
   glm::vec3 ambient{0.0f};     // Ia
-  /// The radiosity solution, which replaces the ambient term (ambient is then 0): shadeLocal adds C·H at
-  /// every hit, primary and secondary (docs/radiosity.md). Null: none.
+  /// The radiosity solution, which replaces the ambient term where it covers a surface: shadeLocal adds C·H
+  /// there instead of ka·Ia, at every hit, primary and secondary (docs/radiosity.md). Null: none.
   const RadiosityField* radiosity = nullptr;
   glm::vec3 background{0.0f};  // radiance of escaped rays
   int areaLights = 0;          // area lights among `lights` (GpuLight::shapeU.w numbers them)

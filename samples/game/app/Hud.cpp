@@ -112,6 +112,15 @@ void Hud::draw(const HudInfo& info) {
           ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "  out of reach: the cheapest choice is over %.1f ms",
                              st.budget.targetMs);
       }
+      ImGui::Text("radiosity %s [G]", s.radiosity ? "on" : "off");
+      if (s.radiosity) {
+        if (!st.radiosity.active)
+          ImGui::Text("  solving: the first solution is on its way");
+        else
+          ImGui::Text("  %d patches  %llu shots  unshot %.1f %%  %.0f ms%s", st.radiosity.patches,
+                      static_cast<unsigned long long>(st.radiosity.shots), 100.0 * st.radiosity.residual,
+                      st.radiosity.solveMs, st.radiosity.converged ? "  converged" : "");
+      }
       const glm::vec3 p = game.marblePos();
       ImGui::Text("marble %.2f %.2f  speed %.2f", static_cast<double>(p.x), static_cast<double>(p.z),
                   static_cast<double>(glm::length(game.marbleVelXZ())));

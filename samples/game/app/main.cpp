@@ -57,6 +57,7 @@ struct Options {
   std::vector<std::string> aa{"off"};
   int accumulate = 16;
   int lightSamples = tandem::FrameSettings{}.lightSamples;
+  std::string radiosity = "off";
   std::string frameLog;
   int errorEvery = 0;
   bool checkReuse = false;
@@ -65,6 +66,15 @@ struct Options {
   bool fullscreen = false;
   std::string shotDir = ".";
 };
+
+/// The last frame's radiosity solution for the closing `game:` line (empty when none was shown).
+std::string radiosityLine(const tandem::RadiosityStats& r) {
+  if (!r.active) return "";
+  char buf[160];
+  std::snprintf(buf, sizeof buf, " radiosity-shots=%llu radiosity-unshot=%.4f radiosity-converged=%d",
+                static_cast<unsigned long long>(r.shots), static_cast<double>(r.residual), r.converged ? 1 : 0);
+  return buf;
+}
 
 int fail(const std::string& message) {
   std::cerr << "tandem-game: " << message << "\n";
@@ -262,7 +272,8 @@ class Session {
       << " shading=" << view_.shadingName() << " depth=" << s.maxDepth << " scale=" << s.rayScale
       << " budget=" << (view_.targetFps > 0.0f ? fpsText(view_.targetFps) : std::string("off"))
       << " aa=" << tandem::toString(s.aa) << (s.aa != tandem::AntiAlias::Off ? std::to_string(s.aaSamples) : std::string())
-      << " accumulate=" << s.accumulate << " light-samples=" << s.lightSamples;
+      << " accumulate=" << s.accumulate << " light-samples=" << s.lightSamples
+      << " radiosity=" << (s.radiosity ? "on" : "off");
     return o.str();
   }
 
@@ -412,8 +423,9 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
   if (log.is_open() && !log.flush()) return fail("--frame-log: cannot write '" + o.frameLog + "'");
   if (!o.capture.empty())
     if (auto r = s.saveFrame(o.capture); !r) return fail(r.error().message);
-  std::printf("game: %s frames=%zu %s accumulated=%d\n", s.game_.stateLine().c_str(), stats.size(),
-              s.settingsLine().c_str(), stats.empty() ? 0 : stats.back().accumulated);
+  std::printf("game: %s frames=%zu %s accumulated=%d%s\n", s.game_.stateLine().c_str(), stats.size(),
+              s.settingsLine().c_str(), stats.empty() ? 0 : stats.back().accumulated,
+              stats.empty() ? "" : radiosityLine(stats.back().radiosity).c_str());
   printTimes(stats, loopMs, w, h);
   if (o.checkReuse) {
     auto saved = [](unsigned long long with, unsigned long long without) {
@@ -610,8 +622,9 @@ int runWindow(Session& s, const Options& o) {
     if (++frames >= o.frames && o.frames > 0) break;
   }
   glfwSetWindowUserPointer(window, nullptr);
-  std::printf("game: %s frames=%d %s accumulated=%d\n", s.game_.stateLine().c_str(), frames, s.settingsLine().c_str(),
-              allStats.empty() ? 0 : allStats.back().accumulated);
+  std::printf("game: %s frames=%d %s accumulated=%d%s\n", s.game_.stateLine().c_str(), frames, s.settingsLine().c_str(),
+              allStats.empty() ? 0 : allStats.back().accumulated,
+              allStats.empty() ? "" : radiosityLine(allStats.back().radiosity).c_str());
   printTimes(allStats, loopMs, lastW, lastH);
   return 0;
 }
@@ -657,6 +670,11 @@ int run(int argc, char** argv) {
                  "Samples per area light per pixel and frame (the hall's key light is a sphere light: soft shadows; "
                  "FrameSettings::lightSamples)")
       ->check(CLI::Range(1, 32))
+      ->capture_default_str();
+  app.add_option("--radiosity", o.radiosity,
+                 "off | on: the hall's diffuse interreflection from a radiosity solution solved in the background, "
+                 "the HUD showing its progress (key G; FrameSettings::radiosity, radiosityBackground)")
+      ->check(CLI::IsMember({"off", "on"}))
       ->capture_default_str();
   app.add_option("--frame-log", o.frameLog,
                  "Headless: one CSV row per frame (stage times, rays, the budget's choice; tandem-bench --budget)");
@@ -744,6 +762,9 @@ int run(int argc, char** argv) {
     return fail("--aa: a frame-time budget has no anti-aliasing step yet (drop --target-fps or --aa)");
   view.settings.accumulate = o.accumulate;
   view.settings.lightSamples = o.lightSamples;
+  // The hall's radiosity is solved on a thread of its own while the game runs: the frames never wait for it.
+  view.settings.radiosity = o.radiosity == "on";
+  view.settings.radiosityBackground = true;
   if (!std::isfinite(o.targetFps)) return fail("--target-fps: must be 0.1..1000 frames per second");
   view.setTargetFps(o.targetFps);
   view.vsync = !o.noVsync;

@@ -226,6 +226,21 @@ TEST(GameRun, ToggleKeysReachTheSettings) {
   EXPECT_EQ(s["scale"], "4");
   EXPECT_EQ(s["depth"], "3");
   EXPECT_EQ(s["budget"], "60");
+  EXPECT_EQ(s["radiosity"], "on");
+}
+
+TEST(GameRun, RadiositySolvesInTheBackgroundWhileTheGamePlays) {
+  // The hall's radiosity runs on a thread of its own: the scripted run's frames go on while it solves, and
+  // the marble rolling (a dynamic instance, out of the solution) does not restart it, so it gets somewhere.
+  Outcome r = runGame("--headless --frames 330 --size 160x90 --radiosity on --script '" +
+                      src("tests/game/collect3.script") + "'");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  auto s = gameState(r.output);
+  EXPECT_EQ(s["radiosity"], "on");
+  EXPECT_EQ(s["frames"], "330");
+  ASSERT_FALSE(s["radiosity-shots"].empty()) << "no solution shown in:\n" << r.output;
+  EXPECT_GT(std::stoull(s["radiosity-shots"]), 100u) << r.output;
+  EXPECT_LT(std::stod(s["radiosity-unshot"]), 0.5) << r.output;
 }
 
 TEST(GameRun, BudgetLogsEachFrameAndItsErrorAgainstTheRequest) {
