@@ -84,4 +84,12 @@ check --shutter --shutter inf
 check --gi --gi radiosity --preset reference
 check --gi --gi path
 check --trace-pixel --preset reference --gi path --trace-pixel 1,1
+check --radiosity --radiosity maybe
+check --radiosity --preset reference --gi path --radiosity on
+check --radiosity-error --radiosity on --radiosity-error 1.5
+check --radiosity-error --radiosity on --radiosity-error nan
+check --radiosity-error --radiosity-error 0.1
+check --radiosity-shots --radiosity on --radiosity-shots 0
+check --radiosity-patches --radiosity on --radiosity-patches 8
+check --radiosity-patches --radiosity-patches 512
 exit $status

@@ -215,7 +215,7 @@ int runRadiosity(const RadiosityBenchOptions& o) {
     pc.out = o.out;
     pc.gl = (*ctx)->describe();
     pc.cpu = machine.cpu;
-    pc.threads = o.threads;
+    pc.threads = truthStats.threads;  // the ray pass's own count (o.threads may be 0: all)
     plotRadiosity(pc, curves, ambientFlip);
   }
   return 0;
