@@ -82,6 +82,9 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
   app.add_option("--radiosity-patches", o.radiosityPatches,
                  "Radiosity: about how many patches the scene's surfaces are cut into, 16..1048576 (default " +
                      std::to_string(d.radiosityPatches) + ")");
+  app.add_option("--radiosity-refine", o.radiosityRefine,
+                 "Radiosity: on | off: once solved, grids twice as fine on the triangles where the solution steps "
+                 "steeply (gradients, shadow edges in the indirect light), solved again (default off)");
   app.add_flag("--classic-whitted", o.classicWhitted,
                "I = local + kr·S + kt·T (default: the Fresnel-weighted sum, docs/shading.md)");
   app.add_flag("--schlick", o.schlick, "Schlick's Fresnel approximation (default: the exact dielectric form)");
@@ -235,9 +238,14 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
       return Error{"--radiosity-patches: must be 16..1048576, got " + std::to_string(*o.radiosityPatches)};
     s.radiosityPatches = *o.radiosityPatches;
   }
-  if ((o.radiosityError || o.radiosityShots || o.radiosityPatches) && !s.radiosity)
-    return Error{"--radiosity-error, --radiosity-shots and --radiosity-patches set up the radiosity solve: add "
-                 "--radiosity on (or the scene's render.radiosity)"};
+  if (o.radiosityRefine) {
+    if (*o.radiosityRefine != "off" && *o.radiosityRefine != "on")
+      return Error{"--radiosity-refine: expected off or on, got " + inQuotes(*o.radiosityRefine)};
+    s.radiosityRefine = *o.radiosityRefine == "on";
+  }
+  if ((o.radiosityError || o.radiosityShots || o.radiosityPatches || o.radiosityRefine) && !s.radiosity)
+    return Error{"--radiosity-error, --radiosity-shots, --radiosity-patches and --radiosity-refine set up the "
+                 "radiosity solve: add --radiosity on (or the scene's render.radiosity)"};
   if (s.aa != AntiAlias::Off && s.reference)
     return Error{"--aa: the reference preset takes its samples per pixel from --spp, got --aa " + o.aa->front()};
   if (s.accumulate > 1 && o.targetFps)

@@ -39,6 +39,7 @@ struct FrameOptions {
   std::optional<float> radiosityError;
   std::optional<int> radiosityShots;
   std::optional<int> radiosityPatches;
+  std::optional<std::string> radiosityRefine;  // on | off
   bool classicWhitted = false;
   bool schlick = false;
 };

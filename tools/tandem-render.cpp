@@ -313,7 +313,8 @@ int main(int argc, char** argv) {
                         {"residual", last.radiosity.residual},
                         {"solve_ms", last.radiosity.solveMs},
                         {"error_target", settings.radiosityError},
-                        {"shot_cap", settings.radiosityShots}};
+                        {"shot_cap", settings.radiosityShots},
+                        {"refine", settings.radiosityRefine}};
     j["reuse"] = settings.reuseRays;
     j["frames_reusing_rays"] = reused;
     if (last.budget.active) {

@@ -92,4 +92,6 @@ check --radiosity-error --radiosity-error 0.1
 check --radiosity-shots --radiosity on --radiosity-shots 0
 check --radiosity-patches --radiosity on --radiosity-patches 8
 check --radiosity-patches --radiosity-patches 512
+check --radiosity-refine --radiosity on --radiosity-refine maybe
+check --radiosity-refine --radiosity-refine off
 exit $status

@@ -308,6 +308,117 @@ TEST(Radiosity, RelightingCarriesTheSolutionOverToTheNewLights) {
   EXPECT_LT(worst, 2e-3 * peak);
 }
 
+// The mean difference of two solutions' indirect light over every triangle of every instance (both sides, a
+// grid of points on each), weighted by area: what the frame would show differently.
+double fieldDistance(const Scene& scene, const RadiosityField& a, const RadiosityField& b) {
+  double sum = 0.0, weight = 0.0;
+  for (std::uint32_t i = 0; i < scene.instances.size(); ++i) {
+    const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
+    const glm::mat3 linear(scene.instances[i].worldFromObject);
+    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+      glm::vec3 p[3];
+      for (int k = 0; k < 3; ++k) p[k] = linear * mesh.positions[mesh.indices[3 * t + k]];
+      const double area = 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
+      constexpr int kSteps = 12;
+      for (int u = 0; u <= kSteps; ++u)
+        for (int v = 0; u + v <= kSteps; ++v)
+          for (bool back : {false, true}) {
+            const glm::vec3 bary(float(kSteps - u - v) / kSteps, float(u) / kSteps, float(v) / kSteps);
+            glm::vec3 ha, hb;
+            if (!a.at(i, t, bary, back, ha) || !b.at(i, t, bary, back, hb)) continue;
+            sum += area * glm::length(ha - hb);
+            weight += area;
+          }
+    }
+  }
+  return weight > 0.0 ? sum / weight : 0.0;
+}
+
+TEST(Radiosity, AdaptiveRefinementGoesWhereTheSolutionStepsAndComesCloserToAFineGrid) {
+  const Scene scene = room(1.0f, glm::vec3(0.0f));
+  auto solved = [&](RadiosityOptions options) {
+    Solved s = solve(scene, options);
+    s.solver->shoot(100000, 1e-3f);
+    return s;
+  };
+  RadiosityOptions coarseOptions;
+  coarseOptions.targetPatches = 100;
+  Solved coarse = solved(coarseOptions);
+  const std::vector<int> before = coarse.solver->segments();
+  const std::vector<int> after = coarse.solver->refinedSegments(0.25f, 4 * coarse.solver->patchCount() / 2);
+  ASSERT_EQ(after.size(), before.size());
+  int refinedTriangles = 0;
+  for (std::size_t k = 0; k < after.size(); ++k) {
+    EXPECT_TRUE(after[k] == before[k] || after[k] == 2 * before[k]) << k;
+    refinedTriangles += after[k] != before[k];
+  }
+  RadiosityOptions refinedOptions = coarseOptions;
+  refinedOptions.segments = after;
+  Solved refined = solved(refinedOptions);
+  RadiosityOptions fineOptions;
+  fineOptions.targetPatches = 1600;
+  Solved fine = solved(fineOptions);
+  const RadiosityField truth = fine.solver->field();
+  const double coarseError = fieldDistance(scene, coarse.solver->field(), truth);
+  const double refinedError = fieldDistance(scene, refined.solver->field(), truth);
+  std::printf("refinement: %d of %zu triangles refined, %zu -> %zu patch sides (fine grid: %zu); distance to the fine "
+              "grid %.4f -> %.4f\n",
+              refinedTriangles, after.size(), coarse.solver->patchCount(), refined.solver->patchCount(),
+              fine.solver->patchCount(), coarseError, refinedError);
+  EXPECT_GT(refinedTriangles, 0);
+  EXPECT_LT(refinedTriangles, static_cast<int>(after.size()));  // only where it steps
+  EXPECT_LE(refined.solver->patchCount(), 4 * coarse.solver->patchCount());
+  EXPECT_LT(refinedError, 0.8 * coarseError);
+  // Nothing to refine in the furnace: its solution is the same everywhere.
+  RadiosityOptions furnaceOptions;
+  furnaceOptions.patchArea = 1.0f / 8.0f;
+  Solved furnace = solve(closedBox(0.5f, glm::vec3(1.0f), 1.0f, glm::vec3(0.0f)), furnaceOptions);
+  furnace.solver->shoot(100000, 1e-4f);
+  EXPECT_EQ(furnace.solver->refinedSegments(0.25f, 1000), furnace.solver->segments());
+}
+
+TEST(Radiosity, TheFieldShowsEachPatchsOwnLightAtItsCentre) {
+  // In a room whose indirect light varies, the field read at each patch's centre (through the triangle's
+  // barycentrics, as the frame reads it) is close to that patch's own value, on the side the patch faces:
+  // a wrong vertex numbering, (i, j) swapped, another barycentric order or the wrong side would scramble it.
+  RadiosityOptions options;
+  options.targetPatches = 400;
+  Solved s = solve(room(1.0f, glm::vec3(0.0f)), options);
+  s.solver->shoot(100000, 1e-3f);
+  const RadiosityField field = s.solver->field();
+  double error = 0.0, total = 0.0, spread = 0.0;
+  double mean = 0.0, area = 0.0;
+  for (std::size_t p = 0; p < s.solver->patchCount(); ++p) {
+    mean += s.solver->indirect(p).x * s.solver->patch(p).area;
+    area += s.solver->patch(p).area;
+  }
+  mean /= area;
+  for (std::size_t p = 0; p < s.solver->patchCount(); ++p) {
+    const RadiosityPatch& patch = s.solver->patch(p);
+    const Mesh& mesh = s.scene.meshes[s.scene.instances[patch.instance].mesh];
+    const InstanceTransform& t = s.embree->transform(patch.instance);
+    glm::vec3 v[3];
+    for (int k = 0; k < 3; ++k)
+      v[k] = glm::vec3(t.worldFromObject * glm::vec4(mesh.positions[mesh.indices[3 * patch.triangle + k]], 1.0f));
+    // Barycentrics of the patch's centre in its triangle (a point of the triangle's plane).
+    const glm::vec3 c = patch.centreW(), e1 = v[1] - v[0], e2 = v[2] - v[0], d = c - v[0];
+    const float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+    const float det = d11 * d22 - d12 * d12;
+    const float b1 = (d22 * glm::dot(d, e1) - d12 * glm::dot(d, e2)) / det;
+    const float b2 = (d11 * glm::dot(d, e2) - d12 * glm::dot(d, e1)) / det;
+    const bool back = glm::dot(patch.normalW, glm::cross(e1, e2)) < 0.0f;
+    glm::vec3 h;
+    ASSERT_TRUE(field.at(patch.instance, patch.triangle, glm::vec3(1.0f - b1 - b2, b1, b2), back, h));
+    error += std::abs(h.x - s.solver->indirect(p).x) * patch.area;
+    spread += std::abs(s.solver->indirect(p).x - mean) * patch.area;
+    total += s.solver->indirect(p).x * patch.area;
+  }
+  std::printf("field at patch centres: mean error %.4f of the mean light; the light's own spread about its mean %.4f\n",
+              error / total, spread / total);
+  EXPECT_GT(spread / total, 0.2);           // the light varies: this would catch a scrambled field
+  EXPECT_LT(error / total, 0.1 * spread / total + 0.02);
+}
+
 TEST(Radiosity, TheSolutionIsTheSameAtAnyScaleAndFarFromTheOrigin) {
   RadiosityOptions options;
   options.targetPatches = 300;

@@ -113,6 +113,10 @@ struct FrameSettings {
   int radiosityShots = 0;
   /// About how many patches (each two-sided) the scene's surfaces are cut into. [16, 1 << 20]
   int radiosityPatches = 2048;
+  /// Adaptive refinement: once solved, the triangles where the solution steps steeply across them (a
+  /// gradient or a shadow's edge in the indirect light) get grids twice as fine (within 2 × the patches) and
+  /// the solve runs again on them: a closer solution for several times the solve (docs/radiosity.md).
+  bool radiosityRefine = false;
   /// Off: render() solves before the frame, to radiosityError (a converged frame: tandem-render). On: the
   /// solve runs on a thread of its own and each frame shows the latest solution, its unshot light as an
   /// ambient estimate (a game: FrameStats::radiosity says how far it is).

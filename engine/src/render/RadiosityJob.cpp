@@ -28,14 +28,13 @@ std::atomic<std::uint64_t> nextVersion{1};
 
 struct RadiosityJob::Shared {
   std::mutex mutex;
-  std::condition_variable wake;  // new lights or stop, for a solve that has converged
+  std::condition_variable wake;  // new lights or stop, for a solve that waits
   std::shared_ptr<const RadiosityField> published;
-  RadiosityStats stats;
-  std::optional<std::vector<Light>> pendingLights;  // the background solve takes them at its next shot
+  RadiosityStats stats;  // the published solution's
+  std::optional<std::vector<Light>> pendingLights;  // the background solve takes them at its next step
   std::atomic<bool> stop{false};
   std::atomic<bool> done{false};
   std::atomic<bool> publishedOnce{false};
-  Scene scene;  // the background solve's copy
 };
 
 RadiosityJob::~RadiosityJob() {
@@ -45,7 +44,11 @@ RadiosityJob::~RadiosityJob() {
 
 void RadiosityJob::invalidate(bool sceneReplaced) {
   stale_ = true;
-  if (sceneReplaced) shown_.reset();
+  if (sceneReplaced) {
+    replaced_ = true;
+    shown_.reset();
+    shownStats_ = {};
+  }
 }
 
 void RadiosityJob::lightsChanged() { lightsStale_ = true; }
@@ -58,7 +61,7 @@ void RadiosityJob::stop() {
   }
   if (worker_.joinable()) retired_.push_back({std::move(worker_), shared_});
   shared_.reset();
-  // Join the solves that have finished; the others are left to finish their shot.
+  // Join the solves that have finished; the others are left to finish their step.
   for (auto it = retired_.begin(); it != retired_.end();) {
     if (it->shared->done) {
       it->thread.join();
@@ -72,30 +75,22 @@ void RadiosityJob::stop() {
 void RadiosityJob::release() {
   stop();
   shown_.reset();
+  shownStats_ = {};
   stale_ = true;
   lightsStale_ = false;
 }
 
-void RadiosityJob::solve(Shared& shared, const Scene& full, Options options, bool background) {
+void RadiosityJob::solve(Shared& shared, Scene scene, Options options, bool background) {
   const Timer timer;
   // Dynamic instances stay out of the solution, as patches and as blockers: a game moves them every frame,
   // and a solve restarted at every move would never show anything. The ambient term lights them.
+  const std::size_t instanceCount = scene.instances.size();
   std::vector<std::uint32_t> solved;
-  Scene scene;
-  scene.meshes = full.meshes;
-  scene.materials = full.materials;
-  scene.textures = full.textures;
-  scene.lights = full.lights;
-  scene.camera = full.camera;
-  bool anyDynamic = false;
-  for (std::size_t i = 0; i < full.instances.size(); ++i) {
-    if (full.instances[i].dynamic) {
-      anyDynamic = true;
-    } else {
-      solved.push_back(static_cast<std::uint32_t>(i));
-      scene.instances.push_back(full.instances[i]);
-    }
-  }
+  for (std::size_t i = 0; i < instanceCount; ++i)
+    if (!scene.instances[i].dynamic) solved.push_back(static_cast<std::uint32_t>(i));
+  const bool anyDynamic = solved.size() != instanceCount;
+  if (anyDynamic)
+    std::erase_if(scene.instances, [](const Instance& instance) { return instance.dynamic; });
   auto failed = [&](const std::string& why) {
     logError("radiosity: " + why + "; the frame keeps the ambient term");
     std::lock_guard lock(shared.mutex);
@@ -108,36 +103,59 @@ void RadiosityJob::solve(Shared& shared, const Scene& full, Options options, boo
   if (!embree) return failed(embree.error().message);
   rt::RadiosityOptions solverOptions;
   solverOptions.targetPatches = options.patches;
-  rt::RadiositySolver solver(scene, **embree, solverOptions);
+  solverOptions.cancel = &shared.stop;
+  auto solver = std::make_unique<rt::RadiositySolver>(scene, **embree, solverOptions);
+  std::size_t earlierShots = 0;  // the coarse solve's, once refined
+  std::size_t capFrom = 0;       // the shots the cap counts from: the last relight's
+  bool refined = !options.refine;
   auto publish = [&](bool converged) {
-    auto field = std::make_shared<RadiosityField>(anyDynamic ? solver.field().forInstances(solved, full.instances.size())
-                                                             : solver.field());
+    if (shared.stop) return;  // an abandoned solver's state is not a solution
+    auto field = std::make_shared<RadiosityField>(anyDynamic ? solver->field().forInstances(solved, instanceCount)
+                                                             : solver->field());
     field->version = nextVersion.fetch_add(1);
     std::lock_guard lock(shared.mutex);
     shared.published = std::move(field);
     shared.stats.active = true;
     shared.stats.converged = converged;
-    shared.stats.patches = static_cast<int>(solver.patchCount());
-    shared.stats.shots = solver.shots();
-    shared.stats.residual = solver.residual();
+    shared.stats.patches = static_cast<int>(solver->patchCount());
+    shared.stats.shots = earlierShots + solver->shots();
+    shared.stats.residual = solver->residual();
     shared.stats.solveMs = timer.ms();
     shared.publishedOnce = true;
   };
   auto finished = [&] {
-    const long long left = options.shots > 0 ? options.shots - static_cast<long long>(solver.shots()) : LLONG_MAX;
-    return left <= 0 || solver.residual() <= options.error;
+    const std::size_t shots = earlierShots + solver->shots();
+    const long long left = options.shots > 0 ? options.shots - static_cast<long long>(shots - capFrom) : LLONG_MAX;
+    return left <= 0 || solver->residual() <= options.error;
+  };
+  // Adaptive refinement, once the first solve is done: the triangles where the solution steps steeply get
+  // finer grids and the solve starts again on them (docs/radiosity.md). False when nothing needed it.
+  auto refine = [&] {
+    refined = true;
+    std::vector<int> segments = solver->refinedSegments(rt::RadiositySolver::kRefineStep,
+                                                        rt::RadiositySolver::kRefineGrowth * (solver->patchCount() / 2));
+    if (segments == solver->segments()) return false;
+    earlierShots += solver->shots();
+    capFrom = earlierShots;
+    solverOptions.segments = std::move(segments);
+    solver = std::make_unique<rt::RadiositySolver>(scene, **embree, solverOptions);
+    return true;
   };
   if (!background) {
-    while (!finished() && solver.shoot(1, options.error) == 1) {
-    }
+    do {
+      while (!finished() && solver->shoot(1, options.error) == 1) {
+      }
+    } while (!refined && refine());
     publish(true);
     shared.done = true;
     return;
   }
   // In the background the frames see the solution about 10 times a second, and once more when it converges;
-  // then the solve waits for new lights (or the end).
-  Timer sincePublished;
-  bool current = false;  // the published solution is this state's last
+  // then the solve waits for new lights (or the end). New lights are taken at most ~10 times a second too: a
+  // game that moves its lights every frame would otherwise spend the solve gathering their direct light.
+  Timer sincePublished, sinceRelit;
+  bool current = false;   // the published solution is this state's last
+  bool refining = false;  // the refined grid's solve runs: the coarse solution stays until it is done
   while (!shared.stop) {
     std::optional<std::vector<Light>> lights;
     {
@@ -145,15 +163,27 @@ void RadiosityJob::solve(Shared& shared, const Scene& full, Options options, boo
       if (current && !shared.pendingLights)
         shared.wake.wait(lock, [&] { return shared.stop.load() || shared.pendingLights.has_value(); });
       if (shared.stop) break;
-      lights.swap(shared.pendingLights);
+      if (current || sinceRelit.ms() >= 100.0) lights.swap(shared.pendingLights);
     }
     if (lights) {
       scene.lights = std::move(*lights);
-      solver.relight(scene);
+      solver->relight(scene);
+      capFrom = earlierShots + solver->shots();
+      sinceRelit.reset();
       current = false;
     }
-    const bool done = finished() || solver.shoot(1, options.error) == 0;
-    if (done || sincePublished.ms() >= 100.0) {
+    const bool done = finished() || solver->shoot(1, options.error) == 0;
+    if (done && !refined) {
+      // The coarse solution stays on screen while the refined one is solved (its first shots would show less).
+      publish(false);
+      sincePublished.reset();
+      if (refine()) {
+        refining = true;
+        continue;
+      }
+    }
+    if (done) refining = false;
+    if (done || (!refining && sincePublished.ms() >= 100.0)) {
       publish(done);
       sincePublished.reset();
       current = done;
@@ -162,63 +192,50 @@ void RadiosityJob::solve(Shared& shared, const Scene& full, Options options, boo
   shared.done = true;
 }
 
-bool RadiosityJob::sync(const Scene& scene, const FrameSettings& settings) {
-  const Options options{settings.radiosityPatches, settings.radiosityError, settings.radiosityShots};
+bool RadiosityJob::sync(const Scene& scene, const FrameSettings& settings, int threads) {
+  const Options options{settings.radiosityPatches, settings.radiosityError, settings.radiosityShots,
+                        settings.radiosityRefine};
   const bool sameRequest = shared_ && options == options_ && background_ == settings.radiosityBackground;
   // A background solve that has shown nothing yet goes on despite a move: restarting it at every frame of
-  // a moving static instance would never show a solution.
-  const bool letItPublish = sameRequest && background_ && !shared_->publishedOnce && !shared_->done;
+  // a moving static instance would never show a solution. Not for a new scene: its solution is another's.
+  const bool letItPublish = sameRequest && background_ && !replaced_ && !shared_->publishedOnce && !shared_->done;
   if ((stale_ || !sameRequest) && !letItPublish) {
     stop();
     shared_ = std::make_shared<Shared>();
     options_ = options;
     background_ = settings.radiosityBackground;
-    stale_ = false;
-    lightsStale_ = false;
+    stale_ = replaced_ = lightsStale_ = false;
     if (background_) {
-      shared_->scene = scene;
-      worker_ = std::thread([shared = shared_, options] {
+      worker_ = std::thread([shared = shared_, options, copy = scene]() mutable {
         // The frame comes first: the solve runs at a lower priority, on half the cores (one of two), so a
         // game's frames keep their pace while it works.
 #ifdef __linux__
         (void)setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10);
 #endif
         const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-        tbb::task_arena arena(std::max(1, cores / 2));
-        arena.execute([&] { solve(*shared, shared->scene, options, true); });
+        tbb::task_arena arena(std::max(1, cores / 2), 1, tbb::task_arena::priority::low);
+        arena.execute([&] { solve(*shared, std::move(copy), options, true); });
       });
     } else {
-      solve(*shared_, scene, options, false);
+      tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+      arena.execute([&] { solve(*shared_, scene, options, false); });
     }
   } else if (lightsStale_ && !stale_) {
-    if (background_) {
-      std::lock_guard lock(shared_->mutex);
-      shared_->pendingLights = scene.lights;
-      shared_->stats.converged = false;
-      shared_->wake.notify_all();
-      lightsStale_ = false;
-    } else {
+    if (!background_) {
       stale_ = true;  // before the frame: solve again now
-      lightsStale_ = false;
-      return sync(scene, settings);
+      return sync(scene, settings, threads);
     }
-  }
-  std::shared_ptr<const RadiosityField> latest;
-  {
     std::lock_guard lock(shared_->mutex);
-    latest = shared_->published;
+    shared_->pendingLights = scene.lights;
+    shared_->wake.notify_all();
+    lightsStale_ = false;
+    shownStats_.converged = false;
   }
-  if (!latest || latest == shown_) return false;
-  shown_ = std::move(latest);
-  return true;
-}
-
-RadiosityStats RadiosityJob::stats() const {
-  if (!shared_) return {};
   std::lock_guard lock(shared_->mutex);
-  RadiosityStats s = shared_->stats;
-  s.active = shown_ != nullptr;
-  return s;
+  if (!shared_->published || shared_->published == shown_) return false;
+  shown_ = shared_->published;
+  shownStats_ = shared_->stats;
+  return true;
 }
 
 }  // namespace tandem

@@ -24,52 +24,58 @@ class RadiosityJob {
   RadiosityJob(const RadiosityJob&) = delete;
   RadiosityJob& operator=(const RadiosityJob&) = delete;
 
-  /// What the solution depends on changed (an instance moved, a light changed, a new scene): the next sync
-  /// starts again from the scene as it is then.
   /// The geometry changed (a static instance moved, or `sceneReplaced`: a new scene): the next sync starts
-  /// again from the scene as it is then. A replaced scene's solution is dropped at once; otherwise the old
-  /// one stays on screen until the new solve publishes. In the background a solve that has not published
-  /// yet is let run until it does, so that a static instance moved every frame still shows solutions.
+  /// again from the scene as it is then. A replaced scene's solution is dropped at once and its solve
+  /// stopped; after a move the old solution stays on screen until the new solve publishes, and in the
+  /// background a solve that has not published yet is let run until it does (a static instance moved every
+  /// frame still shows solutions).
   void invalidate(bool sceneReplaced);
-  /// Only the lights changed: in the background, the running solve takes the new lights at its next shot
-  /// and carries its solution over (RadiositySolver::relight); before the frame, the next sync solves again.
+  /// Only the lights changed: in the background the running solve takes the new lights (at most ~10 times a
+  /// second) and carries its solution over (RadiositySolver::relight); before the frame, the next sync
+  /// solves again.
   void lightsChanged();
   /// Brings the solution to `settings` for `scene`: in the background (radiosityBackground), starts a solve
   /// when none runs for this scene and these options and hands back the latest solution it published;
-  /// otherwise solves on this thread, when the scene or options changed, until radiosityError or
-  /// radiosityShots. True when field() changed since the last call.
-  bool sync(const Scene& scene, const FrameSettings& settings);
+  /// otherwise solves on this thread (on `threads` TBB threads, 0: all), when the scene or options changed,
+  /// until radiosityError or radiosityShots. True when field() changed since the last call.
+  bool sync(const Scene& scene, const FrameSettings& settings, int threads = 0);
   /// Stops a solve and frees the solution (radiosity turned off).
   void release();
+  /// Whether a solve runs or a solution is held (what release() would free).
+  bool holds() const { return shared_ != nullptr || shown_ != nullptr; }
   /// The latest solution (null before the first is published).
   std::shared_ptr<const RadiosityField> field() const { return shown_; }
-  RadiosityStats stats() const;
+  /// What the solution field() holds is: its patches, shots, residual, solve time (published with it).
+  RadiosityStats stats() const { return shownStats_; }
 
  private:
   struct Options {
     int patches = 0;
     float error = 0.0f;
     int shots = 0;
+    bool refine = true;
     bool operator==(const Options&) const = default;
   };
   struct Shared;  // what the solving thread and the frame's thread share
   void stop();
-  static void solve(Shared& shared, const Scene& scene, Options options, bool background);
+  static void solve(Shared& shared, Scene scene, Options options, bool background);
 
+  bool stale_ = true;
+  bool replaced_ = false;
   bool lightsStale_ = false;
+  Options options_;
+  bool background_ = false;
   std::shared_ptr<Shared> shared_;
   std::thread worker_;
-  // Solves told to stop that may still be finishing a shot: joined once done (or at destruction), so a
+  // Solves told to stop that may still be finishing a step: joined once done (or at destruction), so a
   // restart never waits for one.
   struct Retired {
     std::thread thread;
     std::shared_ptr<Shared> shared;
   };
   std::vector<Retired> retired_;
-  bool stale_ = true;
-  Options options_;
-  bool background_ = false;
   std::shared_ptr<const RadiosityField> shown_;
+  RadiosityStats shownStats_;
 };
 
 }  // namespace tandem

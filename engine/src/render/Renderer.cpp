@@ -588,11 +588,11 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
   // The radiosity solution (docs/radiosity.md): solved here, or the background solve's latest. A new one
   // changes every point the frame shades: nothing of the last frame's rays or samples is kept.
   if (s.radiosity) {
-    if (radiosity.sync(scene, s)) last.sceneChanged = true;
+    if (radiosity.sync(scene, s, tracer->threads())) last.sceneChanged = true;
     caches.gpu().uploadRadiosity(radiosity.field().get());
     tracer->setRadiosity(radiosity.field());
     stats.radiosity = radiosity.stats();
-  } else if (radiosity.field()) {
+  } else if (radiosity.holds()) {
     radiosity.release();
     caches.gpu().uploadRadiosity(nullptr);
     tracer->setRadiosity(nullptr);

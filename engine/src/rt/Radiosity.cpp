@@ -180,6 +180,8 @@ RadiositySolver::RadiositySolver(const Scene& scene, const EmbreeScene& embree, 
       g.n = !(area > 0.0) || !std::isfinite(area) || !(patchArea > 0.0)
                 ? 1
                 : static_cast<int>(std::clamp(std::ceil(std::sqrt(area / patchArea)), 1.0, double(options_.maxSegments)));
+      if (triangles_.size() < options_.segments.size())  // a refined solve's own grid (refinedSegments)
+        g.n = std::clamp(options_.segments[triangles_.size()], 1, options_.maxSegments);
       triangles_.push_back(g);
       const glm::vec3 front = len > 0.0 && std::isfinite(len) ? glm::vec3(cross / len) : glm::vec3(0.0f, 0.0f, 1.0f);
       if (!mesh.colors.empty()) {
@@ -245,7 +247,7 @@ std::vector<glm::vec3> RadiositySolver::directLight(const Scene& scene) const {
   const int samples = std::max(1, options_.lightSamples);
   parallelIndices(0, patches_.size(), [&](std::size_t p) {
     const RadiosityPatch& patch = patches_[p];
-    if (!(patch.area > 0.0f)) return;
+    if (!(patch.area > 0.0f) || cancelled()) return;
     glm::vec3 sum(0.0f);
     const glm::vec3 mag = patchMagnitude(patch);
     const auto seed = static_cast<std::uint32_t>(p);
@@ -317,7 +319,9 @@ void RadiositySolver::relight(const Scene& scene) {
     unshot_[p] += change;
   }
   direct_ = direct;
-  enteredPower_ = enteredPower();
+  // Against the larger of the old and the new light: lights turned off leave only negative light to shoot,
+  // which must still be shot down to the same fraction.
+  enteredPower_ = std::max(enteredPower_, enteredPower());
 }
 
 float RadiositySolver::formFactor(std::size_t receiver, std::size_t shooter) const {
@@ -385,9 +389,12 @@ int RadiositySolver::shoot(int maxShots, float residualTarget) {
     // A patch is shot again and again as light keeps arriving (about 4 times each in the Cornell box): its
     // form factors are kept from the first time, within the cache's budget.
     std::vector<float>& row = rows_[best];
-    if (row.empty()) {
+    const bool made = row.empty();
+    if (made) {
       row.resize(patches_.size());
-      parallelIndices(0, patches_.size(), [&](std::size_t j) { row[j] = j == best ? 0.0f : formFactor(j, best); });
+      parallelIndices(0, patches_.size(), [&](std::size_t j) {
+        row[j] = j == best || cancelled() ? 0.0f : formFactor(j, best);
+      });
       double received = 0.0;
       for (std::size_t j = 0; j < patches_.size(); ++j) received += static_cast<double>(row[j]) * patches_[j].area;
       if (received > patches_[best].area) {
@@ -406,11 +413,10 @@ int RadiositySolver::shoot(int maxShots, float residualTarget) {
     }
     ++shots_;
     ++taken;
-    const std::size_t rowBytes = patches_.size() * sizeof(float);
-    if (cachedBytes_ + rowBytes <= options_.cacheBytes) {
-      cachedBytes_ += rowBytes;
-    } else {
-      std::vector<float>().swap(row);  // over budget: this row is made again the next time
+    if (made) {
+      const std::size_t rowBytes = patches_.size() * sizeof(float);
+      if (cachedBytes_ + rowBytes <= options_.cacheBytes) cachedBytes_ += rowBytes;
+      else std::vector<float>().swap(row);  // over budget: this row is made again the next time
     }
   }
   return taken;
@@ -422,6 +428,56 @@ float RadiositySolver::residual() const {
   for (std::size_t p = 0; p < patches_.size(); ++p)
     left += static_cast<double>(luminance(glm::abs(unshot_[p]))) * patches_[p].area;
   return static_cast<float>(left / enteredPower_);
+}
+
+std::vector<int> RadiositySolver::refinedSegments(float threshold, std::size_t maxPatches) const {
+  std::vector<int> segments(triangles_.size());
+  for (std::size_t k = 0; k < triangles_.size(); ++k) segments[k] = triangles_[k].n;
+  // The scale: the mean indirect light over the patch sides it reached.
+  double sum = 0.0, area = 0.0;
+  for (std::size_t p = 0; p < patches_.size(); ++p)
+    if (luminance(indirect_[p]) > 0.0f) {
+      sum += static_cast<double>(luminance(indirect_[p])) * patches_[p].area;
+      area += patches_[p].area;
+    }
+  if (!(area > 0.0) || !(sum > 0.0)) return segments;
+  const double mean = sum / area;
+  // Per triangle, the largest step of the shown solution across it (its grid vertices, welded to the
+  // neighbours' so a single-patch triangle sees the gradient too), relative to the mean.
+  const RadiosityField shown = field();
+  struct Candidate {
+    double step;
+    std::size_t triangle;
+  };
+  std::vector<Candidate> candidates;
+  for (std::size_t k = 0; k < triangles_.size(); ++k) {
+    const GridTriangle& g = triangles_[k];
+    if (g.n >= options_.maxSegments) continue;
+    const std::size_t base = table_[table_[g.instance].x + g.triangle].x;
+    const std::size_t vertices = static_cast<std::size_t>((g.n + 1) * (g.n + 2) / 2);
+    double step = 0.0;
+    for (std::size_t side = 0; side < 2; ++side) {
+      float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;
+      for (std::size_t v = 0; v < vertices; ++v) {
+        const float y = luminance(shown.values[base + 2 * v + side]);
+        lo = std::min(lo, y);
+        hi = std::max(hi, y);
+      }
+      step = std::max(step, static_cast<double>(hi - lo) / mean);
+    }
+    if (step > threshold) candidates.push_back({step, k});
+  }
+  // The steepest first, while the patches stay within the budget (doubling n makes 4 patches of each).
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.step > b.step; });
+  std::size_t patches = patches_.size() / 2;
+  for (const Candidate& c : candidates) {
+    const int n = segments[c.triangle], refined = std::min(2 * n, options_.maxSegments);
+    const std::size_t more = static_cast<std::size_t>(refined * refined - n * n);
+    if (patches + more > maxPatches) continue;
+    segments[c.triangle] = refined;
+    patches += more;
+  }
+  return segments;
 }
 
 void RadiositySolver::buildLayout(const Scene& scene) {
@@ -467,8 +523,9 @@ void RadiositySolver::buildLayout(const Scene& scene) {
     };
     auto add = [&](int i, int j, glm::vec3 pos) {
       const std::size_t v = base + 2u * static_cast<std::size_t>(shading::tdGridVertex(i, j, g.n));
+      // Both sides in one group: the normals decide, so a neighbour wound the other way welds front to back.
       for (int side = 0; side < 2; ++side)
-        groups[{g.instance * 2u + static_cast<std::uint32_t>(side), pos.x, pos.y, pos.z}].push_back(
+        groups[{g.instance, pos.x, pos.y, pos.z}].push_back(
             {static_cast<std::uint32_t>(v) + static_cast<std::uint32_t>(side),
              patches_[g.firstPatch + static_cast<std::size_t>(side)].normalW});
     };

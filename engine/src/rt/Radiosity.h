@@ -16,6 +16,7 @@
 // so the furnace holds at any patch size.
 //
 // Not thread-safe: one thread calls shoot(); shoot() runs its receivers on the TBB arena.
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -41,6 +42,12 @@ struct RadiosityOptions {
   /// Memory for the form factors of patches already shot (a patch is shot several times as light keeps
   /// arriving): past it, a patch's form factors are computed again at each of its shots.
   std::size_t cacheBytes = std::size_t{256} << 20;
+  /// Segments n per triangle (instance-major, each mesh's triangle order), for a refined solve
+  /// (RadiositySolver::refinedSegments); empty: from the patch area.
+  std::vector<int> segments;
+  /// Set (by another thread) to abandon the solver: its loops then skip their work, leaving a state to throw
+  /// away, so that a background solve stops within a moment even in the middle of its set-up or a shot.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 /// One side of one patch. Positions are in render space (EmbreeScene::anchor()).
@@ -81,6 +88,22 @@ class RadiositySolver {
   /// unshot light, negative where it lost some, and the next shots carry the solution over to the new
   /// lights with the form factors already made (incremental radiosity, Chen 1990).
   void relight(const Scene& scene);
+  /// Adaptive refinement: each triangle's segments, doubled where the solution shown across it (its grid
+  /// vertices, welded to its neighbours') steps by more than `threshold` times the mean indirect light — a
+  /// gradient or the edge of a shadow in the indirect light — steepest first, as long as the patches stay
+  /// under `maxPatches`. Solve again with RadiosityOptions::segments set to it.
+  std::vector<int> refinedSegments(float threshold, std::size_t maxPatches) const;
+  /// The frame's refinement (FrameSettings::radiosityRefine): steps over half the mean indirect light, within
+  /// twice the patches. Measured on the Cornell box (docs/radiosity.md): lower thresholds refine nearly every
+  /// triangle there, for little.
+  static constexpr float kRefineStep = 0.5f;
+  static constexpr std::size_t kRefineGrowth = 2;
+  /// Segments of each triangle (refinedSegments' order).
+  std::vector<int> segments() const {
+    std::vector<int> out;
+    for (const GridTriangle& g : triangles_) out.push_back(g.n);
+    return out;
+  }
   /// The form factor from receiver patch j to shooter patch i, with visibility, as shoot() uses it.
   float formFactor(std::size_t receiver, std::size_t shooter) const;
   /// The solution per grid vertex (patch values averaged at each vertex, across the triangles of an
@@ -93,6 +116,7 @@ class RadiositySolver {
   double enteredPower() const;  // Σ luminance(emission + ρ·direct)·area
   void buildLayout(const Scene& scene);
   bool visible(glm::vec3 fromW, glm::vec3 fromN, glm::vec3 toW, glm::vec3 toN) const;
+  bool cancelled() const { return options_.cancel && options_.cancel->load(std::memory_order_relaxed); }
 
   const EmbreeScene& embree_;
   RadiosityOptions options_;
