@@ -352,7 +352,7 @@ TEST(SceneFileErrors, MissingRequiredKeys) {
   expectError(minimal(R"("lights": [{"type": "point"}])"), "/lights/0", "missing required key 'position'");
   expectError(minimal(R"("lights": [{"type": "spot", "position": [0, 1, 0]}])"), "/lights/0",
               "missing required key 'direction'");
-  expectError(R"({"meshes": {"s": {"radius": 1}}})", "/meshes/s", "missing required key 'primitive' or 'gltf'");
+  expectError(R"({"meshes": {"s": {"radius": 1}}})", "/meshes/s", "missing required key 'primitive', 'gltf' or 'csg'");
   expectError(R"({"materials": {"m": {"checker": {"frequency": 2}}}})", "/materials/m/checker",
               "missing required key 'color2'");
   expectError(R"({"meshes": {"s": {"primitive": "box"}}, "materials": {"m": {}},
@@ -432,9 +432,9 @@ TEST(SceneFileErrors, UnknownKeysAndValuesNameTheKey) {
   expectError(R"({"materials": {"m": {"checker": {"color2": 1, "freq": 2}}}})", "/materials/m/checker/freq",
               "unknown key 'freq' (allowed: color2, frequency)");
   expectError(R"({"meshes": {"s": {"primitive": "sphere", "size": 2}}})", "/meshes/s/size",
-              "unknown key 'size' for a sphere (allowed: primitive, radius, segments, rings)");
-  expectError(R"({"meshes": {"s": {"primitive": "cone"}}})", "/meshes/s/primitive", "unknown primitive 'cone'");
-  expectError(R"({"meshes": {"s": {"primitive": "box", "gltf": "a.gltf"}}})", "/meshes/s", "either 'primitive' or 'gltf'");
+              "unknown key 'size' for a sphere (allowed: primitive, radius, segments, rings, exact)");
+  expectError(R"({"meshes": {"s": {"primitive": "pyramid"}}})", "/meshes/s/primitive", "unknown primitive 'pyramid'");
+  expectError(R"({"meshes": {"s": {"primitive": "box", "gltf": "a.gltf"}}})", "/meshes/s", "one of 'primitive', 'gltf' or 'csg', not several");
   // A key that belongs to another light type is a mistake too.
   expectError(minimal(R"("lights": [{"type": "directional", "direction": [0, -1, 0], "position": [0, 1, 0]}])"),
               "/lights/0/position", "unknown key 'position' for a directional light");

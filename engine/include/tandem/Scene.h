@@ -4,12 +4,14 @@
 //
 // Spaces are in names: posW = world space, posO = object space; worldFromObject maps object to world.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "tandem/Camera.h"
+#include "tandem/Solid.h"
 
 namespace tandem {
 
@@ -86,6 +88,10 @@ struct Mesh {
   std::vector<glm::vec4> tangents;  // xyz tangent, w handedness; for normal maps
   std::vector<glm::vec4> colors;    // linear vertex colours
   std::vector<std::uint32_t> indices;
+  /// An exact solid (docs/csg.md): the rays see it, analytically, instead of the triangles, which are then the
+  /// raster's proxy — a tessellation that covers the solid's silhouette (the pixels the frame resolves by
+  /// ray). Empty: the triangles are the surface.
+  std::optional<solid::Solid> exact;
   std::size_t triangleCount() const { return indices.size() / 3; }
   /// Bytes its arrays hold (what the loaders charge to their budget).
   std::size_t bytes() const {

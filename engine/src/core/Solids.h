@@ -30,10 +30,9 @@
 
 #include <glm/glm.hpp>
 
-namespace tandem::solid {
+#include "tandem/Solid.h"
 
-enum class Shape : std::uint8_t { Sphere, Box, Cylinder, Cone, Torus, Plane };
-enum class Op : std::uint8_t { Leaf, Union, Merge, Intersection, Difference };
+namespace tandem::solid {
 
 /// A ray in some space: origin and direction (any length; t is in units of it).
 struct Ray {
@@ -62,32 +61,12 @@ struct Hits {
   std::vector<Span> spans;
 };
 
-/// Shape parameters: sphere {r}; box {hx, hy, hz}; cylinder {r, h}; cone {r0, r1, h}; torus {R, r}; plane {}.
-struct Primitive {
-  Shape shape = Shape::Sphere;
-  glm::dvec3 size{1.0};
-};
-
 /// The spans and crossings of a primitive in its own space (every root of its surface along the line).
 Hits intersect(const Primitive& primitive, const Ray& ray);
 /// Whether a point is inside a primitive (its surface included), in its own space.
 bool contains(const Primitive& primitive, const glm::dvec3& p);
 /// The outward unit normal of a primitive's surface at (or nearest) p.
 glm::dvec3 normalAt(const Primitive& primitive, const glm::dvec3& p);
-
-/// A node of a CSG tree: a primitive (Leaf) or an operation on its children, placed by parentFromNode.
-struct Node {
-  Op op = Op::Leaf;
-  Primitive primitive;                 // Leaf
-  std::vector<std::uint32_t> children; // operations: indices into Solid::nodes, in order
-  glm::dmat4 parentFromNode{1.0};
-};
-
-/// A CSG tree: nodes[root] is the solid; a leaf numbers its surfaces by its node index.
-struct Solid {
-  std::vector<Node> nodes;
-  std::uint32_t root = 0;
-};
 
 /// Limits on what a scene may build (the loaders refuse more, naming the JSON path).
 inline constexpr int kMaxCsgDepth = 32;

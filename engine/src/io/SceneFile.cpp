@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/Embedded.h"
+#include "core/Solids.h"
 #include "io/LoadBudget.h"
 #include "io/SceneJson.h"
 #include "tandem/Gltf.h"
@@ -137,9 +138,11 @@ class Builder {
       r_.object(value, p);
       const Json* prim = Reader::find(value, "primitive");
       const Json* gltf = Reader::find(value, "gltf");
-      if (prim && gltf) r_.fail(p, "a mesh has either 'primitive' or 'gltf', not both");
-      if (!prim && !gltf) r_.fail(p, "missing required key 'primitive' or 'gltf'");
-      Mesh mesh = prim ? primitive(value, p) : gltfMesh(value, p);
+      const Json* csg = Reader::find(value, "csg");
+      if ((prim ? 1 : 0) + (gltf ? 1 : 0) + (csg ? 1 : 0) > 1)
+        r_.fail(p, "a mesh has one of 'primitive', 'gltf' or 'csg', not several");
+      if (!prim && !gltf && !csg) r_.fail(p, "missing required key 'primitive', 'gltf' or 'csg'");
+      Mesh mesh = prim ? primitive(value, p) : csg ? exactMesh(value, p) : gltfMesh(value, p);
       mesh.name = name;
       meshIndex_[name] = static_cast<std::uint32_t>(scene_.meshes.size());
       meshNames_.push_back(name);
@@ -149,8 +152,10 @@ class Builder {
 
   Mesh primitive(const Json& j, const std::string& path) {
     const std::string type = r_.string(j.at("primitive"), child(path, "primitive"));
+    // The exact-only shapes: a solid with its bounding box as the raster's proxy (docs/csg.md).
+    if (type == "cylinder" || type == "cone" || type == "torus") return exactMesh(j, path);
     if (type == "sphere") {
-      r_.checkKeys(j, path, {"primitive", "radius", "segments", "rings"}, "a sphere");
+      r_.checkKeys(j, path, {"primitive", "radius", "segments", "rings", "exact"}, "a sphere");
       float radius = 1.0f;
       int segments = 64, rings = 32;
       if (const Json* v = Reader::find(j, "radius")) radius = r_.number(*v, child(path, "radius"), kPositive);
@@ -159,13 +164,22 @@ class Builder {
       // The two pole rows have one triangle per segment, the others two.
       checkPrimitiveTriangles(std::uint64_t(segments) * std::uint64_t(2 * rings - 2), path);
       chargeMesh(path, std::uint64_t(segments + 1) * std::uint64_t(rings + 1), std::uint64_t(segments) * std::uint64_t(2 * rings));
-      return makeSphere(radius, segments, rings);
+      if (!isExact(j, path)) return makeSphere(radius, segments, rings);
+      // The proxy circumscribes the sphere (its faces lie outside it), so it covers every pixel the sphere
+      // does; the rays see the sphere itself.
+      const double pi = 3.14159265358979323846;
+      const double outward = 1.0 / (std::cos(pi / segments) * std::cos(pi / (2.0 * rings)));
+      Mesh mesh = makeSphere(static_cast<float>(radius * outward * (1.0 + 1e-6)), segments, rings);
+      mesh.exact = leafSolid({solid::Shape::Sphere, glm::dvec3(radius)});
+      return mesh;
     }
     if (type == "box") {
-      r_.checkKeys(j, path, {"primitive", "size"}, "a box");
+      r_.checkKeys(j, path, {"primitive", "size", "exact"}, "a box");
       glm::vec3 size(1.0f);
       if (const Json* v = Reader::find(j, "size")) size = r_.vec3(*v, child(path, "size"), kPositive, true);
-      return makeBox(size);
+      Mesh mesh = makeBox(size);
+      if (isExact(j, path)) mesh.exact = leafSolid({solid::Shape::Box, 0.5 * glm::dvec3(size)});
+      return mesh;
     }
     if (type == "plane") {
       r_.checkKeys(j, path, {"primitive", "size", "divisions"}, "a plane");
@@ -185,7 +199,119 @@ class Builder {
       chargeMesh(path, std::uint64_t(divisions + 1) * std::uint64_t(divisions + 1), 2ull * std::uint64_t(divisions) * std::uint64_t(divisions));
       return makePlane(size, divisions);
     }
-    r_.fail(child(path, "primitive"), "unknown primitive '" + type + "' (known: sphere, box, plane)");
+    r_.fail(child(path, "primitive"),
+            "unknown primitive '" + type + "' (known: sphere, box, plane; exact only: cylinder, cone, torus)");
+  }
+
+  // ---- exact solids and CSG (docs/csg.md) ----
+  bool isExact(const Json& j, const std::string& path) const {
+    const Json* v = Reader::find(j, "exact");
+    return v && r_.boolean(*v, child(path, "exact"));
+  }
+
+  static solid::Solid leafSolid(const solid::Primitive& p) {
+    solid::Solid s;
+    solid::Node n;
+    n.primitive = p;
+    s.nodes.push_back(n);
+    return s;
+  }
+
+  /// A mesh that is an exact solid: a CSG tree ("csg") or one exact-only primitive, with its bounding box as
+  /// the raster's proxy.
+  Mesh exactMesh(const Json& j, const std::string& path) {
+    solid::Solid s;
+    s.root = solidNode(j, path, s, 1);
+    if (const std::string bad = solid::validate(s); !bad.empty()) r_.fail(path, "the solid is not valid: " + bad);
+    const solid::Bounds b = solid::bounds(s);
+    const glm::dvec3 size = b.hi - b.lo;
+    for (int a = 0; a < 3; ++a)
+      if (!(size[a] > 0.0) || !(size[a] < 1e15))
+        r_.fail(path, "the solid is unbounded (a 'plane' must be cut by the other operands of an intersection or difference)");
+    // A box slightly larger than the bounds: every pixel the solid covers, the raster covers.
+    const glm::dvec3 margin = 1e-5 * size + 1e-30;
+    Mesh mesh = makeBox(glm::vec3(size + 2.0 * margin));
+    const glm::vec3 centre(0.5 * (b.lo + b.hi));
+    for (glm::vec3& p : mesh.positions) p += centre;
+    mesh.exact = std::move(s);
+    return mesh;
+  }
+
+  /// One node of a solid: {"csg": op, "of": [...]} or {"primitive": ...}, either with translate / rotate /
+  /// scale (applied scale first, then rotate, then translate, as an instance's transform). Returns its index.
+  std::uint32_t solidNode(const Json& j, const std::string& path, solid::Solid& s, int depth) {
+    r_.object(j, path);
+    if (depth > solid::kMaxCsgDepth) r_.fail(path, "CSG nested deeper than " + std::to_string(solid::kMaxCsgDepth));
+    if (s.nodes.size() >= solid::kMaxCsgNodes)
+      r_.fail(path, "more than " + std::to_string(solid::kMaxCsgNodes) + " CSG nodes in one solid");
+    const auto index = static_cast<std::uint32_t>(s.nodes.size());
+    s.nodes.emplace_back();
+    solid::Node node;
+    if (const Json* op = Reader::find(j, "csg")) {
+      r_.checkKeys(j, path, {"csg", "of", "translate", "rotate", "scale"}, "a CSG node");
+      const std::string name = r_.string(*op, child(path, "csg"));
+      node.op = name == "union"          ? solid::Op::Union
+                : name == "merge"        ? solid::Op::Merge
+                : name == "intersection" ? solid::Op::Intersection
+                : name == "difference"   ? solid::Op::Difference
+                                         : solid::Op::Leaf;
+      if (node.op == solid::Op::Leaf)
+        r_.fail(child(path, "csg"), "unknown operation '" + name + "' (known: union, merge, intersection, difference)");
+      const std::string ofPath = child(path, "of");
+      const Json& of = r_.require(j, path, "of", "the operands");
+      if (!of.is_array() || of.empty()) r_.fail(ofPath, "expected a non-empty array of operands, got " + Reader::describe(of));
+      for (std::size_t k = 0; k < of.size(); ++k) node.children.push_back(solidNode(of[k], child(ofPath, k), s, depth + 1));
+    } else if (const Json* prim = Reader::find(j, "primitive")) {
+      const std::string type = r_.string(*prim, child(path, "primitive"));
+      auto length = [&](const char* key, double fallback) {
+        const Json* v = Reader::find(j, key);
+        return v ? static_cast<double>(r_.number(*v, child(path, key), kPositive)) : fallback;
+      };
+      // Top-level exact-only primitives may carry "exact" (always true for them).
+      const std::vector<std::string> placement{"primitive", "translate", "rotate", "scale", "exact"};
+      auto keys = [&](std::vector<std::string> more) {
+        more.insert(more.end(), placement.begin(), placement.end());
+        const std::vector<std::string_view> allowed(more.begin(), more.end());
+        r_.checkKeys(j, path, std::span<const std::string_view>(allowed), "an exact " + type);
+      };
+      if (type == "sphere") {
+        keys({"radius"});
+        node.primitive = {solid::Shape::Sphere, glm::dvec3(length("radius", 1.0))};
+      } else if (type == "box") {
+        keys({"size"});
+        glm::vec3 size(1.0f);
+        if (const Json* v = Reader::find(j, "size")) size = r_.vec3(*v, child(path, "size"), kPositive, true);
+        node.primitive = {solid::Shape::Box, 0.5 * glm::dvec3(size)};
+      } else if (type == "cylinder") {
+        keys({"radius", "height"});
+        node.primitive = {solid::Shape::Cylinder, {length("radius", 1.0), 0.5 * length("height", 1.0), 0.0}};
+      } else if (type == "cone") {
+        keys({"radius", "topRadius", "height"});
+        double top = 0.0;
+        if (const Json* v = Reader::find(j, "topRadius")) top = r_.number(*v, child(path, "topRadius"), Range{0.0, 1e30});
+        node.primitive = {solid::Shape::Cone, {length("radius", 1.0), top, 0.5 * length("height", 1.0)}};
+      } else if (type == "torus") {
+        keys({"radius", "tube"});
+        const double ring = length("radius", 1.0), tube = length("tube", 0.25);
+        if (!(tube < ring)) r_.fail(child(path, "tube"), "must be less than the radius (a ring torus)");
+        node.primitive = {solid::Shape::Torus, {ring, tube, 0.0}};
+      } else if (type == "plane") {
+        keys({});
+        node.primitive = {solid::Shape::Plane, glm::dvec3(0.0)};
+      } else {
+        r_.fail(child(path, "primitive"), "unknown solid '" + type + "' (known: sphere, box, cylinder, cone, torus, plane)");
+      }
+    } else {
+      r_.fail(path, "expected 'csg' (an operation) or 'primitive' (a solid)");
+    }
+    glm::mat4 m(1.0f);
+    if (const Json* v = Reader::find(j, "translate")) m = glm::translate(m, r_.vec3(*v, child(path, "translate")));
+    if (const Json* v = Reader::find(j, "rotate")) m = m * rotation(*v, child(path, "rotate"));
+    if (const Json* v = Reader::find(j, "scale"))
+      m = glm::scale(m, r_.vec3(*v, child(path, "scale"), Range{0.0, 1e6, true}, true));
+    node.parentFromNode = glm::dmat4(m);
+    s.nodes[index] = std::move(node);
+    return index;
   }
 
   // Everything the file makes is charged to the load's budget before it is made (LoadBudget.h): a few

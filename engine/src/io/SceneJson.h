@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -82,6 +83,10 @@ class Reader {
   }
   /// Rejects keys outside `allowed`, naming the key and the allowed ones.
   void checkKeys(const Json& obj, const std::string& path, std::initializer_list<std::string_view> allowed,
+                 std::string_view context = {}) const {
+    checkKeys(obj, path, std::span<const std::string_view>(allowed.begin(), allowed.size()), context);
+  }
+  void checkKeys(const Json& obj, const std::string& path, std::span<const std::string_view> allowed,
                  std::string_view context = {}) const {
     for (const auto& [key, value] : obj.items()) {
       if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;

@@ -4,8 +4,10 @@
 #include <cassert>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "core/RenderSpace.h"
+#include "core/Solids.h"
 #include "rt/RayMath.h"
 #include "tandem/Log.h"
 
@@ -139,6 +141,9 @@ Result<void> checkEmbreeInput(const Scene& scene, const std::string& where) {
         return Error{where + ": mesh " + std::to_string(m) + ": index " + std::to_string(i) + " out of range"};
     for (const glm::vec3& p : mesh.positions)
       if (!isFinite(p)) return Error{where + ": mesh " + std::to_string(m) + ": a position is NaN or infinite"};
+    if (mesh.exact)
+      if (const std::string bad = solid::validate(*mesh.exact); !bad.empty())
+        return Error{where + ": mesh " + std::to_string(m) + ": exact solid: " + bad};
   }
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {
     const Instance& inst = scene.instances[i];
@@ -229,8 +234,12 @@ Result<void> EmbreeScene::buildMeshScenes(EmbreeDevice& device, const Scene& sce
     // its packet: reuse across frames keeps answers on that premise (docs/reuse.md).
     rtcSetSceneBuildQuality(blas.get(), RTC_BUILD_QUALITY_HIGH);
     rtcSetSceneFlags(blas.get(), RTC_SCENE_FLAG_ROBUST);
-    if (mesh.triangleCount() > 0)
+    // An exact solid replaces its triangles for the rays (they are the raster's proxy).
+    if (mesh.exact) {
+      if (auto attached = attachSolid(device, *mesh.exact, m, blas.get(), where); !attached) return attached.error();
+    } else if (mesh.triangleCount() > 0) {
       if (auto attached = attachTriangles(device, mesh, m, blas.get(), where); !attached) return attached.error();
+    }
     rtcCommitScene(blas.get());
     if (!device.firstError().empty()) return embreeFailure(device, where, "mesh " + std::to_string(m));
     meshScenes_.push_back(std::move(blas));
@@ -265,6 +274,82 @@ Result<void> EmbreeScene::attachTriangles(EmbreeDevice& device, const Mesh& mesh
     rtcSetGeometryIntersectFilterFunction(geom, &alphaMaskFilter);
     rtcSetGeometryOccludedFilterFunction(geom, &alphaMaskFilter);
   }
+  rtcCommitGeometry(geom);
+  rtcAttachGeometryByID(blas, geom, 0);
+  rtcReleaseGeometry(geom);
+  return {};
+}
+
+namespace {
+
+// Exact solids as Embree user geometry: one primitive per solid, its crossings found by core/Solids in
+// double precision from the ray Embree hands over (in the instance's object space).
+void solidBounds(const RTCBoundsFunctionArguments* args) {
+  const auto& s = *static_cast<const solid::Solid*>(args->geometryUserPtr);
+  const solid::Bounds b = solid::bounds(s);
+  // Outward by a little more than float rounding, and within what Embree's float boxes hold (a half-space
+  // reaches 1e30 in its own space: clamped to 1e18).
+  auto out = [](double v, double toward) {
+    const double c = std::clamp(v, -1e18, 1e18);
+    return static_cast<float>(c + toward * (1e-6 * std::abs(c) + 1e-30));
+  };
+  args->bounds_o->lower_x = out(b.lo.x, -1.0);
+  args->bounds_o->lower_y = out(b.lo.y, -1.0);
+  args->bounds_o->lower_z = out(b.lo.z, -1.0);
+  args->bounds_o->upper_x = out(b.hi.x, 1.0);
+  args->bounds_o->upper_y = out(b.hi.y, 1.0);
+  args->bounds_o->upper_z = out(b.hi.z, 1.0);
+}
+
+template <class Rays>
+bool firstSolidCrossing(const solid::Solid& s, Rays* rays, unsigned n, unsigned k, solid::Crossing& hit) {
+  const solid::Ray ray{{RTCRayN_org_x(rays, n, k), RTCRayN_org_y(rays, n, k), RTCRayN_org_z(rays, n, k)},
+                       {RTCRayN_dir_x(rays, n, k), RTCRayN_dir_y(rays, n, k), RTCRayN_dir_z(rays, n, k)}};
+  return solid::firstHit(solid::intersect(s, ray), RTCRayN_tnear(rays, n, k), RTCRayN_tfar(rays, n, k), hit);
+}
+
+void solidIntersect(const RTCIntersectFunctionNArguments* args) {
+  const auto& s = *static_cast<const solid::Solid*>(args->geometryUserPtr);
+  RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+  RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+  for (unsigned k = 0; k < args->N; ++k) {
+    if (args->valid[k] != -1) continue;
+    solid::Crossing c;
+    if (!firstSolidCrossing(s, rays, args->N, k, c)) continue;
+    RTCRayN_tfar(rays, args->N, k) = static_cast<float>(c.t);
+    RTCHitN_Ng_x(hits, args->N, k) = static_cast<float>(c.normal.x);
+    RTCHitN_Ng_y(hits, args->N, k) = static_cast<float>(c.normal.y);
+    RTCHitN_Ng_z(hits, args->N, k) = static_cast<float>(c.normal.z);
+    RTCHitN_u(hits, args->N, k) = 0.0f;
+    RTCHitN_v(hits, args->N, k) = 0.0f;
+    RTCHitN_primID(hits, args->N, k) = args->primID;
+    RTCHitN_geomID(hits, args->N, k) = args->geomID;
+    RTCHitN_instID(hits, args->N, k, 0) = args->context->instID[0];
+  }
+}
+
+void solidOccluded(const RTCOccludedFunctionNArguments* args) {
+  const auto& s = *static_cast<const solid::Solid*>(args->geometryUserPtr);
+  for (unsigned k = 0; k < args->N; ++k) {
+    if (args->valid[k] != -1) continue;
+    solid::Crossing c;
+    if (firstSolidCrossing(s, args->ray, args->N, k, c))
+      RTCRayN_tfar(args->ray, args->N, k) = -std::numeric_limits<float>::infinity();
+  }
+}
+
+}  // namespace
+
+Result<void> EmbreeScene::attachSolid(EmbreeDevice& device, const solid::Solid& s, std::size_t m, RTCScene blas,
+                                      const std::string& where) {
+  RTCGeometry geom = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_USER);
+  if (!geom) return embreeFailure(device, where, "mesh " + std::to_string(m) + " (exact solid)");
+  auto& owned = exactSolids_.emplace_back(std::make_unique<solid::Solid>(s));
+  rtcSetGeometryUserPrimitiveCount(geom, 1);
+  rtcSetGeometryUserData(geom, owned.get());
+  rtcSetGeometryBoundsFunction(geom, &solidBounds, nullptr);
+  rtcSetGeometryIntersectFunction(geom, &solidIntersect);
+  rtcSetGeometryOccludedFunction(geom, &solidOccluded);
   rtcCommitGeometry(geom);
   rtcAttachGeometryByID(blas, geom, 0);
   rtcReleaseGeometry(geom);

@@ -146,6 +146,11 @@ class EmbreeScene {
   std::vector<std::int32_t> meshMask_;      // per mesh: index into maskMeshes_, or -1
   std::vector<MaskMesh> maskMeshes_;
   std::vector<std::unique_ptr<MaskFilterUser>> maskUsers_;
+  // Exact solids (Mesh::exact, docs/csg.md): each one's tree, the user geometry's data. Owned here, so the
+  // callbacks never depend on the Scene outliving this object.
+  std::vector<std::unique_ptr<solid::Solid>> exactSolids_;
+  Result<void> attachSolid(EmbreeDevice& device, const solid::Solid& solid, std::size_t m, RTCScene blas,
+                           const std::string& where);
   std::vector<SceneHandle> meshScenes_;  // one BLAS per mesh
   SceneHandle top_;
   glm::vec3 anchor_{0.0f};

@@ -146,6 +146,7 @@ RadiositySolver::RadiositySolver(const Scene& scene, const EmbreeScene& embree, 
   double totalArea = 0.0;
   for (std::size_t inst = 0; inst < scene.instances.size(); ++inst) {
     const Mesh& mesh = scene.meshes[scene.instances[inst].mesh];
+    if (mesh.exact) continue;  // see below
     const glm::mat4& m = embree.transform(inst).worldFromObject;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
       glm::dvec3 p[3];
@@ -165,6 +166,9 @@ RadiositySolver::RadiositySolver(const Scene& scene, const EmbreeScene& embree, 
     const Mesh& mesh = scene.meshes[instance.mesh];
     const glm::mat4& m = embree.transform(inst).worldFromObject;
     instanceFirst_[inst] = triangles_.size();
+    // An exact solid (Mesh::exact) blocks light in the solve but gets no patches: its triangles are only the
+    // raster's proxy, and its hits carry no triangle to look the solution up on. The ambient term lights it.
+    if (mesh.exact) continue;
     instanceTriangles_[inst] = mesh.triangleCount();
     glm::vec3 tintMean(1.0f);
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {

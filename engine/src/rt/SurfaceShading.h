@@ -225,9 +225,11 @@ inline glm::vec3 areaLightSample(const FrameShading& frame, std::size_t light, s
 }
 
 /// Exact hit of `ray` on triangle `triangle` of `instance`: watertight barycentrics (clamped onto the
-/// triangle when the ray grazes past it), the position interpolated from the world-space vertices.
+/// triangle when the ray grazes past it), the position interpolated from the world-space vertices. An
+/// instance whose mesh has an exact solid (Mesh::exact) is hit on the solid instead, at its first crossing
+/// past `tNear` (the triangle, its raster proxy's, only where the ray passes by the solid).
 SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, std::uint32_t instance,
-                      std::uint32_t triangle, const Ray& ray);
+                      std::uint32_t triangle, const Ray& ray, float tNear = 0.0f);
 
 /// The origin of a ray leaving `hit` towards the side of unit normal `side` (±geomNormalW): offset by the
 /// hit's own rounding error (RayMath.h, the scale-aware offsetRayOrigin).
