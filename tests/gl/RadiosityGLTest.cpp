@@ -132,11 +132,17 @@ TEST(RadiosityGL, AMirrorShowsTheRoomTheSolutionLit) {
   }
 }
 
+// Two renderers of the Cornell box: one solves before its frames, the other (a game's way) in the background.
+struct SolvedAndGame {
+  SceneFrame solved, game;
+};
+SolvedAndGame solvedAndGame(GlContext& context) {
+  return {sceneFrame(context, cornellBox(), kSize, kSize), sceneFrame(context, cornellBox(), kSize, kSize)};
+}
+
 TEST(RadiosityGL, TheBackgroundSolveConvergesToTheFramesOwnAndFollowsAMovingLight) {
   TD_REQUIRE_GL_CONTEXT();
-  GlContext* context = glContext_;
-  SceneFrame solved = sceneFrame(*context, cornellBox(), kSize, kSize);
-  SceneFrame game = sceneFrame(*context, cornellBox(), kSize, kSize);
+  auto [solved, game] = solvedAndGame(*glContext_);
   ASSERT_TRUE(solved.renderer && game.renderer);
   FrameSettings s = withRadiosity(presetFor(solved, "hybrid-full"));
   s.radiosityError = 0.002f;  // two solutions 1 % short of converged can differ by FLIP 0.02: compare closer ones
@@ -185,9 +191,7 @@ TEST(RadiosityGL, TheBackgroundSolveConvergesToTheFramesOwnAndFollowsAMovingLigh
 
 TEST(RadiosityGL, RefinementRefinesWhatTheFrameShowsInTheBackgroundToo) {
   TD_REQUIRE_GL_CONTEXT();
-  GlContext* context = glContext_;
-  SceneFrame solved = sceneFrame(*context, cornellBox(), kSize, kSize);
-  SceneFrame game = sceneFrame(*context, cornellBox(), kSize, kSize);
+  auto [solved, game] = solvedAndGame(*glContext_);
   ASSERT_TRUE(solved.renderer && game.renderer);
   FrameSettings s = withRadiosity(presetFor(solved, "hybrid-full"));
   FrameStats coarseStats, refinedStats;
