@@ -222,6 +222,9 @@ class Builder {
   Mesh exactMesh(const Json& j, const std::string& path) {
     solid::Solid s;
     s.root = solidNode(j, path, s, 1);
+    // The tree and its proxy box are charged to the load's budget like any mesh (a few bytes of JSON per node).
+    charge(path, "the solid", s.nodes.size() * sizeof(solid::Node));
+    chargeMesh(path, 24, 12);
     if (const std::string bad = solid::validate(s); !bad.empty()) r_.fail(path, "the solid is not valid: " + bad);
     const solid::Bounds b = solid::bounds(s);
     const glm::dvec3 size = b.hi - b.lo;
