@@ -15,6 +15,7 @@
 #define TD_BIND_MATERIALS 7
 #define TD_BIND_LIGHTS 8
 #define TD_BIND_UV_TRANSFORMS 9
+#define TD_BIND_RESOLVED 10     // the resolve step's records (core/ResolvedPixel.h), read by resolve.vert
 
 // ---- uniform blocks ----
 #define TD_BLOCK_LIGHTS 0
@@ -59,6 +60,11 @@
 #define TD_UNIT_RADIOSITY_TABLE_TEX 23  // RG32UI: per instance (first triangle entry, count), per triangle (first value, n)
 #define TD_UNIT_RADIOSITY_TEX 24        // RGB32F: indirect irradiance per grid vertex and side
 
+// ---- texture units: exact solids' hits (VisibilityPass::patch; docs/csg.md) ----
+#define TD_UNIT_EXACT_HITS 25  // RGBA32F, full res: a solid's outward normal and t along the camera ray
+// The triangle field of an id whose hit lies on an exact solid (core/ResolvedPixel.h, kExactTriangle).
+#define TD_EXACT_TRIANGLE 0xFFFFFFFFu
+
 // ---- frame channels (docs/gbuffer.md) ----
 // TD_CHANNEL_X: the GL internal format, and the pixel format and type its CPU copies (uploads and
 // read-backs) travel in; C++ only (GLSL never expands them). TD_SAMPLER_X / TD_OUTPUT_X: the type the
@@ -76,6 +82,9 @@
 #define TD_SAMPLER_REFLECTED sampler2D
 #define TD_CHANNEL_TRANSMITTED GL_RGBA32F, GL_RGBA, GL_FLOAT     // ray grid, wT·T
 #define TD_SAMPLER_TRANSMITTED sampler2D
+#define TD_CHANNEL_EXACT_HITS GL_RGBA32F, GL_RGBA, GL_FLOAT        // full res, where ids.y = TD_EXACT_TRIANGLE
+#define TD_SAMPLER_EXACT_HITS sampler2D
+#define TD_OUTPUT_EXACT_HITS vec4
 #define TD_CHANNEL_LINEAR GL_RGBA32F, GL_RGBA, GL_FLOAT          // linear radiance, full res
 #define TD_SAMPLER_LINEAR sampler2D
 #define TD_OUTPUT_LINEAR vec4                                     // the shade pass's output (probes' too)

@@ -7,6 +7,12 @@
 #include "bindings.glsl"
 #include "shading.glsl"
 #include "scene.glsl"
+#ifndef TD_USE_PROCEDURAL
+#define TD_USE_PROCEDURAL 1  // some material has a procedural texture (docs/procedural.md)
+#endif
+#if TD_USE_PROCEDURAL
+#include "procedural.glsl"
+#endif
 
 // Per-pixel gathers go through buffer-texture views of scene.glsl's SSBOs (engine/src/gl/GpuScene.h):
 // llvmpipe turns an SSBO read into a bounds-checked loop over the 8 lanes, a texelFetch into one
@@ -109,6 +115,7 @@ layout(location = 7) uniform vec3 ambientIa;
 layout(location = 8) uniform int lightSamples;  // area-light samples per pixel (rt::FrameShading::lightSamples)
 layout(location = 9) uniform uint sampleBase;   // the sequence index of the first (FrameShading::sampleBase)
 layout(location = 11) uniform int rayScale;
+layout(location = 19) uniform vec3 renderAnchor;  // render space's origin in world space (world-space patterns)
 
 // Variant flags, set by CompositePass for each frame's scene and settings. llvmpipe runs both sides of a
 // branch that diverges inside an 8-pixel SIMD group, so features a frame does not use are compiled out
@@ -151,6 +158,14 @@ layout(binding = TD_UNIT_RADIOSITY_TABLE_TEX) uniform usamplerBuffer radiosityTa
 layout(binding = TD_UNIT_RADIOSITY_TEX) uniform samplerBuffer radiosityValues;        // RGB32F, 2 per grid vertex
 layout(location = 17) uniform vec3 radiosityAmbient;  // RadiosityField::ambient
 layout(location = 18) uniform int radiosityInstances;  // RadiosityField::instanceCount
+#endif
+#ifndef TD_USE_EXACT
+#define TD_USE_EXACT 1       // some instance is an exact solid: ids may name a hit on it (docs/csg.md)
+#endif
+#if TD_USE_EXACT
+// Where ids.y = TD_EXACT_TRIANGLE: the solid's outward unit normal (xyz) and t along this pixel's camera ray
+// (w), as the ray pass's resolve step found them (VisibilityPass::patch).
+layout(binding = TD_UNIT_EXACT_HITS) uniform TD_SAMPLER_EXACT_HITS exactHitsTex;
 #endif
 #ifndef TD_USE_ALPHA_BLEND
 #define TD_USE_ALPHA_BLEND 1 // some material is BLEND: coverage scales the surface, the rest passes through
@@ -224,13 +239,32 @@ struct Triangle {
   mat3 worldLinear;  // upper 3×3 of worldFromObject: tangents transform with it
 };
 
-Triangle loadTriangle(uint instance, uint primitive) {
+mat4 instanceWorldFromObject(uint instance) {
+  int base = 9 * int(instance);
+  return mat4(texelFetch(instancesBuf, base), texelFetch(instancesBuf, base + 1), texelFetch(instancesBuf, base + 2),
+              texelFetch(instancesBuf, base + 3));
+}
+
+// The instance's part of a Triangle: material, probe and transforms; no vertices, no attribute flags.
+Triangle loadInstance(uint instance) {
   Triangle t;
   int base = 9 * int(instance);
-  mat4 worldFromObject = mat4(texelFetch(instancesBuf, base), texelFetch(instancesBuf, base + 1),
-                              texelFetch(instancesBuf, base + 2), texelFetch(instancesBuf, base + 3));
+  mat4 worldFromObject = instanceWorldFromObject(instance);
   uvec4 meshMaterial = texelFetch(instanceIdsBuf, base + 8);
-  uvec4 mesh = texelFetch(meshesBuf, int(meshMaterial.x));
+  t.v0 = t.v1 = t.v2 = 0u;
+  t.flags = 0u;
+  t.material = meshMaterial.y;
+  t.probe = meshMaterial.z;
+  t.normalFromObject = mat3(texelFetch(instancesBuf, base + 4).xyz, texelFetch(instancesBuf, base + 5).xyz,
+                            texelFetch(instancesBuf, base + 6).xyz);
+  t.worldLinear = mat3(worldFromObject);
+  return t;
+}
+
+Triangle loadTriangle(uint instance, uint primitive) {
+  Triangle t = loadInstance(instance);
+  mat4 worldFromObject = instanceWorldFromObject(instance);
+  uvec4 mesh = texelFetch(meshesBuf, int(texelFetch(instanceIdsBuf, 9 * int(instance) + 8).x));
   int i = int(mesh.y + 3u * primitive);
   t.v0 = texelFetch(indicesBuf, i).x;
   t.v1 = texelFetch(indicesBuf, i + 1).x;
@@ -239,11 +273,6 @@ Triangle loadTriangle(uint instance, uint primitive) {
   t.p1 = (worldFromObject * vec4(positionO(t.v1), 1.0)).xyz;
   t.p2 = (worldFromObject * vec4(positionO(t.v2), 1.0)).xyz;
   t.flags = mesh.z;
-  t.material = meshMaterial.y;
-  t.probe = meshMaterial.z;
-  t.normalFromObject = mat3(texelFetch(instancesBuf, base + 4).xyz, texelFetch(instancesBuf, base + 5).xyz,
-                            texelFetch(instancesBuf, base + 6).xyz);
-  t.worldLinear = mat3(worldFromObject);
   return t;
 }
 
@@ -519,6 +548,14 @@ vec3 hashColor(uint x) {
 }
 
 // ---- toon outlines: black where instance, depth or normal are discontinuous ----
+// The unflipped geometric normal of what pixel p (GL rows) shows, id its ids.
+vec3 surfaceNormal(ivec2 p, uvec2 id) {
+#if TD_USE_EXACT
+  if (id.y == TD_EXACT_TRIANGLE) return texelFetch(exactHitsTex, p, 0).xyz;
+#endif
+  return geometricNormal(loadTriangle(id.x - 1u, id.y));
+}
+
 bool isEdge(ivec2 p, uvec2 id, vec3 ngUnflipped) {
   float d = texelFetch(depthTex, p, 0).r;
   const ivec2 offsets[2] = ivec2[2](ivec2(1, 0), ivec2(0, 1));
@@ -533,8 +570,9 @@ bool isEdge(ivec2 p, uvec2 id, vec3 ngUnflipped) {
     float da = texelFetch(depthTex, a, 0).r;
     float db = texelFetch(depthTex, b, 0).r;
     if (abs(da + db - 2.0 * d) > 0.02 * d) return true;
-    if (ia.y != id.y && dot(geometricNormal(loadTriangle(id.x - 1u, ia.y)), ngUnflipped) < 0.8) return true;
-    if (ib.y != id.y && dot(geometricNormal(loadTriangle(id.x - 1u, ib.y)), ngUnflipped) < 0.8) return true;
+    // A triangle's neighbours on the same triangle share its plane; points on a solid are compared always.
+    if ((ia.y != id.y || ia.y == TD_EXACT_TRIANGLE) && dot(surfaceNormal(a, ia), ngUnflipped) < 0.8) return true;
+    if ((ib.y != id.y || ib.y == TD_EXACT_TRIANGLE) && dot(surfaceNormal(b, ib), ngUnflipped) < 0.8) return true;
   }
   return false;
 }
@@ -566,11 +604,33 @@ void shadePixel() {
   vec3 origin, dir;
   cameraRay(gl_FragCoord.xy, origin, dir);
   uint instance = id.x - 1u;
-  Triangle tri = loadTriangle(instance, id.y);
-  vec3 b = hitBarycentrics(origin, dir, tri);
-  vec3 posW = b.x * tri.p0 + b.y * tri.p1 + b.z * tri.p2;
+  Triangle tri;
+  vec3 b;
+  vec3 posW;
+  vec3 ngRaw;
+  bool onSolid = false;
+#if TD_USE_EXACT
+  if (id.y == TD_EXACT_TRIANGLE) {
+    onSolid = true;
+    // A point on an exact solid (rt::resolveHit's twin): no vertices or attributes, the solid's own normal;
+    // its "triangle" is the point itself, so Gouraud and flat shade it per pixel with that normal.
+    vec4 hit = texelFetch(exactHitsTex, pix, 0);
+    tri = loadInstance(instance);
+    posW = origin + hit.w * dir;
+    tri.p0 = posW;
+    tri.p1 = posW;
+    tri.p2 = posW;
+    b = vec3(1.0, 0.0, 0.0);
+    ngRaw = hit.xyz;
+  } else
+#endif
+  {
+    tri = loadTriangle(instance, id.y);
+    b = hitBarycentrics(origin, dir, tri);
+    posW = b.x * tri.p0 + b.y * tri.p1 + b.z * tri.p2;
+    ngRaw = geometricNormal(tri);
+  }
   vec3 V = -dir;
-  vec3 ngRaw = geometricNormal(tri);
   vec3 Ng = ngRaw;
   vec3 N = Ng;
   bool hasNormals = (tri.flags & TD_MESH_HAS_NORMALS) != 0u;
@@ -628,6 +688,21 @@ void shadePixel() {
   if (TD_USE_COLORS != 0 && (tri.flags & TD_MESH_HAS_COLORS) != 0u)
     tint *= (b.x * texelFetch(colorsBuf, int(tri.v0)) + b.y * texelFetch(colorsBuf, int(tri.v1)) +
              b.z * texelFetch(colorsBuf, int(tri.v2))).rgb;
+  // The procedural texture (rt::resolveHit's twin): its value mixes kd and kd2, its gradient bumps N. The point
+  // in the pattern's space: world (render space + the anchor), or object space, the vertices' positions
+  // interpolated, or a solid's point brought back through the inverse of the instance's transform.
+  float pattern = 0.0;
+#if TD_USE_PROCEDURAL
+  if (m.pattern.x > 0.5) {
+    bool world = m.patternSpace.x > 0.5;
+    vec3 p = world ? posW + renderAnchor
+           : onSolid ? transpose(tri.normalFromObject) * (posW - instanceWorldFromObject(instance)[3].xyz)
+                     : b.x * positionO(tri.v0) + b.y * positionO(tri.v1) + b.z * positionO(tri.v2);
+    vec4 v = tdPattern(int(m.pattern.x + 0.5), p, m.pattern.y, m.pattern.z, int(m.pattern.w + 0.5));
+    pattern = v.x;
+    if (m.patternSpace.y > 0.0) N = tdBumpNormal(N, world ? v.yzw : tri.normalFromObject * v.yzw, m.patternSpace.y);
+  }
+#endif
   // BLEND coverage (MASK was decided by the visibility pass's discard: a pixel here is covered).
   float coverage = TD_USE_ALPHA_BLEND != 0 && m.texAlpha.w < 0.0 ? tdCoverage(m, texA) : 1.0;
 
@@ -705,7 +780,7 @@ void shadePixel() {
   }
 
   // ---- local shading ----
-  vec3 C = tdSurfaceColor(m, uv, tint);
+  vec3 C = tdSurfaceColor(m, uv, pattern, tint);
   int model = int(m.krKtIorModel.w + 0.5);
   vec3 local;
   if (m.emissionFlags.w > 0.5) {
@@ -714,10 +789,10 @@ void shadePixel() {
     // Diffuse interreflection: the radiosity solution where it covers the surface, else the ambient term.
 #if TD_USE_RADIOSITY
     vec3 H;
-    local = emission + (radiosityAt(instance, id.y, b, side < 0.0, H) ? tdRadiosityTerm(m, H, uv, tint)
-                                                                       : tdAmbient(m, ambientIa, uv, tint));
+    local = emission + (radiosityAt(instance, id.y, b, side < 0.0, H) ? tdRadiosityTerm(m, H, uv, pattern, tint)
+                                                                       : tdAmbient(m, ambientIa, uv, pattern, tint));
 #else
-    local = emission + tdAmbient(m, ambientIa, uv, tint);
+    local = emission + tdAmbient(m, ambientIa, uv, pattern, tint);
 #endif
     vec3 ks = vec3(m.ksNs);
     float ns = m.ksNs.w;

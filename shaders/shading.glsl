@@ -50,6 +50,8 @@ struct GpuMaterial {
   vec4 emissionFlags;// rgb emission, w unlit (1) or lit (0)
   vec4 texAlpha;     // x emissive texture layer (-1 none), y normal-map layer (-1 none), z normal scale,
                      // w alpha code (tdCoverage): 0 opaque, > 0 MASK, < 0 BLEND
+  vec4 pattern;      // procedural texture (procedural.glsl): x TD_PATTERN_* (0 none), y scale, z turbulence, w octaves
+  vec4 patternSpace; // x 1 in world space, 0 in object space; y bump amplitude; zw unused
 };
 
 // ---- Lights ----
@@ -240,27 +242,29 @@ TD_FN vec3 tdShadeLight(vec3 kd, vec3 ks, float ns, int model, vec3 N, vec3 toEy
   return E * (kd * nl + ks * tdSpecular(N, toLight, toEye, ns));
 }
 
-// The diffuse colour at a point: kd, times the procedural checker, texture and vertex colour handled
-// by the caller (textures differ between GL and CPU sampling, the checker does not).
-TD_FN vec3 tdCheckerKd(GpuMaterial m, vec2 uv) {
+// The diffuse colour at a point before its texture and vertex colour (the caller's: textures differ between GL
+// and CPU sampling, the patterns do not): kd, or the uv checker's kd / kd2, or kd and kd2 mixed by the
+// procedural texture's value `pattern` in [0, 1] at the point (procedural.glsl's tdPattern, found by the caller
+// since its bump map needs the gradient too).
+TD_FN vec3 tdPatternKd(GpuMaterial m, vec2 uv, float pattern) {
   float f = m.kd2Checker.w;
-  if (f <= 0.0f) return vec3(m.kdTex);
+  if (f <= 0.0f) return m.pattern.x > 0.5f ? mix(vec3(m.kdTex), vec3(m.kd2Checker), pattern) : vec3(m.kdTex);
   float cx = floor(uv.x * f);
   float cy = floor(uv.y * f);
   float parity = cx + cy - 2.0f * floor((cx + cy) * 0.5f);
   return parity < 0.5f ? vec3(m.kdTex) : vec3(m.kd2Checker);
 }
 
-// Surface colour C: the checker's colour times the texture × vertex colour `tint` (white when absent).
-TD_FN vec3 tdSurfaceColor(GpuMaterial m, vec2 uv, vec3 tint) {
-  return tdCheckerKd(m, uv) * tint;
+// Surface colour C: the pattern's colour times the texture × vertex colour `tint` (white when absent).
+TD_FN vec3 tdSurfaceColor(GpuMaterial m, vec2 uv, float pattern, vec3 tint) {
+  return tdPatternKd(m, uv, pattern) * tint;
 }
 
-// Ambient term ka·Ia, carried by the surface's pattern: the texture × vertex colour `tint` and, on the
-// checker's second colour, kd2 relative to kd (so shadowed checkerboards keep their squares).
-TD_FN vec3 tdAmbient(GpuMaterial m, vec3 Ia, vec2 uv, vec3 tint) {
+// Ambient term ka·Ia, carried by the surface's pattern: the texture × vertex colour `tint` and the pattern's
+// colour relative to kd (so shadowed checkerboards keep their squares, and marble its veins).
+TD_FN vec3 tdAmbient(GpuMaterial m, vec3 Ia, vec2 uv, float pattern, vec3 tint) {
   vec3 kd = vec3(m.kdTex);
-  vec3 c = tdCheckerKd(m, uv);
+  vec3 c = tdPatternKd(m, uv, pattern);
   vec3 ratio = vec3(kd.x > 0.0f ? c.x / kd.x : 1.0f, kd.y > 0.0f ? c.y / kd.y : 1.0f, kd.z > 0.0f ? c.z / kd.z : 1.0f);
   return vec3(m.kaToon) * Ia * tint * ratio;
 }
@@ -297,7 +301,9 @@ TD_FN void tdGridCorners(vec3 b, int n, TD_OUT(ivec3) corner, TD_OUT(vec3) weigh
 // The radiosity term that replaces the ambient one: the surface colour C times the indirect irradiance H
 // (light that reached the point after at least one diffuse bounce, in the units a light's E has here, so
 // a Lambertian surface reflects C·H as it reflects kd·E·cosθ).
-TD_FN vec3 tdRadiosityTerm(GpuMaterial m, vec3 H, vec2 uv, vec3 tint) { return tdSurfaceColor(m, uv, tint) * H; }
+TD_FN vec3 tdRadiosityTerm(GpuMaterial m, vec3 H, vec2 uv, float pattern, vec3 tint) {
+  return tdSurfaceColor(m, uv, pattern, tint) * H;
+}
 
 // ---- glTF surface extras: alpha coverage, normal maps, transmission ----
 // Coverage of a surface point from its kd texture's alpha `texA` (1 without a texture). The alpha code

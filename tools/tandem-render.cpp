@@ -227,6 +227,9 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(traced->rays.primary), static_cast<unsigned long long>(traced->rays.shadow),
                 static_cast<unsigned long long>(traced->rays.reflection),
                 static_cast<unsigned long long>(traced->rays.refraction));
+    if (traced->rays.resolved > 0)
+      std::printf("  exact solids: %llu pixels of their proxies resolved by camera rays\n",
+                  static_cast<unsigned long long>(traced->rays.resolved));
     if (settings.hybridShadows && settings.shadows == EffectMode::Ray) {
       // The maps are built by the first frame (and again after a move or a light change).
       double buildMs = 0;
@@ -291,7 +294,8 @@ int main(int argc, char** argv) {
                  {"shadow", traced->rays.shadow},
                  {"reflection", traced->rays.reflection},
                  {"refraction", traced->rays.refraction},
-                 {"shadow_by_map", traced->rays.shadowByMap}};
+                 {"shadow_by_map", traced->rays.shadowByMap},
+                 {"resolved", traced->rays.resolved}};
     if (settings.hybridShadows && settings.shadows == EffectMode::Ray) {
       double buildMs = 0;
       for (const FrameStats& s : stats) buildMs = std::max(buildMs, s.shadowMapsMs);

@@ -26,7 +26,8 @@ for line in open(os.path.join(root, "docs", "gbuffer.md")):
         doc_rows[cells[0]] = cells[1]
 doc_name = {"IDS": "ids", "DEPTH": "depth", "LIGHT_MASK": "light mask", "REFLECTED": "reflected",
             "TRANSMITTED": "transmitted", "LINEAR": "linear radiance", "DISPLAY": "display",
-            "PROBES": "reflection probes", "SHADOW_MAPS": "shadow maps", "AREA_SAMPLES": "area-light samples"}
+            "PROBES": "reflection probes", "SHADOW_MAPS": "shadow maps", "AREA_SAMPLES": "area-light samples",
+            "EXACT_HITS": "exact hits"}
 for name, fmt in channels.items():
     row = doc_name.get(name)
     if row is None:

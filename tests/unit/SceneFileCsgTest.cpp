@@ -1,5 +1,6 @@
 // Exact solids and CSG in the JSON scene format (docs/scene-format.md, docs/csg.md): every shape and
-// operation, placements on nodes, the proxy the raster draws, and the errors (file, JSON path, reason).
+// operation, placements on nodes, the proxy the raster draws, and the errors (file, JSON path, reason); and
+// the procedural textures of materials (docs/procedural.md).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -114,6 +115,66 @@ TEST(SceneFileCsg, ErrorsNameThePathAndTheReason) {
   Result<Scene> r = parse(withMesh(deep));
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().message.find("deeper than"), std::string::npos) << r.error().message;
+}
+
+std::string withMaterial(const std::string& material) {
+  return R"({"meshes": {"x": {"primitive": "box"}}, "materials": {"m": )" + material +
+         R"(}, "instances": [{"mesh": "x", "material": "m"}]})";
+}
+
+TEST(SceneFileTexture, ParsesEveryPatternAndItsKeys) {
+  Result<Scene> r = parse(withMaterial(R"({"kd": [0.9, 0.8, 0.7], "texture": {"type": "marble", "space": "world",
+      "scale": 2.5, "turbulence": 3, "octaves": 6, "color2": [0.1, 0.2, 0.3], "bump": 0.01}})"));
+  ASSERT_TRUE(r) << r.error().message;
+  const Material& m = r->materials[0];
+  EXPECT_EQ(m.procedural, (ProceduralTexture{Pattern::Marble, true, 2.5f, 3.0f, 6, 0.01f}));
+  EXPECT_EQ(m.kd2, glm::vec3(0.1f, 0.2f, 0.3f));
+  // Defaults: object space, scale and turbulence 1, 4 octaves, no bump, kd2 = kd (a pattern that only bumps).
+  const std::pair<const char*, Pattern> types[] = {{"noise", Pattern::Noise}, {"fbm", Pattern::Fbm},
+                                                   {"turbulence", Pattern::Turbulence}, {"marble", Pattern::Marble},
+                                                   {"wood", Pattern::Wood}, {"granite", Pattern::Granite}};
+  for (const auto& [name, pattern] : types) {
+    Result<Scene> t = parse(withMaterial(R"({"kd": 0.5, "texture": {"type": ")" + std::string(name) + R"("}})"));
+    ASSERT_TRUE(t) << name << ": " << t.error().message;
+    EXPECT_EQ(t->materials[0].procedural, (ProceduralTexture{pattern, false, 1.0f, 1.0f, 4, 0.0f})) << name;
+    EXPECT_EQ(t->materials[0].kd2, glm::vec3(0.5f)) << name;
+  }
+  // No texture: none.
+  EXPECT_EQ(parse(withMaterial("{}"))->materials[0].procedural.type, Pattern::None);
+}
+
+TEST(SceneFileTexture, ErrorsNameThePathAndTheReason) {
+  auto expectMaterialError = [](const std::string& material, const std::string& path, const std::string& reason) {
+    Result<Scene> r = parse(withMaterial(material));
+    ASSERT_FALSE(r) << "accepted: " << material;
+    const std::string& m = r.error().message;
+    EXPECT_NE(m.find(": " + path + ": "), std::string::npos) << "path '" << path << "' missing from: " << m;
+    EXPECT_NE(m.find(reason), std::string::npos) << "reason '" << reason << "' missing from: " << m;
+  };
+  expectMaterialError(R"({"texture": {"type": "paisley"}})", "/materials/m/texture/type", "unknown pattern 'paisley'");
+  expectMaterialError(R"({"texture": {}})", "/materials/m/texture", "missing required key 'type'");
+  expectMaterialError(R"({"texture": {"type": "wood", "space": "screen"}})", "/materials/m/texture/space",
+                      "unknown space 'screen'");
+  expectMaterialError(R"({"texture": {"type": "wood", "scale": 0}})", "/materials/m/texture/scale", "must be");
+  expectMaterialError(R"({"texture": {"type": "wood", "octaves": 9}})", "/materials/m/texture/octaves", "");
+  expectMaterialError(R"({"texture": {"type": "wood", "octaves": 2.5}})", "/materials/m/texture/octaves", "integer");
+  expectMaterialError(R"({"texture": {"type": "wood", "bump": -1}})", "/materials/m/texture/bump", "must be");
+  expectMaterialError(R"({"texture": {"type": "wood", "grain": 1}})", "/materials/m/texture/grain", "unknown key 'grain'");
+  expectMaterialError(R"({"checker": {"color2": 0}, "texture": {"type": "wood"}})", "/materials/m/texture",
+                      "a checker or a texture, not both");
+}
+
+TEST(SceneFileTexture, ValidateSceneRefusesBadTexturesMadeInCode) {
+  Scene s = *parse(withMaterial(R"({"texture": {"type": "granite"}})"));
+  ASSERT_TRUE(validateScene(s));
+  for (auto bad : {+[](ProceduralTexture& t) { t.scale = 0.0f; }, +[](ProceduralTexture& t) { t.octaves = 0; },
+                   +[](ProceduralTexture& t) { t.octaves = 9; }, +[](ProceduralTexture& t) { t.bump = -0.1f; },
+                   +[](ProceduralTexture& t) { t.turbulence = std::nanf(""); },
+                   +[](ProceduralTexture& t) { t.type = static_cast<Pattern>(42); }}) {
+    Scene copy = s;
+    bad(copy.materials[0].procedural);
+    EXPECT_FALSE(validateScene(copy));
+  }
 }
 
 }  // namespace

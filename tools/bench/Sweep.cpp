@@ -336,8 +336,8 @@ void writeSweepCsv(const std::string& path, const std::vector<Row>& rows) {
   f << "scene,width,height,combination,group,shadows,reflections,refraction,max_depth,ray_scale,reference,frames,"
        "total_ms_median,total_ms_min,total_ms_max";
   for (const StageField& s : kStages) f << "," << s.name << "_ms_median," << s.name << "_ms_min," << s.name << "_ms_max";
-  f << ",rays_primary,rays_shadow,rays_reflection,rays_refraction,mrays_per_s,rss_mib,peak_rss_mib,threads,"
-       "flip_mean,psnr_db,ssim,pareto\n";
+  f << ",rays_primary,rays_shadow,rays_reflection,rays_refraction,rays_resolved,mrays_per_s,rss_mib,peak_rss_mib,"
+       "threads,flip_mean,psnr_db,ssim,pareto\n";
   for (const Row& r : rows) {
     const FrameSettings& s = r.combo.settings;
     f << r.scene << "," << r.size.width << "," << r.size.height << "," << r.combo.name << "," << r.combo.group << ","
@@ -346,7 +346,7 @@ void writeSweepCsv(const std::string& path, const std::vector<Row>& rows) {
       << r.total.min << "," << r.total.max;
     for (const Stat& st : r.stage) f << "," << st.median << "," << st.min << "," << st.max;
     f << "," << r.rays.primary << "," << r.rays.shadow << "," << r.rays.reflection << "," << r.rays.refraction << ","
-      << r.mraysPerS << "," << r.rssMiB << "," << r.peakRssMiB << "," << r.threads << "," << r.flipMean << ","
+      << r.rays.resolved << "," << r.mraysPerS << "," << r.rssMiB << "," << r.peakRssMiB << "," << r.threads << "," << r.flipMean << ","
       << r.psnrDb << "," << r.ssim << "," << (r.pareto ? 1 : 0) << "\n";
   }
 }
@@ -374,7 +374,7 @@ void writeSweepMarkdown(const std::string& path, const std::vector<Row>& rows, c
       f << "\n## " << r.scene << " " << r.size.label() << " (reference " << truthSppFor(o, r.size) << "×"
         << truthSppFor(o, r.size) << " spp)\n\n";
       f << "| combination | shadows/reflections/refraction | frame ms | prepare | raster | readback | rays | upload "
-           "| composite | rays/frame P/S/R/T | Mrays/s | peak RSS MiB | FLIP | PSNR dB | SSIM | front |\n";
+           "| composite | rays/frame P/S/R/T (+X resolved) | Mrays/s | peak RSS MiB | FLIP | PSNR dB | SSIM | front |\n";
       f << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     }
     f << "| " << r.combo.name << " | " << modes(r.combo.settings)
@@ -382,7 +382,7 @@ void writeSweepMarkdown(const std::string& path, const std::vector<Row>& rows, c
       << fmt("%.1f", r.total.min) << "–" << fmt("%.1f", r.total.max) << "]";
     for (const Stat& st : r.stage) f << " | " << fmt("%.1f", st.median);
     f << " | " << r.rays.primary << "/" << r.rays.shadow << "/" << r.rays.reflection << "/" << r.rays.refraction
-      << " | " << fmt("%.2f", r.mraysPerS) << " | " << fmt("%.0f", r.peakRssMiB) << " | " << fmt("%.4f", r.flipMean)
+      << (r.rays.resolved > 0 ? " +" + std::to_string(r.rays.resolved) : std::string()) << " | " << fmt("%.2f", r.mraysPerS) << " | " << fmt("%.0f", r.peakRssMiB) << " | " << fmt("%.4f", r.flipMean)
       << " | " << (std::isinf(r.psnrDb) ? std::string("inf") : fmt("%.2f", r.psnrDb)) << " | "
       << fmt("%.4f", r.ssim) << " | " << (r.pareto ? "★" : "") << " |\n";
   }

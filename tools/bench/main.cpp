@@ -17,6 +17,7 @@
 
 #include "BenchCommon.h"
 #include "Budget.h"
+#include "ExactBench.h"
 #include "Micro.h"
 #include "RadiosityBench.h"
 #include "Sweep.h"
@@ -76,6 +77,10 @@ int sweepMain(int argc, char** argv) {
   app.add_option("--budget-frames", b.frames, "--budget: frames per run")->check(CLI::Range(2, 100000))->capture_default_str();
   app.add_option("--error-every", b.errorEvery, "--budget: FLIP every Nth frame")
       ->check(CLI::Range(1, 100000))->capture_default_str();
+  bool exact = false;
+  app.add_flag("--exact", exact,
+               "Exact solids: the Whitted scene with tessellated and exact spheres against the exact truth, and the "
+               "CSG scene's resolved pixels, per preset (exact.md)");
   app.add_flag("--radiosity", radiosity,
                "Radiosity on the Cornell box: solve time and error against the path-traced truth per patch count, "
                "the per-frame cost of showing it, the box three ways (docs/radiosity.md)");
@@ -103,6 +108,28 @@ int sweepMain(int argc, char** argv) {
     return app.exit(e);
   }
   o.plots = !noPlots;
+  if (exact) {
+    if (sweep || heavy || summary || budget || radiosity) {
+      std::fprintf(stderr, "tandem-bench: --exact runs alone\n");
+      return 1;
+    }
+    ExactBenchOptions eo;
+    std::vector<Size> one;
+    std::string error;
+    if (app.count("--sizes") > 0) {
+      if (!parseSizes(sizes, one, error) || one.empty()) {
+        std::fprintf(stderr, "tandem-bench: %s\n", error.c_str());
+        return 1;
+      }
+      eo.width = one.front().width;
+      eo.height = one.front().height;
+    }
+    if (app.count("--truth-spp") > 0 && o.truthSpp > 0) eo.truthSpp = o.truthSpp;
+    if (app.count("--frames") > 0) eo.frames = o.frames;
+    eo.threads = o.threads;
+    eo.out = o.out;
+    return runExact(eo);
+  }
   if (radiosity) {
     if (sweep || heavy || summary || budget) {
       std::fprintf(stderr, "tandem-bench: --radiosity runs alone\n");
@@ -184,7 +211,8 @@ int sweepMain(int argc, char** argv) {
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (!std::strcmp(argv[i], "--sweep") || !std::strcmp(argv[i], "--heavy") || !std::strcmp(argv[i], "--summary") ||
-        !std::strcmp(argv[i], "--budget") || !std::strcmp(argv[i], "--radiosity"))
+        !std::strcmp(argv[i], "--budget") || !std::strcmp(argv[i], "--radiosity") ||
+        !std::strcmp(argv[i], "--exact"))
       return sweepMain(argc, argv);
   registerMicroBenchmarks();
   benchmark::Initialize(&argc, argv);

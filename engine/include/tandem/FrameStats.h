@@ -18,10 +18,13 @@ struct RayCounts {
   /// Reuse across frames (FrameSettings::reuseRays): shadow rays whose answer was kept from the frame
   /// before, the camera still and nothing that moved near them (not traced, not in total()).
   std::uint64_t shadowKept = 0;
-  std::uint64_t total() const { return primary + shadow + reflection + refraction; }
+  /// Exact solids (docs/csg.md): camera rays traced for the pixels the raster drew with an exact solid's
+  /// proxy (the resolved pixels), each finding the solid's exact hit or what lies behind it.
+  std::uint64_t resolved = 0;
+  std::uint64_t total() const { return primary + shadow + reflection + refraction + resolved; }
   RayCounts& operator+=(const RayCounts& o) {
     primary += o.primary, shadow += o.shadow, reflection += o.reflection, refraction += o.refraction;
-    shadowByMap += o.shadowByMap, shadowKept += o.shadowKept;
+    shadowByMap += o.shadowByMap, shadowKept += o.shadowKept, resolved += o.resolved;
     return *this;
   }
 };

@@ -24,6 +24,23 @@ enum class ShadingModel : std::uint8_t { Flat = 0, Gouraud = 1, Phong = 2, Toon 
 
 enum class AlphaMode : std::uint8_t { Opaque = 0, Mask = 1, Blend = 2 };
 
+/// Solid (3D) procedural patterns (docs/procedural.md; shaders/procedural.glsl): improved Perlin noise and what
+/// is built on it. The numbers are shading.glsl's TD_PATTERN_* codes.
+enum class Pattern : std::uint8_t { None = 0, Noise = 1, Fbm = 2, Turbulence = 3, Marble = 4, Wood = 5, Granite = 6 };
+
+/// A procedural texture: a pattern value v in [0, 1] at each surface point, evaluated in the instance's
+/// object space (it moves with the object) or in world space, which mixes the material's kd (v = 0) and kd2
+/// (v = 1) and, with `bump` > 0, bends the shading normal by v's gradient (a height of bump·v along the normal).
+struct ProceduralTexture {
+  Pattern type = Pattern::None;
+  bool worldSpace = false;
+  float scale = 1.0f;       // pattern features per unit (the frequency of the first octave), > 0
+  float turbulence = 1.0f;  // how far noise perturbs marble's veins and wood's rings, >= 0
+  int octaves = 4;          // 1..8: octaves of fBm and turbulence
+  float bump = 0.0f;        // bump amplitude in the pattern's space units (0: no bump)
+  bool operator==(const ProceduralTexture&) const = default;
+};
+
 /// One step of a cartoon ramp: N·L at or above `threshold` gives `level` (the highest matching step wins).
 struct ToonStep {
   float threshold = 0.0f;  // N·L in [-1, 1]
@@ -54,6 +71,9 @@ struct Material {
   // texture units; 0 turns it off.
   glm::vec3 kd2{0.0f};
   float checkerFrequency = 0.0f;
+  // Procedural 3D texture (docs/procedural.md): kd and kd2 mixed by the pattern, and its bump map. Not with the
+  // checker.
+  ProceduralTexture procedural;
   // Material features of glTF 2.0 (docs/gltf.md), which JSON scene files may set too. Each default
   // changes nothing, so a material that does not set them renders as it would without them.
   int normalTexture = -1;       // tangent-space normal map, linear

@@ -88,6 +88,14 @@ Result<void> validateScene(const Scene& scene) {
     if (mat.ior <= 0.0f) return Error{id + ": ior must be > 0"};
     if (mat.roughness < 0.0f || mat.roughness > 1.0f) return Error{id + ": roughness must be in [0, 1]"};
     if (mat.ns < 0.0f) return Error{id + ": ns must be >= 0"};
+    if (const ProceduralTexture& t = mat.procedural; t.type != Pattern::None) {
+      if (static_cast<int>(t.type) > static_cast<int>(Pattern::Granite)) return Error{id + ": unknown procedural pattern"};
+      if (!finite(mat.kd2) || !(t.scale > 0.0f) || !std::isfinite(t.scale) || !(t.turbulence >= 0.0f) ||
+          !std::isfinite(t.turbulence) || !(t.bump >= 0.0f) || !std::isfinite(t.bump))
+        return Error{id + ": procedural texture: scale must be finite and > 0, turbulence and bump finite and >= 0"};
+      if (t.octaves < 1 || t.octaves > 8) return Error{id + ": procedural texture: octaves must be in 1..8"};
+      if (mat.checkerFrequency > 0.0f) return Error{id + ": a checker and a procedural texture together"};
+    }
     if (mat.kdTexture >= int(scene.textures.size()) || mat.normalTexture >= int(scene.textures.size()) ||
         mat.emissiveTexture >= int(scene.textures.size()))
       return Error{id + ": texture index out of range"};

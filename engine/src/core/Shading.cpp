@@ -66,6 +66,9 @@ GpuMaterial packMaterial(const Material& m, int index, std::optional<ShadingMode
   else if (m.alphaMode == AlphaMode::Blend)
     alphaCode = -1.0f - opacity;
   g.texAlpha = vec4(float(m.emissiveTexture), float(m.normalTexture), m.normalScale, alphaCode);
+  const ProceduralTexture& t = m.procedural;
+  g.pattern = vec4(float(static_cast<int>(t.type)), t.scale, t.turbulence, float(t.octaves));
+  g.patternSpace = vec4(t.worldSpace ? 1.0f : 0.0f, t.bump, 0.0f, 0.0f);
   return g;
 }
 

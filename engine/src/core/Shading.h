@@ -20,6 +20,7 @@ using glm::floor;
 using glm::ivec3;
 using glm::normalize;
 using glm::max;
+using glm::mix;
 using glm::pow;
 using glm::reflect;
 using glm::smoothstep;
@@ -40,7 +41,7 @@ using std::sin;
 #undef TD_OUT
 
 static_assert(sizeof(GpuLight) == 7 * 16, "GpuLight must match its std430 layout");
-static_assert(sizeof(GpuMaterial) == 7 * 16, "GpuMaterial must match its std430 layout");
+static_assert(sizeof(GpuMaterial) == 9 * 16, "GpuMaterial must match its std430 layout");
 
 /// Packs the scene's records the same way for GL (SSBO upload) and the CPU twin.
 /// `areaSlot`: an area light's place among the frame's area lights (Scene::areaLightSlots), the layer of

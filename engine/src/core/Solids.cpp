@@ -430,17 +430,17 @@ Bounds primitiveBounds(const Primitive& p) {
   return {};
 }
 
-Bounds nodeBounds(const Solid& solid, std::uint32_t index) {
+Bounds subtreeBounds(const Solid& solid, std::uint32_t index) {
   const Node& n = solid.nodes[index];
   Bounds b;
   if (n.op == Op::Leaf) {
     b = primitiveBounds(n.primitive);
   } else if (n.op == Op::Difference) {
-    b = nodeBounds(solid, n.children.front());
+    b = subtreeBounds(solid, n.children.front());
   } else {
     bool first = true;
     for (std::uint32_t c : n.children) {
-      const Bounds k = nodeBounds(solid, c);
+      const Bounds k = subtreeBounds(solid, c);
       if (first) b = k;
       else if (n.op == Op::Intersection) b = {glm::max(b.lo, k.lo), glm::min(b.hi, k.hi)};
       else b = {glm::min(b.lo, k.lo), glm::max(b.hi, k.hi)};
@@ -614,6 +614,7 @@ bool firstHit(const Hits& hits, double tNear, double tFar, Crossing& out) {
   return false;
 }
 
-Bounds bounds(const Solid& solid) { return nodeBounds(solid, solid.root); }
+Bounds bounds(const Solid& solid) { return subtreeBounds(solid, solid.root); }
+Bounds nodeBounds(const Solid& solid, std::uint32_t index) { return subtreeBounds(solid, index); }
 
 }  // namespace tandem::solid

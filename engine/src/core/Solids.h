@@ -93,6 +93,8 @@ struct Bounds {
   glm::dvec3 lo{0.0}, hi{0.0};
 };
 Bounds bounds(const Solid& solid);
+/// The bounds of node `index`'s subtree, placed in its parent's space (its own transform applied).
+Bounds nodeBounds(const Solid& solid, std::uint32_t index);
 
 /// The relative tolerance of coincidence: two crossings of one ray closer than this times the ray's coordinate
 /// scale are at the same point.

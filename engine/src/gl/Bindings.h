@@ -9,7 +9,8 @@ namespace tandem::gl {
 inline constexpr GLuint kBindPositions = TD_BIND_POSITIONS, kBindNormals = TD_BIND_NORMALS, kBindUvs = TD_BIND_UVS,
                         kBindColors = TD_BIND_COLORS, kBindIndices = TD_BIND_INDICES, kBindMeshes = TD_BIND_MESHES,
                         kBindInstances = TD_BIND_INSTANCES, kBindMaterials = TD_BIND_MATERIALS,
-                        kBindLights = TD_BIND_LIGHTS, kBindUvTransforms = TD_BIND_UV_TRANSFORMS;
+                        kBindLights = TD_BIND_LIGHTS, kBindUvTransforms = TD_BIND_UV_TRANSFORMS,
+                        kBindResolved = TD_BIND_RESOLVED;
 inline constexpr GLuint kBlockLights = TD_BLOCK_LIGHTS, kBlockMaterials = TD_BLOCK_MATERIALS,
                         kBlockShadows = TD_BLOCK_SHADOWS;
 inline constexpr GLuint kUnitIds = TD_UNIT_IDS, kUnitDepth = TD_UNIT_DEPTH, kUnitKd = TD_UNIT_KD,
@@ -27,6 +28,7 @@ inline constexpr GLuint kUnitShadowMaps = TD_UNIT_SHADOW_MAPS, kUnitShadowCubes 
 inline constexpr GLuint kUnitTangentsTex = TD_UNIT_TANGENTS_TEX, kUnitNormalMaps = TD_UNIT_NORMAL_MAPS;
 inline constexpr GLuint kUnitAreaSamples = TD_UNIT_AREA_SAMPLES;
 inline constexpr GLuint kUnitRadiosityTableTex = TD_UNIT_RADIOSITY_TABLE_TEX, kUnitRadiosityTex = TD_UNIT_RADIOSITY_TEX;
+inline constexpr GLuint kUnitExactHits = TD_UNIT_EXACT_HITS;
 
 /// A frame channel's GL internal format, and the pixel format and type of its CPU copies (docs/gbuffer.md).
 struct ChannelFormat {
@@ -38,7 +40,8 @@ inline constexpr ChannelFormat kChannelIds{TD_CHANNEL_IDS}, kChannelDepth{TD_CHA
                                kChannelLightMask{TD_CHANNEL_LIGHT_MASK}, kChannelReflected{TD_CHANNEL_REFLECTED},
                                kChannelTransmitted{TD_CHANNEL_TRANSMITTED}, kChannelLinear{TD_CHANNEL_LINEAR},
                                kChannelDisplay{TD_CHANNEL_DISPLAY}, kChannelProbes{TD_CHANNEL_PROBES},
-                               kChannelShadowMaps{TD_CHANNEL_SHADOW_MAPS}, kChannelAreaSamples{TD_CHANNEL_AREA_SAMPLES};
+                               kChannelShadowMaps{TD_CHANNEL_SHADOW_MAPS}, kChannelAreaSamples{TD_CHANNEL_AREA_SAMPLES},
+                               kChannelExactHits{TD_CHANNEL_EXACT_HITS};
 
 /// Which ray results a frame uploaded (ShadeInputs::rayInputs), the shade pass's TD_RAY_INPUTS.
 enum RayInput : int { kRayLightMask = TD_RAY_LIGHT_MASK, kRayReflected = TD_RAY_REFLECTED, kRayTransmitted = TD_RAY_TRANSMITTED };

@@ -173,6 +173,8 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
   const PackedGeometry g = packGeometry(scene);
   features_.uvs = g.anyUvs;
   features_.colors = g.anyColors;
+  features_.exact = std::any_of(scene.instances.begin(), scene.instances.end(),
+                                [&](const Instance& inst) { return scene.meshes[inst.mesh].exact.has_value(); });
   positions_ = bufferOf("positions", g.positions);
   normals_ = bufferOf("normals", g.normals);
   uvs_ = bufferOf("uvs", g.uvs);
@@ -335,7 +337,7 @@ void GpuScene::updateMaterials(const Scene& scene, std::optional<ShadingModel> s
   materials_ = bufferOf("materials", packed);
   std::vector<glm::mat4> uvTransforms;
   // Per-material record of 4 texels: the uv transform's columns (xyz) and, in the otherwise unused
-  // fourth column, the transmission tint (rgb): GpuMaterial stays at 7 vec4s for the uniform block.
+  // fourth column, the transmission tint (rgb): GpuMaterial stays at 9 vec4s for the uniform block.
   for (const Material& m : scene.materials) {
     glm::mat4 record(m.uvTransform);
     record[3] = glm::vec4(m.transmissionTint, m.roughness);  // w: the probes' blur (docs/glossy.md)
@@ -363,6 +365,8 @@ void GpuScene::updateMaterials(const Scene& scene, std::optional<ShadingModel> s
   features_.alphaMask = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
     return m.alphaMode == AlphaMode::Mask && m.alphaCutoff > 0.0f;
   });
+  features_.procedural = std::any_of(scene.materials.begin(), scene.materials.end(),
+                                     [](const Material& m) { return m.procedural.type != Pattern::None; });
   features_.alphaBlend = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
     return m.alphaMode == AlphaMode::Blend;
   });

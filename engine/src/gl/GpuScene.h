@@ -43,6 +43,8 @@ struct SceneFeatures {
   std::uint32_t lightKinds = 0;
   bool areaLights = false;     // some direct light is an area light: the shade pass compiles their sampling
   int uniformMaterials = 0;    // material count when they fit a uniform block, else 0 (SSBO)
+  bool exact = false;          // some instance is an exact solid: ids may name a hit on it (TD_EXACT_TRIANGLE)
+  bool procedural = false;     // some material has a procedural texture (procedural.glsl is compiled in)
 };
 
 /// Instances that get a reflection probe (their material has kr > 0 or kt > 0), in slot order; the shade

@@ -193,7 +193,9 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in)
                         "\n#define TD_FRESNEL_SCHLICK " + std::to_string(in.fresnel == FresnelMode::Schlick ? 1 : 0) +
                         "\n#define TD_FRESNEL_WEIGHTED " + std::to_string(in.fresnelWeighted ? 1 : 0) +
                         "\n#define TD_FUSED_OUTPUT " + std::to_string(in.fusedOutput ? 1 : 0) +
-                        "\n#define TD_USE_RADIOSITY " + std::to_string(in.radiosity ? 1 : 0) + "\n";
+                        "\n#define TD_USE_RADIOSITY " + std::to_string(in.radiosity ? 1 : 0) +
+                        "\n#define TD_USE_EXACT " + std::to_string(f.exact ? 1 : 0) +
+                        "\n#define TD_USE_PROCEDURAL " + std::to_string(f.procedural ? 1 : 0) + "\n";
   auto found = variants_.find(defines);
   if (found != variants_.end()) return found->second;
   auto built = buildProgram("shade", {{GL_VERTEX_SHADER, "shaders/fullscreen.vert"},
@@ -209,8 +211,10 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in)
 
 void ShadePass::shade(GLuint framebuffer, const GpuScene& scene, const VisibilityPass& visibility,
                       const Camera& camera, const ShadeInputs& in) {
+  ShadeInputs frame = in;
+  frame.exactHits = visibility.exactHits() ? &visibility.exactHits() : nullptr;
   shadeInto(framebuffer, visibility.width(), visibility.height(), scene, visibility.ids(), visibility.depth(),
-            sampledDepth_ ? &sampledDepth_ : nullptr, camera, in);
+            sampledDepth_ ? &sampledDepth_ : nullptr, camera, frame);
 }
 
 void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuScene& scene, const Texture& ids,
@@ -264,6 +268,7 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   glProgramUniform1i(p, 8, std::clamp(in.lightSamples, 1, TD_MAX_LIGHT_SAMPLES));
   glProgramUniform1ui(p, 9, in.sampleBase);
   glProgramUniform1i(p, 11, in.rayScale);
+  glProgramUniform3fv(p, 19, 1, glm::value_ptr(scene.anchor()));
   glProgramUniform2i(p, 12, std::max(in.rayWidth, 1), std::max(in.rayHeight, 1));
   assert((in.rayInputs & ~in.rayChannels) == 0 && "shade: a ray result the variant was not compiled for");
   glProgramUniform1i(p, 13, in.rayInputs & in.rayChannels);
@@ -297,6 +302,7 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   glBindTextureUnit(kUnitAreaSamples, (in.rayInputs & kRayLightMask) && scene.features().areaLights ? areaSamples_.id() : 0);
   glBindTextureUnit(kUnitReflected, (in.rayInputs & kRayReflected) ? reflected_.id() : 0);
   glBindTextureUnit(kUnitTransmitted, (in.rayInputs & kRayTransmitted) ? transmitted_.id() : 0);
+  glBindTextureUnit(kUnitExactHits, in.exactHits ? in.exactHits->id() : 0);
 
   glUseProgram(p);
   glBindVertexArray(emptyVao_.id());

@@ -49,6 +49,9 @@ struct ShadeInputs {
   /// The frame's pass (not the probes'): the target has the display at colour attachment 1 too, which
   /// the shader fills with tdDisplay(exposure, toneMap) of what it writes (OutputPass::fusedFramebuffer).
   bool fusedOutput = false;
+  /// Exact solids: the visibility buffer's exact-hits channel (VisibilityPass::exactHits) where the frame's
+  /// ids name hits on solids; set by shade() from the visibility pass (probe faces have none).
+  const Texture* exactHits = nullptr;
   float exposure = 1.0f;
   ToneMap toneMap = ToneMap::Aces;
 };

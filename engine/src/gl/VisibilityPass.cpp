@@ -50,6 +50,8 @@ Result<void> VisibilityPass::resize(int width, int height) {
 }
 
 void VisibilityPass::release() {
+  resolveFbo_.reset();
+  exactHits_.reset();
   fbo_.reset();
   ids_.reset();
   depth_.reset();
@@ -97,6 +99,62 @@ void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const
   scene.drawAll();
   glUseProgram(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+static_assert(TD_EXACT_TRIANGLE == kExactTriangle, "bindings.glsl and core/ResolvedPixel.h name one marker");
+
+Result<void> VisibilityPass::patch(std::span<const ResolvedPixel> pixels) {
+  assert(width_ > 0 && "VisibilityPass::patch before resize");
+  if (pixels.empty()) return {};
+  if (!resolveProgram_) {
+    auto program = buildProgram("resolve patch", {{GL_VERTEX_SHADER, "shaders/resolve.vert"},
+                                                  {GL_FRAGMENT_SHADER, "shaders/resolve.frag"}});
+    if (!program) return program.error();
+    resolveProgram_ = std::move(*program);
+    emptyVao_ = createVertexArray("resolve patch");
+  }
+  if (!resolveFbo_) {
+    auto hits = tryCreateTexture2D("gbuffer exact hits", kChannelExactHits.internal, width_, height_);
+    if (!hits) return hits.error();
+    setSampling(*hits, GL_NEAREST, GL_NEAREST);
+    Framebuffer fbo = createFramebuffer("gbuffer resolve");
+    glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT0, ids_.id(), 0);
+    glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT1, hits->id(), 0);
+    glNamedFramebufferTexture(fbo.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
+    const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(fbo.id(), 2, buffers);
+    if (auto complete = checkFramebufferComplete(fbo, "gbuffer resolve"); !complete) return complete;
+    exactHits_ = std::move(*hits);
+    resolveFbo_ = std::move(fbo);
+  }
+  const std::size_t bytes = pixels.size_bytes();
+  if (bytes > resolvedCapacity_) {
+    // Grown by half again, so a view that slowly shows more of a solid does not reallocate every frame.
+    resolvedCapacity_ = std::max(bytes, resolvedCapacity_ + resolvedCapacity_ / 2);
+    resolved_ = createBuffer("resolved pixels", resolvedCapacity_, nullptr);
+  }
+  glNamedBufferSubData(resolved_.id(), 0, static_cast<GLsizeiptr>(bytes), pixels.data());
+  glBindFramebuffer(GL_FRAMEBUFFER, resolveFbo_.id());
+  glViewport(0, 0, width_, height_);
+  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  // Depth writes need the test on; every point replaces what the raster left there.
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_ALWAYS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glDisable(GL_PROGRAM_POINT_SIZE);
+  glPointSize(1.0f);
+  glUseProgram(resolveProgram_.id());
+  glProgramUniform2i(resolveProgram_.id(), 0, width_, height_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindResolved, resolved_.id());
+  glBindVertexArray(emptyVao_.id());
+  assertNoFeedbackLoop("resolve patch");
+  glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(pixels.size()));
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glDepthFunc(GL_GREATER);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return {};
 }
 
 static_assert(kChannelIds.transfer == GL_RG_INTEGER && kChannelIds.type == GL_UNSIGNED_INT,

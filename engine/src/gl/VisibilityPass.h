@@ -3,11 +3,13 @@
 // read-back for the ray pass. Channel table: docs/gbuffer.md.
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "gl/GlObjects.h"
+#include "core/ResolvedPixel.h"
 #include "gl/GpuScene.h"
 #include "tandem/Camera.h"
 #include "tandem/Result.h"
@@ -36,6 +38,15 @@ class VisibilityPass {
   /// The ids channel, row 0 = top (the ray pass's convention); `ids` is resized to width × height.
   void readIds(std::vector<glm::uvec2>& ids) const;
 
+  /// Exact solids (docs/csg.md, "In the raster frame"): writes the ray pass's resolved pixels into this
+  /// frame's visibility buffer (after render()), one point each: ids and depth, and for hits on a solid the
+  /// exact-hits channel (made at the frame's size on first use). The program is compiled on first use. An
+  /// error names what the GL refused.
+  Result<void> patch(std::span<const ResolvedPixel> pixels);
+  /// The exact-hits channel patch() writes (RGBA32F, full res: a solid's outward normal and t along the
+  /// pixel's camera ray where ids.y = kExactTriangle; undefined elsewhere), empty before the first patch.
+  const Texture& exactHits() const { return exactHits_; }
+
   const Texture& ids() const { return ids_; }
   const Texture& depth() const { return depth_; }
   int width() const { return width_; }
@@ -46,6 +57,13 @@ class VisibilityPass {
   Program maskProgram_;  // TD_ALPHA_MASK: discards texels of MASK materials under their cutoff
   Texture ids_, depth_;
   Framebuffer fbo_;
+  // patch(): its program, the records' buffer, and the framebuffer of ids + exact hits + depth.
+  Program resolveProgram_;
+  Buffer resolved_;
+  std::size_t resolvedCapacity_ = 0;
+  Texture exactHits_;
+  Framebuffer resolveFbo_;
+  VertexArray emptyVao_;
   int width_ = 0, height_ = 0;
 };
 

@@ -217,28 +217,25 @@ class Builder {
     return s;
   }
 
-  /// A mesh that is an exact solid: a CSG tree ("csg") or one exact-only primitive, with its bounding box as
-  /// the raster's proxy.
+  /// A mesh that is an exact solid: a CSG tree ("csg") or one exact-only primitive, with a tessellation that
+  /// encloses it as the raster's proxy (makeSolidProxy).
   Mesh exactMesh(const Json& j, const std::string& path) {
     solid::Solid s;
     s.root = solidNode(j, path, s, 1);
-    // The tree and its proxy box are charged to the load's budget like any mesh (a few bytes of JSON per node).
+    // The tree and its proxy are charged to the load's budget like any mesh (a few bytes of JSON per node; the
+    // proxy at most a tessellated shape per leaf, which the node limit bounds).
     charge(path, "the solid", s.nodes.size() * sizeof(solid::Node));
-    chargeMesh(path, 24, 12);
     if (const std::string bad = solid::validate(s); !bad.empty()) r_.fail(path, "the solid is not valid: " + bad);
     const solid::Bounds b = solid::bounds(s);
     const glm::dvec3 size = b.hi - b.lo;
     for (int a = 0; a < 3; ++a)
       if (!(size[a] > 0.0) || !(size[a] < 1e15))
         r_.fail(path, "the solid is unbounded (a 'plane' must be cut by the other operands of an intersection or difference)");
-    // A box slightly larger than the bounds: every pixel the solid covers, the raster covers.
-    const glm::dvec3 margin = 1e-5 * size + 1e-30;
-    Mesh mesh = makeBox(glm::vec3(size + 2.0 * margin));
-    const glm::vec3 centre(0.5 * (b.lo + b.hi));
-    for (glm::vec3& p : mesh.positions) p += centre;
-    mesh.exact = std::move(s);
-    return mesh;
+    chargeMesh(path, kProxyVertices * s.nodes.size(), kProxyTriangles * s.nodes.size());
+    return makeSolidProxy(s);
   }
+  // A leaf's proxy at makeSolidProxy's default 48 segments: at most (48 + 1) × 25 vertices and 48 × 48 triangles.
+  static constexpr std::uint64_t kProxyVertices = 49 * 25, kProxyTriangles = 48 * 48;
 
   /// One node of a solid: {"csg": op, "of": [...]} or {"primitive": ...}, either with translate / rotate /
   /// scale (applied scale first, then rotate, then translate, as an instance's transform). Returns its index.
@@ -423,7 +420,7 @@ class Builder {
   Material material(const Json& j, const std::string& path) const {
     r_.object(j, path);
     r_.checkKeys(j, path, {"ka", "kd", "ks", "ns", "kr", "kt", "ior", "roughness", "emission", "shading", "toonRamp", "checker",
-                           "opacity", "alphaMode", "alphaCutoff", "doubleSided", "unlit"});
+                           "texture", "opacity", "alphaMode", "alphaCutoff", "doubleSided", "unlit"});
     Material m;
     auto opt = [&](std::string_view key) { return Reader::find(j, key); };
     if (const Json* v = opt("ka")) m.ka = r_.color(*v, child(path, "ka"));
@@ -451,6 +448,11 @@ class Builder {
       m.checkerFrequency = 1.0f;
       if (const Json* f = Reader::find(*v, "frequency")) m.checkerFrequency = r_.number(*f, child(p, "frequency"), Range{0.0, 1e6, true});
     }
+    if (const Json* v = opt("texture")) {
+      const std::string p = child(path, "texture");
+      if (m.checkerFrequency > 0.0f) r_.fail(p, "a material has a checker or a texture, not both");
+      m.procedural = procedural(*v, p, m);
+    }
     if (const Json* v = opt("opacity")) m.opacity = r_.number(*v, child(path, "opacity"), kUnit);
     if (const Json* v = opt("alphaMode")) {
       const std::string p = child(path, "alphaMode");
@@ -464,6 +466,37 @@ class Builder {
     if (const Json* v = opt("doubleSided")) m.doubleSided = r_.boolean(*v, child(path, "doubleSided"));
     if (const Json* v = opt("unlit")) m.unlit = r_.boolean(*v, child(path, "unlit"));
     return m;
+  }
+
+  // "texture": a procedural pattern (docs/procedural.md); its second colour is the material's kd2.
+  ProceduralTexture procedural(const Json& j, const std::string& path, Material& m) const {
+    r_.object(j, path);
+    r_.checkKeys(j, path, {"type", "space", "scale", "turbulence", "octaves", "color2", "bump"});
+    ProceduralTexture t;
+    const std::string tp = child(path, "type");
+    const std::string type = r_.string(r_.require(j, path, "type", "the pattern"), tp);
+    static constexpr std::pair<std::string_view, Pattern> kTypes[] = {
+        {"noise", Pattern::Noise}, {"fbm", Pattern::Fbm}, {"turbulence", Pattern::Turbulence},
+        {"marble", Pattern::Marble}, {"wood", Pattern::Wood}, {"granite", Pattern::Granite}};
+    for (const auto& [name, pattern] : kTypes)
+      if (type == name) t.type = pattern;
+    if (t.type == Pattern::None)
+      r_.fail(tp, "unknown pattern '" + type + "' (known: noise, fbm, turbulence, marble, wood, granite)");
+    if (const Json* v = Reader::find(j, "space")) {
+      const std::string sp = child(path, "space");
+      const std::string space = r_.string(*v, sp);
+      if (space == "world") t.worldSpace = true;
+      else if (space != "object") r_.fail(sp, "unknown space '" + space + "' (known: object, world)");
+    }
+    if (const Json* v = Reader::find(j, "scale")) t.scale = r_.number(*v, child(path, "scale"), Range{0.0, 1e6, true});
+    if (const Json* v = Reader::find(j, "turbulence")) t.turbulence = r_.number(*v, child(path, "turbulence"), Range{0.0, 1e3});
+    if (const Json* v = Reader::find(j, "octaves"))
+      t.octaves = static_cast<int>(r_.integer(*v, child(path, "octaves"), 1, 8));
+    if (const Json* v = Reader::find(j, "bump")) t.bump = r_.number(*v, child(path, "bump"), Range{0.0, 1e3});
+    // Without color2 the pattern only bumps (kd on both ends).
+    m.kd2 = m.kd;
+    if (const Json* v = Reader::find(j, "color2")) m.kd2 = r_.color(*v, child(path, "color2"));
+    return t;
   }
 
   std::vector<ToonStep> toonRamp(const Json& j, const std::string& path) const {

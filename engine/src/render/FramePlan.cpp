@@ -18,12 +18,16 @@ SceneFacts sceneFacts(const Scene& scene) {
     f.reflectiveClassic = f.reflectiveClassic || mayReflect(m, false);
     f.transmissive = f.transmissive || mayTransmit(m);
   }
+  f.exactSolids = std::any_of(scene.instances.begin(), scene.instances.end(), [&](const Instance& inst) {
+    return inst.mesh < scene.meshes.size() && scene.meshes[inst.mesh].exact.has_value();
+  });
   return f;
 }
 
 void FramePlan::withoutRays() {
   rayPass = false;
   reference = false;
+  resolve = false;
 }
 
 FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested) {
@@ -44,6 +48,7 @@ FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested) {
   const bool wantsRays = r.shadows == EffectMode::Ray || r.reflections == EffectMode::Ray || r.refraction == EffectMode::Ray;
   p.rayPass = wantsRays && !p.reference;
   p.rays = p.reference ? referenceRayEffects(s) : p.rayPass ? hybridRayEffects(r) : RayEffects{};
+  p.resolve = facts.exactSolids && !p.reference;
   // Raster effects only for what the scene can show (a glass object reflects through its Fresnel term).
   p.rasterShadows = s.shadows == EffectMode::Raster && facts.shadowLight && !p.reference;
   if (s.maxDepth > 0 && !p.reference) {
@@ -54,7 +59,9 @@ FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested) {
 }
 
 bool sameRayInputs(const FramePlan& a, const FramePlan& b) {
-  if (a.rayPass != b.rayPass || a.reference != b.reference || !(a.rayPass || a.reference)) return false;
+  if (a.rayPass != b.rayPass || a.reference != b.reference || a.resolve != b.resolve ||
+      !(a.rayPass || a.reference || a.resolve))
+    return false;
   // What the ray pass reads: raySettings for the hybrid pass, settings for the reference frame.
   auto rayPart = [](const FramePlan& p) {
     FrameSettings s = p.reference ? p.settings : p.raySettings;

@@ -15,6 +15,7 @@ struct SceneFacts {
   bool reflectiveWeighted = false;   // a material's wR can be > 0 under the Fresnel-weighted sum
   bool reflectiveClassic = false;    // ... under the classic sum (kr only)
   bool transmissive = false;         // a material's wT can be > 0, or BLEND coverage lets light through
+  bool exactSolids = false;          // an instance is an exact solid (Mesh::exact): its proxy's pixels need rays
   bool reflective(bool fresnelWeighted) const { return fresnelWeighted ? reflectiveWeighted : reflectiveClassic; }
   bool operator==(const SceneFacts&) const = default;
 };
@@ -29,11 +30,17 @@ struct FramePlan {
   FrameSettings raySettings;
   /// What the ray pass traces (TraceModes is made from these same rules).
   RayEffects rays;
+  /// Exact solids (docs/csg.md): the pixels the raster drew with a solid's proxy are resolved by camera rays
+  /// (RayTracer::resolveExact) before the ray pass, in every hybrid frame, raster-only ones too.
+  bool resolve = false;
   bool rasterShadows = false;    // shadow maps for the primary points
   bool probeReflections = false; // cube-map probes stand in for reflection rays
   bool probeRefraction = false;  // ... and for refraction rays
-  bool needsRayScene() const { return rayPass || reference; }
-  /// The frame when Embree cannot take the scene: no ray pass, no reference (the GL shades it).
+  bool needsRayScene() const { return rayPass || reference || resolve; }
+  /// Whether the visibility ids are read back: the ray pass and the resolve step start from them.
+  bool readsIds() const { return rayPass || resolve; }
+  /// The frame when Embree cannot take the scene: no ray pass, no reference, no resolve (the GL shades it,
+  /// exact solids as their proxies).
   void withoutRays();
 };
 

@@ -47,6 +47,9 @@ struct Renderer::Impl {
 
   rt::VisibilityBuffer visibility;
   rt::RayOutputs rays;
+  // Exact solids: what the resolve step found at the pixels of their proxies (drawn into the GL's visibility
+  // buffer by upload), kept with the frame's rays since a frame that reuses them needs it drawn again.
+  std::vector<ResolvedPixel> resolved;
   ImageF reference;
   // The frame before's ids and rays, swapped out of `visibility` and `rays` by a frame that keeps some of
   // its answers (the camera still, something moved: rt/RayReuse.h).
@@ -109,6 +112,8 @@ struct Renderer::Impl {
   bool prepare(FramePlan& plan, const Camera& camera, FrameStats& stats);
   void raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
   void readback(const FramePlan& plan);
+  // rays, first step: the exact solids' proxy pixels by camera rays (FramePlan::resolve).
+  void resolveExact(const FramePlan& plan, const Camera& camera, FrameStats& stats);
   void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats, const rt::RayReuse* reuse);
   void reuseRays(const FramePlan& plan, FrameStats& stats) const;
   // Whether this frame can keep some of the last frame's answers, and what changed since it.
@@ -353,6 +358,9 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
       kept.rays = &keptRays;
     }
     timed(sample.readbackMs, [&] { readback(plan); });
+    // Exact solids first: the ray pass starts from the hits the resolve step finds (every pixel's, since the
+    // GL shades them all).
+    timed(sample.raysMs, [&] { resolveExact(plan, camera, sample); });
     // An adaptive round traces only the pixels it refines: the others read as background, which has no rays.
     // The ids themselves are put back after, for tracePixel.
     std::vector<glm::uvec2> allIds;
@@ -361,7 +369,11 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
       for (std::size_t i = 0; i < only->size(); ++i)
         if ((*only)[i] == 0) visibility.ids[i] = glm::uvec2(0u);
     }
+    const double resolveMs = sample.raysMs;
+    const std::uint64_t resolvedRays = sample.rays.resolved;
     timed(sample.raysMs, [&] { traceRays(plan, camera, sample, keeps ? &kept : nullptr); });
+    sample.raysMs += resolveMs;
+    sample.rays.resolved = resolvedRays;
     if (!allIds.empty()) visibility.ids.swap(allIds);
   }
   const bool uploaded = timed(sample.uploadMs, [&] { return upload(plan, in, sample, reuse); });
@@ -630,12 +642,19 @@ void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::S
   }
 }
 
-// readback: the ids channel, top row first, only for the ray pass.
+// readback: the ids channel, top row first, only for the ray pass and the resolve step.
 void Renderer::Impl::readback(const FramePlan& plan) {
-  if (!plan.rayPass) return;
+  if (!plan.readsIds()) return;
   visibility.width = plan.settings.width;
   visibility.height = plan.settings.height;
   visibilityPass.readIds(visibility.ids);
+}
+
+// rays, first: each pixel of an exact solid's proxy by its camera ray, the ids changed to what it found.
+void Renderer::Impl::resolveExact(const FramePlan& plan, const Camera& camera, FrameStats& stats) {
+  resolved.clear();
+  if (!plan.resolve) return;
+  tracer->resolveExact(scene, camera, visibility, resolved, stats.rays);
 }
 
 // rays: the hybrid ray pass on the ray grid, or the whole reference frame.
@@ -702,6 +721,12 @@ bool Renderer::Impl::keepsSome(const FramePlan& plan, const Camera& camera, bool
 // upload: only the ray results that exist this frame. Reused results are in the ray textures already (only
 // this stage writes them), so they are named as inputs without being sent again.
 bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats, bool reused) {
+  // The resolved pixels into the visibility buffer the raster just drew (again, when the rays are reused).
+  if (plan.resolve)
+    if (auto patched = visibilityPass.patch(resolved); !patched) {
+      stats.error = frameError(plan.settings, patched.error().message);
+      return false;
+    }
   if (plan.rayPass) {
     const std::size_t n = static_cast<std::size_t>(rays.width) * static_cast<std::size_t>(rays.height);
     // The shade variant follows what the plan can produce, not what this frame's rays left non-empty.

@@ -31,15 +31,17 @@ void compositeOnCpu(const Scene& scene, const Camera& camera, const FrameSetting
       glm::uvec2 id = visibility.ids[static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x)];
       if (id.x == 0 || id.x > scene.instances.size()) continue;
       std::uint32_t instance = id.x - 1;
-      if (id.y >= scene.meshes[scene.instances[instance].mesh].triangleCount()) continue;
+      const Mesh& mesh = scene.meshes[scene.instances[instance].mesh];
+      if (id.y == kExactTriangle ? !mesh.exact : id.y >= mesh.triangleCount()) continue;
       // A moving instance where the frame's shutter time puts it, as the rasterizer drew it.
       const Instance& inst = scene.instances[instance];
       InstanceTransform transform =
           isMoving(inst, camera.shutter)
               ? makeInstanceTransform(motionAt(motionSteps(inst, camera.shutter, anchor), camera.timeU))
               : makeInstanceTransform(inst.worldFromObject, anchor);
+      transform.anchor = anchor;  // the motion steps are in render space already
       Ray ray = cam.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
-      SurfaceHit hit = resolveHit(scene, transform, instance, id.y, ray);
+      SurfaceHit hit = resolvePrimary(scene, transform, cam, id, ray);
       hit.time = camera.timeU;
       hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);
       std::uint32_t mask = rays.lightMask.empty() ? ~0u : rays.lightMask[g];

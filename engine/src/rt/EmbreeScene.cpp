@@ -379,6 +379,7 @@ Result<void> EmbreeScene::buildTopLevel(EmbreeDevice& device, const Scene& scene
     rtcAttachGeometryByID(top_.get(), geom, static_cast<unsigned>(i));
     rtcReleaseGeometry(geom);
     triangleCounts_.push_back(scene.meshes[inst.mesh].triangleCount());
+    exactInstances_.push_back(scene.meshes[inst.mesh].exact ? 1 : 0);
   }
   rtcCommitScene(top_.get());
   if (!device.firstError().empty()) return embreeFailure(device, where, "top level");

@@ -4,6 +4,7 @@
 // by rtcSetGeometryTransform + a top-level commit. Owns every Embree handle it makes (RAII, move-only).
 // Thread safety: const members may run from any number of threads; build/updateTransforms must not run
 // while rays are in flight (Embree v3: never commit a scene that is being traced).
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <memory>
@@ -14,6 +15,7 @@
 #include <embree3/rtcore.h>
 
 #include "core/Motion.h"
+#include "core/ResolvedPixel.h"
 #include "rt/SurfaceShading.h"
 #include "tandem/Result.h"
 #include "tandem/Scene.h"
@@ -96,7 +98,8 @@ class EmbreeScene {
     const std::vector<glm::mat4>& steps = motionSteps_[instance];
     if (steps.empty()) return transforms_[instance];
     thread_local InstanceTransform moving;
-    moving = makeInstanceTransform(motionAt(steps, u));
+    moving = makeInstanceTransform(motionAt(steps, u));  // the steps are in render space already
+    moving.anchor = anchor_;
     return moving;
   }
   /// Whether some instance moves while the shutter is open (rays then see it where their time puts it).
@@ -108,6 +111,14 @@ class EmbreeScene {
   bool hasTriangle(std::size_t instance, std::uint32_t triangle) const {
     return instance < triangleCounts_.size() && triangle < triangleCounts_[instance];
   }
+  /// Whether the instance's mesh is an exact solid (Mesh::exact): rays see the solid, the raster its proxy.
+  bool isExact(std::size_t instance) const { return instance < exactInstances_.size() && exactInstances_[instance] != 0; }
+  /// Whether a visibility id (instance, triangle) names a surface of the scene: a triangle of the instance's
+  /// mesh, or (kExactTriangle) a point on its exact solid, as the frame's resolve step writes them.
+  bool hasPrimary(std::size_t instance, std::uint32_t triangle) const {
+    return triangle == kExactTriangle ? isExact(instance) : hasTriangle(instance, triangle);
+  }
+  bool anyExact() const { return std::find(exactInstances_.begin(), exactInstances_.end(), 1) != exactInstances_.end(); }
   /// Whether any geometry carries the alpha-mask filter (a MASK material with a kd texture and uvs).
   bool hasAlphaMaskFilter() const { return !maskMaterials_.empty(); }
   /// Whether rays may pass through some of the instance's triangles (its alpha-mask filter rejects hits).
@@ -163,6 +174,7 @@ class EmbreeScene {
   // An instance's transform, or time steps when it moves (geometry already attached or not).
   void setInstanceMotion(RTCGeometry geom, std::size_t i, const Instance& inst);
   std::vector<std::size_t> triangleCounts_;
+  std::vector<std::uint8_t> exactInstances_;  // per instance: 1 where its mesh is an exact solid
 };
 
 }  // namespace tandem::rt

@@ -51,7 +51,7 @@ glm::vec3 PathTracer::radiance(SurfaceHit hit, int x, int y, std::uint32_t sampl
     const GpuMaterial& m = frame.materials[hit.material];
     const WhittedWeights w = w_.weights(hit);
     const glm::vec3 diffuse =
-        m.emissionFlags.w > 0.5f ? glm::vec3(0.0f) : hit.coverage * tdSurfaceColor(m, hit.uv, hit.tint);
+        m.emissionFlags.w > 0.5f ? glm::vec3(0.0f) : hit.coverage * tdSurfaceColor(m, hit.uv, hit.pattern, hit.tint);
     const float reflect = modes.reflections ? w.reflect : 0.0f;
     const glm::vec3 transmit = modes.refraction ? w.transmit : glm::vec3(0.0f);
     const float pd = largest(diffuse), pr = reflect, pt = largest(transmit);

@@ -231,7 +231,7 @@ PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const
   rec.beginRay(RayKind::Primary, ray.origin, ray.dir, 0.0f, std::numeric_limits<float>::infinity(), glm::vec3(1.0f),
                1.0f);
   // Background (or an id not in the scene, which the pass skips too): no ray pass output, the sky.
-  if (id.x == 0 || !embree.hasTriangle(id.x - 1, id.y)) {
+  if (id.x == 0 || !embree.hasPrimary(id.x - 1, id.y)) {
     rec.endRay(frame.background, frame.background);
     trace.color = frame.background;
     trace.lightMask = 0u;  // the pass writes 0 there
@@ -239,7 +239,7 @@ PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const
   }
   const std::uint32_t instance = id.x - 1;
   const float time = std::clamp(std::isfinite(camera.timeU) ? camera.timeU : 0.5f, 0.0f, 1.0f);
-  SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, time), instance, id.y, ray);
+  SurfaceHit hit = resolvePrimary(scene, embree.transformAt(instance, time), cam, id, ray);
   hit.time = time;
   hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);  // the pass's seed for this pixel
   ++trace.rays.primary;
@@ -285,7 +285,7 @@ PixelTrace traceReferencePixel(const Scene& scene, const EmbreeScene& embree, co
       std::uint32_t instance, triangle;
       glm::vec3 c = frame.background;
       if (whitted.intersect(ray.origin, ray.dir, tNear, tFar, time, instance, triangle, recorder)) {
-        SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, time), instance, triangle, ray);
+        SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, time), instance, triangle, ray, tNear);
         hit.time = time;
         hit.lightSeed = shading::tdPixelSeed(x, y, static_cast<std::uint32_t>(sy * spp + sx));
         rec.surface(hit);

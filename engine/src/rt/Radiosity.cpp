@@ -126,7 +126,7 @@ RadiositySolver::RadiositySolver(const Scene& scene, const EmbreeScene& embree, 
   std::vector<glm::vec3> reflectance(scene.materials.size()), emission(scene.materials.size());
   for (std::size_t m = 0; m < scene.materials.size(); ++m) {
     const Material& mat = scene.materials[m];
-    glm::vec3 kd = mat.checkerFrequency > 0.0f ? 0.5f * (mat.kd + mat.kd2) : mat.kd;
+    glm::vec3 kd = mat.checkerFrequency > 0.0f || mat.procedural.type != Pattern::None ? 0.5f * (mat.kd + mat.kd2) : mat.kd;
     glm::vec3 em = mat.emission;
     if (mat.kdTexture >= 0 && static_cast<std::size_t>(mat.kdTexture) < scene.textures.size()) {
       const glm::vec4 t = textureMean(scene.textures[static_cast<std::size_t>(mat.kdTexture)]);

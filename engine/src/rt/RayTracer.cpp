@@ -172,6 +172,7 @@ struct HybridTiles {
   const EmbreeScene& embree;
   const FrameShading& frame;
   const Whitted& whitted;
+  const Camera& camera;  // render space
   const CameraRays& cameraRays;
   const VisibilityBuffer& visibility;
   RayOutputs& out;
@@ -229,12 +230,13 @@ struct HybridTiles {
         glm::uvec2 id = visibility.ids[pixel];
         if (id.x == 0) continue;  // background: no light, nothing reflected or transmitted
         std::uint32_t instance = id.x - 1;
-        // Ids come from the rasterizer of the same scene; a stale one is a bug, skipped in release.
-        assert(embree.hasTriangle(instance, id.y) && "trace: visibility id not in the scene");
-        if (!embree.hasTriangle(instance, id.y)) continue;
+        // Ids come from the rasterizer of the same scene (or its resolve step); a stale one is a bug, skipped
+        // in release.
+        assert(embree.hasPrimary(instance, id.y) && "trace: visibility id not in the scene");
+        if (!embree.hasPrimary(instance, id.y)) continue;
         Ray ray = cameraRays.through(glm::vec2(p) + 0.5f);
         // The rasterizer drew the instance where the frame's shutter time puts it (Camera::timeU).
-        SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, cameraRays.time()), instance, id.y, ray);
+        SurfaceHit hit = resolvePrimary(scene, embree.transformAt(instance, cameraRays.time()), camera, id, ray);
         hit.time = cameraRays.time();
         hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);  // the shade pass draws this pixel's light samples too
         ++counts.primary;
@@ -299,7 +301,7 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
                              ? ReuseGate(*reuse, scene, embree, impl_->meshBounds, frame.lights,
                                          visibility.ids.size(), out.lightMask.size())
                              : ReuseGate();
-  const HybridTiles<Capture> tiles{scene, embree, frame, whitted, cameraRays, visibility,
+  const HybridTiles<Capture> tiles{scene, embree, frame, whitted, cam, cameraRays, visibility,
                                    out,   std::max(1, settings.rayScale), batchedShadowRays, gate};
   AtomicCounts total;
   resetCapture(capture, out.width, out.height, false);
@@ -415,7 +417,7 @@ void RayTracer::referencePassWith(const Scene& scene, const Camera& camera, cons
                 sum += frame.background;
                 continue;
               }
-              SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, time), instance, triangle, ray);
+              SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, time), instance, triangle, ray, tNear);
               hit.time = time;
               // With one sample per pixel, the hybrid frame's seed: the same light samples as its pixel.
               hit.lightSeed = shading::tdPixelSeed(x, y, static_cast<std::uint32_t>(sy * spp + sx));
@@ -468,6 +470,118 @@ PixelTrace RayTracer::tracePixelReference(const Scene& scene, const Camera& came
   assert(impl_->scene && "tracePixelReference before a successful setScene");
   if (!impl_->scene) return {};
   return traceReferencePixel(scene, *impl_->scene, camera, settings, x, y, impl_->radiosity.get());
+}
+
+namespace {
+
+/// The reversed-Z window depth the rasterizer writes for render-space point `posW` seen by `camera` (in render
+/// space): VisibilityPass's clipFromWorldRelative applied to the point relative to the camera.
+float windowDepth(const Camera& camera, glm::ivec2 size, glm::vec3 posW) {
+  const glm::mat4 viewRotation = glm::mat4(glm::mat3(camera.viewFromWorld()));
+  const glm::vec4 clip = camera.clipFromView(size) * viewRotation * glm::vec4(posW - camera.posW, 1.0f);
+  const float depth = clip.z / clip.w;
+  return std::isfinite(depth) ? std::clamp(depth, 0.0f, 1.0f) : 0.0f;
+}
+
+/// Whether a render-space camera's near plane reaches into `box` (render space): the rasterizer then
+/// clips the proxy's near side, and a solid inside may stand in front of what it draws.
+bool nearPlaneReaches(const Camera& camera, glm::ivec2 size, const ReuseBox& box) {
+  // The farthest point of the near plane's rectangle from the camera position, a bound on how far the
+  // clipped region reaches.
+  const float aspect = static_cast<float>(size.x) / static_cast<float>(size.y);
+  float reach;
+  if (camera.orthographic) {
+    const float h = 0.5f * camera.orthoHeight;
+    reach = std::sqrt(camera.nearZ * camera.nearZ + h * h * (1.0f + aspect * aspect));
+  } else {
+    const float t = std::tan(glm::radians(camera.yFovDeg) * 0.5f);
+    reach = camera.nearZ * std::sqrt(1.0f + t * t * (1.0f + aspect * aspect)) * 1.01f;
+  }
+  const glm::dvec3 p(camera.posW);
+  const double r = static_cast<double>(reach);
+  return p.x >= box.lo.x - r && p.x <= box.hi.x + r && p.y >= box.lo.y - r && p.y <= box.hi.y + r &&
+         p.z >= box.lo.z - r && p.z <= box.hi.z + r;
+}
+
+}  // namespace
+
+void RayTracer::resolveExact(const Scene& scene, const Camera& camera, VisibilityBuffer& visibility,
+                             std::vector<ResolvedPixel>& out, RayCounts& counts) {
+  out.clear();
+  assert(impl_->scene && "resolveExact before a successful setScene");
+  if (!impl_->scene || !impl_->scene->anyExact()) return;
+  const EmbreeScene& embree = *impl_->scene;
+  const int width = visibility.width, height = visibility.height;
+  assert(visibility.ids.size() == static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  const glm::ivec2 size(width, height);
+  const Camera cam = toRenderSpace(camera, embree.anchor());
+  const CameraRays cameraRays(cam, size);
+  const float time = cameraRays.time();
+  // The camera within a proxy's bounds: the raster may show what lies behind a solid in front of it.
+  bool everyPixel = false;
+  for (std::size_t i = 0; i < scene.instances.size() && !everyPixel; ++i) {
+    if (!embree.isExact(i)) continue;
+    ReuseBox box;
+    if (ReuseGate::instanceBox(impl_->meshBounds[scene.instances[i].mesh], embree.transformAt(i, time).worldFromObject,
+                               glm::dvec3(0.0), box))
+      everyPixel = nearPlaneReaches(cam, size, box);
+  }
+  const std::size_t tiles = static_cast<std::size_t>(tileCount(width)) * static_cast<std::size_t>(tileCount(height));
+  std::vector<std::vector<ResolvedPixel>> perTile(tiles);
+  std::atomic<std::uint64_t> rays{0};
+  RTCScene top = embree.top();
+  impl_->arena.execute([&] {
+    forEachTile(impl_->threads, width, height, [&](int x0, int y0, int x1, int y1) {
+      std::vector<ResolvedPixel>& records = perTile[tileIndex(x0, y0, width)];
+      std::uint64_t traced = 0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          glm::uvec2& id = visibility.ids[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                                          static_cast<std::size_t>(x)];
+          if (!everyPixel && (id.x == 0 || !embree.isExact(id.x - 1))) continue;
+          // The hybrid pass's camera ray for this pixel, within the rasterizer's span.
+          const Ray ray = cameraRays.through(glm::vec2(x, y) + 0.5f);
+          float tNear, tFar;
+          cameraSpan(cam, ray, tNear, tFar);
+          ResolvedPixel r;
+          r.pixel = glm::uvec2(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+          ++traced;
+          RTCRayHit rh;
+          if (makeEmbreeRay(rh.ray, ray.origin, ray.dir, tNear, tFar, time)) {
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            rtcIntersect1(top, &ctx, &rh);
+            if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+              const std::uint32_t instance = rh.hit.instID[0];
+              float t = rh.ray.tfar;
+              r.id = glm::uvec2(instance + 1, rh.hit.primID);
+              if (embree.isExact(instance)) {
+                // The solid's crossing in double, as the hybrid pass will find it again (resolveHit).
+                const SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, time), instance, 0u, ray, tNear);
+                t = glm::dot(hit.posW - ray.origin, ray.dir);
+                r.id.y = hit.triangle;
+                if (hit.triangle == kExactTriangle)
+                  r.hit = glm::vec4(hit.backFace ? -hit.geomNormalW : hit.geomNormalW, t);
+              }
+              r.depth = windowDepth(cam, size, ray.origin + t * ray.dir);
+              // A hit the depth cannot tell from the far plane would read as background in the GL.
+              if (!(r.depth > 0.0f)) r.depth = std::numeric_limits<float>::min();
+            }
+          }
+          if (!everyPixel || r.id != id) records.push_back(r);
+          id = r.id;
+        }
+      rays.fetch_add(traced, std::memory_order_relaxed);
+    });
+  });
+  counts.resolved += rays.load();
+  std::size_t total = 0;
+  for (const auto& t : perTile) total += t.size();
+  out.reserve(total);
+  // Tile order is not pixel order; the records' order does not matter to the GL, only their determinism.
+  for (const auto& t : perTile) out.insert(out.end(), t.begin(), t.end());
 }
 
 void RayTracer::castVisibility(const Camera& camera, int width, int height, VisibilityBuffer& out) {

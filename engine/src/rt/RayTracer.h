@@ -17,6 +17,7 @@
 #include <glm/glm.hpp>
 
 #include "core/Radiosity.h"
+#include "core/ResolvedPixel.h"
 #include "rt/RayBuffers.h"
 #include "tandem/FrameStats.h"
 #include "tandem/Image.h"
@@ -60,6 +61,16 @@ class RayTracer {
   /// the frame `reuse` holds, which must not be `out`.
   void trace(const Scene& scene, const Camera& camera, const FrameSettings& settings,
              const VisibilityBuffer& visibility, RayOutputs& out, const RayReuse* reuse = nullptr);
+
+  /// Exact solids in the hybrid frame (docs/csg.md, "In the raster frame"): each pixel the raster drew with an
+  /// exact solid's proxy is resolved by its camera ray, which finds the solid's exact hit, a surface behind the
+  /// proxy, or nothing. `visibility` (read back from the raster) then holds what the ray found there (a hit
+  /// on a solid as (instance + 1, kExactTriangle)), and `out` one record per pixel it changed (in an order fixed for any thread count)
+  /// for the GL's visibility buffer. While the camera is within a proxy's bounds (the raster cannot see the
+  /// proxy's near side there) every pixel is resolved. The rays are added to `counts.resolved`. Nothing to
+  /// do, and `out` empty, in a scene without exact solids.
+  void resolveExact(const Scene& scene, const Camera& camera, VisibilityBuffer& visibility,
+                    std::vector<ResolvedPixel>& out, RayCounts& counts);
 
   /// Pure ray-traced frame (linear radiance, before tone mapping), settings.referenceSpp² jittered
   /// samples per pixel, seeded per pixel so the image does not depend on the thread count.

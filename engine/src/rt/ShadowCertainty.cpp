@@ -379,7 +379,9 @@ void ShadowCertainty::build(const Scene& scene, const EmbreeScene& embree, const
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {
     const Mesh& mesh = scene.meshes[scene.instances[i].mesh];
     const glm::mat4& m = embree.transform(i).worldFromObject;
-    bool blocks = !embree.letsRaysThrough(i);
+    // An exact solid's triangles are its raster proxy, which encloses the solid: a ray that misses them
+    // misses the solid, but one that crosses them may still pass it by, so they never prove a shadow.
+    bool blocks = !embree.letsRaysThrough(i) && !mesh.exact;
     const glm::vec3 tr = embree.transform(i).absTranslation;
     const glm::mat3& lin = embree.transform(i).absLinear;
     // The transform's translation (a render-space magnitude) and the largest term it scales by (object-space
@@ -553,7 +555,8 @@ ShadowAnswer ShadowCertainty::classify(std::size_t light, const SurfaceHit& hit,
   // magnitudes involved.
   float magnitude = std::max({std::abs(originW.x), std::abs(originW.y), std::abs(originW.z)});
   if (std::isfinite(tFar)) magnitude = std::max(magnitude, tFar * glm::length(dirW));
-  const std::uint32_t own = triangleBase_[hit.instance] + hit.triangle;
+  // A point on an exact solid has no triangle of its own: every proxy triangle is tested (none blocks).
+  const std::uint32_t own = hit.triangle == kExactTriangle ? ~0u : triangleBase_[hit.instance] + hit.triangle;
   bool missesAll = true;
   // The ray against one triangle: true when that decides the answer (shadowed).
   auto test = [&](std::uint32_t id) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/Procedural.h"
 #include "core/Sampling.h"
 #include "core/Solids.h"
 #include "rt/RayMath.h"
@@ -56,6 +57,7 @@ InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject, glm::v
   t.normalWorldFromObject = std::isfinite(det) && det != 0.0f ? glm::transpose(glm::inverse(m)) : glm::mat3(0.0f);
   t.absLinear = glm::mat3(glm::abs(t.worldFromObject[0]), glm::abs(t.worldFromObject[1]), glm::abs(t.worldFromObject[2]));
   t.absTranslation = glm::abs(glm::vec3(t.worldFromObject[3]));
+  t.anchor = anchor;
   return t;
 }
 
@@ -175,6 +177,21 @@ glm::vec4 sampleBilinear(const Texture& texture, glm::vec2 uv) {
 
 namespace {
 
+/// The material's procedural texture at the hit (shaders/procedural.glsl, as shade.frag evaluates it), at `posO`
+/// in object space or at the world position: its value, and its bump map bending the shading normal (the
+/// gradient brought to world space as normals are; before the two-sided flip, as normal maps).
+void applyProcedural(const Material& m, const InstanceTransform& transform, glm::vec3 posO, SurfaceHit& h) {
+  const ProceduralTexture& t = m.procedural;
+  if (t.type == Pattern::None) return;
+  const glm::vec3 p = t.worldSpace ? h.posW + transform.anchor : posO;
+  const glm::vec4 v = tdPattern(static_cast<int>(t.type), p, t.scale, t.turbulence, t.octaves);
+  h.pattern = v.x;
+  if (t.bump > 0.0f) {
+    const glm::vec3 g(v.y, v.z, v.w);
+    h.normalW = tdBumpNormal(h.normalW, t.worldSpace ? g : transform.normalWorldFromObject * g, t.bump);
+  }
+}
+
 /// The exact hit of a ray on an instance's exact solid (Mesh::exact, docs/csg.md): its first crossing past
 /// `tNear`, found in double precision in the solid's space as the ray pass's user geometry finds it, the
 /// crossing's normal through the instance's normal matrix. No uvs or vertex attributes. False when the ray
@@ -190,7 +207,7 @@ bool resolveExact(const Scene& scene, const InstanceTransform& transform, std::u
   if (!solid::firstHit(solid::intersect(*mesh.exact, objectRay), tNear, std::numeric_limits<double>::infinity(), c))
     return false;
   h.instance = instance;
-  h.triangle = 0;
+  h.triangle = kExactTriangle;
   h.material = inst.material;
   const glm::dvec3 posD = glm::dvec3(ray.origin) + c.t * glm::dvec3(ray.dir);
   h.posW = glm::vec3(posD);
@@ -205,6 +222,7 @@ bool resolveExact(const Scene& scene, const InstanceTransform& transform, std::u
   const double len = glm::length(n);
   h.geomNormalW = len > 0.0 && std::isfinite(len) ? glm::vec3(n / len) : h.toEyeW;
   h.normalW = h.geomNormalW;
+  applyProcedural(scene.materials[h.material], transform, objectPos, h);
   if (glm::dot(h.geomNormalW, h.toEyeW) < 0.0f) {
     h.backFace = true;
     h.geomNormalW = -h.geomNormalW;
@@ -225,7 +243,9 @@ SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, st
   if (mesh.exact) {
     SurfaceHit exact;
     if (resolveExact(scene, transform, instance, ray, tNear, exact)) return exact;
-    // Past the solid (Embree and this disagree only on a grazing ray): the proxy's triangle, as before.
+    // Past the solid (Embree and this disagree only on a grazing ray): the proxy's triangle, as before; a
+    // hit named as the solid's (kExactTriangle) takes the proxy's first.
+    if (triangle == kExactTriangle) triangle = 0;
   }
   assert(triangle < mesh.triangleCount());
   SurfaceHit h;
@@ -275,6 +295,7 @@ SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, st
     glm::vec3 n = tdPerturbNormal(h.normalW, t, t4.w, tn, m.normalScale);
     if (isFinite(n)) h.normalW = n;
   }
+  if (m.procedural.type != Pattern::None) applyProcedural(m, transform, interpolate(mesh.positions, h), h);
   // Two-sided lighting: back faces are lit like fronts.
   if (glm::dot(h.geomNormalW, h.toEyeW) < 0.0f) {
     h.backFace = true;
@@ -315,22 +336,25 @@ glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const Instan
                      const SurfaceHit& hit, std::uint32_t visibleLights, const AreaSampleBits* areaSamples) {
   const GpuMaterial& m = frame.materials[hit.material];
   glm::vec3 emission = glm::vec3(m.emissionFlags) * hit.emissionTint;
-  glm::vec3 c = tdSurfaceColor(m, hit.uv, hit.tint);
+  glm::vec3 c = tdSurfaceColor(m, hit.uv, hit.pattern, hit.tint);
   // BLEND: the covered fraction of the surface shades; the rest is the ray pass's straight-through T.
   if (m.emissionFlags.w > 0.5f) return hit.coverage * (c + emission);
   // Diffuse interreflection: the radiosity solution where it covers the surface, else the ambient term.
   glm::vec3 h;
   glm::vec3 color = emission + (frame.radiosity && frame.radiosity->at(hit.instance, hit.triangle, hit.bary, hit.backFace, h)
-                                    ? tdRadiosityTerm(m, h, hit.uv, hit.tint)
-                                    : tdAmbient(m, frame.ambient, hit.uv, hit.tint));
+                                    ? tdRadiosityTerm(m, h, hit.uv, hit.pattern, hit.tint)
+                                    : tdAmbient(m, frame.ambient, hit.uv, hit.pattern, hit.tint));
   glm::vec3 ks(m.ksNs);
   float ns = m.ksNs.w;
   int model = static_cast<int>(m.krKtIorModel.w + 0.5f);
   const auto& ramp = frame.toonRamps[hit.material];
 
-  // Gouraud: the per-vertex normals, flipped with the pixel's two-sided flip.
+  // Gouraud: the per-vertex normals, flipped with the pixel's two-sided flip. An exact solid has no vertices:
+  // its three are the hit itself with the solid's normal (shade.frag's twin), so Gouraud shades it per pixel.
   glm::vec3 vertexNormalW[3];
-  if (model == TD_MODEL_GOURAUD) {
+  if (model == TD_MODEL_GOURAUD && hit.triangle == kExactTriangle) {
+    for (glm::vec3& n : vertexNormalW) n = hit.geomNormalW;
+  } else if (model == TD_MODEL_GOURAUD) {
     const Mesh& mesh = scene.meshes[scene.instances[hit.instance].mesh];
     for (int i = 0; i < 3; ++i) {
       glm::vec3 n = hit.geomNormalW;

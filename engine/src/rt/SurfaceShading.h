@@ -14,6 +14,7 @@
 
 #include "core/Radiosity.h"
 #include "core/RenderSpace.h"
+#include "core/ResolvedPixel.h"
 #include "core/Shading.h"
 #include "rt/RayMath.h"
 #include "tandem/Camera.h"
@@ -127,7 +128,10 @@ struct InstanceTransform {
   // so they are made once per transform rather than once per hit.
   glm::mat3 absLinear{1.0f};
   glm::vec3 absTranslation{0.0f};
+  glm::vec3 anchor{0.0f};  // render space's origin in world space: world-space patterns are evaluated at posW + anchor
 };
+/// `worldFromObject` in world space, brought to render space. A transform already in render space (a motion
+/// step) takes anchor 0 and gets its `anchor` field set after.
 InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject, glm::vec3 anchor = glm::vec3(0.0f));
 
 /// Per-frame shading records: lights and materials packed as GL packs them (override applied), toon
@@ -204,6 +208,7 @@ struct SurfaceHit {
   glm::vec3 toEyeW{0.0f, 0.0f, 1.0f};       // V: unit, towards the ray origin
   glm::vec3 eyeW{0.0f};              // the ray origin (Gouraud's per-vertex V)
   glm::vec2 uv{0.0f};                // after uvTransform
+  float pattern = 0.0f;              // the material's procedural texture at the point (tdPattern), in [0, 1]
   glm::vec3 tint{1.0f};              // texture × vertex colour
   glm::vec3 emissionTint{1.0f};      // emissive texture (sRGB-decoded), multiplies the emission
   float coverage = 1.0f;             // BLEND: tdCoverage of the kd texture's alpha; 1 otherwise
@@ -230,6 +235,17 @@ inline glm::vec3 areaLightSample(const FrameShading& frame, std::size_t light, s
 /// past `tNear` (the triangle, its raster proxy's, only where the ray passes by the solid).
 SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, std::uint32_t instance,
                       std::uint32_t triangle, const Ray& ray, float tNear = 0.0f);
+
+/// The exact primary hit of a hybrid frame's pixel from its visibility id (instance + 1, triangle) and its camera
+/// ray: resolveHit on the triangle, or on the instance's exact solid from the camera's near plane on (where the
+/// resolve step found it, RayTracer::resolveExact). `renderCamera` in render space, as the ray.
+inline SurfaceHit resolvePrimary(const Scene& scene, const InstanceTransform& transform, const Camera& renderCamera,
+                                 glm::uvec2 id, const Ray& ray) {
+  const std::uint32_t instance = id.x - 1;
+  float tNear = 0.0f, tFar = 0.0f;
+  if (scene.meshes[scene.instances[instance].mesh].exact) cameraSpan(renderCamera, ray, tNear, tFar);
+  return resolveHit(scene, transform, instance, id.y, ray, tNear);
+}
 
 /// The origin of a ray leaving `hit` towards the side of unit normal `side` (±geomNormalW): offset by the
 /// hit's own rounding error (RayMath.h, the scale-aware offsetRayOrigin).
