@@ -5,9 +5,14 @@
 #ifndef TD_PROCEDURAL_GLSL
 #define TD_PROCEDURAL_GLSL
 
+// Function linkage as in shading.glsl: C++ defines TD_FN as `inline`, GLSL as nothing.
+#ifndef TD_FN
+#define TD_FN
+#endif
+
 #define TD_PATTERN_NONE 0
 #define TD_PATTERN_NOISE 1       // 0.5 + 0.5·noise
-#define TD_PATTERN_FBM 2         // 0.5 + 0.5·fBm
+#define TD_PATTERN_FBM 2         // 0.5 + 0.5·fBm (gain 1/2, lacunarity 2), clamped to [0, 1]
 #define TD_PATTERN_TURBULENCE 3  // Perlin's turbulence, the sum of |noise| octaves
 #define TD_PATTERN_MARBLE 4      // Perlin's marble: veins, a sine of x moved by turbulence
 #define TD_PATTERN_WOOD 5        // rings about the y axis moved by noise
@@ -132,7 +137,10 @@ TD_FN vec4 tdClampPattern(float v, vec3 grad) {
 // (noise at scale·p; marble's stripes and wood's rings per unit), `turbulence` how far noise moves marble's
 // stripes and wood's rings (in stripes and rings), `octaves` those of fBm and turbulence.
 TD_FN vec4 tdPattern(int type, vec3 p, float scale, float turbulence, int octaves) {
+  // Beyond 2^23 q has no fraction left (every float there is a lattice point), and inf or NaN none at all: 0
+  // instead, so wood's q.x² cannot overflow and marble's sin never sees inf; every pattern is finite everywhere.
   vec3 q = p * scale;
+  q = vec3(tdLatticeSafe(q.x), tdLatticeSafe(q.y), tdLatticeSafe(q.z));
   if (type == TD_PATTERN_NOISE) {
     vec4 n = tdNoiseGrad(q);
     return tdClampPattern(0.5f + 0.5f * n.x, (0.5f * scale) * vec3(n.y, n.z, n.w));
@@ -180,10 +188,11 @@ TD_FN vec4 tdPattern(int type, vec3 p, float scale, float turbulence, int octave
 
 // Bump mapping from a height field's world-space gradient (Blinn 1978, in Mikkelsen's surface-gradient form
 // 2010): the surface moved by amplitude·h along its unit normal N tilts its normal against the gradient's part
-// along the surface, N' = normalize(N − amplitude·(g − (g·N)·N)). N itself when amplitude is 0 or the result
-// is degenerate.
+// along the surface, N' = normalize(N − amplitude·(g − (g·N)·N)); a negative amplitude carves (the tilt reverses).
+// N itself, bit for bit, when amplitude is 0, or when the result is degenerate or not finite (NaN fails both
+// tests of len).
 TD_FN vec3 tdBumpNormal(vec3 N, vec3 gradW, float amplitude) {
-  if (!(amplitude > 0.0f)) return N;
+  if (amplitude == 0.0f) return N;
   vec3 n = N - amplitude * (gradW - dot(gradW, N) * N);
   float len = sqrt(dot(n, n));
   return len > 0.0f && len < 1e30f ? n / len : N;

@@ -1,8 +1,8 @@
 // Golden images of the default (Whitted) scene: one per shading model with every effect off, and one per
 // preset; and of assets/scenes/area-lights.json and glossy.json (soft shadows and glossy rays at the default
 // 4 samples, first sample of the sequence: the same seed gives the same image), and distribution.json (all of
-// them with depth of field and motion blur, 8 anti-aliasing, lens and time samples in one frame), and the
-// Cornell box (hybrid-full, and the path-traced reference at 2×2 spp). Tolerances (tests/golden/README.md):
+// them with depth of field and motion blur, 8 anti-aliasing, lens and time samples in one frame), the
+// Cornell box (hybrid-full, and the path-traced reference at 2×2 spp), and csg.json (raster and hybrid-full). Tolerances (tests/golden/README.md):
 //   raster-only frames: every channel within 2/255 on at least 99.9 % of pixels (as Filament's CI does on
 //   Mesa software rasterizers);
 //   frames with ray-traced effects: additionally LDR-FLIP mean under 0.01 (Embree's SIMD paths may differ
@@ -130,6 +130,11 @@ TEST(Golden, CornellBoxRadiosity) {
   s.radiosityPatches = 1024;
   checkGolden("cornell-box-radiosity", s, true, "cornell-box.json");
 }
+
+// Exact solids, CSG and procedural textures (docs/csg.md, docs/procedural.md): the proxies' pixels resolved by
+// ray in both; raster shadows and probes from the proxies, the rest exact.
+TEST(Golden, CsgRaster) { checkGolden("csg-raster", preset("raster"), false, "csg.json"); }
+TEST(Golden, CsgHybridFull) { checkGolden("csg-hybrid-full", preset("hybrid-full"), true, "csg.json"); }
 
 }  // namespace
 }  // namespace tandem

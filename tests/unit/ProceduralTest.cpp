@@ -1,11 +1,14 @@
 // Procedural 3D textures (shaders/procedural.glsl, docs/procedural.md), the C++ twin: improved Perlin noise is
 // 0 at every lattice point with its corner's gradient there, the analytic gradients of noise, fBm, turbulence
-// and every pattern match finite differences, patterns stay in [0, 1] and are continuous across cells, far from
-// the origin and for negative coordinates, and bump mapping tilts a normal by the closed-form angle.
+// and every pattern match finite differences, noise's gradient and Hessian are continuous across cell faces (the
+// quintic fade), values change along lines only as their gradients say (no jumps), patterns stay in [0, 1] and
+// are continuous across cells, far from the origin and for negative coordinates, every input gives finite values,
+// and bump mapping tilts a normal by the closed-form angle.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include "core/Procedural.h"
@@ -133,24 +136,151 @@ TEST(Procedural, PatternsStayInTheUnitIntervalAndVary) {
   EXPECT_LT(hi, 1.1f);
 }
 
-TEST(Procedural, ContinuousAcrossCellsAndDeterministic) {
+TEST(Procedural, ContinuousAcrossCellFaces) {
+  // Across a face x = n (then y, z) for random integers n, negative ones too: a corner hashed with the wrong
+  // coordinates, or a floor() that truncates towards 0, breaks it (those stay smooth inside a cell).
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  for (int i = 0; i < 500; ++i) {
-    // Across x = n for a random integer n (negative ones too), at a random y, z.
-    const float n = static_cast<float>(static_cast<int>(u(rng) * 200.0f) - 100);
-    const float y = 50.0f * u(rng) - 25.0f, z = 50.0f * u(rng) - 25.0f;
-    const float a = tdNoiseGrad(glm::vec3(n - 1e-4f, y, z)).x, b = tdNoiseGrad(glm::vec3(n + 1e-4f, y, z)).x;
-    EXPECT_NEAR(a, b, 1e-3f);
+  for (int i = 0; i < 1500; ++i) {
+    const int axis = i % 3;
+    glm::vec3 lo(50.0f * u(rng) - 25.0f, 50.0f * u(rng) - 25.0f, 50.0f * u(rng) - 25.0f);
+    lo[axis] = static_cast<float>(static_cast<int>(u(rng) * 200.0f) - 100);
+    glm::vec3 hi = lo;
+    lo[axis] -= 1e-4f;
+    hi[axis] += 1e-4f;
+    EXPECT_NEAR(tdNoiseGrad(lo).x, tdNoiseGrad(hi).x, 1e-3f) << "axis " << axis << " at " << hi[axis];
+    // Every pattern, its step bounded by its slope (marble's and wood's are steep).
+    const int type = TD_PATTERN_NOISE + i % 6;
+    const glm::vec4 a = tdPattern(type, lo, 1.0f, 2.0f, 5), b = tdPattern(type, hi, 1.0f, 2.0f, 5);
+    const float slope = std::max(glm::length(glm::vec3(a.y, a.z, a.w)), glm::length(glm::vec3(b.y, b.z, b.w)));
+    EXPECT_LE(std::abs(a.x - b.x), 2.0f * (hi[axis] - lo[axis]) * slope + 1e-5f) << "type " << type;
   }
-  const glm::vec4 once = tdPattern(TD_PATTERN_MARBLE, glm::vec3(1.3f, -2.7f, 9.1f), 2.0f, 3.0f, 6);
-  const glm::vec4 twice = tdPattern(TD_PATTERN_MARBLE, glm::vec3(1.3f, -2.7f, 9.1f), 2.0f, 3.0f, 6);
-  EXPECT_EQ(std::memcmp(&once, &twice, sizeof once), 0);
-  // Inputs beyond the lattice's reach (and NaN) give finite values, never undefined int conversions.
-  for (float big : {1e6f, -1e7f, 3e38f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
-    const glm::vec4 v = tdPattern(TD_PATTERN_GRANITE, glm::vec3(big, 1.5f, -big), 1.0f, 1.0f, 8);
-    EXPECT_TRUE(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w)) << big;
+}
+
+TEST(Procedural, NoiseGradientAndHessianAreContinuousAcrossFaces) {
+  // Perlin 2002's quintic fade has zero first and second derivatives at 0 and 1, so noise's gradient and its
+  // derivative are continuous across every cell face; Perlin 1985's cubic 3t² − 2t³ leaves the Hessian jumping
+  // (its second derivative is ±6 there). One-sided differences of the analytic gradient, h and 2h off each side.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-8.0f, 8.0f);
+  const float h = 1e-3f;
+  float gradJump = 0.0f, hessianJump = 0.0f;
+  for (int i = 0; i < 3000; ++i) {
+    const int axis = i % 3;
+    glm::vec3 p(u(rng), u(rng), u(rng));
+    p[axis] = std::floor(p[axis]);
+    auto grad = [&](float d) {
+      glm::vec3 q = p;
+      q[axis] += d;
+      const glm::vec4 n = tdNoiseGrad(q);
+      return glm::vec3(n.y, n.z, n.w);
+    };
+    gradJump = std::max(gradJump, glm::length(grad(h * 0.01f) - grad(-h * 0.01f)));
+    const glm::vec3 right = (grad(2.0f * h) - grad(h)) / h, left = (grad(-h) - grad(-2.0f * h)) / h;
+    hessianJump = std::max(hessianJump, glm::length(right - left));
   }
+  EXPECT_LT(gradJump, 1e-3f);
+  EXPECT_LT(hessianJump, 1.0f);
+}
+
+TEST(Procedural, ValuesChangeAlongLinesOnlyAsTheirGradientsSay) {
+  // Step by step along random lines, the change of the value against the trapezoid rule of the analytic
+  // gradient. A smooth step agrees to δ³; a crease (|noise| through 0, a clamp's edge) costs at most
+  // ½·δ·(|g_a| + |g_b|) (0.65 of the bound below at worst); a jump — a fract() sawtooth instead of wood's smooth
+  // ring profile, a cell that disagrees with its neighbour — costs far more. It finds the jumps that random
+  // finite differences rarely straddle; the slopes themselves are the finite differences' test.
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<float> u(-5.0f, 5.0f);
+  for (int type = TD_PATTERN_NOISE; type <= TD_PATTERN_GRANITE; ++type)
+    for (float scale : {0.5f, 3.0f})
+      for (float turbulence : {0.7f, 4.0f}) {
+        const float finest = scale * 8.0f;  // 4 octaves
+        int bad = 0;
+        float worst = 0.0f;
+        for (int line = 0; line < 4; ++line) {
+          const glm::vec3 start(u(rng), u(rng), u(rng));
+          const glm::vec3 dir = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)));
+          const int steps = static_cast<int>(300.0f * finest);  // 300 steps a finest feature, a unit long
+          glm::vec3 pa = start;
+          glm::vec4 a = tdPattern(type, pa, scale, turbulence, 4);
+          for (int i = 1; i <= steps; ++i) {
+            const glm::vec3 pb = start + (static_cast<float>(i) / static_cast<float>(steps)) * dir;
+            const glm::vec4 b = tdPattern(type, pb, scale, turbulence, 4);
+            const glm::vec3 ga(a.y, a.z, a.w), gb(b.y, b.z, b.w), d = pb - pa;
+            const float err = std::abs(b.x - a.x - 0.5f * glm::dot(ga + gb, d));
+            const float allowed = 0.55f * glm::length(d) * (glm::length(ga) + glm::length(gb)) + 2e-6f;
+            bad += err > allowed ? 1 : 0;
+            worst = std::max(worst, err);
+            pa = pb;
+            a = b;
+          }
+        }
+        EXPECT_EQ(bad, 0) << "type " << type << " scale " << scale << " turbulence " << turbulence << ": worst "
+                          << worst;
+      }
+}
+
+TEST(Procedural, DeterministicAndPinned) {
+  for (int type = TD_PATTERN_NONE; type <= TD_PATTERN_GRANITE; ++type) {
+    const glm::vec4 once = tdPattern(type, glm::vec3(1.3f, -2.7f, 9.1f), 2.0f, 3.0f, 6);
+    const glm::vec4 twice = tdPattern(type, glm::vec3(1.3f, -2.7f, 9.1f), 2.0f, 3.0f, 6);
+    EXPECT_EQ(std::memcmp(&once, &twice, sizeof once), 0) << "type " << type;
+  }
+  EXPECT_EQ(tdPattern(TD_PATTERN_NONE, glm::vec3(0.3f), 1.0f, 1.0f, 4), glm::vec4(0.0f));
+  // The corner hash is part of every picture (the golden images): pinned, negative and extreme corners too
+  // (uint(int) wraps alike in GLSL and C++; the corners are integers, so these are exact on any compiler).
+  EXPECT_EQ(tdLatticeGradient(0, 0, 0), glm::vec3(1.0f, 1.0f, 0.0f));
+  EXPECT_EQ(tdLatticeGradient(-1, -1, -1), glm::vec3(-1.0f, -1.0f, 0.0f));
+  EXPECT_EQ(tdLatticeGradient(-7, 3, -100000), glm::vec3(0.0f, 1.0f, -1.0f));
+  EXPECT_EQ(tdLatticeGradient(2147483647, -2147483647 - 1, 5), glm::vec3(1.0f, -1.0f, 0.0f));
+  const glm::vec4 n = tdNoiseGrad(glm::vec3(-1.25f, 3.75f, -8.125f));
+  EXPECT_NEAR(n.x, -0.446288228f, 1e-6f);
+  EXPECT_NEAR(n.y, 0.0562157035f, 1e-5f);
+  EXPECT_NEAR(n.z, 0.633713007f, 1e-5f);
+  EXPECT_NEAR(n.w, 0.290918827f, 1e-5f);
+}
+
+TEST(Procedural, OctavesClampToOneThroughEight) {
+  // 0 or negative octaves would divide by a zero amplitude sum; more than 8 cost without showing (the 9th is
+  // 1/256 of the first).
+  const glm::vec3 p(0.37f, -4.2f, 2.9f);
+  auto same = [](glm::vec4 a, glm::vec4 b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  EXPECT_TRUE(same(tdFbmGrad(p, 0), tdFbmGrad(p, 1)));
+  EXPECT_TRUE(same(tdFbmGrad(p, -3), tdFbmGrad(p, 1)));
+  EXPECT_TRUE(same(tdFbmGrad(p, 20), tdFbmGrad(p, 8)));
+  EXPECT_TRUE(same(tdTurbulenceGrad(p, 0), tdTurbulenceGrad(p, 1)));
+  EXPECT_TRUE(same(tdTurbulenceGrad(p, 20), tdTurbulenceGrad(p, 8)));
+  EXPECT_FALSE(same(tdFbmGrad(p, 7), tdFbmGrad(p, 8))) << "the 8th octave counts";
+  for (int type = TD_PATTERN_FBM; type <= TD_PATTERN_GRANITE; ++type) {
+    if (type == TD_PATTERN_WOOD) continue;  // one octave of noise, whatever `octaves` says
+    EXPECT_TRUE(same(tdPattern(type, p, 1.5f, 1.0f, 0), tdPattern(type, p, 1.5f, 1.0f, 1))) << type;
+    EXPECT_TRUE(same(tdPattern(type, p, 1.5f, 1.0f, 99), tdPattern(type, p, 1.5f, 1.0f, 8))) << type;
+  }
+}
+
+TEST(Procedural, FiniteForEveryInput) {
+  // Up to 1e6 the patterns are still patterns: in [0, 1] with finite gradients, for every type and octave count.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> u(-1e6f, 1e6f);
+  for (int i = 0; i < 6000; ++i) {
+    const int type = TD_PATTERN_NOISE + i % 6;
+    const glm::vec4 v = tdPattern(type, glm::vec3(u(rng), u(rng), u(rng)), 3.0f, 2.0f, 1 + i % 8);
+    ASSERT_TRUE(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w)) << type;
+    ASSERT_GE(v.x, 0.0f);
+    ASSERT_LE(v.x, 1.0f);
+  }
+  // Beyond the lattice's reach (2^23), at float's limit, ∞ and NaN: finite, never an undefined int conversion,
+  // and wood's q.x² must not overflow nor marble's sine see ∞.
+  for (float big : {1e7f, -1e19f, 1e20f, 3e38f, std::numeric_limits<float>::infinity(),
+                    -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()})
+    for (int type = TD_PATTERN_NOISE; type <= TD_PATTERN_GRANITE; ++type)
+      for (float scale : {0.5f, 7.0f}) {
+        const glm::vec4 v = tdPattern(type, glm::vec3(big, 1.5f, -big), scale, 1.0f, 8);
+        EXPECT_TRUE(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w))
+            << "type " << type << " at " << big << " scale " << scale;
+        const glm::vec4 n = tdNoiseGrad(glm::vec3(big, -big, 0.5f));
+        EXPECT_TRUE(std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z) && std::isfinite(n.w)) << big;
+      }
 }
 
 TEST(Procedural, BumpTiltsTheNormalByTheClosedFormAngle) {
@@ -165,8 +295,29 @@ TEST(Procedural, BumpTiltsTheNormalByTheClosedFormAngle) {
       EXPECT_NEAR(std::atan2(-b.x, b.z), std::atan(a * g), 1e-5f);
       EXPECT_NEAR(b.y, 0.0f, 1e-7f);
     }
+  // Any frame: N' stays in the plane of N and the tangential gradient g_t, leans away from g_t by atan(a·|g_t|);
+  // a negative amplitude (a dent, not a bump) leans towards it by the same angle.
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (int i = 0; i < 200; ++i) {
+    const glm::vec3 n = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)));
+    const glm::vec3 g(3.0f * u(rng), 3.0f * u(rng), 3.0f * u(rng));
+    const glm::vec3 gt = g - glm::dot(g, n) * n;
+    const float a = (i % 2 == 0 ? 1.0f : -1.0f) * (0.05f + std::abs(u(rng)));
+    const glm::vec3 b = tdBumpNormal(n, g, a);
+    EXPECT_NEAR(glm::length(b), 1.0f, 1e-6f);
+    EXPECT_NEAR(glm::dot(b, glm::cross(n, gt)), 0.0f, 1e-5f) << "out of the plane of N and g_t";
+    const float tilt = std::atan2(-glm::dot(b, glm::normalize(gt)), glm::dot(b, n));
+    EXPECT_NEAR(tilt, std::atan(a * glm::length(gt)), 2e-5f);
+  }
+  // Degenerate or not finite: N itself.
   const glm::vec3 tilted = glm::normalize(glm::vec3(1.0f, 2.0f, 3.0f));
-  EXPECT_EQ(tdBumpNormal(tilted, glm::vec3(std::numeric_limits<float>::infinity()), 1.0f), tilted) << "not finite: N";
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(tdBumpNormal(tilted, glm::vec3(inf), 1.0f), tilted) << "infinite gradient";
+  EXPECT_EQ(tdBumpNormal(tilted, glm::vec3(1.0f, nan, 0.0f), 1.0f), tilted) << "NaN gradient";
+  EXPECT_EQ(tdBumpNormal(tilted, glm::vec3(1.0f, 0.0f, 0.0f), nan), tilted) << "NaN amplitude";
+  EXPECT_EQ(tdBumpNormal(tilted, glm::vec3(1e30f, -1e30f, 0.0f), 1e30f), tilted) << "overflow";
+  EXPECT_EQ(tdBumpNormal(glm::vec3(0.0f), glm::vec3(0.0f), 1.0f), glm::vec3(0.0f)) << "zero normal, zero gradient";
 }
 
 }  // namespace

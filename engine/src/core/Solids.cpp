@@ -309,18 +309,23 @@ struct Walker {
 
   Hits node(std::uint32_t index, const Ray& parentRay) const {
     const Node& n = solid.nodes[index];
-    const glm::dmat4 nodeFromParent = glm::inverse(n.parentFromNode);
-    const Ray ray{glm::dvec3(nodeFromParent * glm::dvec4(parentRay.origin, 1.0)),
-                  glm::dmat3(nodeFromParent) * parentRay.dir};
+    // Most nodes sit where their parent is (every shape of a lone exact sphere or box): no transform to undo.
+    const bool placed = n.parentFromNode != glm::dmat4(1.0);
+    const glm::dmat4 nodeFromParent = placed ? glm::inverse(n.parentFromNode) : glm::dmat4(1.0);
+    const Ray ray = placed ? Ray{glm::dvec3(nodeFromParent * glm::dvec4(parentRay.origin, 1.0)),
+                                 glm::dmat3(nodeFromParent) * parentRay.dir}
+                           : parentRay;
     Hits h;
     if (n.op == Op::Leaf) {
       h = intersect(n.primitive, ray);
       for (Crossing& c : h.crossings) c.leaf = index;
     } else {
       std::vector<Hits> kids;
+      kids.reserve(n.children.size());
       for (std::uint32_t child : n.children) kids.push_back(node(child, ray));
       h = combine(n.op, kids);
     }
+    if (!placed) return h;
     // Normals back to the parent's space (the inverse transpose of the placement).
     const glm::dmat3 normalToParent = glm::transpose(glm::dmat3(nodeFromParent));
     for (Crossing& c : h.crossings) {
