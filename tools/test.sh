@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Set-up, build and the whole test suite through ctest. Idempotent.
-#   tools/test.sh                 the default suite (every test without the 'long' label)
-#   tools/test.sh --all           everything, long tests included
+#   tools/test.sh                 the default suite (every test without the long or mutation label)
+#   tools/test.sh --all           everything, long and mutation tests included (-L long or -L mutation: one of them)
 #   tools/test.sh --asan          the suite under AddressSanitizer + UBSan, built with clang (build-asan), with
 #                                 the libFuzzer smoke run of the glTF loader
 #   tools/test.sh --tsan          the ray pass (rt + numerics tests) under ThreadSanitizer (build-tsan)
@@ -42,7 +42,7 @@ case "$mode" in
     if [ "$mode" = fuzz ]; then
       cd "$root/build-asan" && ctest --output-on-failure -L '^fuzz$' "${args[@]}"
     else
-      cd "$root/build-asan" && LD_PRELOAD="${dri}" ctest --output-on-failure -LE '^(long|fuzz)$' "${args[@]}"
+      cd "$root/build-asan" && LD_PRELOAD="${dri}" ctest --output-on-failure -LE '^(long|fuzz|mutation)$' "${args[@]}"
     fi
     ;;
   tsan)
@@ -58,7 +58,7 @@ case "$mode" in
     if [ "$mode" = all ]; then
       ctest --output-on-failure "${args[@]}"
     else
-      ctest --output-on-failure -LE long "${args[@]}"
+      ctest --output-on-failure -LE '^(long|mutation)$' "${args[@]}"
     fi
     ;;
 esac

@@ -5,19 +5,25 @@
 // Cornell box (hybrid-full, and the path-traced reference at 2×2 spp), and csg.json (raster and hybrid-full). Tolerances (tests/golden/README.md):
 //   raster-only frames: every channel within 2/255 on at least 99.9 % of pixels (as Filament's CI does on
 //   Mesa software rasterizers);
-//   frames with ray-traced effects: additionally LDR-FLIP mean under 0.01 (Embree's SIMD paths may differ
-//   in the last bits between CPUs, which moves a few silhouette pixels of secondary rays).
-// Regenerate: TANDEM_UPDATE_GOLDENS=1 build/bin/tandem-gl-tests --gtest_filter='Golden*'
+//   frames with ray-traced effects: LDR-FLIP mean under 0.0008 and at most 0.1 % of pixels over 2/255 (the
+//   measured spread, and what it must catch: below).
+// Regenerate (and look at every changed image): cmake --build build --target update-goldens.
 #include <cstdlib>
 #include <filesystem>
 
 #include "gl/GlTestUtil.h"
+#include "support/Goldens.h"
 #include "tandem/ImageMetrics.h"
 #include "tandem/SceneFile.h"
 
 namespace tandem {
 namespace {
 
+// Frames with rays: FLIP mean under 0.0008. Measured (tests/golden/README.md): the same frame from two builds
+// whose shade pass llvmpipe compiled differently (fused multiply-adds moved: a few highlight pixels) differs
+// by 0.0005; forcing flat shading moves it 0.0011, Schlick's Fresnel 0.0028, one bounce less in hybrid-fast
+// 0.0018 — all caught.
+constexpr double kRayTracedFlip = 0.0008;
 constexpr int kWidth = 320;
 constexpr int kHeight = 180;
 
@@ -53,13 +59,13 @@ void checkGolden(const std::string& name, const FrameSettings& settings, bool ra
   gltest::savePng("golden-" + name + ".png", image);
 
   std::string path = test::sourceDir() + "/tests/golden/" + name + ".png";
-  const char* update = std::getenv("TANDEM_UPDATE_GOLDENS");
-  if (update && std::string(update) == "1") {
+  ASSERT_EQ(test::strayGoldenUpdate(), "");
+  if (test::updatingGoldens()) {
     ASSERT_TRUE(writePng(path, image).ok());
     GTEST_SKIP() << "golden updated: " << path;
   }
   auto golden = readPng(path);
-  ASSERT_TRUE(golden.ok()) << golden.error().message << " (regenerate with TANDEM_UPDATE_GOLDENS=1)";
+  ASSERT_TRUE(golden.ok()) << golden.error().message << " (regenerate: cmake --build build --target update-goldens)";
   ASSERT_EQ(golden->width, image.width);
   ASSERT_EQ(golden->height, image.height);
 
@@ -67,8 +73,8 @@ void checkGolden(const std::string& name, const FrameSettings& settings, bool ra
   if (rayTraced) {
     auto f = flip(image, *golden);
     ASSERT_TRUE(f.ok());
-    EXPECT_LT(f->mean, 0.01) << name << ": FLIP mean against the golden";
-    EXPECT_LT(diff.fractionOver, 0.01) << name << ": pixels over 2/255";
+    EXPECT_LT(f->mean, kRayTracedFlip) << name << ": FLIP mean against the golden";
+    EXPECT_LE(diff.fractionOver, 0.001) << name << ": pixels over 2/255";
   } else {
     EXPECT_LE(diff.fractionOver, 0.001) << name << ": pixels over 2/255 (max difference " << diff.maxDiff << ")";
   }

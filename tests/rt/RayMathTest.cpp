@@ -109,7 +109,9 @@ TEST(ExactHit, RayGrazingPastAnEdgeIsClampedOntoTheTriangle) {
 }
 
 // pbrt-v4's shapes test, on Embree: random triangles with coordinates log-uniform over many scales;
-// rays spawned from hit points (position from barycentrics, W&B offset) never re-hit their triangle.
+// rays spawned from hit points (position from barycentrics, offset as the ray pass offsets them: the
+// scale-aware offsetRayOrigin with the interpolation's magnitude bound, spawnOrigin's) never re-hit their
+// triangle.
 TEST(OriginOffset, SpawnedRaysNeverReintersectTheirTriangle) {
   RTCDevice device = rtcNewDevice(nullptr);
   ASSERT_NE(device, nullptr);
@@ -147,7 +149,9 @@ TEST(OriginOffset, SpawnedRaysNeverReintersectTheirTriangle) {
       for (int d = 0; d < 10; ++d) {
         glm::vec3 dir = glm::normalize(glm::vec3(u01(rng) - 0.5f, u01(rng) - 0.5f, u01(rng) - 0.5f) + glm::vec3(1e-6f));
         glm::vec3 side = glm::dot(dir, ng) >= 0.0f ? ng : -ng;
-        glm::vec3 o = offsetRayOrigin(pos, side);
+        const glm::vec3 mag = interpolationMagnitude(glm::vec3(1.0f - a - b, a, b), glm::abs(p[0]), glm::abs(p[1]),
+                                                     glm::abs(p[2]));
+        glm::vec3 o = offsetRayOrigin(pos, side, mag);
         RTCRay ray{};
         ray.org_x = o.x, ray.org_y = o.y, ray.org_z = o.z;
         ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;

@@ -58,5 +58,46 @@ TEST(ReferenceConvergence, ErrorShrinksFromFourToEightToSixteenSpp) {
   EXPECT_GT(*p2, *p1);
 }
 
+TEST(ReferenceConvergence, TheReferenceMeetsClosedFormsNotJustItself) {
+  // Convergence compares the reference with itself; this holds it to answers worked out here. A matte floor
+  // under a directional light at 30° from its normal and an ambient light, no shadows to cast: every floor pixel
+  // is ka·Ia + kd·E·cos 30° at any sample count; a mirror floor (kr 0.5, no kd) under a sky-blue background shows
+  // ka·Ia + 0.5·background exactly (its reflected rays all escape).
+  for (bool mirror : {false, true}) {
+    Scene scene;
+    Material m = diffuse(glm::vec3(0.6f, 0.5f, 0.4f));
+    m.ka = glm::vec3(0.2f, 0.3f, 0.4f);
+    if (mirror) {
+      m.kd = glm::vec3(0.0f);
+      m.kr = 0.5f;
+    }
+    addInstance(scene, addMesh(scene, makePlane({40.0f, 40.0f}, 1)), addMaterial(scene, m), glm::mat4(1.0f));
+    scene.lights.push_back(ambientLight(0.5f));
+    const double theta = 3.14159265358979 / 6;
+    scene.lights.push_back(directional({static_cast<float>(std::sin(theta)), static_cast<float>(-std::cos(theta)), 0.0f}, 1.5f));
+    scene.background = glm::vec3(0.3f, 0.6f, 0.9f);
+    scene.camera.posW = {0.0f, 3.0f, 3.0f};
+    scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+    auto tracer = makeTracer(scene);
+    ASSERT_TRUE(tracer);
+    FrameSettings s = *presetSettings("reference", settingsFor(64, 48));
+    s.referenceSpp = 2;
+    ImageF out;
+    RayCounts counts;
+    tracer->renderReference(scene, scene.camera, s, out, counts);
+    int floorPixels = 0;
+    for (const glm::vec3& c : out.rgb) {
+      if (c == scene.background) continue;  // the sky above the horizon
+      ++floorPixels;
+      for (int k = 0; k < 3; ++k) {
+        const double want = m.ka[k] * 0.5 + (mirror ? 0.5 * scene.background[k] : m.kd[k] * 1.5 * std::cos(theta));
+        ASSERT_NEAR(c[k], want, 1e-5) << (mirror ? "mirror" : "matte") << " channel " << k;
+      }
+    }
+    EXPECT_GT(floorPixels, 64 * 48 / 2);
+    EXPECT_EQ(counts.primary, 64u * 48u * 4u);
+  }
+}
+
 }  // namespace
 }  // namespace tandem::rt

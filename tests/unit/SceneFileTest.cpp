@@ -547,7 +547,7 @@ TEST(SceneFileAssets, WhittedSceneIsTheClassicOne) {
     return s.materials.front();
   };
   const Material& floor = material("floor");
-  EXPECT_GT(floor.checkerFrequency, 0.0f);
+  EXPECT_EQ(floor.checkerFrequency, 0.5f);                            // squares of 2 units
   EXPECT_GT(floor.kd.r, floor.kd.g * 4);                              // red squares
   EXPECT_GT(floor.kd2.r, 0.5f);                                       // yellow squares
   EXPECT_GT(floor.kd2.g, 0.5f);
@@ -564,7 +564,10 @@ TEST(SceneFileAssets, WhittedSceneIsTheClassicOne) {
   std::vector<const Light*> direct = s.directLights();
   ASSERT_EQ(direct.size(), 2u);
   EXPECT_NE(direct[0]->type, direct[1]->type);
-  EXPECT_GT(glm::length(s.ambientIntensity()), 0.0f);
+  const glm::vec3 ia = s.ambientIntensity();  // the sky light: (0.6, 0.75, 1.0) × 0.15
+  EXPECT_NEAR(ia.x, 0.09f, 1e-6f);
+  EXPECT_NEAR(ia.y, 0.1125f, 1e-6f);
+  EXPECT_NEAR(ia.z, 0.15f, 1e-6f);
   EXPECT_EQ(s.render.width * 9, s.render.height * 16);
   EXPECT_GT(s.background.b, s.background.r);  // sky blue
   EXPECT_EQ(s.instances.size(), 4u);

@@ -17,24 +17,6 @@ namespace tandem::rt {
 
 inline bool isFinite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-/// Wächter & Binder, "A Fast and Robust Method for Avoiding Self-Intersection" (Ray Tracing Gems ch. 6):
-/// moves `posW` off its surface along `normalW` (the unit geometric normal on the side the new ray leaves
-/// from) by 256 ULPs per component, which scales with the coordinate's own rounding error; within 1/32 of
-/// the origin a ULP offset would be subnormal, so a small fixed offset is used there instead.
-inline glm::vec3 offsetRayOrigin(glm::vec3 posW, glm::vec3 normalW) {
-  constexpr float kOrigin = 1.0f / 32.0f;
-  constexpr float kFloatScale = 1.0f / 65536.0f;
-  constexpr float kIntScale = 256.0f;
-  glm::vec3 out;
-  for (int i = 0; i < 3; ++i) {
-    auto ulps = static_cast<std::int32_t>(kIntScale * normalW[i]);
-    auto bits = std::bit_cast<std::int32_t>(posW[i]);
-    float moved = std::bit_cast<float>(bits + (posW[i] < 0.0f ? -ulps : ulps));
-    out[i] = std::abs(posW[i]) < kOrigin ? posW[i] + kFloatScale * normalW[i] : moved;
-  }
-  return out;
-}
-
 /// std::nextafter(x, +inf) by integer arithmetic on the bits: the same result for every input (zeros,
 /// infinities and NaN included), without the libm call, which showed in the ray pass's profile (every
 /// spawned ray rounds three components).
