@@ -245,12 +245,13 @@ mat4 instanceWorldFromObject(uint instance) {
               texelFetch(instancesBuf, base + 3));
 }
 
-// The instance's part of a Triangle: material, probe and transforms; no vertices, no attribute flags.
-Triangle loadInstance(uint instance) {
+// The instance's part of a Triangle (material, probe, transforms; no vertices, no attribute flags), and its
+// record's transform and mesh/material texel for loadTriangle, fetched once.
+Triangle loadInstance(uint instance, out mat4 worldFromObject, out uvec4 meshMaterial) {
   Triangle t;
   int base = 9 * int(instance);
-  mat4 worldFromObject = instanceWorldFromObject(instance);
-  uvec4 meshMaterial = texelFetch(instanceIdsBuf, base + 8);
+  worldFromObject = instanceWorldFromObject(instance);
+  meshMaterial = texelFetch(instanceIdsBuf, base + 8);
   t.v0 = t.v1 = t.v2 = 0u;
   t.flags = 0u;
   t.material = meshMaterial.y;
@@ -262,9 +263,10 @@ Triangle loadInstance(uint instance) {
 }
 
 Triangle loadTriangle(uint instance, uint primitive) {
-  Triangle t = loadInstance(instance);
-  mat4 worldFromObject = instanceWorldFromObject(instance);
-  uvec4 mesh = texelFetch(meshesBuf, int(texelFetch(instanceIdsBuf, 9 * int(instance) + 8).x));
+  mat4 worldFromObject;
+  uvec4 meshMaterial;
+  Triangle t = loadInstance(instance, worldFromObject, meshMaterial);
+  uvec4 mesh = texelFetch(meshesBuf, int(meshMaterial.x));
   int i = int(mesh.y + 3u * primitive);
   t.v0 = texelFetch(indicesBuf, i).x;
   t.v1 = texelFetch(indicesBuf, i + 1).x;
@@ -615,7 +617,9 @@ void shadePixel() {
     // A point on an exact solid (rt::resolveHit's twin): no vertices or attributes, the solid's own normal;
     // its "triangle" is the point itself, so Gouraud and flat shade it per pixel with that normal.
     vec4 hit = texelFetch(exactHitsTex, pix, 0);
-    tri = loadInstance(instance);
+    mat4 worldFromObject;
+    uvec4 meshMaterial;
+    tri = loadInstance(instance, worldFromObject, meshMaterial);
     posW = origin + hit.w * dir;
     tri.p0 = posW;
     tri.p1 = posW;

@@ -112,8 +112,8 @@ struct Renderer::Impl {
   bool prepare(FramePlan& plan, const Camera& camera, FrameStats& stats);
   void raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
   void readback(const FramePlan& plan);
-  // rays, first step: the exact solids' proxy pixels by camera rays (FramePlan::resolve).
-  void resolveExact(const FramePlan& plan, const Camera& camera, FrameStats& stats);
+  // rays, first step: the exact solids' proxy pixels by camera rays (FramePlan::resolve); the rays traced.
+  std::uint64_t resolveExact(const FramePlan& plan, const Camera& camera);
   void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats, const rt::RayReuse* reuse);
   void reuseRays(const FramePlan& plan, FrameStats& stats) const;
   // Whether this frame can keep some of the last frame's answers, and what changed since it.
@@ -359,8 +359,9 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
     }
     timed(sample.readbackMs, [&] { readback(plan); });
     // Exact solids first: the ray pass starts from the hits the resolve step finds (every pixel's, since the
-    // GL shades them all).
-    timed(sample.raysMs, [&] { resolveExact(plan, camera, sample); });
+    // GL shades them all). Its time and rays are the rays stage's, with the ray pass's.
+    double resolveMs = 0;
+    const std::uint64_t resolvedRays = timed(resolveMs, [&] { return resolveExact(plan, camera); });
     // An adaptive round traces only the pixels it refines: the others read as background, which has no rays.
     // The ids themselves are put back after, for tracePixel.
     std::vector<glm::uvec2> allIds;
@@ -369,8 +370,6 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
       for (std::size_t i = 0; i < only->size(); ++i)
         if ((*only)[i] == 0) visibility.ids[i] = glm::uvec2(0u);
     }
-    const double resolveMs = sample.raysMs;
-    const std::uint64_t resolvedRays = sample.rays.resolved;
     timed(sample.raysMs, [&] { traceRays(plan, camera, sample, keeps ? &kept : nullptr); });
     sample.raysMs += resolveMs;
     sample.rays.resolved = resolvedRays;
@@ -651,10 +650,12 @@ void Renderer::Impl::readback(const FramePlan& plan) {
 }
 
 // rays, first: each pixel of an exact solid's proxy by its camera ray, the ids changed to what it found.
-void Renderer::Impl::resolveExact(const FramePlan& plan, const Camera& camera, FrameStats& stats) {
+std::uint64_t Renderer::Impl::resolveExact(const FramePlan& plan, const Camera& camera) {
   resolved.clear();
-  if (!plan.resolve) return;
-  tracer->resolveExact(scene, camera, visibility, resolved, stats.rays);
+  if (!plan.resolve) return 0;
+  RayCounts counts;
+  tracer->resolveExact(scene, camera, visibility, resolved, counts);
+  return counts.resolved;
 }
 
 // rays: the hybrid ray pass on the ray grid, or the whole reference frame.

@@ -558,12 +558,13 @@ void RayTracer::resolveExact(const Scene& scene, const Camera& camera, Visibilit
               float t = rh.ray.tfar;
               r.id = glm::uvec2(instance + 1, rh.hit.primID);
               if (embree.isExact(instance)) {
-                // The solid's crossing in double, as the hybrid pass will find it again (resolveHit).
-                const SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, time), instance, 0u, ray, tNear);
-                t = glm::dot(hit.posW - ray.origin, ray.dir);
-                r.id.y = hit.triangle;
-                if (hit.triangle == kExactTriangle)
-                  r.hit = glm::vec4(hit.backFace ? -hit.geomNormalW : hit.geomNormalW, t);
+                // The user geometry found the solid's crossing (core/Solids, in double): its t, and its outward
+                // normal in the instance's object space (Embree leaves instanced normals there).
+                const glm::vec3 n = embree.transformAt(instance, time).normalWorldFromObject *
+                                    glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+                const float len = glm::length(n);
+                r.id.y = kExactTriangle;
+                r.hit = glm::vec4(len > 0.0f && std::isfinite(len) ? n / len : -ray.dir, t);
               }
               r.depth = windowDepth(cam, size, ray.origin + t * ray.dir);
               // A hit the depth cannot tell from the far plane would read as background in the GL.
