@@ -24,28 +24,9 @@ using test::triangleDoc;
 using test::writeBytes;
 using test::writeText;
 
-struct Loaded {
-  bool ok = false;
-  std::string error;
-  std::vector<std::string> warnings;
-  std::vector<std::string> opened;
-  int textures = 0;  // real (not fallback) textures
-};
+using Loaded = test::LoadOutcome;
 
-Loaded load(const fs::path& gltf) {
-  Loaded o;
-  GltfOptions opt;
-  opt.onWarning = [&](const std::string& w) { o.warnings.push_back(w); };
-  opt.onFileOpened = [&](const std::string& f) { o.opened.push_back(f); };
-  LogSink old = setLogSink([](LogLevel, std::string_view) {});
-  auto r = loadGltf(gltf.string(), opt);
-  setLogSink(old);
-  o.ok = r.ok();
-  if (!r.ok()) o.error = r.error().message;
-  else
-    for (const Texture& t : r->textures) o.textures += t.name != "fallback" ? 1 : 0;
-  return o;
-}
+Loaded load(const fs::path& gltf) { return test::loadRecording(gltf.string()); }
 
 // Files the load opened outside `folder` (by path components, not by string prefix).
 std::vector<std::string> openedOutside(const Loaded& o, const fs::path& folder) {

@@ -23,24 +23,9 @@ using test::writeBytes;
 using test::pngBytes;
 using test::writeText;
 
-struct Outcome {
-  bool ok = false;
-  std::string error;
-  std::vector<std::string> warnings;
-  std::vector<std::string> opened;
-};
+using Outcome = test::LoadOutcome;
 
-Outcome loadPath(const std::string& path, GltfOptions opt = {}) {
-  Outcome o;
-  opt.onWarning = [&](const std::string& w) { o.warnings.push_back(w); };
-  opt.onFileOpened = [&](const std::string& f) { o.opened.push_back(f); };
-  LogSink old = setLogSink([](LogLevel, std::string_view) {});
-  auto r = loadGltf(path, opt);
-  setLogSink(old);
-  o.ok = r.ok();
-  if (!r.ok()) o.error = r.error().message;
-  return o;
-}
+Outcome loadPath(const std::string& path, GltfOptions opt = {}) { return test::loadRecording(path, std::move(opt)); }
 
 Outcome loadDoc(const std::string& name, const json& doc, GltfOptions opt = {}) {
   auto dir = freshDir(name);

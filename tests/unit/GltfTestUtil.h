@@ -12,6 +12,8 @@
 #include <stb/stb_image_write.h>
 
 #include "support/TestSupport.h"
+#include "tandem/Gltf.h"
+#include "tandem/Log.h"
 
 namespace tandem::test {
 
@@ -106,6 +108,30 @@ inline nlohmann::json triangleDoc(Bytes* outBytes = nullptr) {
       {"buffers", {{{"byteLength", b.data.size()}, {"uri", b.dataUri()}}}}};
   if (outBytes) *outBytes = b;
   return d;
+}
+
+/// What one loadGltf did: success or the error, its warnings, every file it opened, and its real textures.
+struct LoadOutcome {
+  bool ok = false;
+  std::string error;
+  std::vector<std::string> warnings;
+  std::vector<std::string> opened;
+  int textures = 0;  // decoded ones, not the fallback
+};
+
+/// loadGltf(path) with the log silenced and every warning and opened file recorded.
+inline LoadOutcome loadRecording(const std::string& path, GltfOptions opt = {}) {
+  LoadOutcome o;
+  opt.onWarning = [&](const std::string& w) { o.warnings.push_back(w); };
+  opt.onFileOpened = [&](const std::string& f) { o.opened.push_back(f); };
+  LogSink old = setLogSink([](LogLevel, std::string_view) {});
+  auto r = loadGltf(path, opt);
+  setLogSink(old);
+  o.ok = r.ok();
+  if (!r.ok()) o.error = r.error().message;
+  else
+    for (const Texture& t : r->textures) o.textures += t.name != "fallback" ? 1 : 0;
+  return o;
 }
 
 }  // namespace tandem::test
