@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -621,6 +622,80 @@ TEST(SceneFileAssets, ShadowsSceneHasNoMirrorsOrGlass) {
   ASSERT_EQ(direct.size(), 2u);
   EXPECT_EQ(direct[0]->type, LightType::Directional);
   EXPECT_EQ(direct[1]->type, LightType::Spot);
+}
+
+}  // namespace
+}  // namespace tandem
+
+namespace tandem {
+namespace {
+
+// docs/scene-format.md: "Integers must be integral (`64`, `64.0`; not `64.5`)", each within its key's
+// documented range. Every integer key of the format, at both ends of its range, written as an integer, as a
+// float with a zero fraction and in exponent form; its neighbours outside the range and a fraction refused,
+// naming the key. The ranges come from the format's table, not from the reader.
+TEST(SceneFileIntegers, EveryIntegerKeyTakesIntegralNumbersAndRefusesTheRestByName) {
+  struct Key {
+    const char* path;  // the JSON path the error names
+    int lo, hi;
+    std::function<std::string(const std::string&)> scene;  // the scene with the key set to the text
+    std::function<int(const Scene&)> read;                  // where the value lands
+  };
+  const std::vector<Key> keys = {
+      {"/meshes/s/segments", 3, 4096,
+       [](const std::string& v) { return R"({"meshes": {"s": {"primitive": "sphere", "rings": 2, "segments": )" + v + "}}}"; },
+       // a sphere of n segments and 2 rings has (n + 1) · 3 vertices
+       [](const Scene& s) { return static_cast<int>(s.meshes.at(0).positions.size() / 3) - 1; }},
+      {"/meshes/s/rings", 2, 4096,
+       [](const std::string& v) { return R"({"meshes": {"s": {"primitive": "sphere", "segments": 3, "rings": )" + v + "}}}"; },
+       [](const Scene& s) { return static_cast<int>(s.meshes.at(0).positions.size() / 4) - 1; }},
+      {"/meshes/s/divisions", 1, 512,  // 4096 is the format's bound; 512² quads stay within the load budget
+       [](const std::string& v) { return R"({"meshes": {"s": {"primitive": "plane", "divisions": )" + v + "}}}"; },
+       [](const Scene& s) { return static_cast<int>(std::lround(std::sqrt(double(s.meshes.at(0).positions.size())))) - 1; }},
+      {"/materials/m/texture/octaves", 1, 8,
+       [](const std::string& v) { return R"({"materials": {"m": {"texture": {"type": "fbm", "octaves": )" + v + "}}}}"; },
+       [](const Scene& s) { return s.materials.at(0).procedural.octaves; }},
+      {"/render/width", 1, 16384,
+       [](const std::string& v) { return R"({"render": {"width": )" + v + "}}"; },
+       [](const Scene& s) { return s.render.width; }},
+      {"/render/height", 1, 16384,
+       [](const std::string& v) { return R"({"render": {"height": )" + v + "}}"; },
+       [](const Scene& s) { return s.render.height; }},
+      {"/render/maxDepth", 0, 64,
+       [](const std::string& v) { return R"({"render": {"maxDepth": )" + v + "}}"; },
+       [](const Scene& s) { return s.render.maxDepth; }},
+  };
+  for (const Key& k : keys) {
+    SCOPED_TRACE(k.path);
+    for (int n : {k.lo, k.hi}) {
+      const std::string text = std::to_string(n);
+      for (const std::string& written : {text, text + ".0", text + ".000", text + "e0"}) {
+        Result<Scene> r = parse(k.scene(written));
+        ASSERT_TRUE(r) << written << ": " << r.error().message;
+        EXPECT_EQ(k.read(*r), n) << written;
+      }
+    }
+    expectError(k.scene(std::to_string(k.lo) + ".5"), k.path, "expected an integer, got " + std::to_string(k.lo) + ".5");
+    expectError(k.scene(std::to_string(k.hi) + ".25"), k.path, "expected an integer, got " + std::to_string(k.hi) + ".25");
+    expectError(k.scene(std::to_string(k.lo) + ".000001"), k.path, "expected an integer");
+    const std::string range = "must be in [" + std::to_string(k.lo) + ", ";
+    expectError(k.scene(std::to_string(k.lo - 1)), k.path, range);
+    expectError(k.scene(std::to_string(k.lo - 1) + ".0"), k.path, range);
+    if (k.hi < 4096 && std::string(k.path).find("divisions") == std::string::npos) {
+      expectError(k.scene(std::to_string(k.hi + 1)), k.path, range);
+      expectError(k.scene(std::to_string(k.hi + 1) + ".0"), k.path, range);
+    }
+    expectError(k.scene("1e300"), k.path, range);
+    expectError(k.scene("-1e300"), k.path, range);
+    expectError(k.scene("true"), k.path, "expected an integer, got");
+  }
+  // The upper bounds of the tessellation keys, refused one past them (the plane's without building it).
+  expectError(R"({"meshes": {"s": {"primitive": "sphere", "rings": 2, "segments": 4097}}})", "/meshes/s/segments",
+              "must be in [3, 4096], got 4097");
+  expectError(R"({"meshes": {"s": {"primitive": "sphere", "segments": 3, "rings": 4097.0}}})", "/meshes/s/rings",
+              "must be in [2, 4096], got 4097");
+  expectError(R"({"meshes": {"s": {"primitive": "plane", "divisions": 4097}}})", "/meshes/s/divisions",
+              "must be in [1, 4096], got 4097");
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "io/SceneJson.h"
 
 #include <algorithm>
+#include <charconv>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -154,9 +155,11 @@ std::string joinNames(const std::vector<std::string>& names) {
 }
 
 std::string formatNumber(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
+  // The shortest text that reads back as the same double: a message quotes the file's number as written
+  // (16384.25, not the 6 digits a stream gives, 16384.2).
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
 }
 
 Json parseText(std::string_view text, const std::string& file) {
