@@ -10,6 +10,7 @@
 #include "tandem/Gltf.h"
 #include "tandem/Image.h"
 #include "tandem/Log.h"
+#include "tandem/Primitives.h"
 #include "tandem/SceneFile.h"
 #include "unit/GltfTestUtil.h"
 
@@ -320,6 +321,174 @@ TEST(LoadBudget, PngBombIsRefusedNotInflated) {
   bool warned = false;
   for (const auto& w : warnings) warned |= w.find("decoding needs more memory than its declared size allows") != std::string::npos;
   EXPECT_TRUE(warned);
+}
+
+// ---- each decode charged exactly what it keeps ----
+// The charges are worked out here from what the load keeps (the texels, the mesh's arrays), so that a charge
+// that is too small (an undercharge lets a hostile file past the budget) or too large fails. Each case also
+// sets the budget between the right charge and a plausible wrong one, so an undercharge is refused there.
+
+std::vector<std::uint8_t> encodedImage(const std::string& format, int w, int h, int channels) {
+  std::vector<std::uint8_t> px(static_cast<std::size_t>(w * h * channels));
+  for (std::size_t i = 0; i < px.size(); ++i) px[i] = static_cast<std::uint8_t>((i * 37) % 251);
+  std::vector<std::uint8_t> out;
+  auto sink = [](void* ctx, void* data, int size) {
+    auto* o = static_cast<std::vector<std::uint8_t>*>(ctx);
+    o->insert(o->end(), static_cast<std::uint8_t*>(data), static_cast<std::uint8_t*>(data) + size);
+  };
+  if (format == "png") stbi_write_png_to_func(sink, &out, w, h, channels, px.data(), w * channels);
+  else stbi_write_jpg_to_func(sink, &out, w, h, channels, px.data(), 90);
+  return out;
+}
+
+TEST(LoadBudget, EachImageIsChargedTheTexelsItKeepsWhateverItsFileFormat) {
+  auto dir = freshDir("budget-texels");
+  json d = triangleDoc();
+  d["images"] = {{{"uri", "tex.img"}}};
+  d["textures"] = {{{"source", 0}}};
+  d["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+  d["meshes"][0]["primitives"][0]["material"] = 0;
+  const std::string doc = writeText(dir / "t.gltf", d.dump());
+  // The baseline: a 1×1 RGBA image keeps 4 bytes, whichever way they are counted.
+  writeBytes(dir / "tex.img", encodedImage("png", 1, 1, 4));
+  auto base = load(doc);
+  ASSERT_TRUE(base) << base.error().message;
+  ASSERT_EQ(base->scene.textures.size(), 1u);
+  ASSERT_EQ(base->scene.textures[0].rgba8.size(), 4u);
+  const std::uint64_t modelEstimate = base->stats.modelEstimate, decodedBase = base->stats.decodedBytes;
+  struct Case {
+    const char* format;
+    int channels;  // in the file; the texture keeps 4
+  };
+  for (const Case c : {Case{"png", 1}, Case{"png", 2}, Case{"png", 3}, Case{"png", 4}, Case{"jpg", 1}, Case{"jpg", 3}}) {
+    SCOPED_TRACE(std::string(c.format) + " with " + std::to_string(c.channels) + " channels");
+    const int w = 37, h = 21;
+    const std::uint64_t texels = std::uint64_t(w) * h * 4;
+    writeBytes(dir / "tex.img", encodedImage(c.format, w, h, c.channels));
+    auto r = load(doc);
+    ASSERT_TRUE(r) << r.error().message;
+    ASSERT_EQ(r->scene.textures.size(), 1u);
+    EXPECT_EQ(r->scene.textures[0].rgba8.size(), texels);
+    EXPECT_EQ(r->stats.modelEstimate, modelEstimate);
+    EXPECT_EQ(r->stats.decodedBytes - decodedBase, texels - 4) << "the texels kept, 4 bytes each";
+    // The whole load's charge, worked out from the baseline: a budget one byte short of it (between the right
+    // charge and, say, the file's channels per texel) refuses the load; that charge exactly is enough. (A
+    // budget per input byte of 0: the limit is the base.)
+    const std::uint64_t total = modelEstimate + decodedBase - 4 + texels;
+    GltfOptions tight;
+    tight.limits.budgetBytesPerInputByte = 0;
+    tight.limits.budgetBaseBytes = total - 1;
+    auto refused = load(doc, tight);
+    ASSERT_FALSE(refused) << "a budget one byte short of the texels kept";
+    EXPECT_NE(refused.error().message.find("would take"), std::string::npos) << refused.error().message;
+    tight.limits.budgetBaseBytes = total;
+    auto fits = load(doc, tight);
+    EXPECT_TRUE(fits) << fits.error().message;
+  }
+}
+
+TEST(LoadBudget, EachVertexAttributeIsChargedWhatTheMeshKeeps) {
+  // The triangle with one more attribute, read from an accessor of 3 elements: the load reads the accessor
+  // as floats (charged: 3 × its components × 4 bytes) and the mesh keeps its own array (charged: its size).
+  auto dir = freshDir("budget-attributes");
+  std::uint64_t texelBytes = 0;  // of the last load's textures
+  auto decodedOf = [&](const json& d, const std::string& name, const Mesh** mesh = nullptr) -> std::uint64_t {
+    static Result<GltfAsset> kept = Error{""};
+    kept = load(writeText(dir / name, d.dump()));
+    EXPECT_TRUE(kept) << kept.error().message;
+    if (!kept) return 0;
+    EXPECT_EQ(kept->scene.meshes.size(), 1u);
+    if (mesh) *mesh = &kept->scene.meshes[0];
+    texelBytes = 0;
+    for (const Texture& tex : kept->scene.textures) texelBytes += tex.rgba8.size();
+    return kept->stats.decodedBytes;
+  };
+  Bytes plainBytes;
+  const json plain = triangleDoc(&plainBytes);
+  const std::uint64_t base = decodedOf(plain, "plain.gltf");
+  struct Case {
+    const char* attribute;
+    const char* type;
+    int components;
+    int componentType;  // 5126 float, 5121 unsigned byte (normalized)
+    std::size_t keptBytes;  // what the mesh keeps per vertex
+  };
+  for (const Case c : {Case{"TEXCOORD_0", "VEC2", 2, 5126, sizeof(glm::vec2)}, Case{"COLOR_0", "VEC3", 3, 5126, sizeof(glm::vec4)},
+                       Case{"COLOR_0", "VEC4", 4, 5126, sizeof(glm::vec4)}, Case{"COLOR_0", "VEC3", 3, 5121, sizeof(glm::vec4)},
+                       Case{"NORMAL", "VEC3", 3, 5126, 0}}) {  // normals are kept (made) without the attribute too
+    SCOPED_TRACE(std::string(c.attribute) + " " + c.type + " of " + std::to_string(c.componentType));
+    Bytes b = plainBytes;
+    std::size_t offset = 0, length = 0;
+    if (c.componentType == 5126) {
+      std::vector<float> v(static_cast<std::size_t>(3 * c.components), 0.5f);
+      if (std::string(c.attribute) == "NORMAL") v = {0, 0, 1, 0, 0, 1, 0, 0, 1};
+      offset = b.add(v);
+      length = v.size() * sizeof(float);
+    } else {
+      std::vector<std::uint8_t> v(static_cast<std::size_t>(3 * c.components), 128);
+      offset = b.add(v);
+      length = v.size();
+    }
+    json d = plain;
+    d["buffers"][0] = {{"byteLength", b.data.size()}, {"uri", b.dataUri()}};
+    d["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", length}});
+    json accessor = {{"bufferView", 2}, {"componentType", c.componentType}, {"count", 3}, {"type", c.type}};
+    if (c.componentType != 5126) accessor["normalized"] = true;
+    d["accessors"].push_back(accessor);
+    d["meshes"][0]["primitives"][0]["attributes"][c.attribute] = 2;
+    const Mesh* mesh = nullptr;
+    const std::uint64_t with = decodedOf(d, "with.gltf", &mesh);
+    ASSERT_NE(mesh, nullptr);
+    const std::size_t kept = std::string(c.attribute) == "TEXCOORD_0" ? mesh->uvs.size() * sizeof(glm::vec2)
+                             : std::string(c.attribute) == "COLOR_0" ? mesh->colors.size() * sizeof(glm::vec4)
+                                                                      : 0;
+    EXPECT_EQ(kept, 3 * c.keptBytes);
+    EXPECT_EQ(with - base, 3u * static_cast<std::uint64_t>(c.components) * sizeof(float) + kept);
+  }
+  // A normal-mapped primitive keeps 3 tangents; without uvs to make them from, 3 zero uvs too.
+  json mapped = plain;
+  writeBytes(dir / "n.png", test::pngBytes(2, 2));
+  mapped["images"] = {{{"uri", "n.png"}}};
+  mapped["textures"] = {{{"source", 0}}};
+  mapped["materials"] = {{{"normalTexture", {{"index", 0}}}}};
+  mapped["meshes"][0]["primitives"][0]["material"] = 0;
+  const Mesh* mesh = nullptr;
+  const std::uint64_t withMap = decodedOf(mapped, "mapped.gltf", &mesh);
+  const std::uint64_t mapTexels = texelBytes;
+  ASSERT_NE(mesh, nullptr);
+  EXPECT_EQ(mesh->tangents.size(), 3u);
+  EXPECT_EQ(mesh->uvs.size(), 3u);
+  json unmapped = mapped;
+  unmapped["meshes"][0]["primitives"][0].erase("material");  // the same image decoded, no tangents
+  unmapped["materials"][0]["occlusionTexture"] = {{"index", 0}};
+  unmapped["materials"][0].erase("normalTexture");
+  unmapped["meshes"][0]["primitives"][0]["material"] = 0;
+  const std::uint64_t withoutMap = decodedOf(unmapped, "unmapped.gltf", &mesh);
+  ASSERT_NE(mesh, nullptr);
+  EXPECT_TRUE(mesh->tangents.empty());
+  EXPECT_EQ(withMap - mapTexels - (withoutMap - texelBytes), 3 * (sizeof(glm::vec4) + sizeof(glm::vec2)));
+}
+
+TEST(LoadBudget, SceneFileMeshesAreChargedWhatTheyKeep) {
+  // The charge a built-in mesh is refused for is the size of the mesh it would have built: positions,
+  // normals and uvs per vertex, three indices per triangle (tandem/Primitives.h builds the same mesh here).
+  // This sphere's mesh needs 115 MB, over the 64 MB budget of a small file.
+  Quiet q;
+  auto r = parseSceneJson(R"({"meshes": {"big": {"primitive": "sphere", "segments": 2048, "rings": 1000}}})", "s.json", ".");
+  ASSERT_FALSE(r);
+  const Mesh sphere = makeSphere(1.0f, 2048, 1000);
+  EXPECT_TRUE(sphere.tangents.empty() && sphere.colors.empty());
+  const std::uint64_t kept = sphere.bytes() - sphere.name.size();
+  EXPECT_NE(r.error().message.find("/meshes/big: the mesh would take " + std::to_string(kept) + " more bytes"),
+            std::string::npos)
+      << r.error().message << " (the mesh keeps " << kept << " bytes)";
+  auto p = parseSceneJson(R"({"meshes": {"big": {"primitive": "plane", "divisions": 1400}}})", "s.json", ".");
+  ASSERT_FALSE(p);
+  const Mesh plane = makePlane(glm::vec2(10.0f), 1400);
+  const std::uint64_t planeKept = plane.bytes() - plane.name.size();
+  EXPECT_NE(p.error().message.find("/meshes/big: the mesh would take " + std::to_string(planeKept) + " more bytes"),
+            std::string::npos)
+      << p.error().message << " (the mesh keeps " << planeKept << " bytes)";
 }
 
 }  // namespace

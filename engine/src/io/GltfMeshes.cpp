@@ -262,8 +262,12 @@ Result<void> Importer::readTangents(const tinygltf::Primitive& p, const std::str
                                     const std::vector<std::uint32_t>& used, std::size_t n, Mesh& mesh) {
   const bool normalMap = p.material >= 0 && wantsTangents_[std::size_t(p.material)];
   if (!normalMap) return {};
-  if (auto c = charge(id + " tangents", u64(n) * (sizeof(glm::vec4) + sizeof(glm::vec2))); !c) return c.error();
-  if (int a = attributeAccessor(p, "TANGENT"); a >= 0) {
+  // Charged what it keeps: n tangents, and n zero uvs where there are neither tangents nor uvs to make them from.
+  const int a = attributeAccessor(p, "TANGENT");
+  const bool zeroUvs = a < 0 && mesh.uvs.empty();
+  if (auto c = charge(id + " tangents", u64(n) * (sizeof(glm::vec4) + (zeroUvs ? sizeof(glm::vec2) : 0))); !c)
+    return c.error();
+  if (a >= 0) {
     auto r = attribute(a);
     if (!r) return r.error();
     std::size_t bad = 0;

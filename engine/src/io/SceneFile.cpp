@@ -162,8 +162,9 @@ class Builder {
       if (const Json* v = Reader::find(j, "segments")) segments = r_.integer(*v, child(path, "segments"), 3, kMaxTessellation);
       if (const Json* v = Reader::find(j, "rings")) rings = r_.integer(*v, child(path, "rings"), 2, kMaxTessellation);
       // The two pole rows have one triangle per segment, the others two.
-      checkPrimitiveTriangles(std::uint64_t(segments) * std::uint64_t(2 * rings - 2), path);
-      chargeMesh(path, std::uint64_t(segments + 1) * std::uint64_t(rings + 1), std::uint64_t(segments) * std::uint64_t(2 * rings));
+      const std::uint64_t triangles = std::uint64_t(segments) * std::uint64_t(2 * rings - 2);
+      checkPrimitiveTriangles(triangles, path);
+      chargeMesh(path, std::uint64_t(segments + 1) * std::uint64_t(rings + 1), triangles);
       if (!isExact(j, path)) return makeSphere(radius, segments, rings);
       // The proxy circumscribes the sphere (its faces lie outside it), so it covers every pixel the sphere
       // does; the rays see the sphere itself.
@@ -319,10 +320,12 @@ class Builder {
   void charge(const std::string& path, const std::string& what, std::uint64_t bytes) {
     if (!budget_.charge(bytes)) r_.fail(path, budget_.refusal(what, bytes));
   }
-  void chargeMesh(const std::string& path, std::uint64_t vertices, std::uint64_t triangles) {
-    // Positions, normals, uvs, tangents and colours at most, and three indices per triangle.
-    constexpr std::uint64_t kVertexBytes = 2 * sizeof(glm::vec3) + sizeof(glm::vec2) + 2 * sizeof(glm::vec4);
-    charge(path, "the mesh", vertices * kVertexBytes + triangles * 3 * sizeof(std::uint32_t));
+  /// What a built-in mesh keeps per vertex (tandem/Primitives.h): a position, a normal and a uv.
+  static constexpr std::uint64_t kPrimitiveVertexBytes = 2 * sizeof(glm::vec3) + sizeof(glm::vec2);
+  /// Charges what the mesh will keep: its vertices' attributes and three indices a triangle.
+  void chargeMesh(const std::string& path, std::uint64_t vertices, std::uint64_t triangles,
+                  std::uint64_t vertexBytes = kPrimitiveVertexBytes) {
+    charge(path, "the mesh", vertices * vertexBytes + triangles * 3 * sizeof(std::uint32_t));
   }
 
   void checkPrimitiveTriangles(std::uint64_t n, const std::string& path) const {
@@ -370,7 +373,9 @@ class Builder {
     }
     if (vertices >= std::numeric_limits<std::uint32_t>::max() || triangles > kMaxSceneTriangles)
       r_.fail(path, "the merged glTF mesh is too large (" + std::to_string(triangles) + " triangles)");
-    chargeMesh(path, vertices, triangles);
+    chargeMesh(path, vertices, triangles,
+               sizeof(glm::vec3) + (keep.normals ? sizeof(glm::vec3) : 0) + (keep.uvs ? sizeof(glm::vec2) : 0) +
+                   (keep.tangents ? sizeof(glm::vec4) : 0) + (keep.colors ? sizeof(glm::vec4) : 0));
     Mesh out;
     for (const auto& [m, xf] : parts) appendTransformed(out, *m, xf, keep);
     return out;
