@@ -389,5 +389,119 @@ TEST(FrameBudget, BackFromNoBudgetItMeasuresAgain) {
   EXPECT_LE(run.switches(), 1);
 }
 
+// A scripted sequence of frame times, each decision checked against the rules render/FrameBudget.h states
+// (worked out here, not read from the budget): frames are smoothed as m ← (m + t) / 2, a choice is left when
+// m > 1.05 × target from its second frame on (on its first only over 1.5 ×), a better one is taken after 10
+// frames on the current one that run under 0.95 × target; a choice's first frame sets its ray cost, its next
+// two halve the gap, later ones move every choice's ray cost by 0.3 of the gap (the scene's drift).
+class ScriptedBudget {
+ public:
+  explicit ScriptedBudget(double targetMs) : requested_(full(static_cast<float>(targetMs))) {}
+  /// The choice of the next frame.
+  int next() {
+    drawn_ = budget_.choose(requested_, everything());
+    return budget_.current();
+  }
+  /// That frame cost `fixedMs` outside the ray pass and `rayMs` in it.
+  void ran(double fixedMs, double rayMs) {
+    FrameStats f;
+    f.raysMs = rayMs;
+    f.totalMs = fixedMs + rayMs;
+    f.rayWidth = (drawn_.width + drawn_.rayScale - 1) / drawn_.rayScale;
+    f.rayHeight = (drawn_.height + drawn_.rayScale - 1) / drawn_.rayScale;
+    budget_.observe(f);
+  }
+  /// Predicted ray ms of choice i: its prediction less the fixed part (kept at `fixedMs` by the script).
+  double rayPrediction(int i, double fixedMs) const { return budget_.predictMs(i) - fixedMs; }
+  const FrameBudget& budget() const { return budget_; }
+
+ private:
+  FrameBudget budget_;
+  FrameSettings requested_, drawn_;
+};
+
+TEST(FrameBudget, OneSlowFrameIsNoReasonToLeaveSustainedOnesAre) {
+  constexpr double kFixed = 30.0, kTarget = 100.0;
+  ScriptedBudget b(kTarget);
+  for (int i = 0; i < 20; ++i) {  // steady at 90 ms: m = 90
+    ASSERT_EQ(b.next(), 0) << i;
+    b.ran(kFixed, 60.0);
+  }
+  ASSERT_EQ(b.next(), 0);
+  b.ran(kFixed, 85.0);  // one frame of 115 ms: m = 102.5, under 105
+  EXPECT_EQ(b.next(), 0) << "left the request for one slow frame";
+  for (int i = 0; i < 4; ++i) {  // m = 96.25, 93.125, 91.5625, 90.78125
+    b.ran(kFixed, 60.0);
+    EXPECT_EQ(b.next(), 0);
+  }
+  b.ran(kFixed, 85.0);  // m = 102.89
+  EXPECT_EQ(b.next(), 0) << "left after one slow frame";
+  b.ran(kFixed, 85.0);  // m = 108.95: two in a row run over 1.05 × the target
+  const int down = b.next();
+  EXPECT_GT(down, 0) << "stayed through sustained slow frames";
+  ASSERT_GT(down, 0);
+
+  // The first frame on the new choice is not judged like the others (it carries the switch: maps, probes,
+  // buffers): 140 ms, under 1.5 × the target, keeps it; its next frames show its real cost, 32 ms.
+  b.ran(kFixed, 110.0);
+  EXPECT_EQ(b.next(), down) << "left a new choice for its first frame, under 1.5 x the target";
+  // Headroom: a better choice is taken only after 10 frames on this one under 0.95 × the target (m = 86,
+  // then lower), even though the model soon predicts the request to fit.
+  for (int frame = 2; frame <= 9; ++frame) {
+    b.ran(kFixed, 2.0);
+    EXPECT_EQ(b.next(), down) << "moved up after " << frame << " frames";
+  }
+  b.ran(kFixed, 2.0);
+  EXPECT_LT(b.next(), down) << "no move up after 10 quiet frames";
+  // A first frame far over (1.6 × the target) is left at once.
+  ScriptedBudget far(kTarget);
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_EQ(far.next(), 0);
+    far.ran(kFixed, 60.0);
+  }
+  ASSERT_EQ(far.next(), 0);
+  far.ran(kFixed, 120.0);  // m = 120
+  const int fresh = far.next();
+  ASSERT_GT(fresh, 0);
+  far.ran(kFixed, 130.0);
+  EXPECT_NE(far.next(), fresh) << "stayed after a first frame of 1.6 x the target";
+}
+
+TEST(FrameBudget, AChoiceLearnsItsCostFromItsOwnFramesThenTheScenesDrift) {
+  constexpr double kFixed = 30.0, kTarget = 100.0;
+  ScriptedBudget b(kTarget);
+  // Three frames of the request teach its cost; then one of 130 ms (m = 110) sends the budget down to a
+  // choice it has never drawn. (The fixed part stays 30 ms: its prediction, for any set of fallbacks, too.)
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_EQ(b.next(), 0);
+    b.ran(kFixed, 60.0);
+  }
+  EXPECT_NEAR(b.rayPrediction(0, kFixed), 60.0, 1e-9) << "the request's frames teach its own cost";
+  ASSERT_EQ(b.next(), 0);
+  b.ran(kFixed, 100.0);
+  const int k = b.next();
+  ASSERT_GT(k, 0);
+  ASSERT_EQ(b.budget().choices()[static_cast<std::size_t>(k)].framesRun, 0);
+  // Its first frame sets its ray cost: the prediction is that frame.
+  b.ran(kFixed, 40.0);
+  EXPECT_NEAR(b.rayPrediction(k, kFixed), 40.0, 1e-9);
+  // Its next two frames move it halfway (in the logarithm) to what they measure.
+  double expected = 40.0;
+  for (double rays : {10.0, 20.0}) {
+    ASSERT_EQ(b.next(), k);
+    b.ran(kFixed, rays);
+    expected = std::sqrt(expected * rays);
+    EXPECT_NEAR(b.rayPrediction(k, kFixed), expected, 1e-9 * expected) << rays;
+  }
+  // From its fourth frame on, a frame moves every choice's ray cost alike by 0.3 of the gap (in the
+  // logarithm): the scene got busier or quieter, not this choice alone.
+  const double request = b.rayPrediction(0, kFixed);
+  ASSERT_EQ(b.next(), k);
+  b.ran(kFixed, 5.0 * expected);
+  const double factor = std::pow(5.0, 0.3);
+  EXPECT_NEAR(b.rayPrediction(k, kFixed), expected * factor, 1e-9 * expected * factor);
+  EXPECT_NEAR(b.rayPrediction(0, kFixed), request * factor, 1e-9 * request * factor);
+}
+
 }  // namespace
 }  // namespace tandem

@@ -11,10 +11,14 @@
 //   cost = fixed[fallback] + rayMsPerPixel · rayGridPixels · exp(work[choice])
 // fixed = every stage but readback, rays and upload: the scene's load now times a learned factor per set of
 // raster fallbacks; rayMsPerPixel follows the scene from frame to frame; work starts from a prior and is
-// learned the first frames a choice runs. A new size or view re-measures the loads and keeps the factors.
-// Hysteresis: a choice is left at once when its frames run over 1.05 × target; a better one is taken only
-// after a quiet spell, and only when predicted to fit in 0.85 × target — so a choice that ran over is not
-// taken again until the scene got cheaper by that margin.
+// learned from the frames a choice runs: its first sets it, its next two halve the gap (in the logarithm),
+// later ones move rayMsPerPixel, every choice's cost alike, by 0.3 of the gap (the scene's drift). A new
+// size or view re-measures the loads and keeps the factors.
+// Hysteresis: frame times are smoothed (m ← (m + t) / 2). A choice is left when m runs over 1.05 × target
+// (on its first frame, which carries the switch, only over 1.5 ×): one frame a little slow is no reason to
+// leave, two in a row are. A better one is taken only after 10 frames on the current one running under
+// 0.95 × target, and only when predicted to fit in 0.85 × target — so a choice that ran over is not taken
+// again until the scene got cheaper by that margin. tests/unit/FrameBudgetTest.cpp scripts each rule.
 #include <cstdint>
 #include <vector>
 
