@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "rt/EmbreeScene.h"
 #include "rt/RayTracer.h"
 #include "support/TestSupport.h"
 #include "tandem/Image.h"
@@ -75,6 +76,18 @@ inline std::unique_ptr<RayTracer> makeTracer(const Scene& scene, int threads = 2
   auto r = (*rt)->setScene(scene);
   EXPECT_TRUE(r.ok()) << (r ? std::string() : r.error().message);
   return std::move(*rt);
+}
+
+/// One Embree device for the whole test process, made the first time a test asks (before Embree's build
+/// threads exist): a second device made later is handed to those threads through TBB, whose
+/// synchronisation ThreadSanitizer cannot see.
+inline EmbreeDevice& sharedTestDevice() {
+  static const std::unique_ptr<EmbreeDevice> device = [] {
+    auto made = EmbreeDevice::create();
+    EXPECT_TRUE(made.ok());
+    return made.ok() ? std::move(*made) : nullptr;
+  }();
+  return *device;
 }
 
 /// One hybrid frame without GL: visibility by Embree camera rays at the settings' size, then the ray pass.

@@ -356,16 +356,19 @@ float RadiositySolver::formFactor(std::size_t receiver, std::size_t shooter) con
   for (int q = 0; q < kReceiverPoints; ++q) points[q] = receiverPoint(r, q);
   if (!(f > 0.0)) return 0.0f;
   // Visibility: rays from the receiver's points to stratified points of the shooter; 4 first, all of them
-  // where those disagree.
+  // where those disagree. A pair that carries a large share of the receiver's light (f > 1/64; at most 64
+  // shooters per receiver) gets all of them at once: 4 rays that agree say little about a pair three
+  // quarters hidden, and there that error would be a visible part of the receiver's light.
   const auto seed = shading::tdHash(static_cast<std::uint32_t>(receiver) * 0x9e3779b9u ^ static_cast<std::uint32_t>(shooter));
   auto ray = [&](int k) {
     const glm::uvec2 u = sobol02(nestedShuffle(static_cast<std::uint32_t>(k), seed));
     const glm::vec3 to = pointOnTriangle(s.cornerW, glm::vec2(u) * (1.0f / 4294967296.0f));
     return visible(points[k % kReceiverPoints], r.normalW, to, s.normalW) ? 1 : 0;
   };
-  int seen = 0, traced = 0;
-  for (; traced < 4; ++traced) seen += ray(traced);
   const int more = std::max(4, options_.visibilityRays);
+  const int first = f > 1.0 / 64.0 ? more : 4;
+  int seen = 0, traced = 0;
+  for (; traced < first; ++traced) seen += ray(traced);
   if (seen != 0 && seen != traced)
     for (; traced < more; ++traced) seen += ray(traced);
   return static_cast<float>(f * seen / traced);
