@@ -23,9 +23,18 @@ constexpr float kDepthRel = 1e-4f;
 // At most this many triangles near a point light are tested against each of its rays (build()).
 constexpr std::size_t kNearLightMax = 64;
 
+// The exact tests' margin, relative to the magnitudes involved: a hundred times the rounding of Embree's
+// float test, of the two transforms of the vertices (Embree's and build()'s) and of the tests' own arithmetic.
+constexpr float kRelativeMargin = 1e-5f;
+// The rounding itself (about 16 ulps of the magnitudes): how far the vertices build() made, and the
+// geometry Embree tests in object space, may lie from each other in render space. The maps list a triangle
+// wherever it may lie.
+constexpr float kRelativeRounding = 1e-6f;
+
 struct Triangle {
   glm::vec3 v[3];       // render space
   std::uint32_t id;     // global id
+  float slack = 0.0f;   // where the triangle may lie beyond v, in render-space units (kRelativeRounding)
 };
 
 // Ericson, Real-Time Collision Detection 5.1.5: the point of triangle abc closest to p.
@@ -112,22 +121,30 @@ class FaceRaster {
     }
     // Map pixels and depths of the polygon's corners.
     std::array<glm::vec2, 4> px;
-    float depthLo = kInf;
+    float depthLo = kInf, nearest = kInf;
     glm::vec2 lo(kInf), hi(-kInf);
     for (int k = 0; k < count; ++k) {
       px[k] = pixel(poly[k]);
       float depth = depthOf(poly[k].z);
       depthLo = std::min(depthLo, depth);
+      nearest = std::min(nearest, poly[k].z);
       lo = glm::min(lo, px[k]);
       hi = glm::max(hi, px[k]);
     }
+    // Where the triangle may lie beyond its corners (Triangle::slack, render-space units; rounding of far
+    // vertices), as map pixels: on the orthographic map directly; on a cube face the projection s/a moves by
+    // at most (|ds| + |s/a|·|da|)/a, largest at the corner nearest the light.
+    float slackPx = tri.slack * scale_;
+    if (m_.kind == ShadowCertainty::Kind::Cube)
+      slackPx = nearest > 0.0f ? tri.slack * scale_ * (1.0f + 2.0f * m_.extent) / nearest : kInf;
+    depthLo -= tri.slack;
     // Rounding scale of the pixel arithmetic: the largest pixel coordinate involved. A corner far outside
     // the map (a clip point near a small nearZ) or not finite makes the edge functions meaningless at
     // texel scale: such a polygon is recorded over its whole (clamped) bounding box, in front of
     // everything — conservative, never dropped.
     float reach = static_cast<float>(n_);
     for (int k = 0; k < count; ++k) reach = std::max(reach, std::max(std::abs(px[k].x), std::abs(px[k].y)));
-    const bool wild = !(reach <= 64.0f * static_cast<float>(n_));
+    const bool wild = !(reach <= 64.0f * static_cast<float>(n_)) || !(slackPx <= static_cast<float>(n_));
     if (wild || !std::isfinite(depthLo)) {
       depthLo = -kInf;
       lo = glm::vec2(-kInf);
@@ -136,10 +153,11 @@ class FaceRaster {
     lo = glm::clamp(lo, glm::vec2(-4.0f), glm::vec2(static_cast<float>(n_) + 4.0f));
     hi = glm::clamp(hi, glm::vec2(-4.0f), glm::vec2(static_cast<float>(n_) + 4.0f));
     const float h = 0.5f + ShadowCertainty::kMarginTexels;  // half-side of a grown texel square
-    int x0 = std::max(0, static_cast<int>(std::floor(lo.x - h - kTexelSlack)));
-    int x1 = std::min(n_ - 1, static_cast<int>(std::floor(hi.x + h + kTexelSlack)));
-    int y0 = std::max(row0_, static_cast<int>(std::floor(lo.y - h - kTexelSlack)));
-    int y1 = std::min(row1_ - 1, static_cast<int>(std::floor(hi.y + h + kTexelSlack)));
+    const float slack = kTexelSlack + (wild ? 0.0f : slackPx);
+    int x0 = std::max(0, static_cast<int>(std::floor(lo.x - h - slack)));
+    int x1 = std::min(n_ - 1, static_cast<int>(std::floor(hi.x + h + slack)));
+    int y0 = std::max(row0_, static_cast<int>(std::floor(lo.y - h - slack)));
+    int y1 = std::min(row1_ - 1, static_cast<int>(std::floor(hi.y + h + slack)));
     if (x0 > x1 || y0 > y1) return;
     // Edges as inward unit normals: e(p) = n·p − c ≥ 0 inside. A polygon whose area or an edge is within
     // the rounding of the pixel arithmetic of nothing is kept by its bounding box only (conservative);
@@ -197,24 +215,24 @@ class FaceRaster {
           bool touches = true;
           for (int k = 0; k < count && touches; ++k) {
             const float grown = h * (std::abs(edges[k].x) + std::abs(edges[k].y));
-            touches = edges[k].x * c.x + edges[k].y * c.y - edges[k].z >= -grown - kTexelSlack;
+            touches = edges[k].x * c.x + edges[k].y * c.y - edges[k].z >= -grown - slack;
           }
           if (!touches) continue;
         }
         // A lower bound of the depth over the grown square: the plane's depth (or, on a cube face, its
         // reciprocal) is affine in the map's pixels, so its extreme over the square is at a corner,
         // found in closed form; over the polygon it is at one of its corners.
-        float nearest = depthLo;
-        const float g = lin.x * c.x + lin.y * c.y + lin.z, spread = h * (std::abs(lin.x) + std::abs(lin.y));
+        float bound = depthLo;
+        const float g = lin.x * c.x + lin.y * c.y + lin.z, spread = (h + slack) * (std::abs(lin.x) + std::abs(lin.y));
         if (linValid) {
           if (m_.kind == ShadowCertainty::Kind::Cube) {
-            const float bound = planeC / (g + spread);  // 1/depth is at most g + spread over the square
-            if (g - spread > 0.0f && std::isfinite(bound)) nearest = std::max(nearest, bound);
+            const float plane = planeC / (g + spread) - tri.slack;  // 1/depth is at most g + spread over the square
+            if (g - spread > 0.0f && std::isfinite(plane)) bound = std::max(bound, plane);
           } else if (std::isfinite(g - spread)) {
-            nearest = std::max(nearest, g - spread);
+            bound = std::max(bound, g - spread - tri.slack);
           }
         }
-        insert(texelIndex(x, y, n_), tri.id, nearest);
+        insert(texelIndex(x, y, n_), tri.id, bound);
       }
   }
 
@@ -406,6 +424,7 @@ void ShadowCertainty::build(const Scene& scene, const EmbreeScene& embree, const
         tests_.back().magnitude = std::max(tests_.back().magnitude, scale * std::max(p.x, std::max(p.y, p.z)));
       }
       tests_.back().magnitude = std::max(tests_.back().magnitude, translation);
+      tris.back().slack = kRelativeRounding * tests_.back().magnitude;
       blocksAll_.push_back(blocks ? 1 : 0);
     }
   }
@@ -466,7 +485,9 @@ void ShadowCertainty::build(const Scene& scene, const EmbreeScene& embree, const
       std::vector<float> distance(tris.size());
       float nearest = kInf;
       for (std::size_t t = 0; t < tris.size(); ++t) {
-        distance[t] = glm::length(light - closestOnTriangle(light, tris[t].v[0], tris[t].v[1], tris[t].v[2]));
+        // (less its slack: where it may really lie)
+        distance[t] = std::max(0.0f, glm::length(light - closestOnTriangle(light, tris[t].v[0], tris[t].v[1], tris[t].v[2])) -
+                                         tris[t].slack);
         nearest = std::min(nearest, distance[t]);
       }
       if (!std::isfinite(nearest)) continue;
@@ -550,9 +571,7 @@ ShadowAnswer ShadowCertainty::classify(std::size_t light, const SurfaceHit& hit,
   const std::size_t n = static_cast<std::size_t>(m.size);
   const Texel& t = m.texels[static_cast<std::size_t>(face) * n * n +
                             texelIndex(static_cast<int>(texel.x), static_cast<int>(texel.y), m.size)];
-  // Margin of the exact tests: far above the rounding of Embree's float test, of the two transforms of
-  // the vertices (Embree's and build()'s) and of the tests' own float arithmetic, relative to the
-  // magnitudes involved.
+  // Margin of the exact tests (kRelativeMargin), relative to the magnitudes involved.
   float magnitude = std::max({std::abs(originW.x), std::abs(originW.y), std::abs(originW.z)});
   if (std::isfinite(tFar)) magnitude = std::max(magnitude, tFar * glm::length(dirW));
   // A point on an exact solid has no triangle of its own: every proxy triangle is tested (none blocks).
@@ -564,7 +583,7 @@ ShadowAnswer ShadowCertainty::classify(std::size_t light, const SurfaceHit& hit,
     // which is what every traced shadow ray relies on too (spawnOrigin).
     if (id == own) return false;
     const TriangleTest& tri = tests_[id];
-    Crossing x = segmentVsTriangle(tri, originW, dirW, tFar, 1e-5f * std::max(magnitude, tri.magnitude));
+    Crossing x = segmentVsTriangle(tri, originW, dirW, tFar, kRelativeMargin * std::max(magnitude, tri.magnitude));
     if (x == Crossing::Crosses && blocksAll_[id]) return true;
     if (x != Crossing::Misses) missesAll = false;
     return false;
