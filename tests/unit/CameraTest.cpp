@@ -5,7 +5,9 @@
 #include <cmath>
 #include <limits>
 
+#include "core/RenderSpace.h"
 #include "tandem/Camera.h"
+#include "tandem/Scene.h"
 
 namespace tandem {
 namespace {
@@ -126,6 +128,52 @@ TEST(Camera, OrthographicRaysAreParallelAndProjectBack) {
     EXPECT_NEAR(back.x, px.x, 1e-4);
     EXPECT_NEAR(back.y, px.y, 1e-4);
   }
+}
+
+// Camera-relative rendering (core/RenderSpace.h) far from the origin: the scene's camera at 1e6, its target
+// a short way off at an oblique angle. The frame's camera in render space must look exactly where the world
+// camera looks (the direction worked out here in double), and its rays through the image centre too;
+// rounding its position or target at the world's magnitude (1/16 at 1e6) would turn it by up to a radian.
+TEST(RenderSpace, ACameraFarFromTheOriginLooksAlongItsWorldDirection) {
+  const glm::vec3 positions[] = {{1e6f, 2e6f, -3e6f}, {-1048576.0f, 524288.5f, 999999.0f}, {3e5f, -7e5f, 1.5e6f}};
+  const glm::vec3 directions[] = {{0.3f, -0.7f, 1.1f}, {-1.0f, 0.05f, -0.2f}, {0.01f, 0.9f, 0.4f}};
+  for (glm::vec3 pos : positions)
+    for (glm::vec3 d : directions)
+      for (float distance : {0.25f, 1.0f, 37.0f}) {
+        Scene scene;
+        scene.camera.posW = pos;
+        scene.camera.targetW = pos + distance * glm::normalize(d);  // rounded to the floats at 1e6: the world's own target
+        scene.camera.upW = {0.0f, 1.0f, 0.0f};
+        // (rounded to the world's floats, a target may end up straight above: no camera the scene file takes)
+        if (glm::length(glm::cross(glm::dvec3(scene.camera.targetW) - glm::dvec3(scene.camera.posW), glm::dvec3(0, 1, 0))) < 1e-3)
+          continue;
+        const glm::dvec3 world = glm::normalize(glm::dvec3(scene.camera.targetW) - glm::dvec3(scene.camera.posW));
+        // The renderer's anchor (the scene camera at upload), then the frame's camera, also after it moved a
+        // little from where the anchor was taken.
+        const glm::vec3 anchor = renderAnchor(scene);
+        for (glm::vec3 moved : {glm::vec3(0.0f), glm::vec3(3.3f, -1.7f, 2.9f)}) {
+          SCOPED_TRACE(testing::Message() << "camera at " << pos.x << " " << pos.y << " " << pos.z << ", direction "
+                                          << d.x << " " << d.y << " " << d.z << ", distance " << distance << ", moved "
+                                          << moved.x);
+          Camera camera = scene.camera;
+          camera.posW += moved;
+          camera.targetW += moved;
+          const glm::dvec3 expected = glm::normalize(glm::dvec3(camera.targetW) - glm::dvec3(camera.posW));
+          if (moved == glm::vec3(0.0f)) {
+            EXPECT_LT(glm::length(expected - world), 1e-12);
+          }
+          const Camera rebased = toRenderSpace(camera, anchor);
+          EXPECT_LT(glm::length(glm::dvec3(rebased.posW)), 8.0) << "render space is near the camera";
+          const glm::dvec3 got = glm::normalize(glm::dvec3(rebased.targetW) - glm::dvec3(rebased.posW));
+          EXPECT_LT(glm::length(got - expected), 2e-6) << "the rebased view direction";
+          // The view matrix's forward axis and the ray through the image centre.
+          const glm::mat4 view = rebased.viewFromWorld();
+          const glm::dvec3 forward = -glm::dvec3(view[0][2], view[1][2], view[2][2]);
+          EXPECT_LT(glm::length(forward - expected), 4e-6) << "viewFromWorld's -z";
+          const Ray centre = rebased.rayThroughPixel({320.0f, 180.0f}, {640, 360});
+          EXPECT_LT(glm::length(glm::dvec3(centre.dir) - expected), 4e-6) << "the centre pixel's ray";
+        }
+      }
 }
 
 }  // namespace
