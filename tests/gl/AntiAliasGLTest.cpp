@@ -4,10 +4,14 @@
 // only where samples disagree, and none of it depends on the thread count.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "gl/GlTestUtil.h"
 #include "tandem/ImageMetrics.h"
+#include "tandem/Primitives.h"
 #include "tandem/SceneFile.h"
 
 namespace tandem {
@@ -256,6 +260,67 @@ TEST(AntiAlias, SamplesDoNotDependOnTheThreadCount) {
     (void)draw(two, preset(two, "hybrid-full", aa, 8), two.camera);
     EXPECT_TRUE(sameLinear(one.renderer->readLinear(), two.renderer->readLinear())) << toString(aa);
   }
+}
+
+TEST(AntiAlias, AdaptiveFindsAThinLineThatAPixelsFirstSamplesMiss) {
+  // A white line a tenth of a pixel wide across a black frame, at a slant: the first four samples of a pixel
+  // (a 4-rooks pattern) catch it in some pixels along it and miss it in others. Those that missed it agree
+  // (all black), but a neighbour's samples disagree, so adaptive rounds sample them too: there they are the
+  // 16-sample supersampled image, sample for sample.
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene;
+  const float pixel = 2.0f * 10.0f * std::tan(glm::radians(15.0f)) / static_cast<float>(kH);  // at the line's distance
+  scene.meshes.push_back(makeBox({40.0f, 0.1f * pixel, 0.1f * pixel}));
+  Material white;
+  white.unlit = true;
+  white.kd = glm::vec3(1.0f);
+  scene.materials.push_back(white);
+  Instance line;
+  line.mesh = 0;
+  line.material = 0;
+  line.worldFromObject = glm::rotate(glm::mat4(1.0f), std::atan(0.3f), glm::vec3(0.0f, 0.0f, 1.0f));
+  scene.instances.push_back(line);
+  scene.background = glm::vec3(0.0f);
+  scene.camera.posW = {0.0f, 0.0f, 10.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  scene.camera.yFovDeg = 30.0f;
+  Whitted w;
+  w.camera = scene.camera;
+  w.base.width = kW;
+  w.base.height = kH;
+  auto renderer = Renderer::create(*glContext_, RendererDesc{});
+  ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+  w.renderer = std::move(*renderer);
+  ASSERT_TRUE(w.renderer->setScene(std::move(scene)).ok());
+  const Image four = draw(w, preset(w, "raster", AntiAlias::Ssaa, 4), w.camera);
+  const Image sixteen = draw(w, preset(w, "raster", AntiAlias::Ssaa, 16), w.camera);
+  FrameStats st;
+  const Image adaptive = draw(w, preset(w, "raster", AntiAlias::Adaptive, 16), w.camera, &st);
+  auto at = [&](const Image& im, int x, int y) { return im.rgba[(static_cast<std::size_t>(y) * kW + x) * 4]; };
+  int missed = 0, besideACatch = 0, seen = 0, differ = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      seen += at(sixteen, x, y) > 0;
+      if (at(four, x, y) > 0 || at(sixteen, x, y) == 0) continue;
+      ++missed;  // the line crosses this pixel; its first four samples all missed it
+      bool neighbourCaught = false;  // a neighbour's first four samples caught it (and so disagree)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if (x + dx >= 0 && x + dx < kW && y + dy >= 0 && y + dy < kH) neighbourCaught |= at(four, x + dx, y + dy) > 0;
+      if (!neighbourCaught) continue;
+      ++besideACatch;
+      for (int c = 0; c < 3; ++c) {
+        const std::size_t i = (static_cast<std::size_t>(y) * kW + x) * 4 + static_cast<std::size_t>(c);
+        differ += std::abs(int(adaptive.rgba[i]) - int(sixteen.rgba[i])) > 1 ? 1 : 0;
+      }
+    }
+  std::printf("thin line: %d pixels show it with 16 samples, %d missed by their first 4, %d of those beside a pixel "
+              "whose first 4 caught it; adaptive refined %llu pixel-samples\n",
+              seen, missed, besideACatch, static_cast<unsigned long long>(st.refinedPixels));
+  ASSERT_GT(besideACatch, 20) << "the scene must have pixels whose first samples miss the line beside some that catch it";
+  EXPECT_EQ(differ, 0) << "a pixel whose first four samples missed the line, beside one whose caught it, is not the "
+                          "16-sample image";
+  EXPECT_LT(st.refinedPixels, 12ull * kW * kH / 4) << "refined far beyond the line";
 }
 
 }  // namespace

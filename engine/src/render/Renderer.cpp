@@ -26,9 +26,10 @@
 #include "rt/EmbreeScene.h"
 #include "rt/RayReuse.h"
 #include "rt/RayTracer.h"
+#include "render/Adaptive.h"
 #include "render/FrameBudget.h"
-#include "render/RadiosityJob.h"
 #include "render/FramePlan.h"
+#include "render/RadiosityJob.h"
 #include "render/SceneCaches.h"
 #include "tandem/Log.h"
 
@@ -398,33 +399,6 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
   return true;
 }
 
-namespace {
-
-// What the adaptive test compares: a pixel's luminance as the display shows it, tone-mapped and given a
-// square-root (≈ sRGB) encoding, so a threshold means about the same visible step in dark and bright parts.
-float displayLuminance(glm::vec3 linear, const FrameSettings& s) {
-  const float y = s.exposure * glm::dot(linear, glm::vec3(0.2126f, 0.7152f, 0.0722f));
-  return std::sqrt(shading::tdToneMap(glm::vec3(y), shading::toneMapOp(s.toneMap)).x);
-}
-
-// Pixels within `radius` of a marked one, marked too (a separable max filter): with a coarse ray grid, the
-// grid pixels a marked pixel's shading blends lie up to 2·rayScale pixels away.
-void dilate(std::vector<std::uint8_t>& mask, int width, int height, int radius) {
-  std::vector<std::uint8_t> rows(mask.size(), 0);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x)
-      if (mask[static_cast<std::size_t>(y) * width + x])
-        for (int dx = std::max(0, x - radius); dx <= std::min(width - 1, x + radius); ++dx)
-          rows[static_cast<std::size_t>(y) * width + dx] = 1;
-  std::fill(mask.begin(), mask.end(), 0);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x)
-      if (rows[static_cast<std::size_t>(y) * width + x])
-        for (int dy = std::max(0, y - radius); dy <= std::min(height - 1, y + radius); ++dy)
-          mask[static_cast<std::size_t>(dy) * width + x] = 1;
-}
-
-}  // namespace
 
 bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn) {
   const FrameSettings& s = plan.settings;
@@ -517,19 +491,9 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
     if (only != nullptr) stats.refinedPixels += static_cast<std::uint64_t>(std::count(only->begin(), only->end(), 1));
     return true;
   };
-  // Adaptive: the pixels whose samples disagree and their 8 neighbours (an edge that crosses a pixel can miss
-  // all of its first samples, rarely those of both pixels beside it); their rays, grown by what a coarse ray
-  // grid blends into them. False when no pixel disagrees.
+  // Adaptive: the next round's pixels and rays (render/Adaptive.h); false when no pixel disagrees.
   auto disagreeing = [&] {
-    refine.assign(n, 0);
-    bool any = false;
-    for (std::size_t i = 0; i < n; ++i)
-      if (accum.count[i] > 0 && accum.hi[i] - accum.lo[i] > s.aaThreshold) refine[i] = 1, any = true;
-    if (!any) return false;
-    dilate(refine, w, h, 1);
-    traced = refine;
-    if (s.rayScale > 1) dilate(traced, w, h, 2 * s.rayScale);
-    return true;
+    return adaptiveRound(accum.lo, accum.hi, accum.count, w, h, s.aaThreshold, s.rayScale, refine, traced);
   };
   if (!adaptive) {
     for (int k = 0; k < perFrame; ++k)
