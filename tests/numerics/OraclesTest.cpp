@@ -276,5 +276,33 @@ TEST(Oracles, ShadowRaysLeaveFromTheSideOfTheFacetTheLightIsOn) {
   EXPECT_EQ(lit, floorPixels);
 }
 
+TEST(Oracles, TheDisplayCurvesMeetTheirPublishedValues) {
+  // The output pass: exposure, a tone map, then the sRGB encoding (docs/shading.md). Values worked out by hand
+  // from each curve's definition: Narkowicz's ACES fit x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14), clamped;
+  // Reinhard x / (1 + x); the sRGB transfer function (IEC 61966-2-1) 12.92x below 0.0031308, else
+  // 1.055x^(1/2.4) − 0.055.
+  using shading::tdToneMap;
+  const int aces = shading::toneMapOp(ToneMap::Aces), reinhard = shading::toneMapOp(ToneMap::Reinhard),
+            none = shading::toneMapOp(ToneMap::None);
+  struct Point {
+    float in, out;
+  };
+  for (const Point p : {Point{0.0f, 0.0f}, Point{0.18f, 0.086724f / 0.324932f}, Point{0.5f, 0.6425f / 1.0425f},
+                        Point{1.0f, 2.54f / 3.16f}, Point{2.0f, 10.1f / 11.04f}, Point{10.0f, 1.0f}})
+    EXPECT_NEAR(tdToneMap(glm::vec3(p.in), aces).x, p.out, 2e-6f) << "ACES at " << p.in;
+  for (float x : {0.0f, 0.25f, 1.0f, 3.0f, 1000.0f}) EXPECT_NEAR(tdToneMap(glm::vec3(x), reinhard).x, x / (1.0f + x), 1e-6f);
+  EXPECT_EQ(tdToneMap(glm::vec3(0.3f, 1.7f, -2.0f), none), glm::vec3(0.3f, 1.0f, 0.0f));
+  // sRGB: the linear toe and the power segment meet at 0.0031308 (0.04045 encoded); mid-grey 0.18 is 0.4613561,
+  // 0.5 is 0.7353570.
+  EXPECT_NEAR(shading::tdSrgbEncode1(0.002f), 0.02584f, 1e-7f);
+  EXPECT_NEAR(shading::tdSrgbEncode1(0.0031308f), 0.0404500f, 2e-6f);
+  EXPECT_NEAR(shading::tdSrgbEncode1(0.18f), 0.4613561f, 2e-6f);
+  EXPECT_NEAR(shading::tdSrgbEncode1(0.5f), 0.7353570f, 2e-6f);
+  EXPECT_NEAR(shading::tdSrgbEncode1(1.0f), 1.0f, 2e-6f);
+  // The whole output pass at exposure 2: encode(ACES(2 · 0.25)).
+  EXPECT_NEAR(shading::tdDisplay(glm::vec3(0.25f), 2.0f, aces, false).x, 1.055f * std::pow(0.6425f / 1.0425f, 1.0f / 2.4f) - 0.055f,
+              2e-6f);
+}
+
 }  // namespace
 }  // namespace tandem::numerics
