@@ -4,7 +4,11 @@ suite must catch every one. For each: copy the pristine file into a scratch tree
 test binary that should catch it there, run its tests, and expect a failure. A mutation the tests pass is a
 survivor: a hole in the tests. A mutation whose text is no longer in its file is stale: update it.
 
-  tools/mutate.py [--build DIR] [--only ID[,ID...]] [--list]
+  tools/mutate.py [--build DIR] [--only ID[,ID...]] [--list] [--without-goldens]
+
+--without-goldens leaves every golden-image test out of each mutation's run (gtest filter -*Golden*): a
+golden is a regression net, not an oracle, and no behaviour may be guarded by one alone (docs/testing.md).
+The ctest label `mutation` runs in that mode.
 
 The scratch tree is DIR/src (the working tree copied, build folders and .git left out, refreshed each run) with
 its own Release build in DIR/build (default DIR: build/mutation). The first run builds everything the listed
@@ -35,7 +39,7 @@ MUTATIONS = [
      "tandem-numerics-tests", "Oracles.*"),
     ("aces-curve-constant", "shaders/shading.glsl",
      "vec3 num = c * (2.51f * c + vec3(0.03f));", "vec3 num = c * (2.41f * c + vec3(0.03f));",
-     "tandem-gl-tests", "Golden.*"),
+     "tandem-numerics-tests", "Oracles.*"),
     # Rays: media, Snell, offsets, shadow-ray sides.
     ("inside-outside-ignored", "engine/src/rt/Whitted.cpp",
      "float etaI = hit.backFace ? ior : 1.0f;\n    float etaT = hit.backFace ? 1.0f : ior;",
@@ -54,7 +58,7 @@ MUTATIONS = [
      "tandem-rt-tests", "OriginOffset.*"),
     # Exact solids and their frame.
     ("resolve-keeps-the-proxy-id", "engine/src/rt/RayTracer.cpp",
-     "r.id.y = hit.triangle;", "r.id.y = r.id.y;",
+     "                r.id.y = kExactTriangle;", "                r.id.y = r.id.y;",
      "tandem-rt-tests", "ResolveExact.*"),
     ("proxy-triangles-block-shadows", "engine/src/rt/ShadowCertainty.cpp",
      "bool blocks = !embree.letsRaysThrough(i) && !mesh.exact;", "bool blocks = !embree.letsRaysThrough(i);",
@@ -86,6 +90,125 @@ MUTATIONS = [
      "    stats.rays = rays.counts;\n    stats.rays.primary = static_cast<std::uint64_t>(rays.width) * rays.height;\n"
      "    stats.rays.shadow *= 2;\n",
      "tandem-gl-tests", "FrameCountsGL.*"),
+    # Radiosity (tests/rt/RadiosityTest.cpp: form factors from their definition, the Cornell box per patch
+    # against a path-traced gather).
+    ("radiosity-shoots-by-radiosity", "engine/src/rt/Radiosity.cpp",
+     "const float power = luminance(glm::abs(unshot_[p])) * patches_[p].area;",
+     "const float power = luminance(glm::abs(unshot_[p]));", "tandem-rt-tests", "Radiosity.*"),
+    ("radiosity-reciprocity-direction", "engine/src/rt/Radiosity.cpp",
+     "const glm::vec3 h = f * shot;", "const glm::vec3 h = f * shot * (patches_[j].area / patches_[best].area);",
+     "tandem-rt-tests", "Radiosity.*"),
+    ("radiosity-received-without-area", "engine/src/rt/Radiosity.cpp",
+     "for (std::size_t j = 0; j < patches_.size(); ++j) received += static_cast<double>(row[j]) * patches_[j].area;",
+     "for (std::size_t j = 0; j < patches_.size(); ++j) received += static_cast<double>(row[j]);",
+     "tandem-rt-tests", "Radiosity.*"),
+    ("radiosity-visibility-from-one-point", "engine/src/rt/Radiosity.cpp",
+     "return visible(points[k % kReceiverPoints], r.normalW, to, s.normalW) ? 1 : 0;",
+     "return visible(points[0], r.normalW, to, s.normalW) ? 1 : 0;", "tandem-rt-tests", "Radiosity.*"),
+    ("radiosity-any-visible-is-all", "engine/src/rt/Radiosity.cpp",
+     "return static_cast<float>(f * seen / traced);", "return static_cast<float>(seen > 0 ? f : 0.0);",
+     "tandem-rt-tests", "Radiosity.*"),
+    ("radiosity-four-rays-for-large-pairs", "engine/src/rt/Radiosity.cpp",
+     "const int first = f > 1.0 / 64.0 ? more : 4;", "const int first = 4;", "tandem-rt-tests", "Radiosity.*"),
+    ("radiosity-near-subdivision-weight", "engine/src/rt/Radiosity.cpp",
+     "    return 0.25 * (meanOverTriangle(a, ab, ca, n, shooter, shooterRadius, sc, sn, depth + 1) +",
+     "    return 0.5 * (meanOverTriangle(a, ab, ca, n, shooter, shooterRadius, sc, sn, depth + 1) +",
+     "tandem-rt-tests", "Radiosity.*"),
+    ("radiosity-visibility-ignored", "engine/src/rt/Radiosity.cpp",
+     "  return ray.tfar >= 0.0f;  // Embree sets tfar to -inf when something is in the way", "  return true;",
+     "tandem-rt-tests", "Radiosity.*"),
+    ("radiosity-direct-light-cosine-unclamped", "engine/src/rt/Radiosity.cpp",
+     "const float cosine = glm::dot(patch.normalW, toLight);",
+     "const float cosine = std::abs(glm::dot(patch.normalW, toLight));", "tandem-rt-tests", "Radiosity.*"),
+    ("radiosity-overshoot-not-scaled", "engine/src/rt/Radiosity.cpp",
+     "      if (received > patches_[best].area) {", "      if (received > 2.0 * patches_[best].area) {",
+     "tandem-rt-tests", "Radiosity.*"),
+    ("radiosity-weld-across-creases", "engine/src/rt/Radiosity.cpp",
+     "const float cosWeld = std::cos(glm::radians(25.0f));", "const float cosWeld = std::cos(glm::radians(95.0f));",
+     "tandem-rt-tests", "Radiosity.*"),
+    # Hybrid shadows' proofs (tests/rt/HybridShadowsTest.cpp: every map answer against Embree's ray at large
+    # magnitudes, the all-rays mask on hostile scenes).
+    ("shadow-proof-object-space-ignored", "engine/src/rt/ShadowCertainty.cpp",
+     "        tests_.back().magnitude = std::max(tests_.back().magnitude, scale * std::max(p.x, std::max(p.y, p.z)));",
+     "        (void)p;", "tandem-rt-tests", "HybridShadows.*"),
+    ("shadow-proof-translation-ignored", "engine/src/rt/ShadowCertainty.cpp",
+     "      tests_.back().magnitude = std::max(tests_.back().magnitude, translation);", "      (void)translation;",
+     "tandem-rt-tests", "HybridShadows.*"),
+    ("shadow-proof-margin-of-the-ray-only", "engine/src/rt/ShadowCertainty.cpp",
+     "kRelativeMargin * std::max(magnitude, tri.magnitude)", "kRelativeMargin * magnitude",
+     "tandem-rt-tests", "HybridShadows.*"),
+    ("shadow-proof-ray-length-ignored", "engine/src/rt/ShadowCertainty.cpp",
+     "  if (std::isfinite(tFar)) magnitude = std::max(magnitude, tFar * glm::length(dirW));", "",
+     "tandem-rt-tests", "HybridShadows.*"),
+    ("shadow-proof-depth-margin-relative-only", "engine/src/rt/ShadowCertainty.cpp",
+     "eps = kDepthRel * a + 4e-6f * (glm::length(m.origin) + a);", "eps = kDepthRel * a;",
+     "tandem-rt-tests", "HybridShadows.*"),
+    ("shadow-proof-candidates-without-margin", "engine/src/rt/ShadowCertainty.cpp",
+     "if (t.depths[k] > depth + eps) return", "if (t.depths[k] > depth) return", "tandem-rt-tests", "HybridShadows.*"),
+    ("shadow-proof-rest-ignored", "engine/src/rt/ShadowCertainty.cpp",
+     "if (missesAll && t.restDepth > depth + eps) return ShadowAnswer::Lit;", "if (missesAll) return ShadowAnswer::Lit;",
+     "tandem-rt-tests", "HybridShadows.*"),
+    ("shadow-map-far-triangles-placed-exactly", "engine/src/rt/ShadowCertainty.cpp",
+     "tris.back().slack = kRelativeRounding * tests_.back().magnitude;", "tris.back().slack = 0.0f;",
+     "tandem-rt-tests", "HybridShadows.*"),
+    # The load budget (tests/unit/LoadBudgetTest.cpp: each charge against what the load kept).
+    ("budget-texels-by-file-channels", "engine/src/io/GltfMaterials.cpp",
+     "if (!budget_.charge(pixels * 4)) {", "if (!budget_.charge(pixels * u64(comp))) {", "tandem-unit-tests", "LoadBudget*"),
+    ("budget-colours-by-components", "engine/src/io/GltfMeshes.cpp",
+     "charge(id + \" colours\", u64(n) * sizeof(glm::vec4))", "charge(id + \" colours\", u64(n) * nc * sizeof(float))",
+     "tandem-unit-tests", "LoadBudget*"),
+    ("budget-uvs-as-floats", "engine/src/io/GltfMeshes.cpp",
+     "charge(id + \" uvs\", u64(n) * sizeof(glm::vec2))", "charge(id + \" uvs\", u64(n) * sizeof(float))",
+     "tandem-unit-tests", "LoadBudget*"),
+    ("budget-tangents-never-charge-zero-uvs", "engine/src/io/GltfMeshes.cpp",
+     "(zeroUvs ? sizeof(glm::vec2) : 0)", "0", "tandem-unit-tests", "LoadBudget*"),
+    ("budget-scene-mesh-one-index-a-triangle", "engine/src/io/SceneFile.cpp",
+     "vertices * vertexBytes + triangles * 3 * sizeof(std::uint32_t)", "vertices * vertexBytes + triangles * sizeof(std::uint32_t)",
+     "tandem-unit-tests", "LoadBudget*"),
+    # Adaptive anti-aliasing (tests/unit/AdaptiveTest.cpp; tests/gl/AntiAliasGLTest.cpp's thin line).
+    ("adaptive-no-neighbours", "engine/src/render/Adaptive.cpp",
+     "  dilate(refine, width, height, 1);", "  dilate(refine, width, height, 0);", "tandem-unit-tests", "Adaptive*"),
+    ("adaptive-threshold-inclusive", "engine/src/render/Adaptive.cpp",
+     "hi[i] - lo[i] > threshold", "hi[i] - lo[i] >= threshold", "tandem-unit-tests", "Adaptive*"),
+    ("adaptive-rays-not-grown-enough", "engine/src/render/Adaptive.cpp",
+     "dilate(traced, width, height, 2 * rayScale);", "dilate(traced, width, height, rayScale);",
+     "tandem-unit-tests", "Adaptive*"),
+    ("adaptive-unsampled-pixels-count", "engine/src/render/Adaptive.cpp",
+     "if (count[i] > 0 && hi[i] - lo[i] > threshold)", "if (hi[i] - lo[i] > threshold)", "tandem-unit-tests", "Adaptive*"),
+    ("adaptive-no-neighbours-in-the-frame", "engine/src/render/Adaptive.cpp",
+     "  dilate(refine, width, height, 1);", "  dilate(refine, width, height, 0);", "tandem-gl-tests", "AntiAlias.*"),
+    # The frame-time budget (tests/unit/FrameBudgetTest.cpp: scripted frame times).
+    ("frame-budget-no-smoothing", "engine/src/render/FrameBudget.cpp",
+     "meanMs_ = framesOnCurrent_ == 0 ? total : 0.5 * meanMs_ + 0.5 * total;", "meanMs_ = total;",
+     "tandem-unit-tests", "FrameBudget*"),
+    ("frame-budget-over-threshold", "engine/src/render/FrameBudget.cpp",
+     "constexpr double kOver = 1.05;", "constexpr double kOver = 1.12;", "tandem-unit-tests", "FrameBudget*"),
+    ("frame-budget-short-quiet-spell", "engine/src/render/FrameBudget.cpp",
+     "constexpr int kQuietFrames = 10;", "constexpr int kQuietFrames = 3;", "tandem-unit-tests", "FrameBudget*"),
+    ("frame-budget-first-frame-like-any", "engine/src/render/FrameBudget.cpp",
+     "framesOnCurrent_ >= 2 ? meanMs > kOver * targetMs_ : meanMs > kFarOver * targetMs_",
+     "meanMs > kOver * targetMs_", "tandem-unit-tests", "FrameBudget*"),
+    ("frame-budget-first-frame-halved", "engine/src/render/FrameBudget.cpp",
+     "c.work += c.framesRun == 0 ? delta : 0.5 * delta;", "c.work += 0.5 * delta;", "tandem-unit-tests", "FrameBudget*"),
+    ("frame-budget-no-drift", "engine/src/render/FrameBudget.cpp",
+     "logRho_ += 0.3 * (measured - logRho_ - c.work);", "logRho_ += 0.0 * (measured - logRho_ - c.work);",
+     "tandem-unit-tests", "FrameBudget*"),
+    # Render space (tests/unit/CameraTest.cpp).
+    ("render-space-anchor-at-origin", "engine/src/core/RenderSpace.cpp",
+     "return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) ? p : glm::vec3(0.0f);",
+     "return glm::vec3(0.0f);", "tandem-unit-tests", "RenderSpace*:Camera*"),
+    ("render-space-anchor-at-the-target", "engine/src/core/RenderSpace.cpp",
+     "const glm::vec3 p = scene.camera.posW;", "const glm::vec3 p = scene.camera.targetW;",
+     "tandem-unit-tests", "RenderSpace*:Camera*"),
+    # Scene-file integers (tests/unit/SceneFileTest.cpp).
+    ("scene-integer-refuses-dot-zero", "engine/src/io/SceneJson.h",
+     "if (!j.is_number_integer() && d != std::floor(d)) fail(", "if (!j.is_number_integer()) fail(",
+     "tandem-unit-tests", "SceneFile*"),
+    ("scene-integer-range-open-below", "engine/src/io/SceneJson.h",
+     "if (!(d >= lo && d <= hi))", "if (!(d > lo - 1 && d <= hi + 0.5))", "tandem-unit-tests", "SceneFile*"),
+    ("scene-integer-truncates", "engine/src/io/SceneJson.h",
+     "if (!j.is_number_integer() && d != std::floor(d)) fail(",
+     "if (!j.is_number_integer() && std::abs(d - std::floor(d)) > 0.5) fail(", "tandem-unit-tests", "SceneFile*"),
     # The game.
     ("game-no-wall-bounce", "samples/game/logic/Game.cpp",
      "vel_ -= (1.0f + tuning_.restitution) * vn * c->normal;", "vel_ -= vn * c->normal;",
@@ -112,11 +235,14 @@ def main():
     ap.add_argument("--build", default=os.path.join(root, "build", "mutation"))
     ap.add_argument("--only", default="")
     ap.add_argument("--list", action="store_true")
+    ap.add_argument("--without-goldens", action="store_true",
+                    help="leave the golden-image tests out: every mutation must be killed by an oracle")
     a = ap.parse_args()
     chosen = [m for m in MUTATIONS if not a.only or m[0] in a.only.split(",")]
     if a.list:
         for m in chosen:
-            print(f"{m[0]:45s} {m[1]:40s} {m[4]} --gtest_filter={m[5]}")
+            f = m[5] + ((":" if "-" in m[5] else "-") + "*Golden*" if a.without_goldens else "")
+            print(f"{m[0]:45s} {m[1]:40s} {m[4]} --gtest_filter={f}")
         return 0
     if not chosen:
         print("mutate: no mutation by that id")
@@ -164,6 +290,8 @@ def main():
                 print(f"{mid}: does not build (fix the mutation):\n{b.stdout[-2000:]}")
                 continue
             exe = os.path.join(build, "bin", target)
+            if a.without_goldens:
+                gfilter = gfilter + (":" if "-" in gfilter else "-") + "*Golden*"
             try:
                 t = run([exe, f"--gtest_filter={gfilter}", "--gtest_brief=1"], cwd=src, timeout=1200)
                 killed = t.returncode != 0
