@@ -415,21 +415,33 @@ TEST(FrameDecisions, DisplayIsTheToneMappedLinearFrameInEveryView) {
     const Image display = renderer->readImage();
     const ImageF linear = renderer->readLinear();
     ASSERT_EQ(linear.rgb.size(), static_cast<std::size_t>(s.width * s.height));
-    int off = 0, maxDiff = 0;
+    // GL 4.5 §2.3.5.1: a float becomes an 8-bit unorm as "one of the two" levels closest to f·255, rounding to
+    // nearest only preferred. A value exactly between two levels (0.5 + 0.5·N of an axis-aligned normal is
+    // 127.5: 5211 of the normal view's 15552 values) may go either way: llvmpipe rounds it up, NVIDIA's driver
+    // was seen to differ on 5264 of them, and on 1.8–3.4 % of the other views' values, near half steps. So:
+    // every value within the two closest levels; a value farther than a tenth of a level from a half step
+    // rounded to nearest (a wrong tone map, exposure or view moves values by more than that).
+    int outside = 0, ties = 0, off = 0, others = 0;
     for (int y = 0; y < s.height; ++y)
       for (int x = 0; x < s.width; ++x) {
         const glm::vec3 want = shading::tdDisplay(linear.at(x, y), s.exposure, static_cast<int>(s.toneMap),
                                                   !isRadianceView(s.debugView)) * 255.0f;
         const glm::u8vec4 got = display.at(x, y);
         for (int c = 0; c < 3; ++c) {
-          const int d = std::abs(int(got[c]) - int(std::lround(want[c])));
-          maxDiff = std::max(maxDiff, d);
-          off += d > 0;
+          const float level = want[c];
+          outside += std::abs(float(got[c]) - level) >= 1.0f + 1e-4f;
+          if (std::abs(level - std::floor(level) - 0.5f) < 0.1f) {
+            ++ties;
+            continue;
+          }
+          ++others;
+          off += int(got[c]) != int(std::lround(level));
         }
       }
-    // The GL's pow and the C++ one may round a value on a half step differently: one level, rarely.
-    EXPECT_LE(maxDiff, 1);
-    EXPECT_LE(off, s.width * s.height * 3 / 100);
+    std::printf("%s %s: %d of %d values within a tenth of a level of a half step; %d of the others not rounded to "
+                "nearest\n", k.preset, std::string(toString(k.view)).c_str(), ties, ties + others, off);
+    EXPECT_EQ(outside, 0) << "a display value more than a level from tdDisplay of the linear pixel";
+    EXPECT_EQ(off, 0) << "display values not rounded to nearest, away from any half step";
   }
 }
 

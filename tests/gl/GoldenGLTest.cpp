@@ -2,12 +2,13 @@
 // preset; and of assets/scenes/area-lights.json and glossy.json (soft shadows and glossy rays at the default
 // 4 samples, first sample of the sequence: the same seed gives the same image), and distribution.json (all of
 // them with depth of field and motion blur, 8 anti-aliasing, lens and time samples in one frame), the
-// Cornell box (hybrid-full, and the path-traced reference at 2×2 spp), and csg.json (raster and hybrid-full). Tolerances (tests/golden/README.md):
-//   raster-only frames: every channel within 2/255 on at least 99.9 % of pixels (as Filament's CI does on
-//   Mesa software rasterizers);
-//   frames with ray-traced effects: LDR-FLIP mean under 0.0008 and at most 0.1 % of pixels over 2/255 (the
-//   measured spread, and what it must catch: below).
+// Cornell box (hybrid-full, and the path-traced reference at 2×2 spp), and csg.json (raster and hybrid-full).
+// Every golden is compared alike (tests/support/Goldens.h, tests/golden/README.md): at most 0.1 % of pixels more
+// than 2 levels off and each channel's mean within 0.25 of a level — what a GPU driver's rounding stays within
+// and what flat shading, Schlick's Fresnel, one bounce less or a shifted tone map each break (tested below).
 // Regenerate (and look at every changed image): cmake --build build --target update-goldens.
+#include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
@@ -19,43 +20,33 @@
 namespace tandem {
 namespace {
 
-// Frames with rays: FLIP mean under 0.0008. Measured (tests/golden/README.md): the same frame from two builds
-// whose shade pass llvmpipe compiled differently (fused multiply-adds moved: a few highlight pixels) differs
-// by 0.0005; forcing flat shading moves it 0.0011, Schlick's Fresnel 0.0028, one bounce less in hybrid-fast
-// 0.0018 — all caught.
-constexpr double kRayTracedFlip = 0.0008;
 constexpr int kWidth = 320;
 constexpr int kHeight = 180;
 
-struct PixelDiff {
-  double fractionOver = 0.0;  // pixels with some channel differing by more than the tolerance
-  int maxDiff = 0;
-};
+// The frame `settings` draws of the default scene or of assets/scenes/<sceneFile>.
+Image renderFrame(GlContext& context, const FrameSettings& settings, const std::string& sceneFile) {
+  auto scene = sceneFile.empty() ? loadDefaultScene() : loadSceneFile(test::sourceDir() + "/assets/scenes/" + sceneFile);
+  EXPECT_TRUE(scene.ok()) << scene.error().message;
+  if (!scene.ok()) return {};
+  Camera camera = scene->camera;
+  auto renderer = gltest::makeRenderer(context);
+  EXPECT_NE(renderer, nullptr);
+  if (!renderer || !renderer->setScene(std::move(*scene)).ok()) return {};
+  const FrameStats stats = renderer->render(camera, settings);
+  EXPECT_TRUE(stats.error.empty()) << stats.error;
+  return renderer->readImage();
+}
 
-PixelDiff compareChannels(const Image& a, const Image& b, int tolerance) {
-  PixelDiff d;
-  std::size_t over = 0;
-  for (std::size_t i = 0; i < a.rgba.size(); i += 4) {
-    int worst = 0;
-    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c])));
-    d.maxDiff = std::max(d.maxDiff, worst);
-    if (worst > tolerance) ++over;
-  }
-  d.fractionOver = double(over) / double(a.rgba.size() / 4);
-  return d;
+Result<Image> readGolden(const std::string& name) {
+  return readPng(test::sourceDir() + "/tests/golden/" + name + ".png");
 }
 
 void checkGolden(const std::string& name, const FrameSettings& settings, bool rayTraced,
                  const std::string& sceneFile = "") {
   TD_REQUIRE_GL_CONTEXT();
-  auto scene = sceneFile.empty() ? loadDefaultScene() : loadSceneFile(test::sourceDir() + "/assets/scenes/" + sceneFile);
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
-  Camera camera = scene->camera;
-  auto renderer = gltest::makeRenderer(*glContext_);
-  ASSERT_NE(renderer, nullptr);
-  ASSERT_TRUE(renderer->setScene(std::move(*scene)).ok());
-  renderer->render(camera, settings);
-  Image image = renderer->readImage();
+  (void)rayTraced;  // every golden is judged alike; the flag names what the frame holds
+  Image image = renderFrame(*glContext_, settings, sceneFile);
+  ASSERT_GT(image.width, 0);
   gltest::savePng("golden-" + name + ".png", image);
 
   std::string path = test::sourceDir() + "/tests/golden/" + name + ".png";
@@ -69,15 +60,13 @@ void checkGolden(const std::string& name, const FrameSettings& settings, bool ra
   ASSERT_EQ(golden->width, image.width);
   ASSERT_EQ(golden->height, image.height);
 
-  PixelDiff diff = compareChannels(image, *golden, 2);
-  if (rayTraced) {
-    auto f = flip(image, *golden);
-    ASSERT_TRUE(f.ok());
-    EXPECT_LT(f->mean, kRayTracedFlip) << name << ": FLIP mean against the golden";
-    EXPECT_LE(diff.fractionOver, 0.001) << name << ": pixels over 2/255";
-  } else {
-    EXPECT_LE(diff.fractionOver, 0.001) << name << ": pixels over 2/255 (max difference " << diff.maxDiff << ")";
-  }
+  const test::GoldenDiff diff = test::compareToGolden(image, *golden);
+  auto f = flip(image, *golden);
+  ASSERT_TRUE(f.ok());
+  std::printf("%s: %.3f %% of pixels over 2 levels (largest %d), mean shift %.3f %.3f %.3f levels, FLIP %.5f\n",
+              name.c_str(), 100.0 * diff.fractionOver, diff.maxDiff, diff.meanSigned.x, diff.meanSigned.y,
+              diff.meanSigned.z, f->mean);
+  EXPECT_EQ(test::goldenMismatch(diff), "") << name << " against its golden";
 }
 
 FrameSettings effectsOff(ShadingModel model) {
@@ -141,6 +130,55 @@ TEST(Golden, CornellBoxRadiosity) {
 // ray in both; raster shadows and probes from the proxies, the rest exact.
 TEST(Golden, CsgRaster) { checkGolden("csg-raster", preset("raster"), false, "csg.json"); }
 TEST(Golden, CsgHybridFull) { checkGolden("csg-hybrid-full", preset("hybrid-full"), true, "csg.json"); }
+
+// ---- the comparison itself: it must pass a GPU driver's rounding and catch what tests/golden/README.md says ----
+
+// The golden with one level taken off or added to a share of its values (deterministic), as a GPU driver's
+// rounding does: NVIDIA's H100 frame of 2026-11-27 had 1.9 % of values one level lower, none further.
+Image roundedElsewhere(Image im, double share, int sign) {
+  std::uint32_t s = 0x9e3779b9u;
+  for (std::size_t i = 0; i < im.rgba.size(); ++i) {
+    if (i % 4 == 3) continue;
+    s = s * 1664525u + 1013904223u;
+    if (static_cast<double>(s >> 8) / 16777216.0 >= share) continue;
+    const int v = int(im.rgba[i]) + (sign != 0 ? sign : ((s >> 3) & 1u ? 1 : -1));
+    im.rgba[i] = static_cast<std::uint8_t>(std::clamp(v, 0, 255));
+  }
+  return im;
+}
+
+TEST(GoldenComparison, PassesADriversRoundingAndCatchesWhatAGoldenMust) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto full = readGolden("whitted-preset-hybrid-full"), fast = readGolden("whitted-preset-hybrid-fast");
+  ASSERT_TRUE(full.ok() && fast.ok());
+  // A driver's rounding: one level either way on 10 % of the values, or down on 5 % (over twice what the H100
+  // showed), passes; so does the H100's own frame where ../shared has it.
+  EXPECT_EQ(test::goldenMismatch(test::compareToGolden(roundedElsewhere(*full, 0.10, 0), *full)), "");
+  EXPECT_EQ(test::goldenMismatch(test::compareToGolden(roundedElsewhere(*full, 0.05, -1), *full)), "");
+  const std::string h100 = test::sourceDir() + "/../shared/docs/gpu-runs/2026-11-27/whitted-hybrid-full-320x180-nvidia.png";
+  if (std::filesystem::exists(h100)) {
+    auto nvidia = readPng(h100);
+    ASSERT_TRUE(nvidia.ok());
+    EXPECT_EQ(test::goldenMismatch(test::compareToGolden(*nvidia, *full)), "") << "the H100's frame of 2026-11-27";
+  }
+  // Every value a level brighter (an exposure or tone-map constant a little off) fails.
+  EXPECT_NE(test::goldenMismatch(test::compareToGolden(roundedElsewhere(*full, 1.0, +1), *full)), "");
+  // What tests/golden/README.md says the goldens must catch, drawn for real: each fails.
+  FrameSettings flat = preset("hybrid-full");
+  flat.shadingOverride = ShadingModel::Flat;
+  const std::string flatWhy = test::goldenMismatch(test::compareToGolden(renderFrame(*glContext_, flat, ""), *full));
+  EXPECT_NE(flatWhy, "") << "flat shading forced passed the hybrid-full golden";
+  FrameSettings schlick = preset("hybrid-full");
+  schlick.fresnel = FresnelMode::Schlick;
+  const std::string schlickWhy = test::goldenMismatch(test::compareToGolden(renderFrame(*glContext_, schlick, ""), *full));
+  EXPECT_NE(schlickWhy, "") << "Schlick's Fresnel passed the hybrid-full golden";
+  FrameSettings shallow = preset("hybrid-fast");
+  shallow.maxDepth -= 1;
+  const std::string shallowWhy = test::goldenMismatch(test::compareToGolden(renderFrame(*glContext_, shallow, ""), *fast));
+  EXPECT_NE(shallowWhy, "") << "one bounce less passed the hybrid-fast golden";
+  std::printf("caught: flat shading: %s\nSchlick: %s\none bounce less: %s\n", flatWhy.c_str(), schlickWhy.c_str(),
+              shallowWhy.c_str());
+}
 
 }  // namespace
 }  // namespace tandem
