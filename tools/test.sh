@@ -25,6 +25,9 @@ for a in "$@"; do
 done
 
 jobs="$(nproc 2>/dev/null || echo 2)"
+# The packages above include libosmesa6: here the OSMesa context tests must run, not skip (elsewhere, e.g. on
+# the GPU machine's bundle, they skip when libOSMesa is missing).
+export TANDEM_REQUIRE_OSMESA=1
 case "$mode" in
   asan|fuzz)
     # clang so the same tree also builds the libFuzzer targets (gcc has no libFuzzer).

@@ -36,8 +36,24 @@ TEST(ContextGLTest, EglSurfacelessAlone) {
   expectGl45(**ctx);
 }
 
+// OSMesa is a fallback loaded at run time: a machine without libOSMesa (the GPU machine's bundle has none)
+// cannot give one, like a machine without a display cannot give a window. Its tests skip there, saying so,
+// and fail only where the run asked for OSMesa: TANDEM_REQUIRE_OSMESA=1, which tools/test.sh sets (it
+// installs libosmesa6).
+bool osmesaMissing(const Result<std::unique_ptr<GlContext>>& ctx) {
+  return !ctx.ok() && ctx.error().message.find("dlopen(libOSMesa.so.8) failed") != std::string::npos;
+}
+bool osmesaRequired() {
+  const char* v = std::getenv("TANDEM_REQUIRE_OSMESA");
+  return v != nullptr && std::string(v) == "1";
+}
+#define TD_SKIP_WITHOUT_OSMESA(ctx)                                                                   \
+  if (osmesaMissing(ctx) && !osmesaRequired())                                                       \
+  GTEST_SKIP() << (ctx).error().message << " (no libOSMesa here; TANDEM_REQUIRE_OSMESA=1 makes this a failure)"
+
 TEST(ContextGLTest, OsMesaAlone) {
   auto ctx = createGlContext({.kind = ContextKind::OSMesa});
+  TD_SKIP_WITHOUT_OSMESA(ctx);
   ASSERT_TRUE(ctx.ok()) << ctx.error().message;
   EXPECT_EQ((*ctx)->describe().rfind("OSMesa", 0), 0u) << (*ctx)->describe();
   expectGl45(**ctx);
@@ -46,6 +62,7 @@ TEST(ContextGLTest, OsMesaAlone) {
 TEST(ContextGLTest, OsMesaRendersTheSameBoxAsEgl) {
   // Two platforms in one process: glad's pointers must follow the current context.
   auto osmesa = createGlContext({.kind = ContextKind::OSMesa});
+  TD_SKIP_WITHOUT_OSMESA(osmesa);
   ASSERT_TRUE(osmesa.ok()) << osmesa.error().message;
   auto renderer = gltest::makeRenderer(**osmesa);
   ASSERT_TRUE(renderer);
