@@ -95,12 +95,13 @@ void expectNoLoops(Renderer& renderer, const Camera& camera, const FrameSettings
   gl::FeedbackLoopReport report = gl::takeFeedbackLoopReport();
   EXPECT_GE(report.draws, 2u) << what << ": the passes did not run the check";
   for (const std::string& loop : report.loops) ADD_FAILURE() << what << ": " << loop;
+  for (const std::string& problem : report.samplers) ADD_FAILURE() << what << ": " << problem;
   EXPECT_FALSE(renderer.readImage().rgba.empty()) << what;
 }
 
+// (The shared context turns the checks on for every GL test; this says so where they are the subject.)
 struct ChecksOn {
   ChecksOn() { gl::setFeedbackLoopChecks(true); }
-  ~ChecksOn() { gl::setFeedbackLoopChecks(false); }
 };
 
 TEST(FeedbackLoopGLTest, NoPassSamplesItsOwnTarget) {
@@ -129,6 +130,103 @@ TEST(FeedbackLoopGLTest, NoPassSamplesItsOwnTarget) {
   hybridToon.height = 90;
   hybridToon.shadingOverride = ShadingModel::Toon;
   expectNoLoops(*renderer, camera, hybridToon, "hybrid-fast, toon");
+}
+
+}  // namespace
+}  // namespace tandem
+
+namespace tandem {
+namespace {
+
+// A program with a shadow sampler, an unsigned-integer sampler and a float sampler, compiled here.
+GLuint samplerTestProgram() {
+  const char* vs = "#version 450 core\nvoid main() { gl_Position = vec4(0.0); }\n";
+  const char* fs =
+      "#version 450 core\n"
+      "layout(binding = 3) uniform sampler2DArrayShadow shadows;\n"
+      "layout(binding = 4) uniform usampler2D ids;\n"
+      "layout(binding = 5) uniform sampler2D colour;\n"
+      "out vec4 o;\n"
+      "void main() { o = vec4(texture(shadows, vec4(0.5, 0.5, 0.0, 0.5)) + float(texelFetch(ids, ivec2(0), 0).x) +\n"
+      "                       texture(colour, vec2(0.5)).x); }\n";
+  GLuint program = glCreateProgram();
+  for (auto [stage, text] : {std::pair{GL_VERTEX_SHADER, vs}, std::pair{GL_FRAGMENT_SHADER, fs}}) {
+    GLuint s = glCreateShader(stage);
+    glShaderSource(s, 1, &text, nullptr);
+    glCompileShader(s);
+    glAttachShader(program, s);
+    glDeleteShader(s);
+  }
+  glLinkProgram(program);
+  GLint linked = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &linked);
+  EXPECT_EQ(linked, GL_TRUE);
+  return program;
+}
+
+// Whether one of `problems` mentions both strings.
+bool mentions(const std::vector<std::string>& problems, const std::string& sampler, const std::string& what) {
+  for (const std::string& p : problems)
+    if (p.find("'" + sampler + "'") != std::string::npos && p.find(what) != std::string::npos) return true;
+  return false;
+}
+
+TEST(FeedbackLoopGLTest, FindsSamplersThatReadWhatTheyMustNot) {
+  // What NVIDIA's driver calls undefined behaviour and llvmpipe lets pass: the passes check for it before
+  // every draw (gl/FeedbackLoop.h), so the tests fail on it here too.
+  TD_REQUIRE_GL_CONTEXT();
+  const GLuint program = samplerTestProgram();
+  glUseProgram(program);
+  for (GLuint unit : {3u, 4u, 5u}) glBindTextureUnit(unit, 0);
+  std::vector<std::string> problems = gl::findSamplerProblems();
+  EXPECT_TRUE(mentions(problems, "shadows", "no texture of its type bound")) << ::testing::PrintToString(problems);
+  EXPECT_TRUE(mentions(problems, "ids", "no texture of its type bound"));
+  EXPECT_TRUE(mentions(problems, "colour", "no texture of its type bound"));
+
+  gl::Texture colourArray = gl::createTexture2DArray("colour array", GL_RGBA8, 2, 2, 1, 1);
+  gl::Texture depthArray = gl::createTexture2DArray("depth array", GL_DEPTH_COMPONENT32F, 2, 2, 1, 1);
+  gl::Texture uintLinear = gl::createTexture2D("uint linear", GL_R32UI, 2, 2);
+  gl::Texture colour = gl::createTexture2D("colour", GL_RGBA8, 2, 2);
+  gl::Texture depth = gl::createTexture2D("depth", GL_DEPTH_COMPONENT32F, 2, 2);
+  for (const gl::Texture* t : {&colourArray, &depthArray, &colour, &depth}) gl::setSampling(*t, GL_NEAREST, GL_NEAREST);
+  gl::setSampling(uintLinear, GL_LINEAR, GL_LINEAR);
+  glBindTextureUnit(3, colourArray.id());
+  glBindTextureUnit(4, uintLinear.id());
+  glBindTextureUnit(5, depth.id());
+  glTextureParameteri(depth.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  problems = gl::findSamplerProblems();
+  EXPECT_TRUE(mentions(problems, "shadows", "has no depth format")) << ::testing::PrintToString(problems);
+  EXPECT_TRUE(mentions(problems, "ids", "linear filtering"));
+  EXPECT_TRUE(mentions(problems, "colour", "depth comparison on"));
+
+  glBindTextureUnit(3, depthArray.id());  // depth, but comparing nothing
+  glBindTextureUnit(4, colour.id());      // a float format for an unsigned-integer sampler
+  problems = gl::findSamplerProblems();
+  EXPECT_TRUE(mentions(problems, "shadows", "compares no depths")) << ::testing::PrintToString(problems);
+  EXPECT_TRUE(mentions(problems, "ids", "another kind of format"));
+
+  // Each fixed: nothing to say.
+  glTextureParameteri(depthArray.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  gl::setSampling(uintLinear, GL_NEAREST, GL_NEAREST);
+  glBindTextureUnit(4, uintLinear.id());
+  glTextureParameteri(depth.id(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  EXPECT_TRUE(gl::findSamplerProblems().empty()) << ::testing::PrintToString(gl::findSamplerProblems());
+
+  // Before a draw the check reports what it finds as a KHR_debug message of type undefined behaviour, which
+  // fails a GL test (GlTestUtil.h) unless it expects it.
+  // (Where assertions are on, the check asserts instead: not run there.)
+#ifdef NDEBUG
+  glBindTextureUnit(5, 0);
+  {
+    gltest::ExpectGlDebug expected("sampler 'colour' (unit 5) has no texture of its type bound");
+    gl::assertNoFeedbackLoop("sampler test");
+    EXPECT_EQ(expected.seen(), 1);
+  }
+  gl::takeFeedbackLoopReport();
+#endif
+  for (GLuint unit : {3u, 4u, 5u}) glBindTextureUnit(unit, 0);
+  glUseProgram(0);
+  glDeleteProgram(program);
 }
 
 }  // namespace

@@ -42,8 +42,10 @@ TEST(FrameLimitsGLTest, AllocationHelperNamesTheGlError) {
   TD_REQUIRE_GL_CONTEXT();
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+  gltest::ExpectGlDebug invalid("GL_INVALID_VALUE");  // the error this test provokes, and no other
   auto texture = gl::tryCreateTexture2D("too wide", GL_R32UI, maxSize + 1, 1);
   ASSERT_FALSE(texture.ok());
+  EXPECT_EQ(invalid.seen(), 1) << "the driver's debug output reports the GL error";
   const std::string& m = texture.error().message;
   EXPECT_NE(m.find("'too wide' (" + std::to_string(maxSize + 1) + "x1 GL_R32UI"), std::string::npos) << m;
   EXPECT_NE(m.find("failed with GL_INVALID_VALUE"), std::string::npos) << m;
@@ -108,6 +110,7 @@ TEST(FrameLimitsGLTest, RefusedAllocationIsAFrameErrorNotABlackFrame) {
   ASSERT_NE(renderer, nullptr);
   ASSERT_TRUE(renderer->setScene(gltest::boxScene()).ok());
   long before = residentMiB();
+  gltest::ExpectGlDebug outOfMemory("GL_OUT_OF_MEMORY");  // the refusal this test provokes, and no other
   FrameStats stats = renderer->render(renderer->scene().camera, gltest::rasterOnly(kMaxFrameSide, kMaxFrameSide));
   EXPECT_LT(residentMiB() - before, 256) << "the refused frame allocated memory";
   EXPECT_EQ(stats.error, "frame 16384x16384: the frame's GL targets need 8192.0 MiB; GL texture 'linear radiance' "
@@ -119,6 +122,7 @@ TEST(FrameLimitsGLTest, RefusedAllocationIsAFrameErrorNotABlackFrame) {
   auto again = renderer->resize(kMaxFrameSide, kMaxFrameSide);
   ASSERT_FALSE(again.ok());
   EXPECT_EQ("frame 16384x16384: " + again.error().message, stats.error);
+  EXPECT_EQ(outOfMemory.seen(), 2) << "the driver reports each refused allocation";
 
   FrameStats small = renderer->render(renderer->scene().camera, gltest::rasterOnly(64, 48));
   EXPECT_TRUE(small.error.empty()) << small.error;

@@ -3,6 +3,7 @@
 // with the reason (these tests exist to exercise GL; skipping would hide a broken machine).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -10,6 +11,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "gl/FeedbackLoop.h"
 #include "gl/Gl.h"
 #include "support/TestSupport.h"
 #include "tandem/Context.h"
@@ -22,8 +24,45 @@
 
 namespace tandem::gltest {
 
+/// A KHR_debug message of type error or undefined behaviour (the driver's, or the passes' own check of
+/// their bindings before each draw: gl/FeedbackLoop.h) fails the test that caused it, on llvmpipe and on any
+/// driver, unless the test expects it: ExpectGlDebug, for the tests that provoke a GL error on purpose.
+class ExpectGlDebug {
+ public:
+  explicit ExpectGlDebug(std::string substring) : substring_(std::move(substring)) { active().push_back(this); }
+  ~ExpectGlDebug() { active().erase(std::find(active().begin(), active().end(), this)); }
+  ExpectGlDebug(const ExpectGlDebug&) = delete;
+  ExpectGlDebug& operator=(const ExpectGlDebug&) = delete;
+  /// The expected messages seen so far.
+  int seen() const { return seen_; }
+
+  static std::vector<ExpectGlDebug*>& active() {
+    static std::vector<ExpectGlDebug*> list;
+    return list;
+  }
+  bool take(const std::string& text) {
+    if (text.find(substring_) == std::string::npos) return false;
+    ++seen_;
+    return true;
+  }
+
+ private:
+  std::string substring_;
+  int seen_ = 0;
+};
+
+inline void failOnGlDebugErrors() {
+  setGlDebugHandler([](const GlDebugMessage& m) {
+    if (m.kind != GlDebugMessage::Kind::Error && m.kind != GlDebugMessage::Kind::UndefinedBehavior) return;
+    for (ExpectGlDebug* e : ExpectGlDebug::active())
+      if (e->take(m.text)) return;
+    ADD_FAILURE() << (m.kind == GlDebugMessage::Kind::Error ? "GL error: " : "GL undefined behaviour: ") << m.text;
+  });
+}
+
 /// One headless context for the whole test binary, made current again for every caller (tests that
-/// create contexts of their own leave theirs current).
+/// create contexts of their own leave theirs current). Debug output on, every draw's bindings checked, and
+/// any error or undefined behaviour the driver or the checks report fails the test (failOnGlDebugErrors).
 inline GlContext* sharedContext(std::string& error) {
   static std::unique_ptr<GlContext> context;
   static std::string failure;
@@ -33,6 +72,8 @@ inline GlContext* sharedContext(std::string& error) {
     auto created = createGlContext({.kind = ContextKind::Headless, .debug = true});
     if (created) context = std::move(*created);
     else failure = created.error().message;
+    gl::setFeedbackLoopChecks(true);
+    failOnGlDebugErrors();
   }
   error = failure;
   if (context) context->makeCurrent();

@@ -7,6 +7,7 @@
 // Headless tries, in order: the EGL device platform (a real GPU), EGL surfaceless (Mesa), OSMesa.
 // describe() names the platform and, for the device platform, the device chosen.
 // A context is current on the thread that created it; it is not thread-safe.
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -34,8 +35,22 @@ struct ContextDesc {
   int height = 720;
   std::string title = "Tandem";
   bool vsync = true;
-  bool debug = false;  // KHR_debug output to the log
+  bool debug = false;  // KHR_debug output to the log (and to setGlDebugHandler's handler), synchronous; the
+                       // passes also check, before each draw, that every sampler has what it declares bound
 };
+
+/// One KHR_debug message of a context made with ContextDesc::debug: from the driver, or from Tandem's own
+/// check of the texture bindings before a draw (source "application", type undefined behaviour).
+struct GlDebugMessage {
+  enum class Kind { Error, UndefinedBehavior, Deprecated, Portability, Performance, Other };
+  Kind kind = Kind::Other;
+  bool high = false;  // severity high
+  unsigned id = 0;
+  std::string text;
+};
+/// Called for every such message on the thread whose GL call raised it (besides the log); one per process,
+/// empty to remove. Tests use it to fail on errors and undefined behaviour.
+void setGlDebugHandler(std::function<void(const GlDebugMessage&)> handler);
 
 class GlContext {
  public:

@@ -83,6 +83,15 @@ const char* glString(GLenum name) {
   return s != nullptr ? reinterpret_cast<const char*>(s) : "?";
 }
 
+std::mutex& debugHandlerMutex() {
+  static std::mutex m;
+  return m;
+}
+std::function<void(const GlDebugMessage&)>& debugHandler() {
+  static std::function<void(const GlDebugMessage&)> handler;
+  return handler;
+}
+
 void GLAPIENTRY debugCallback(GLenum, GLenum type, GLuint id, GLenum severity, GLsizei length, const GLchar* message,
                               const void*) {
   LogLevel level = severity == GL_DEBUG_SEVERITY_HIGH     ? LogLevel::Error
@@ -92,6 +101,23 @@ void GLAPIENTRY debugCallback(GLenum, GLenum type, GLuint id, GLenum severity, G
   std::string text = "GL debug " + std::to_string(id) + ": ";
   text.append(message, length >= 0 ? static_cast<std::size_t>(length) : std::strlen(message));
   log(level, text);
+  std::function<void(const GlDebugMessage&)> handler;
+  {
+    std::lock_guard<std::mutex> lock(debugHandlerMutex());
+    handler = debugHandler();
+  }
+  if (!handler) return;
+  GlDebugMessage m;
+  m.kind = type == GL_DEBUG_TYPE_ERROR                ? GlDebugMessage::Kind::Error
+           : type == GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR ? GlDebugMessage::Kind::UndefinedBehavior
+           : type == GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR ? GlDebugMessage::Kind::Deprecated
+           : type == GL_DEBUG_TYPE_PORTABILITY        ? GlDebugMessage::Kind::Portability
+           : type == GL_DEBUG_TYPE_PERFORMANCE        ? GlDebugMessage::Kind::Performance
+                                                      : GlDebugMessage::Kind::Other;
+  m.high = severity == GL_DEBUG_SEVERITY_HIGH;
+  m.id = id;
+  m.text = std::move(text);
+  handler(m);
 }
 
 // Called with the context current and the loader run: checks the version and profile the caller asked
@@ -475,6 +501,11 @@ Result<std::unique_ptr<GlContext>> createGlfw(const ContextDesc& desc) {
 }
 
 }  // namespace
+
+void setGlDebugHandler(std::function<void(const GlDebugMessage&)> handler) {
+  std::lock_guard<std::mutex> lock(debugHandlerMutex());
+  debugHandler() = std::move(handler);
+}
 
 Result<std::unique_ptr<GlContext>> createGlContext(const ContextDesc& desc) {
   switch (desc.kind) {

@@ -250,11 +250,12 @@ void ShadowMaps::release() {
   layers_ = cubes_ = 0;
 }
 
-void ShadowMaps::bind() const {
-  glBindTextureUnit(kUnitShadowMaps, maps_.id());
-  glBindTextureUnit(kUnitShadowCubes, cubeMaps_.id());
-  glBindTextureUnit(kUnitShadowCubesDepth, cubeMaps_.id());
-  glBindSampler(kUnitShadowCubesDepth, cubeDepths_.id());
+void ShadowMaps::bind(Placeholders& placeholders) const {
+  placeholders.bindOr(kUnitShadowMaps, maps_.id(), Placeholders::Depth2DArrayCompare);
+  placeholders.bindOr(kUnitShadowCubes, cubeMaps_.id(), Placeholders::DepthCubeArrayCompare);
+  placeholders.bindOr(kUnitShadowCubesDepth, cubeMaps_.id(), Placeholders::DepthCubeArray);
+  // The cube maps compare depths; this unit reads them as values through a sampler object that does not.
+  glBindSampler(kUnitShadowCubesDepth, cubeMaps_ ? cubeDepths_.id() : 0);
   glBindBufferBase(GL_UNIFORM_BUFFER, kBlockShadows, records_.id());
 }
 

@@ -13,6 +13,7 @@
 #include "gl/Bindings.h"
 #include "gl/GlObjects.h"
 #include "gl/GpuScene.h"
+#include "gl/Placeholders.h"
 #include "gl/VisibilityPass.h"
 #include "tandem/Scene.h"
 
@@ -66,7 +67,9 @@ class ShadowMaps {
   void release();
   /// Binds the maps (kUnitShadowMaps, kUnitShadowCubes, and the cubes' depths at kUnitShadowCubesDepth) and the
   /// per-light records (kBlockShadows).
-  void bind() const;
+  /// Binds the maps to their units; a kind the scene has none of (no spot or directional light, no point
+  /// light) gets a placeholder of its type.
+  void bind(Placeholders& placeholders) const;
   int mapCount() const { return layers_; }
   int cubeCount() const { return cubes_; }
 

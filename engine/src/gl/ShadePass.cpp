@@ -296,13 +296,17 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
     glCopyImageSubData(depth.id(), GL_TEXTURE_2D, 0, 0, 0, 0, sampledDepth->id(), GL_TEXTURE_2D, 0, 0, 0, 0, width,
                        height, 1);
   glBindTextureUnit(kUnitDepth, readsDepth ? sampledDepth->id() : 0);
-  if (in.shadowMaps) in.shadowMaps->bind();
+  if (in.shadowMaps) in.shadowMaps->bind(placeholders_);
   if (in.probeCubes && in.probeEffects != 0) glBindTextureUnit(kUnitProbes, in.probeCubes->id());
-  glBindTextureUnit(kUnitLightMask, (in.rayInputs & kRayLightMask) ? lightMask_.id() : 0);
-  glBindTextureUnit(kUnitAreaSamples, (in.rayInputs & kRayLightMask) && scene.features().areaLights ? areaSamples_.id() : 0);
-  glBindTextureUnit(kUnitReflected, (in.rayInputs & kRayReflected) ? reflected_.id() : 0);
-  glBindTextureUnit(kUnitTransmitted, (in.rayInputs & kRayTransmitted) ? transmitted_.id() : 0);
-  glBindTextureUnit(kUnitExactHits, in.exactHits ? in.exactHits->id() : 0);
+  // Every sampler the variant declares gets a texture of its type: the frame's, or a placeholder the shader
+  // never reads (rayInputs and the light kinds keep it away), never an empty unit (gl/Placeholders.h).
+  using P = Placeholders;
+  placeholders_.bindOr(kUnitLightMask, (in.rayInputs & kRayLightMask) ? lightMask_.id() : 0, P::Uint2D);
+  placeholders_.bindOr(kUnitAreaSamples,
+                       (in.rayInputs & kRayLightMask) && scene.features().areaLights ? areaSamples_.id() : 0, P::Uint2DArray);
+  placeholders_.bindOr(kUnitReflected, (in.rayInputs & kRayReflected) ? reflected_.id() : 0, P::Float2D);
+  placeholders_.bindOr(kUnitTransmitted, (in.rayInputs & kRayTransmitted) ? transmitted_.id() : 0, P::Float2D);
+  placeholders_.bindOr(kUnitExactHits, in.exactHits ? in.exactHits->id() : 0, P::Float2D);
 
   glUseProgram(p);
   glBindVertexArray(emptyVao_.id());

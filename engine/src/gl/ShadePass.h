@@ -13,6 +13,7 @@
 #include "gl/Bindings.h"
 #include "gl/GlObjects.h"
 #include "gl/GpuScene.h"
+#include "gl/Placeholders.h"
 #include "gl/Program.h"
 #include "gl/RasterEffects.h"
 #include "gl/VisibilityPass.h"
@@ -119,6 +120,7 @@ class ShadePass {
   int areaWidth_ = 0, areaHeight_ = 0, areaLayers_ = 0;
   GridResidency reflectedResident_, transmittedResident_;
   Texture sampledDepth_;  // frame size, with reserveSampledDepth()
+  Placeholders placeholders_;  // for the samplers a variant declares and a frame gives nothing to
 };
 
 }  // namespace tandem::gl
