@@ -361,5 +361,24 @@ TEST(HybridShadows, EveryAnswerIsEmbreesUnderFarCasters) {
     }
 }
 
+TEST(HybridShadows, EveryAnswerIsEmbreesSeenFromFarAway) {
+  // The scene and its lights 1e3–1e5 from the camera, seen through a long lens: render space is anchored at
+  // the camera, so every point the maps judge, and every light, is far from its origin, while the rays are
+  // short. The maps' depth margins must grow with that distance (contacts, the box on the floor).
+  for (float distance : {1e3f, 1e4f, 1e5f}) {
+    SCOPED_TRACE(distance);
+    const glm::vec3 offset(0.6f * distance, 0.0f, -0.8f * distance);
+    Scene scene = objectsOnAFloor(1.0f, offset);
+    const glm::vec3 target = offset + glm::vec3(0.0f, 0.5f, 0.0f);
+    scene.camera.posW = {0.0f, 0.3f * distance, 0.0f};
+    scene.camera.targetW = target;
+    scene.camera.yFovDeg = glm::degrees(2.0f * std::atan(6.0f / glm::length(target - scene.camera.posW)));
+    scene.camera.nearZ = 0.5f * distance;
+    const Answers a = expectEveryAnswerIsEmbrees(scene, 400);
+    std::printf("seen from %g: %zu map answers (%zu lit, %zu shadowed)\n", distance, a.rays, a.lit, a.shadowed);
+    EXPECT_GT(a.lit, 1000u);
+  }
+}
+
 }  // namespace
 }  // namespace tandem::rt::test

@@ -273,6 +273,10 @@ TEST(Radiosity, TheRedWallBleedsOntoTheFloorAndDirectLightStaysOut) {
   addInstance(lone, addMesh(lone, makePlane(glm::vec2(2.0f), 1)), addMaterial(lone, diffuse(glm::vec3(0.8f))),
               glm::mat4(1.0f));
   lone.lights.push_back(pointLight(glm::vec3(0.0f, 1.0f, 0.0f)));
+  // And one that casts no shadow: nothing stops its light at the floor, so only the cosine keeps it off
+  // the side that faces away.
+  lone.lights.push_back(pointLight(glm::vec3(0.5f, 2.0f, 0.0f)));
+  lone.lights.back().castShadows = false;
   Solved l = solve(std::move(lone), options);
   l.solver->shoot(1000);
   EXPECT_EQ(l.solver->residual(), 0.0f);
