@@ -6,6 +6,7 @@
 // --trace-pixel prints that pixel's ray tree (Renderer::tracePixel) on stdout after the frame.
 // Exit 0 on success; non-zero with a one-line error on any bad input.
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -38,15 +39,23 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// The columns of the summary and of --stats: every stage (kFrameStages), what lies outside them, the total.
 struct Column {
-  const char* name;
-  double FrameStats::*field;
+  std::string name;
+  std::function<double(const FrameStats&)> cpu;
+  std::function<double(const GpuStageTimes&)> gpu;  // empty: no GPU time
 };
-constexpr Column kColumns[] = {
-    {"prepare", &FrameStats::prepareMs}, {"raster", &FrameStats::rasterMs},   {"readback", &FrameStats::readbackMs},
-    {"rays", &FrameStats::raysMs},       {"upload", &FrameStats::uploadMs},   {"composite", &FrameStats::compositeMs},
-    {"present", &FrameStats::presentMs}, {"total", &FrameStats::totalMs},
-};
+std::vector<Column> columns() {
+  std::vector<Column> c;
+  for (const FrameStage& s : kFrameStages) {
+    Column col{s.name, [f = s.cpu](const FrameStats& st) { return st.*f; }, {}};
+    if (s.gpu != nullptr) col.gpu = [g = s.gpu](const GpuStageTimes& t) { return t.*g; };
+    c.push_back(std::move(col));
+  }
+  c.push_back({"untimed", [](const FrameStats& st) { return st.untimedMs(); }, {}});
+  c.push_back({"total", [](const FrameStats& st) { return st.totalMs; }, [](const GpuStageTimes& t) { return t.totalMs(); }});
+  return c;
+}
 
 int fail(const std::string& message) {
   std::cerr << "tandem-render: " << message << "\n";
@@ -197,12 +206,24 @@ int main(int argc, char** argv) {
     if (!s.raysReused) traced = &s;
   }
   nlohmann::json j;
-  for (const Column& c : kColumns) {
-    std::vector<double> v;
-    for (const FrameStats& s : stats) v.push_back(s.*(c.field));
+  const std::vector<Column> cols = columns();
+  bool anyGpu = false;
+  for (const Column& c : cols) {
+    std::vector<double> v, g;
+    for (const FrameStats& s : stats) {
+      v.push_back(c.cpu(s));
+      if (c.gpu && s.gpu.valid) g.push_back(c.gpu(s.gpu));
+    }
     j["stages_ms"][c.name] = {{"median", median(v)},
                               {"min", *std::min_element(v.begin(), v.end())},
                               {"max", *std::max_element(v.begin(), v.end())}};
+    // The GPU's time of the GL stages (timer queries, each frame's read a frame or more later).
+    if (!g.empty()) {
+      anyGpu = true;
+      j["gpu_ms"][c.name] = {{"median", median(g)},
+                             {"min", *std::min_element(g.begin(), g.end())},
+                             {"max", *std::max_element(g.begin(), g.end())}};
+    }
   }
   if (!quiet) {
     std::string preset = "preset " + resolved->preset + " (" + resolved->presetSource + ")";
@@ -217,11 +238,13 @@ int main(int argc, char** argv) {
                 frames, preset.c_str());
     std::printf("  %s\n", (*context)->describe().c_str());
     std::printf("  %s; %s\n", cli::describeSettings(settings).c_str(), rayPass.c_str());
-    std::printf("  %-10s %10s %10s %10s\n", "stage", "median ms", "min ms", "max ms");
-    for (const Column& c : kColumns) {
+    std::printf("  %-11s %10s %10s %10s%s\n", "stage", "median ms", "min ms", "max ms", anyGpu ? "    GPU ms" : "");
+    for (const Column& c : cols) {
       const nlohmann::json& ms = j["stages_ms"][c.name];
-      std::printf("  %-10s %10.2f %10.2f %10.2f\n", c.name, ms["median"].get<double>(), ms["min"].get<double>(),
+      std::printf("  %-11s %10.2f %10.2f %10.2f", c.name.c_str(), ms["median"].get<double>(), ms["min"].get<double>(),
                   ms["max"].get<double>());
+      if (anyGpu && j["gpu_ms"].contains(c.name)) std::printf(" %9.2f", j["gpu_ms"][c.name]["median"].get<double>());
+      std::printf("\n");
     }
     std::printf("  rays/frame: primary %llu, shadow %llu, reflection %llu, refraction %llu\n",
                 static_cast<unsigned long long>(traced->rays.primary), static_cast<unsigned long long>(traced->rays.shadow),

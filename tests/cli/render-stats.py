@@ -3,6 +3,8 @@
 --stats JSON that holds what the frame did, checked against counts made independently:
 - the PNG has the requested size (its IHDR), the summary names the preset, the exit status is 0;
 - every stage has min <= median <= max, all finite and >= 0, and the settings and preset are those asked for;
+  every frame's stages make its total within 2 % (what is left is `untimed`), for every preset; the GL stages
+  carry their GPU time (gpu_ms);
 - hybrid-full's primary rays equal the pixels the frame shows a surface at (the instance-id view's non-black
   pixels, decoded here), at --scale 2 the grid pixels whose stand-in pixel shows one; the reference's are
   width x height x spp^2; the raster preset traces nothing; without shadows no shadow ray, with depth 0 no
@@ -81,13 +83,34 @@ if full:
         fail.append("the summary does not name the preset: " + summary.splitlines()[0])
     if full.get("preset") != "hybrid-full" or full.get("width") != W or full.get("height") != H:
         fail.append(f"--stats says preset {full.get('preset')} at {full.get('width')}x{full.get('height')}")
-    for stage in ("prepare", "raster", "readback", "rays", "upload", "composite", "present"):
-        s = full["stages_ms"].get(stage)
+STAGES = ("plan", "prepare", "sync", "shadows", "probes", "raster", "readback", "rays", "upload", "composite",
+          "accumulate", "bookkeeping", "present")
+GPU_STAGES = ("shadows", "probes", "raster", "upload", "composite", "accumulate")
+
+
+def check_stages(name, stats):
+    for stage in STAGES + ("total",):
+        s = stats["stages_ms"].get(stage)
         if s is None:
-            fail.append(f"--stats lacks stage {stage}")
+            fail.append(f"{name}: --stats lacks stage {stage}")
             continue
         if not all(math.isfinite(s[k]) and s[k] >= 0 for k in ("min", "median", "max")) or not s["min"] <= s["median"] <= s["max"]:
-            fail.append(f"stage {stage}: min/median/max {s}")
+            fail.append(f"{name}: stage {stage}: min/median/max {s}")
+    # One frame: its median is the frame. The stages make the total but for the timers' own microseconds.
+    total = stats["stages_ms"]["total"]["median"]
+    summed = sum(stats["stages_ms"][s]["median"] for s in STAGES if s in stats["stages_ms"])
+    if abs(total - summed) > 0.02 * total:
+        fail.append(f"{name}: the stages add up to {summed:.3f} ms of a {total:.3f} ms frame")
+    if abs(stats["stages_ms"]["untimed"]["median"] - (total - summed)) > 1e-3 * total + 1e-3:
+        fail.append(f"{name}: untimed is not what the stages leave of the total")
+    for stage in GPU_STAGES:
+        g = stats.get("gpu_ms", {}).get(stage)
+        if g is None or not (math.isfinite(g["median"]) and g["median"] >= 0):
+            fail.append(f"{name}: no GPU time for stage {stage}: {g}")
+
+
+if full:
+    check_stages("hybrid-full", full)
 
 # What the frame shows, independently: the instance-id view's pixels (black is the sky).
 png, ids, _ = run("ids", "--preset", "hybrid-full", "--debug-view", "instance")
@@ -114,6 +137,10 @@ _, ref, _ = run("reference", "--preset", "reference", "--spp", "2")
 if ref and ref["rays"]["primary"] != W * H * 4:
     fail.append(f"reference --spp 2: {ref['rays']['primary']} primary rays, not {W * H * 4}")
 _, raster, _ = run("raster", "--preset", "raster")
+if raster:
+    check_stages("raster", raster)
+if ref:
+    check_stages("reference", ref)
 if raster and any(raster["rays"][k] for k in ("primary", "shadow", "reflection", "refraction", "resolved")):
     fail.append(f"the raster preset traced rays: {raster['rays']}")
 _, noshadow, _ = run("noshadow", "--preset", "hybrid-full", "--shadows", "off")

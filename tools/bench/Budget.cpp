@@ -32,32 +32,45 @@ struct LogRow {
   double flip = 0;
 };
 
-// The game's --frame-log: CSV with one quoted field (the choice).
+// One CSV line with quoted fields (the choice).
+std::vector<std::string> csvCells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  bool quoted = false;
+  for (char ch : line) {
+    if (ch == '"') quoted = !quoted;
+    else if (ch == ',' && !quoted) cells.push_back(cell), cell.clear();
+    else cell += ch;
+  }
+  cells.push_back(cell);
+  return cells;
+}
+
+// The game's --frame-log, its columns found by name (docs/game.md lists them).
 std::vector<LogRow> readLog(const std::string& path) {
   std::vector<LogRow> rows;
   std::ifstream f(path);
   std::string line;
-  std::getline(f, line);  // header
+  if (!std::getline(f, line)) return rows;
+  const std::vector<std::string> header = csvCells(line);
+  auto column = [&](const char* name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    return it == header.end() ? header.size() : static_cast<std::size_t>(it - header.begin());
+  };
+  const std::size_t frame = column("frame"), total = column("total_ms"), rays = column("rays"),
+                    target = column("target_ms"), step = column("step"), choice = column("choice"), flip = column("flip");
   while (std::getline(f, line)) {
-    std::vector<std::string> cells;
-    std::string cell;
-    bool quoted = false;
-    for (char ch : line) {
-      if (ch == '"') quoted = !quoted;
-      else if (ch == ',' && !quoted) cells.push_back(cell), cell.clear();
-      else cell += ch;
-    }
-    cells.push_back(cell);
-    if (cells.size() < 18) continue;
+    const std::vector<std::string> cells = csvCells(line);
+    if (cells.size() != header.size() || flip >= cells.size()) continue;
     LogRow r;
-    r.frame = std::atoi(cells[0].c_str());
-    r.totalMs = std::atof(cells[1].c_str());
-    r.rays = std::atof(cells[8].c_str());
-    r.targetMs = std::atof(cells[11].c_str());
-    r.step = std::atoi(cells[12].c_str());
-    r.choice = cells[14];
-    r.hasFlip = !cells[17].empty();
-    r.flip = std::atof(cells[17].c_str());
+    r.frame = std::atoi(cells[frame].c_str());
+    r.totalMs = std::atof(cells[total].c_str());
+    r.rays = std::atof(cells[rays].c_str());
+    r.targetMs = std::atof(cells[target].c_str());
+    r.step = std::atoi(cells[step].c_str());
+    r.choice = cells[choice];
+    r.hasFlip = !cells[flip].empty();
+    r.flip = std::atof(cells[flip].c_str());
     rows.push_back(r);
   }
   return rows;

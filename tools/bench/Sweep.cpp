@@ -1,6 +1,7 @@
 #include "Sweep.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -31,16 +32,24 @@ namespace tandem::bench {
 
 namespace {
 
-// The stages of FrameStats in the order of the frame; present is left out (headless: a no-op).
+// The stages of FrameStats in the order of the frame (kFrameStages, tandem/FrameStats.h): every part of it.
 struct StageField {
   const char* name;
   double FrameStats::*field;
 };
-constexpr StageField kStages[] = {
-    {"prepare", &FrameStats::prepareMs}, {"raster", &FrameStats::rasterMs},     {"readback", &FrameStats::readbackMs},
-    {"rays", &FrameStats::raysMs},       {"upload", &FrameStats::uploadMs},     {"composite", &FrameStats::compositeMs},
-};
-constexpr std::size_t kStageCount = std::size(kStages);
+constexpr std::size_t kStageCount = std::size(kFrameStages);
+constexpr std::array<StageField, kStageCount> stageFields() {
+  std::array<StageField, kStageCount> f{};
+  for (std::size_t i = 0; i < kStageCount; ++i) f[i] = {kFrameStages[i].name, kFrameStages[i].cpu};
+  return f;
+}
+constexpr std::array<StageField, kStageCount> kStages = stageFields();
+// Index of a stage by name (for the progress lines).
+constexpr std::size_t stageIndex(std::string_view name) {
+  for (std::size_t i = 0; i < kStageCount; ++i)
+    if (name == kFrameStages[i].name) return i;
+  return 0;
+}
 
 struct Combo {
   std::string name;
@@ -798,7 +807,8 @@ int runHeavy(const SweepOptions& o) {
                   "raster preset %.1f ms, castVisibility %.1f ms\n",
                   done, steps, formatDuration(t).c_str(),
                   formatDuration(t / static_cast<double>(done) * static_cast<double>(steps - done)).c_str(),
-                  h.triangles, h.size.c_str(), h.totalMs, h.stageMs[1], h.stageMs[3], h.rasterPresetMs,
+                  h.triangles, h.size.c_str(), h.totalMs, h.stageMs[stageIndex("raster")], h.stageMs[stageIndex("rays")],
+                  h.rasterPresetMs,
                   h.castVisibilityMs);
       std::fflush(stdout);
       rows.push_back(std::move(h));

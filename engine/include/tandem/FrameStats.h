@@ -56,15 +56,43 @@ struct RadiosityStats {
   double solveMs = 0;      // time the solve has taken so far (its own thread's, in the background)
 };
 
+/// The GPU's own time of the frame's GL stages (timer queries, GL_TIME_ELAPSED), read back a frame or more
+/// later so that nothing waits for them: the latest frame whose queries had all finished. On llvmpipe the GL
+/// is CPU work too; on a GPU the difference from the CPU stage is what a pipelined frame can hide.
+struct GpuStageTimes {
+  bool valid = false;   // false until a frame's queries have come back (or where the GL has no timer queries)
+  int framesAgo = 0;    // how many render() calls before this one drew the frame they measured
+  double shadowsMs = 0, probesMs = 0, rasterMs = 0, uploadMs = 0, compositeMs = 0, accumulateMs = 0;
+  double totalMs() const { return shadowsMs + probesMs + rasterMs + uploadMs + compositeMs + accumulateMs; }
+};
+
 struct FrameStats {
-  double prepareMs = 0;    // settings, GL buffer and Embree scene sync
-  double rasterMs = 0;     // G-buffer (visibility) pass, including glFinish
-  double readbackMs = 0;   // G-buffer channels to memory for the ray pass
-  double raysMs = 0;       // the CPU ray pass
-  double uploadMs = 0;     // ray results to GL textures
-  double compositeMs = 0;  // shading + composite + tone map, including glFinish
-  double presentMs = 0;    // swap or capture
+  // Every part of a frame is in one of these stages (wall clock, ms), in the order a frame runs them; their
+  // sum is the frame's total but for the timers' own cost (untimedMs(); tests hold it under 2 %).
+  double planMs = 0;        // the frame's decisions: the scene's facts, the frame-time budget's choice, the plan
+  double prepareMs = 0;     // the frame's targets, the GL copy and Embree scene brought up to date, radiosity
+  double syncMs = 0;        // each sample's GL copy of what moves under an open shutter (motion blur)
+  double shadowsMs = 0;     // raster shadow maps drawn (only when their lights or what they see changed)
+  double probesMs = 0;      // reflection probes drawn (likewise, or a few a frame: probesPerFrame)
+  double rasterMs = 0;      // the visibility G-buffer pass, including glFinish
+  double readbackMs = 0;    // G-buffer channels to memory for the ray pass
+  double raysMs = 0;        // the CPU ray pass (with the exact solids' resolve step)
+  double uploadMs = 0;      // ray results to GL textures
+  double compositeMs = 0;   // shading + composite + tone map, including glFinish
+  double accumulateMs = 0;  // anti-aliasing and accumulation: each sample's linear frame read and summed, the mean shown
+  double bookkeepingMs = 0; // what later frames need of this one: the history reuse and tracePixel read, the budget's learning
+  double presentMs = 0;     // swap or capture
   double totalMs = 0;
+  /// The sum of the stages above, and what of the total lies outside them.
+  double stagesMs() const {
+    return planMs + prepareMs + syncMs + shadowsMs + probesMs + rasterMs + readbackMs + raysMs + uploadMs +
+           compositeMs + accumulateMs + bookkeepingMs + presentMs;
+  }
+  double untimedMs() const { return totalMs - stagesMs(); }
+  GpuStageTimes gpu;
+  /// Adds a sample's stage times and rays (a frame of several samples: anti-aliasing, adaptive rounds);
+  /// the rest (grid, threads, maps) becomes the sample's.
+  void addSample(const FrameStats& sample);
   RayCounts rays;
   int rayWidth = 0;        // resolution the ray pass ran at
   int rayHeight = 0;
@@ -93,6 +121,29 @@ struct FrameStats {
   /// (a limit it exceeds, or an allocation the driver refused, named as Renderer::resize names them).
   /// readImage() is then empty when the frame's own targets failed, else it keeps the last frame drawn.
   std::string error;
+};
+
+/// The stages in the order a frame runs them, by the names tandem-render's --stats, the bench and the game's
+/// frame log give them; `gpu` is the stage's GPU time where it has one (nullptr: CPU work only).
+struct FrameStage {
+  const char* name;
+  double FrameStats::*cpu;
+  double GpuStageTimes::*gpu;
+};
+inline constexpr FrameStage kFrameStages[] = {
+    {"plan", &FrameStats::planMs, nullptr},
+    {"prepare", &FrameStats::prepareMs, nullptr},
+    {"sync", &FrameStats::syncMs, nullptr},
+    {"shadows", &FrameStats::shadowsMs, &GpuStageTimes::shadowsMs},
+    {"probes", &FrameStats::probesMs, &GpuStageTimes::probesMs},
+    {"raster", &FrameStats::rasterMs, &GpuStageTimes::rasterMs},
+    {"readback", &FrameStats::readbackMs, nullptr},
+    {"rays", &FrameStats::raysMs, nullptr},
+    {"upload", &FrameStats::uploadMs, &GpuStageTimes::uploadMs},
+    {"composite", &FrameStats::compositeMs, &GpuStageTimes::compositeMs},
+    {"accumulate", &FrameStats::accumulateMs, &GpuStageTimes::accumulateMs},
+    {"bookkeeping", &FrameStats::bookkeepingMs, nullptr},
+    {"present", &FrameStats::presentMs, nullptr},
 };
 
 }  // namespace tandem

@@ -23,6 +23,7 @@
 #include "gl/RasterEffects.h"
 #include "gl/VisibilityPass.h"
 #include "gl/GlObjects.h"
+#include "gl/GpuTimers.h"
 #include "rt/EmbreeScene.h"
 #include "rt/RayReuse.h"
 #include "rt/RayTracer.h"
@@ -44,6 +45,7 @@ struct Renderer::Impl {
   SceneCaches caches;  // the GL copy, the raster effects and the Embree scene, with what they miss
   RadiosityJob radiosity;  // FrameSettings::radiosity: the solution, solved from the scene as it is
   FrameBudget budget;  // FrameSettings::targetMs: what each frame is drawn with
+  gl::GpuTimers gpuTimers;  // the GL stages' GPU time (FrameStats::gpu)
   Scene scene;
 
   rt::VisibilityBuffer visibility;
@@ -111,7 +113,8 @@ struct Renderer::Impl {
   // The frame's stages (Renderer::render calls them in order). A stage that cannot go on sets
   // stats.error and returns false: the frame is then not drawn.
   bool prepare(FramePlan& plan, const Camera& camera, FrameStats& stats);
-  void raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
+  // raster: the raster effects' maps (their own stages, shadows and probes), then the visibility pass.
+  void raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in, FrameStats& stats);
   void readback(const FramePlan& plan);
   // rays, first step: the exact solids' proxy pixels by camera rays (FramePlan::resolve); the rays traced.
   std::uint64_t resolveExact(const FramePlan& plan, const Camera& camera);
@@ -178,16 +181,16 @@ std::string frameError(const FrameSettings& s, const std::string& why) {
   return "frame " + std::to_string(s.width) + "x" + std::to_string(s.height) + ": " + why;
 }
 
-// Runs a stage and stores its time.
+// Runs (part of) a stage and adds its time to the stage's.
 template <class F>
 auto timed(double& ms, F&& stage) {
   Timer clock;
   if constexpr (std::is_void_v<decltype(stage())>) {
     stage();
-    ms = clock.ms();
+    ms += clock.ms();
   } else {
     auto result = stage();
-    ms = clock.ms();
+    ms += clock.ms();
     return result;
   }
 }
@@ -304,21 +307,31 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   Timer total;
   const std::uint64_t compiledBefore = gl::programsBuilt();
   auto finished = [&] {
-    stats.totalMs = total.ms();
+    Timer book;
+    // Every stage ended with glFinish, but for the timestamp queries issued after it: finishing them costs
+    // microseconds and gives this frame's GPU times now (a pipelined frame would read them a frame later).
+    glFinish();
+    stats.gpu = r.gpuTimers.endFrame();
     stats.shaderCompiles = static_cast<int>(gl::programsBuilt() - compiledBefore);
     stats.budget = r.budget.stats();
+    // The budget learns from the frame's total as it stands here; its own few microseconds join the total after.
+    stats.totalMs = total.ms();
     r.budget.observe(stats);
+    stats.bookkeepingMs += book.ms();
+    stats.totalMs = total.ms();
     return stats;
   };
   const bool lastDrawn = r.last.drawn;
   r.last.drawn = false;  // until this frame is drawn
   // With a frame-time budget, the settings this frame can afford; otherwise the requested ones.
-  const SceneFacts facts = sceneFacts(r.scene);
-  FramePlan plan = planFrame(facts, r.budget.choose(requested.resolved(), facts));
+  FramePlan plan = timed(stats.planMs, [&] {
+    const SceneFacts facts = sceneFacts(r.scene);
+    return planFrame(facts, r.budget.choose(requested.resolved(), facts));
+  });
   if (!timed(stats.prepareMs, [&] { return r.prepare(plan, camera, stats); })) return finished();
   const FrameSettings& s = plan.settings;
   if (s.aa == AntiAlias::Off && s.accumulate <= 1) {
-    if (r.accum.active) r.accum.release();  // cost follows the settings: no sums held while they are off
+    if (r.accum.active) timed(stats.accumulateMs, [&] { r.accum.release(); });  // cost follows the settings
     if (r.drawSample(plan, camera, stats, lastDrawn, nullptr)) timed(stats.presentMs, [&] { r.present(); });
     return finished();
   }
@@ -335,29 +348,34 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
       plan.reference ? sampleCamera : sampleCamera.lensPinhole({plan.settings.width, plan.settings.height});
   // Motion blur: the GL copy's moving instances where this sample's shutter time puts them (the rays of the
   // sample run at that time too).
-  if (!plan.reference) caches.syncGpu(scene, plan.settings.shadingOverride, camera.shutter, camera.timeU);
+  if (!plan.reference)
+    timed(sample.syncMs, [&] { caches.syncGpu(scene, plan.settings.shadingOverride, camera.shutter, camera.timeU); });
   // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
   const Camera glCamera = toRenderSpace(camera, caches.gpu().anchor());
   gl::ShadeInputs in;
   in.lightSamples = plan.settings.lightSamples;
   in.sampleBase = camera.sampleIndex * static_cast<std::uint32_t>(plan.settings.lightSamples);
-  timed(sample.rasterMs, [&] { raster(plan, glCamera, in); });
+  raster(plan, glCamera, in, sample);
   // Nothing the rays depend on changed since the last frame drawn: its ids and ray results still hold.
   const bool reuse = plan.settings.reuseRays && lastDrawn && !last.sceneChanged && last.camera == camera &&
                      sameRayInputs(last.plan, plan) && only == nullptr;
   if (reuse) {
     reuseRays(plan, sample);
   } else {
-    // The camera still but something moved: the rays clear of it keep their answers.
+    // The camera still but something moved: the rays clear of it keep their answers (the history's part
+    // of the frame: bookkeeping).
     rt::RayReuse kept;
-    const bool keeps = only == nullptr && keepsSome(plan, camera, lastDrawn, kept);
-    if (!plan.settings.reuseRays && !keptVisibility.ids.empty()) releaseKept();
-    if (keeps) {
-      std::swap(visibility, keptVisibility);
-      std::swap(rays, keptRays);
-      kept.ids = &keptVisibility;
-      kept.rays = &keptRays;
-    }
+    const bool keeps = timed(sample.bookkeepingMs, [&] {
+      const bool some = only == nullptr && keepsSome(plan, camera, lastDrawn, kept);
+      if (!plan.settings.reuseRays && !keptVisibility.ids.empty()) releaseKept();
+      if (some) {
+        std::swap(visibility, keptVisibility);
+        std::swap(rays, keptRays);
+        kept.ids = &keptVisibility;
+        kept.rays = &keptRays;
+      }
+      return some;
+    });
     timed(sample.readbackMs, [&] { readback(plan); });
     // Exact solids first: the ray pass starts from the hits the resolve step finds (every pixel's, since the
     // GL shades them all). Its time and rays are the rays stage's, with the ray pass's.
@@ -365,37 +383,34 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
     const std::uint64_t resolvedRays = timed(resolveMs, [&] { return resolveExact(plan, camera); });
     // An adaptive round traces only the pixels it refines: the others read as background, which has no rays.
     // The ids themselves are put back after, for tracePixel.
+    // (The masking is the accumulation's time.)
     std::vector<glm::uvec2> allIds;
-    if (only != nullptr && visibility.ids.size() == only->size()) {
-      allIds = visibility.ids;
-      for (std::size_t i = 0; i < only->size(); ++i)
-        if ((*only)[i] == 0) visibility.ids[i] = glm::uvec2(0u);
-    }
+    if (only != nullptr && visibility.ids.size() == only->size())
+      timed(sample.accumulateMs, [&] {
+        allIds = visibility.ids;
+        for (std::size_t i = 0; i < only->size(); ++i)
+          if ((*only)[i] == 0) visibility.ids[i] = glm::uvec2(0u);
+      });
     timed(sample.raysMs, [&] { traceRays(plan, camera, sample, keeps ? &kept : nullptr); });
     sample.raysMs += resolveMs;
     sample.rays.resolved = resolvedRays;
-    if (!allIds.empty()) visibility.ids.swap(allIds);
+    if (!allIds.empty()) timed(sample.accumulateMs, [&] { visibility.ids.swap(allIds); });
   }
-  const bool uploaded = timed(sample.uploadMs, [&] { return upload(plan, in, sample, reuse); });
-  if (uploaded) timed(sample.compositeMs, [&] { shade(plan, glCamera, in); });
-  // The stages' times and rays add up over a frame's samples; the rest is the last sample's.
-  stats.rasterMs += sample.rasterMs;
-  stats.readbackMs += sample.readbackMs;
-  stats.raysMs += sample.raysMs;
-  stats.uploadMs += sample.uploadMs;
-  stats.compositeMs += sample.compositeMs;
-  stats.shadowMapsMs += sample.shadowMapsMs;
-  stats.rays += sample.rays;
-  stats.rayWidth = sample.rayWidth;
-  stats.rayHeight = sample.rayHeight;
-  stats.threads = sample.threads;
-  stats.shadowMapBytes = sample.shadowMapBytes;
-  stats.raysReused = sample.raysReused;
+  const bool uploaded = timed(sample.uploadMs, [&] {
+    gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Upload);
+    return upload(plan, in, sample, reuse);
+  });
+  if (uploaded)
+    timed(sample.compositeMs, [&] {
+      gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Composite);
+      shade(plan, glCamera, in);
+    });
+  if (uploaded) timed(sample.bookkeepingMs, [&] { remember(plan, camera, in); });
+  stats.addSample(sample);
   if (!uploaded) {
     stats.error = sample.error;
     return false;
   }
-  remember(plan, camera, in);
   return true;
 }
 
@@ -420,28 +435,29 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
     stats.accumulated = static_cast<int>(*std::max_element(accum.count.begin(), accum.count.end()));
     return true;
   }
-  if (!goesOn) {
-    accum.release();
-    accum.active = true;
-    accum.camera = camera;
-    accum.settings = s;
-    accum.width = w;
-    accum.height = h;
-    accum.sum.assign(n, glm::dvec3(0.0));
-    accum.count.assign(n, 0u);
-    if (s.aa == AntiAlias::Adaptive) {
-      accum.lo.assign(n, std::numeric_limits<float>::infinity());
-      accum.hi.assign(n, -std::numeric_limits<float>::infinity());
-    }
-  }
+  if (!goesOn)
+    timed(stats.accumulateMs, [&] {
+      accum.release();
+      accum.active = true;
+      accum.camera = camera;
+      accum.settings = s;
+      accum.width = w;
+      accum.height = h;
+      accum.sum.assign(n, glm::dvec3(0.0));
+      accum.count.assign(n, 0u);
+      if (s.aa == AntiAlias::Adaptive) {
+        accum.lo.assign(n, std::numeric_limits<float>::infinity());
+        accum.hi.assign(n, -std::numeric_limits<float>::infinity());
+      }
+    });
   const bool adaptive = s.aa == AntiAlias::Adaptive;
   auto addLinear = [&](const std::vector<std::uint8_t>* only) {
     Timer clock;
-    struct Charge {  // the read-back and the sums count as read-back time
+    struct Charge {  // the linear frame's read-back and the sums: the accumulation's time
       Timer& clock;
       double& ms;
       ~Charge() { ms += clock.ms(); }
-    } charge{clock, stats.readbackMs};
+    } charge{clock, stats.accumulateMs};
     const ImageF sampleImage = plan.reference ? ImageF{} : outputPass.readLinear();
     const ImageF& linear = plan.reference ? reference : sampleImage;
     if (linear.rgb.size() != n) return;  // a debug view without a linear frame: nothing to add
@@ -488,12 +504,17 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
     ++stats.samples;
     if (single) accum.firstUnread = true;
     else addLinear(only);
-    if (only != nullptr) stats.refinedPixels += static_cast<std::uint64_t>(std::count(only->begin(), only->end(), 1));
+    if (only != nullptr)
+      timed(stats.accumulateMs, [&] {
+        stats.refinedPixels += static_cast<std::uint64_t>(std::count(only->begin(), only->end(), 1));
+      });
     return true;
   };
   // Adaptive: the next round's pixels and rays (render/Adaptive.h); false when no pixel disagrees.
   auto disagreeing = [&] {
-    return adaptiveRound(accum.lo, accum.hi, accum.count, w, h, s.aaThreshold, s.rayScale, refine, traced);
+    return timed(stats.accumulateMs, [&] {
+      return adaptiveRound(accum.lo, accum.hi, accum.count, w, h, s.aaThreshold, s.rayScale, refine, traced);
+    });
   };
   if (!adaptive) {
     for (int k = 0; k < perFrame; ++k)
@@ -527,24 +548,23 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
     stats.accumulated = 1;
     return true;
   }
-  // Show the mean: the output pass tone-maps it as it does a reference frame.
-  accum.mean.width = w;
-  accum.mean.height = h;
-  accum.mean.rgb.resize(n);
-  std::uint32_t most = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t c = accum.count[i];
-    accum.mean.rgb[i] = c > 0 ? glm::vec3(accum.sum[i] / static_cast<double>(c)) : glm::vec3(0.0f);
-    most = std::max(most, c);
-  }
-  stats.accumulated = static_cast<int>(most);
-  double outputMs = 0;
-  timed(outputMs, [&] {
+  // Show the mean: the output pass tone-maps it as it does a reference frame (the accumulation's time).
+  timed(stats.accumulateMs, [&] {
+    accum.mean.width = w;
+    accum.mean.height = h;
+    accum.mean.rgb.resize(n);
+    std::uint32_t most = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t c = accum.count[i];
+      accum.mean.rgb[i] = c > 0 ? glm::vec3(accum.sum[i] / static_cast<double>(c)) : glm::vec3(0.0f);
+      most = std::max(most, c);
+    }
+    stats.accumulated = static_cast<int>(most);
+    gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Accumulate);
     outputPass.uploadLinear(accum.mean);
     outputPass.output(s.exposure, s.toneMap, s.debugView);
     glFinish();
   });
-  stats.compositeMs += outputMs;
   return true;
 }
 
@@ -583,7 +603,7 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
 
 // raster: the raster effects' maps when the scene changed (shadow maps, then the probes, which are shaded
 // with them), then the visibility G-buffer (instance + 1, triangle) over reversed-Z depth.
-void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in) {
+void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in, FrameStats& stats) {
   const FrameSettings& s = plan.settings;
   in.background = scene.background;
   // The radiosity solution replaces the ambient term where it covers a surface.
@@ -596,13 +616,15 @@ void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::S
   in.fresnel = s.fresnel;
   in.fresnelWeighted = s.fresnelWeighted;
   // The probes are shaded from these inputs as they stand: the final view of local shading.
-  caches.syncRasterEffects(scene, plan, visibilityPass, shadePass, in);
+  caches.syncRasterEffects(scene, plan, visibilityPass, shadePass, in, stats, &gpuTimers);
   in.debugView = s.debugView;
   in.rayScale = s.rayScale;
-  if (!plan.reference) {
-    visibilityPass.render(caches.gpu(), glCamera);
-    glFinish();
-  }
+  if (!plan.reference)
+    timed(stats.rasterMs, [&] {
+      gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Raster);
+      visibilityPass.render(caches.gpu(), glCamera);
+      glFinish();
+    });
 }
 
 // readback: the ids channel, top row first, only for the ray pass and the resolve step.

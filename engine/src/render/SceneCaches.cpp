@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "core/Motion.h"
+#include "core/Timer.h"
+#include "gl/Gl.h"
 
 #include "tandem/Log.h"
 
@@ -77,15 +79,28 @@ bool SceneCaches::syncRays(const Scene& scene, float shutter, rt::RayTracer& tra
 }
 
 void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, const gl::VisibilityPass& raster,
-                                    gl::ShadePass& shade, gl::ShadeInputs& in) {
+                                    gl::ShadePass& shade, gl::ShadeInputs& in, FrameStats& stats,
+                                    gl::GpuTimers* gpuTimers) {
+  // Each part's time into its stage (the GL's work included: each part ends with glFinish).
+  auto stage = [&](double& ms, gl::GpuTimers::Stage which, auto&& work) {
+    Timer clock;
+    {
+      gl::GpuStage gpu(gpuTimers, which);
+      work();
+      glFinish();
+    }
+    ms += clock.ms();
+  };
   const int probeEffects = (plan.probeReflections ? gl::kProbeReflect : 0) | (plan.probeRefraction ? gl::kProbeRefract : 0);
   std::vector<gl::Bounds> instanceBounds;
   if (plan.rasterShadows || probeEffects != 0)
     instanceBounds = gl::instanceBounds(scene, meshBounds_, gpu_.anchor(), gpuShutter_, gpuTime_);
   auto drawShadowMaps = [&](const std::vector<gl::Bounds>& bounds) {
-    gl::Bounds world;
-    for (const gl::Bounds& b : bounds) world.add(b);
-    shadowMaps_.update(scene, gpu_, raster, world);
+    stage(stats.shadowsMs, gl::GpuTimers::Shadows, [&] {
+      gl::Bounds world;
+      for (const gl::Bounds& b : bounds) world.add(b);
+      shadowMaps_.update(scene, gpu_, raster, world);
+    });
   };
   if (plan.rasterShadows) {
     if (shadowVersion_ != gpuVersion_ || shadowTimeVersion_ != timeVersion_) {
@@ -125,13 +140,13 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     }
     const std::vector<gl::Bounds>& probeBounds = middleBounds.empty() ? instanceBounds : middleBounds;
     if (all) {
-      probes_.update(scene, gpu_, raster, shade, local, probeBounds);
+      stage(stats.probesMs, gl::GpuTimers::Probes, [&] { probes_.update(scene, gpu_, raster, shade, local, probeBounds); });
       probeSlotVersions_.assign(static_cast<std::size_t>(probes_.probeCount()), probeInputs());
       probeVersion_ = probeInputs();
       probeLayoutVersion_ = gpuLayoutVersion_;
       probesShadowed_ = shadowed;
     } else if (probeVersion_ != probeInputs()) {
-      refreshOldestProbes(budget, raster, shade, local, probeBounds);
+      stage(stats.probesMs, gl::GpuTimers::Probes, [&] { refreshOldestProbes(budget, raster, shade, local, probeBounds); });
     }
     if (!middleBounds.empty()) {  // back to the sample's time
       gpu_.updateInstances(scene, gpuShutter_, gpuTime_);

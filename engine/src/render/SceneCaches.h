@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "gl/GpuScene.h"
+#include "gl/GpuTimers.h"
 #include "gl/RasterEffects.h"
 #include "gl/ReflectionProbes.h"
 #include "gl/ShadePass.h"
@@ -38,8 +39,9 @@ class SceneCaches {
   /// The raster effects the plan asks for, re-rendered only when the GL copy changed since they were made
   /// (probes also when the shadowing they were shaded with changed) and released when not asked for;
   /// fills what the shade pass takes from them into `in` (which already holds the frame's shading inputs).
+  /// Their cost goes to `stats` (shadowsMs, probesMs) and, where given, the GPU's to `gpuTimers`.
   void syncRasterEffects(const Scene& scene, const FramePlan& plan, const gl::VisibilityPass& raster,
-                         gl::ShadePass& shade, gl::ShadeInputs& in);
+                         gl::ShadePass& shade, gl::ShadeInputs& in, FrameStats& stats, gl::GpuTimers* gpuTimers);
 
   /// Whether every probe shows the scene as it is (true when there are none): with
   /// FrameSettings::probesPerFrame > 0 they catch up over several frames after a move.

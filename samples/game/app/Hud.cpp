@@ -69,15 +69,22 @@ void Hud::draw(const HudInfo& info) {
       ImGui::Text("%.1f fps  (%.1f ms/frame)", info.frameMs > 0 ? 1000.0 / info.frameMs : 0.0, info.frameMs);
       ImGui::Text("frame %dx%d  window %dx%d", s.width, s.height, info.framebufferW, info.framebufferH);
       ImGui::Separator();
-      ImGui::Text("prepare   %7.2f ms", st.prepareMs);
-      ImGui::Text("raster    %7.2f ms", st.rasterMs);
-      ImGui::Text("readback  %7.2f ms", st.readbackMs);
-      ImGui::Text("rays      %7.2f ms  (%dx%d, %d thr)%s", st.raysMs, st.rayWidth, st.rayHeight, st.threads,
+      // Every stage of the frame (kFrameStages), with the GPU's own time of the GL ones beside it (timer
+      // queries, from a frame or two ago). Stages that took nothing this frame are left out.
+      ImGui::Text("stage          CPU ms   GPU ms");
+      for (const tandem::FrameStage& stage : tandem::kFrameStages) {
+        const double cpu = st.*stage.cpu;
+        const double gpu = stage.gpu != nullptr && st.gpu.valid ? st.gpu.*stage.gpu : -1.0;
+        if (cpu < 0.005 && gpu < 0.005) continue;
+        if (gpu >= 0.0) ImGui::Text("%-12s %8.2f %8.2f", stage.name, cpu, gpu);
+        else ImGui::Text("%-12s %8.2f", stage.name, cpu);
+      }
+      ImGui::Text("%-12s %8.2f", "untimed", st.untimedMs());
+      ImGui::Text("rays: %dx%d on %d thr%s", st.rayWidth, st.rayHeight, st.threads,
                   st.raysReused ? "  reused: nothing moved" : "");
-      ImGui::Text("upload    %7.2f ms", st.uploadMs);
-      ImGui::Text("composite %7.2f ms", st.compositeMs);
-      ImGui::Text("present   %7.2f ms", info.presentMs);
-      ImGui::Text("renderer  %7.2f ms total", st.totalMs);
+      ImGui::Text("renderer  %7.2f ms total (GPU %.2f, %d frame(s) ago)", st.totalMs, st.gpu.valid ? st.gpu.totalMs() : 0.0,
+                  st.gpu.framesAgo);
+      ImGui::Text("window present %5.2f ms", info.presentMs);
       // At rest the frame adds samples until it has FrameSettings::accumulate frames of them, then costs nothing.
       ImGui::Text("samples   %d this frame, %d per pixel shown", st.samples, st.accumulated);
       // A frame that compiled a shader stalled on it: worth seeing when it happens mid-game.

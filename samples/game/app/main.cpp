@@ -332,6 +332,19 @@ void printTimes(const std::vector<tandem::FrameStats>& frames, const std::vector
               w, h, frames.size(), median(total), median(raster), median(rays), median(composite), median(loopMs),
               static_cast<unsigned long long>(last.rays.total()), frames[worst].totalMs, worst, compiles, shadowRays,
               shadowByMap, shadowKept);
+  // Every stage's median (they add up to the frame but for `untimed`), and the GPU's time of the GL ones.
+  std::printf("stages: median_ms");
+  for (const tandem::FrameStage& stage : tandem::kFrameStages) {
+    std::vector<double> v;
+    for (const auto& f : frames) v.push_back(f.*stage.cpu);
+    std::printf(" %s=%.2f", stage.name, median(v));
+  }
+  std::vector<double> untimed, gpu;
+  for (const auto& f : frames) {
+    untimed.push_back(f.untimedMs());
+    if (f.gpu.valid) gpu.push_back(f.gpu.totalMs());
+  }
+  std::printf(" untimed=%.2f gpu_total=%.2f\n", median(untimed), median(gpu));
   // The budget over the run: how often a frame kept within 10 % of its target, and how often it moved.
   std::size_t budgeted = 0, within = 0, changes = 0;
   for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -356,8 +369,15 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
   if (!o.frameLog.empty()) {
     log.open(o.frameLog);
     if (!log) return fail("--frame-log: cannot write '" + o.frameLog + "'");
-    log << "frame,total_ms,prepare_ms,raster_ms,readback_ms,rays_ms,upload_ms,composite_ms,rays,rays_reused,"
-           "shader_compiles,target_ms,step,steps,choice,predicted_ms,expected_flip,flip\n";
+    // Every stage of the frame (they add up to total_ms but for untimed_ms), the GPU's time of the GL ones,
+    // the game's own work around the frame (simulation, input) and the whole loop.
+    log << "frame,total_ms";
+    for (const tandem::FrameStage& stage : tandem::kFrameStages) log << "," << stage.name << "_ms";
+    log << ",untimed_ms";
+    for (const tandem::FrameStage& stage : tandem::kFrameStages)
+      if (stage.gpu != nullptr) log << ",gpu_" << stage.name << "_ms";
+    log << ",gpu_frames_ago,game_ms,loop_ms,rays,rays_reused,shader_compiles,target_ms,step,steps,choice,predicted_ms,"
+           "expected_flip,flip\n";
   }
   if (o.errorEvery > 0)
     if (auto r = s.initTruth(); !r) return fail(r.error().message);
@@ -370,6 +390,7 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
   for (int f = 0; f < o.frames && !s.quit_; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
     s.step();
+    const double gameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     stats.push_back(s.render(w, h));
     double errorMs = 0.0;  // the second renderer's time, left out of the loop's
     if (o.checkReuse) {
@@ -405,9 +426,19 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
         flip = buf;
       }
       const tandem::FrameStats& st = stats.back();
-      log << f << "," << st.totalMs << "," << st.prepareMs << "," << st.rasterMs << "," << st.readbackMs << ","
-          << st.raysMs << "," << st.uploadMs << "," << st.compositeMs << "," << st.rays.total() << ","
-          << (st.raysReused ? 1 : 0) << "," << st.shaderCompiles << "," << st.budget.targetMs << "," << st.budget.step << "," << st.budget.steps << ",\""
+      log << f << "," << st.totalMs;
+      for (const tandem::FrameStage& stage : tandem::kFrameStages) log << "," << st.*stage.cpu;
+      log << "," << st.untimedMs();
+      for (const tandem::FrameStage& stage : tandem::kFrameStages)
+        if (stage.gpu != nullptr) {
+          log << ",";
+          if (st.gpu.valid) log << st.gpu.*stage.gpu;
+        }
+      const double loop =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - errorMs;
+      log << "," << (st.gpu.valid ? std::to_string(st.gpu.framesAgo) : std::string()) << "," << gameMs << "," << loop
+          << "," << st.rays.total() << "," << (st.raysReused ? 1 : 0) << "," << st.shaderCompiles << ","
+          << st.budget.targetMs << "," << st.budget.step << "," << st.budget.steps << ",\""
           << tandem::describeBudget(st.budget) << "\"," << st.budget.predictedMs << "," << st.budget.expectedError << ","
           << flip << "\n";
     }
