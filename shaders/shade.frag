@@ -448,7 +448,10 @@ float shadowVisibility(int j, vec3 posW, vec3 Ng) {
 }
 #endif
 
-#if TD_SHADOW_MAPS && TD_USE_AREA_LIGHTS
+#ifndef TD_SOFT_SHADOWS
+#define TD_SOFT_SHADOWS 1
+#endif
+#if TD_SHADOW_MAPS && TD_USE_AREA_LIGHTS && TD_SOFT_SHADOWS
 // The cube maps' stored depths (no compare): where the blockers are.
 layout(binding = TD_UNIT_SHADOW_CUBES_DEPTH) uniform TD_SAMPLER_SHADOW_CUBES_DEPTH shadowCubesDepth;
 
@@ -530,7 +533,7 @@ float areaLightSize(GpuLight L, int type) {
 #if TD_SHADOW_MAPS
 // Light j's visibility from its shadow map: soft for an area light, else shadowVisibility's.
 float rasterShadow(int j, vec3 posW, vec3 Ng, ivec2 pTop) {
-#if TD_USE_AREA_LIGHTS
+#if TD_USE_AREA_LIGHTS && TD_SOFT_SHADOWS
   int type = lightType(j);
   if (tdIsAreaLight(type)) {
     uint h = tdHash(tdPixelSeed(pTop.x, pTop.y, 0u) ^ tdHash(sampleBase + uint(j)));

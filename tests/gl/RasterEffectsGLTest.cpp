@@ -9,6 +9,7 @@
 #include "core/RenderSpace.h"
 #include "core/Shading.h"
 #include "gl/GpuScene.h"
+#include "gl/RasterEffects.h"
 #include "gl/VisibilityPass.h"
 #include "tandem/SceneFile.h"
 
@@ -436,4 +437,110 @@ TEST(RasterEffectsGLTest, ProbesPerFrameCatchUpWithTheExactFrame) {
   EXPECT_EQ(budgeted->readImage().rgba, truth.rgba);
 }
 
+}  // namespace tandem
+
+namespace tandem {
+namespace {
+
+// A floor, a static box and a dynamic ball, under a point light (cube map), a spot (2D map) and a directional
+// light (2D map). The ball stays within the floor's and the box's bounds, so the lights' cameras, fitted to the
+// scene's bounds, are those a fresh renderer fits too.
+Scene shadowsOfAMovingBall(glm::vec3 ball) {
+  Scene s = gltest::boxScene();
+  s.meshes = {makePlane(glm::vec2(8.0f), 8), makeBox(glm::vec3(1.0f, 2.0f, 1.0f)), makeSphere(0.4f, 32, 16)};
+  s.materials = {gltest::plainMaterial({0.8f, 0.8f, 0.8f}), gltest::plainMaterial({0.3f, 0.5f, 0.7f}),
+                 gltest::plainMaterial({0.7f, 0.3f, 0.2f})};
+  Instance floor, box, b;
+  box.mesh = 1;
+  box.material = 1;
+  box.worldFromObject = glm::translate(glm::mat4(1.0f), glm::vec3(-1.5f, 1.0f, -1.0f));
+  b.mesh = 2;
+  b.material = 2;
+  b.dynamic = true;
+  b.worldFromObject = glm::translate(glm::mat4(1.0f), ball);
+  s.instances = {floor, box, b};
+  Light point, spot, sun;
+  point.type = LightType::Point;
+  point.posW = {0.8f + 0.2f * ball.x, 3.0f, 0.6f};
+  point.intensity = 0.6f;
+  spot.type = LightType::Spot;
+  spot.posW = {2.5f, 4.0f, 2.0f};
+  spot.dirW = glm::normalize(glm::vec3(0.0f, 0.0f, 0.0f) - spot.posW);
+  spot.innerConeDeg = 30.0f;
+  spot.outerConeDeg = 40.0f;
+  spot.intensity = 0.6f;
+  sun.type = LightType::Directional;
+  sun.dirW = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.3f));
+  sun.intensity = 0.5f;
+  s.lights = {s.lights[0], point, spot, sun};
+  s.camera.posW = {0.0f, 5.0f, 6.0f};
+  s.camera.targetW = {0.0f, 0.0f, 0.0f};
+  return s;
+}
+
+TEST(RasterEffectsGLTest, ShadowMapsDrawOnlyWhatADynamicInstanceChangesAndEqualAFreshDraw) {
+  TD_REQUIRE_GL_CONTEXT();
+  const glm::vec3 path[] = {{0.5f, 0.6f, 0.5f}, {1.0f, 0.6f, 0.3f}, {1.6f, 0.8f, -0.4f}, {-0.2f, 1.2f, 1.8f}};
+  FrameSettings s = *presetSettings("raster");
+  s.width = 160;
+  s.height = 90;
+  s.reflections = s.refraction = EffectMode::Off;
+  auto moving = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(moving);
+  ASSERT_TRUE(moving->setScene(shadowsOfAMovingBall(path[0])).ok());
+  for (const glm::vec3& p : path) {
+    SCOPED_TRACE(testing::Message() << "ball at " << p.x << " " << p.y << " " << p.z);
+    moving->setInstanceTransform(2, glm::translate(glm::mat4(1.0f), p));
+    // The point light moves with the ball (as the game's orbiting lights do): its cube is drawn whole.
+    Light light = moving->scene().lights[1];
+    light.posW = shadowsOfAMovingBall(p).lights[1].posW;
+    moving->setLight(1, light);
+    const FrameStats st = moving->render(moving->scene().camera, s);
+    ASSERT_TRUE(st.error.empty()) << st.error;
+    const Image kept = moving->readImage();
+    auto fresh = gltest::makeRenderer(*glContext_);
+    ASSERT_TRUE(fresh);
+    ASSERT_TRUE(fresh->setScene(shadowsOfAMovingBall(p)).ok());
+    fresh->render(fresh->scene().camera, s);
+    const Image drawn = fresh->readImage();
+    ASSERT_EQ(kept.rgba.size(), drawn.rgba.size());
+    int differing = 0;
+    for (std::size_t i = 0; i < kept.rgba.size(); ++i) differing += kept.rgba[i] != drawn.rgba[i];
+    EXPECT_EQ(differing, 0) << "the shadow maps updated for the moved ball are not those drawn from scratch";
+  }
+
+  // The maps themselves: a move redraws the faces that see where the ball was or is, not the others.
+  Scene scene = shadowsOfAMovingBall(path[0]);
+  gl::GpuScene gpu;
+  gpu.upload(scene, std::nullopt);
+  auto pass = gl::VisibilityPass::create();
+  ASSERT_TRUE(pass.ok());
+  gl::ShadowMaps maps;
+  auto update = [&](bool everything) {
+    const std::vector<gl::Bounds> bounds = gl::instanceBounds(scene, gl::meshBounds(scene), gpu.anchor());
+    gpu.updateInstances(scene, 0.0f, 0.5f);
+    maps.update(scene, gpu, *pass, bounds, gl::instanceTransforms(scene, gpu.anchor()), 1, everything);
+  };
+  update(false);
+  EXPECT_EQ(maps.facesDrawn(), maps.faceCount()) << "the first update draws every face";
+  EXPECT_EQ(maps.faceCount(), 2 + 6);
+  update(false);
+  EXPECT_EQ(maps.facesDrawn(), 0) << "nothing moved";
+  scene.instances[2].worldFromObject = glm::translate(glm::mat4(1.0f), path[1]);
+  update(false);
+  EXPECT_GT(maps.facesDrawn(), 0);
+  EXPECT_LT(maps.facesDrawn(), maps.faceCount()) << "a small move redrew faces that cannot see the ball";
+  update(true);
+  EXPECT_EQ(maps.facesDrawn(), maps.faceCount());
+  // A light that changes redraws its own maps whole (the point light's cube: six faces), not the others';
+  // a static instance that moves, every map.
+  scene.lights[1].posW.x += 0.1f;
+  update(false);
+  EXPECT_EQ(maps.facesDrawn(), 6);
+  scene.instances[1].worldFromObject = glm::translate(glm::mat4(1.0f), glm::vec3(-1.4f, 1.0f, -1.0f));
+  update(false);
+  EXPECT_EQ(maps.facesDrawn(), maps.faceCount());
+}
+
+}  // namespace
 }  // namespace tandem

@@ -208,13 +208,19 @@ void GpuScene::uploadInstances(const Scene& scene, const std::vector<glm::uvec4>
   // through a float view would meet llvmpipe's denormal flushing).
   instancesTex_ = createBufferTexture("instances view", GL_RGBA32F, instances_);
   instanceIdsTex_ = createBufferTexture("instance ids view", GL_RGBA32UI, instances_);
+  // The static instances' commands first, the dynamic ones after: each set is one contiguous range to draw.
+  // (baseInstance names the instance, so the order changes no pixel: depth keeps the nearest either way.)
   std::vector<DrawCommand> commands;
   std::vector<std::uint32_t> ids;
-  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
-    const glm::uvec4& mesh = meshes[scene.instances[i].mesh];
-    commands.push_back({mesh.w * 3, 1, mesh.y, 0, static_cast<GLuint>(i)});
-    ids.push_back(static_cast<std::uint32_t>(i));
-  }
+  staticDraws_ = dynamicDraws_ = 0;
+  for (bool dynamic : {false, true})
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+      if (scene.instances[i].dynamic != dynamic) continue;
+      const glm::uvec4& mesh = meshes[scene.instances[i].mesh];
+      commands.push_back({mesh.w * 3, 1, mesh.y, 0, static_cast<GLuint>(i)});
+      ++(dynamic ? dynamicDraws_ : staticDraws_);
+    }
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) ids.push_back(static_cast<std::uint32_t>(i));
   indirect_ = bufferOf("draw commands", commands);
   instanceIds_ = bufferOf("instance ids", ids);
   vao_ = createVertexArray("visibility vao");
@@ -422,11 +428,17 @@ void GpuScene::bindRadiosity() const {
   glBindTextureUnit(kUnitRadiosityTex, radiosityValuesTex_.id());
 }
 
-void GpuScene::drawAll() const {
-  if (instanceCount_ == 0) return;
+void GpuScene::draw(Instances which) const {
+  const int first = which == Instances::Dynamic ? staticDraws_ : 0;
+  const int count = which == Instances::All ? staticDraws_ + dynamicDraws_
+                    : which == Instances::Static ? staticDraws_
+                                                 : dynamicDraws_;
+  if (count == 0) return;
   glBindVertexArray(vao_.id());
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, indirect_.id());
-  glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, instanceCount_, 0);
+  glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                              reinterpret_cast<const void*>(static_cast<std::uintptr_t>(first) * sizeof(DrawCommand)),
+                              count, 0);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
   glBindVertexArray(0);
 }

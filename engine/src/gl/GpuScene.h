@@ -76,7 +76,12 @@ class GpuScene {
   void bindRadiosity() const;
   /// All instances in one glMultiDrawElementsIndirect; the visibility shader reads the instance from a
   /// per-instance attribute offset by each command's baseInstance.
-  void drawAll() const;
+  void drawAll() const { draw(Instances::All); }
+  /// Which instances a draw takes: all, those not marked Instance::dynamic, or only those (the raster
+  /// effects keep what the static ones draw and draw the dynamic ones over it).
+  enum class Instances { All, Static, Dynamic };
+  void draw(Instances which) const;
+  int dynamicCount() const { return dynamicDraws_; }
 
   int instanceCount() const { return instanceCount_; }
   int lightCount() const { return lightCount_; }
@@ -99,7 +104,8 @@ class GpuScene {
 
   Buffer positions_, normals_, uvs_, colors_, indices_, meshes_, instances_, materials_, lights_, uvTransforms_,
       tangents_;
-  Buffer indirect_, instanceIds_;
+  Buffer indirect_, instanceIds_;  // one draw command per instance: the static ones first, then the dynamic ones
+  int staticDraws_ = 0, dynamicDraws_ = 0;
   // Views of the buffers above for the shade pass (see createBufferTexture).
   Texture positionsTex_, normalsTex_, uvsTex_, colorsTex_, indicesTex_, meshesTex_, instancesTex_, instanceIdsTex_,
       uvTransformsTex_, tangentsTex_;

@@ -40,6 +40,11 @@ std::vector<Bounds> meshBounds(const Scene& scene);
 /// `shutter`, `u`: a moving instance where time u of the shutter puts it (core/Motion.h).
 std::vector<Bounds> instanceBounds(const Scene& scene, const std::vector<Bounds>& meshes, glm::vec3 anchor,
                                    float shutter = 0.0f, float u = 0.5f);
+/// Each instance's transform in render space as the GL copy draws it (instanceBounds' matrices).
+std::vector<glm::mat4> instanceTransforms(const Scene& scene, glm::vec3 anchor, float shutter = 0.0f, float u = 0.5f);
+/// Whether any point of the box may be seen through `clipFromWorld` (GL_ZERO_TO_ONE depth): false only when
+/// its eight corners all lie beyond one plane of the frustum.
+bool mayBeSeen(const glm::mat4& clipFromWorld, const Bounds& b);
 
 /// The camera of cube-map face `face` (GL's order +X, −X, +Y, −Y, +Z, −Z) seen from `eye`: a face rendered by
 /// the ordinary raster and shade passes is then addressed by direction with no flip.
@@ -62,8 +67,21 @@ class ShadowMaps {
   static constexpr int kMapSize = 1024;   // 2D maps, texels per side
   static constexpr int kCubeSize = 512;   // cube faces, texels per side
 
-  /// Renders a map for every direct light with castShadows; frees everything when there is none.
-  void update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, const Bounds& world);
+  /// Brings a map up to date for every direct light with castShadows; frees everything when there is none.
+  /// `instances`, `transforms`: every instance's render-space bounds and transform as the GL copy draws them;
+  /// `generation` changes when the GL copy was made anew (a new scene, other materials).
+  /// What it draws again: everything when a static instance or the generation changed, or the scene outgrew
+  /// the bounds the lights' cameras were fitted to (with a margin, so a rolling marble does not refit them);
+  /// a light's maps whole when that light changed; otherwise only the map faces that see where a dynamic
+  /// instance was or now is, each as its static part (kept from the last whole draw) with the dynamic
+  /// instances drawn over it. Either way the maps
+  /// are what drawing everything would give, bit for bit (tests/gl/RasterEffectsGLTest.cpp). `everything`
+  /// forces the full draw.
+  void update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, const std::vector<Bounds>& instances,
+              const std::vector<glm::mat4>& transforms, std::uint64_t generation, bool everything = false);
+  /// Map faces the last update drew (a 2D map is one face, a cube six), and how many there were.
+  int facesDrawn() const { return facesDrawn_; }
+  int faceCount() const { return layers_ + 6 * cubes_; }
   void release();
   /// Binds the maps (kUnitShadowMaps, kUnitShadowCubes, and the cubes' depths at kUnitShadowCubesDepth) and the
   /// per-light records (kBlockShadows).
@@ -74,8 +92,22 @@ class ShadowMaps {
   int cubeCount() const { return cubes_; }
 
  private:
-  void reserveTargets(int layers, int cubes);
+  void reserveTargets(int layers, int cubes, bool withStatic);
   Texture maps_, cubeMaps_;
+  // What the static instances alone draw into each face (only while the scene has dynamic instances).
+  Texture staticMaps_, staticCubeMaps_;
+  // What the maps were last drawn from, to tell what the next update must draw again.
+  struct Drawn {
+    bool valid = false;
+    std::uint64_t generation = 0;
+    std::vector<Light> lights;           // every direct light, as it was
+    std::vector<glm::mat4> transforms;   // per instance
+    std::vector<Bounds> bounds;          // per instance
+    Bounds fit;                          // what the lights' cameras were fitted to
+  } drawn_;
+  std::vector<glm::mat4> faceClip_;  // per face (2D maps' layers, then 6 per cube): its clip-from-render-space
+  std::vector<Camera> faceCamera_;
+  int facesDrawn_ = 0;
   Sampler cubeDepths_;  // reads cubeMaps_ without depth compare: the blocker search of area lights' soft shadows
   Framebuffer fbo_;
   Buffer records_;

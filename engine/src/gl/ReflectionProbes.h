@@ -38,6 +38,7 @@ class ReflectionProbes {
   Texture cubes_, ids_, depth_;
   Texture sampledDepth_;  // what toon outlines read while depth_ is attached to the face (64 KiB)
   Framebuffer rasterFbo_, shadeFbo_;
+  Framebuffer mipRead_, mipDraw_;  // the mip chain of a re-rendered probe, level by level
   std::vector<std::uint32_t> probes_;  // the instance of each slot (GpuScene's probeInstances order)
   int count_ = 0;
 };

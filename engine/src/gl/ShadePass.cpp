@@ -189,6 +189,7 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in)
                         "\n#define TD_USE_AREA_LIGHTS " + std::to_string(f.areaLights ? 1 : 0) +
                         "\n#define TD_UNIFORM_MATERIALS " + std::to_string(f.uniformMaterials) +
                         "\n#define TD_SHADOW_MAPS " + std::to_string(in.shadowMaps ? 1 : 0) +
+                        "\n#define TD_SOFT_SHADOWS " + std::to_string(in.shadowMaps && in.softShadows ? 1 : 0) +
                         "\n#define TD_PROBES " + std::to_string(in.probeCubes ? in.probeEffects : 0) +
                         "\n#define TD_FRESNEL_SCHLICK " + std::to_string(in.fresnel == FresnelMode::Schlick ? 1 : 0) +
                         "\n#define TD_FRESNEL_WEIGHTED " + std::to_string(in.fresnelWeighted ? 1 : 0) +

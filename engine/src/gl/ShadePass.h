@@ -39,6 +39,10 @@ struct ShadeInputs {
   int rayWidth = 0, rayHeight = 0;
   DebugView debugView = DebugView::Final;
   const ShadowMaps* shadowMaps = nullptr;  // raster shadows: per-light visibility from these maps
+  /// Raster shadows of area lights soft (percentage-closer soft shadows over the light's extent: 16 map
+  /// reads a pixel) or hard (as a point light at the light's centre: 4). The probes take them hard: a probe
+  /// face is 16 384 pixels shaded for a small reflection, which the penumbrae do not reach.
+  bool softShadows = true;
   const Texture* probeCubes = nullptr;     // raster reflection/refraction: the probes' cube array
   int probeEffects = 0;                    // ProbeEffect bits (with probeCubes)
   FresnelMode fresnel = FresnelMode::Exact;

@@ -69,7 +69,8 @@ void VisibilityPass::render(const GpuScene& scene, const Camera& camera) {
 }
 
 void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const GpuScene& scene,
-                                const Camera& camera, std::optional<std::uint32_t> excluded) const {
+                                const Camera& camera, std::optional<std::uint32_t> excluded,
+                                GpuScene::Instances which, bool clear) const {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   glViewport(0, 0, width, height);
   // Reversed-Z: near → 1, far → 0 with [0, 1] clip depth, so float depth keeps its precision far away.
@@ -79,10 +80,12 @@ void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const
   glDepthMask(GL_TRUE);
   glDisable(GL_CULL_FACE);  // two-sided lighting: back faces are visible surfaces too
   glDisable(GL_BLEND);
-  const GLuint zeroIds[4] = {0, 0, 0, 0};
-  const GLfloat farDepth = 0.0f;
-  glClearNamedFramebufferuiv(framebuffer, GL_COLOR, 0, zeroIds);  // no effect on a depth-only target
-  glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &farDepth);
+  if (clear) {
+    const GLuint zeroIds[4] = {0, 0, 0, 0};
+    const GLfloat farDepth = 0.0f;
+    glClearNamedFramebufferuiv(framebuffer, GL_COLOR, 0, zeroIds);  // no effect on a depth-only target
+    glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &farDepth);
+  }
 
   glm::mat4 viewFromWorld = camera.viewFromWorld();
   // The rotation part of viewFromWorld applied to camera-relative positions equals viewFromWorld.
@@ -96,7 +99,7 @@ void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const
   glProgramUniform1ui(program, 2, excluded ? *excluded + 1u : 0u);
   scene.bind(2, 3);
   assertNoFeedbackLoop("visibility");
-  scene.drawAll();
+  scene.draw(which);
   glUseProgram(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

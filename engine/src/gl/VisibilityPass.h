@@ -33,8 +33,11 @@ class VisibilityPass {
   /// The same raster into another target (a shadow map's depth, a probe face's ids + depth) of
   /// width × height pixels, seen from `camera` (aspect width / height); `excluded` (an instance index)
   /// is left out when given. Clears the target's depth to far (0) and its colour 0 (if any) to 0.
+  /// `which`: all instances, or the static or dynamic ones only; with `clear` false the target keeps what it
+  /// holds and the draw adds to it (the dynamic instances over a copy of what the static ones drew).
   void renderInto(GLuint framebuffer, int width, int height, const GpuScene& scene, const Camera& camera,
-                  std::optional<std::uint32_t> excluded = std::nullopt) const;
+                  std::optional<std::uint32_t> excluded = std::nullopt,
+                  GpuScene::Instances which = GpuScene::Instances::All, bool clear = true) const;
   /// The ids channel, row 0 = top (the ray pass's convention); `ids` is resized to width × height.
   void readIds(std::vector<glm::uvec2>& ids) const;
 

@@ -95,16 +95,15 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
   std::vector<gl::Bounds> instanceBounds;
   if (plan.rasterShadows || probeEffects != 0)
     instanceBounds = gl::instanceBounds(scene, meshBounds_, gpu_.anchor(), gpuShutter_, gpuTime_);
-  auto drawShadowMaps = [&](const std::vector<gl::Bounds>& bounds) {
+  auto drawShadowMaps = [&](const std::vector<gl::Bounds>& bounds, float u) {
     stage(stats.shadowsMs, gl::GpuTimers::Shadows, [&] {
-      gl::Bounds world;
-      for (const gl::Bounds& b : bounds) world.add(b);
-      shadowMaps_.update(scene, gpu_, raster, world);
+      shadowMaps_.update(scene, gpu_, raster, bounds, gl::instanceTransforms(scene, gpu_.anchor(), gpuShutter_, u),
+                         gpuLayoutVersion_);
     });
   };
   if (plan.rasterShadows) {
     if (shadowVersion_ != gpuVersion_ || shadowTimeVersion_ != timeVersion_) {
-      drawShadowMaps(instanceBounds);
+      drawShadowMaps(instanceBounds, gpuTime_);
       shadowVersion_ = gpuVersion_;
       shadowTimeVersion_ = timeVersion_;
     }
@@ -116,7 +115,8 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
   if (probeEffects != 0) {
     const bool shadowed = in.shadowMaps != nullptr;
     // The probes see local shading only (no ray results, no probes): one bounce.
-    const gl::ShadeInputs local = in;
+    gl::ShadeInputs local = in;
+    local.softShadows = false;  // a probe's area lights cast hard shadows (ShadeInputs::softShadows)
     const int budget = plan.settings.probesPerFrame;
     // A new radiosity solution changes what they show as a change of the GL copy does (probesPerFrame
     // spreads their re-rendering over frames alike: a background solve publishes ~10 times a second).
@@ -136,7 +136,7 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     if ((all || probeVersion_ != probeInputs()) && atSampleTime) {
       gpu_.updateInstances(scene, gpuShutter_, 0.5f);
       middleBounds = gl::instanceBounds(scene, meshBounds_, gpu_.anchor(), gpuShutter_, 0.5f);
-      if (shadowed) drawShadowMaps(middleBounds);
+      if (shadowed) drawShadowMaps(middleBounds, 0.5f);
     }
     const std::vector<gl::Bounds>& probeBounds = middleBounds.empty() ? instanceBounds : middleBounds;
     if (all) {
@@ -150,7 +150,7 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     }
     if (!middleBounds.empty()) {  // back to the sample's time
       gpu_.updateInstances(scene, gpuShutter_, gpuTime_);
-      if (shadowed) drawShadowMaps(instanceBounds);
+      if (shadowed) drawShadowMaps(instanceBounds, gpuTime_);
     }
     if (probes_.probeCount() > 0) {
       in.probeCubes = &probes_.cubes();

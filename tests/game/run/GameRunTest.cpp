@@ -16,6 +16,10 @@
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include "support/Goldens.h"
 
 #include <gtest/gtest.h>
@@ -115,19 +119,58 @@ void expectMatchesGolden(const std::string& capture, const std::string& goldenNa
   EXPECT_LE(d.meanAbs, maxMeanAbs) << capture << " vs " << golden;
 }
 
-// The scripted run is shared by the state and golden tests (it renders 330 frames).
+/// A deterministic run of the game shared by several tests: ctest runs each test in a process of its own, so
+/// the first to need it runs the game and keeps its outcome in test-output/game/<name>.outcome, and the others
+/// read it, as long as it is newer than the game and the script and was made with the same arguments. A lock
+/// makes tests run in parallel (ctest -j) wait for the one that runs it.
+Outcome sharedGameRun(const std::string& name, const std::string& args, const std::string& script) {
+  const fs::path dir = outDir(), cache = dir / (name + ".outcome");
+  const int lock = ::open((dir / (name + ".lock")).c_str(), O_CREAT | O_RDWR, 0644);
+  if (lock >= 0) ::flock(lock, LOCK_EX);
+  Outcome r;
+  std::error_code ec;
+  bool fresh = fs::exists(cache, ec) && fs::last_write_time(cache, ec) > fs::last_write_time(TANDEM_GAME_EXE, ec) &&
+               fs::last_write_time(cache, ec) > fs::last_write_time(script, ec);
+  if (fresh) {
+    std::ifstream in(cache);
+    std::string storedArgs, code;
+    fresh = std::getline(in, storedArgs) && storedArgs == args && std::getline(in, code);
+    if (fresh) {
+      r.exitCode = std::atoi(code.c_str());
+      std::ostringstream rest;
+      rest << in.rdbuf();
+      r.output = rest.str();
+    }
+  }
+  if (!fresh) {
+    r = runGame(args);
+    std::ofstream out(cache, std::ios::trunc);
+    out << args << "\n" << r.exitCode << "\n" << r.output;
+  }
+  if (lock >= 0) {
+    ::flock(lock, LOCK_UN);
+    ::close(lock);
+  }
+  return r;
+}
+
+// The scripted run is shared by the state and golden tests (it renders 330 frames), across their processes.
 class ScriptedRun : public ::testing::Test {
  protected:
   static const Outcome& raster() {
-    static const Outcome r = runGame("--headless --frames 330 --size 320x180 --preset raster --script '" +
-                                 src("tests/game/collect3.script") + "' --capture '" + outDir() +
-                                 "/collect3-raster.png'");
+    static const Outcome r =
+        sharedGameRun("collect3-raster",
+                      "--headless --frames 330 --size 320x180 --preset raster --script '" +
+                          src("tests/game/collect3.script") + "' --capture '" + outDir() + "/collect3-raster.png'",
+                      src("tests/game/collect3.script"));
     return r;
   }
   static const Outcome& hybrid() {
-    static const Outcome r = runGame("--headless --frames 330 --size 320x180 --preset hybrid-fast --script '" +
-                                 src("tests/game/collect3.script") + "' --capture '" + outDir() +
-                                 "/collect3-hybrid-fast.png'");
+    static const Outcome r =
+        sharedGameRun("collect3-hybrid-fast",
+                      "--headless --frames 330 --size 320x180 --preset hybrid-fast --script '" +
+                          src("tests/game/collect3.script") + "' --capture '" + outDir() + "/collect3-hybrid-fast.png'",
+                      src("tests/game/collect3.script"));
     return r;
   }
 };
