@@ -80,10 +80,12 @@ void Hud::draw(const HudInfo& info) {
         else ImGui::Text("%-12s %8.2f", stage.name, cpu);
       }
       ImGui::Text("%-12s %8.2f", "untimed", st.untimedMs());
+      // The renderer's whole frame; the GPU column is as old as the timer queries it was read from.
+      if (st.gpu.valid) ImGui::Text("%-12s %8.2f %8.2f", "total", st.totalMs, st.gpu.totalMs());
+      else ImGui::Text("%-12s %8.2f", "total", st.totalMs);
+      if (st.gpu.valid) ImGui::TextDisabled("GPU times from %d frame(s) ago", st.gpu.framesAgo);
       ImGui::Text("rays: %dx%d on %d thr%s", st.rayWidth, st.rayHeight, st.threads,
                   st.raysReused ? "  reused: nothing moved" : "");
-      ImGui::Text("renderer  %7.2f ms total (GPU %.2f, %d frame(s) ago)", st.totalMs, st.gpu.valid ? st.gpu.totalMs() : 0.0,
-                  st.gpu.framesAgo);
       ImGui::Text("window present %5.2f ms", info.presentMs);
       // At rest the frame adds samples until it has FrameSettings::accumulate frames of them, then costs nothing.
       ImGui::Text("samples   %d this frame, %d per pixel shown", st.samples, st.accumulated);
