@@ -62,6 +62,9 @@
 
 // ---- texture units: exact solids' hits (VisibilityPass::patch; docs/csg.md) ----
 #define TD_UNIT_EXACT_HITS 25  // RGBA32F, full res: a solid's outward normal and t along the camera ray
+// ---- texture units: raster shadows on the ray grid (ShadePass's shadow-mask pass) ----
+#define TD_UNIT_SHADOW_MASK 26  // RGBA16 array, ray grid: visibility of lights 0-3 (layer 0) and 4-7 (layer 1)
+
 // The triangle field of an id whose hit lies on an exact solid (core/ResolvedPixel.h, kExactTriangle).
 #define TD_EXACT_TRIANGLE 0xFFFFFFFFu
 
@@ -85,6 +88,9 @@
 #define TD_CHANNEL_EXACT_HITS GL_RGBA32F, GL_RGBA, GL_FLOAT        // full res, where ids.y = TD_EXACT_TRIANGLE
 #define TD_SAMPLER_EXACT_HITS sampler2D
 #define TD_OUTPUT_EXACT_HITS vec4
+#define TD_CHANNEL_SHADOW_MASK GL_RGBA16, GL_RGBA, GL_UNSIGNED_SHORT  // ray grid, 2 layers: raster shadows' visibility per light
+#define TD_SAMPLER_SHADOW_MASK sampler2DArray
+#define TD_OUTPUT_SHADOW_MASK vec4                                 // its second layer (the first: the pass's outColor)
 #define TD_CHANNEL_LINEAR GL_RGBA32F, GL_RGBA, GL_FLOAT          // linear radiance, full res
 #define TD_SAMPLER_LINEAR sampler2D
 #define TD_OUTPUT_LINEAR vec4                                     // the shade pass's output (probes' too)

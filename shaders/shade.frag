@@ -47,6 +47,13 @@ int lightType(int j) {
   int t = int((TD_LIGHT_KINDS >> uint(4 * j)) & 3u);
   return t != 0 ? t : int(lights[j].posType.w + 0.5);
 }
+// Whether light j is an area light: with the kinds, a constant once the light loop is unrolled (type bits 0).
+// It must be: llvmpipe runs both sides of every branch, so an area light's sampling and soft shadows, and a
+// point light's shading, would each be paid for by every light.
+bool lightIsArea(int j) {
+  return TD_LIGHT_KINDS != 0u ? ((TD_LIGHT_KINDS >> uint(4 * j)) & 3u) == 0u
+                              : tdIsAreaLight(int(lights[j].posType.w + 0.5));
+}
 #if TD_UNIFORM_MATERIALS > 0
 layout(std140, binding = TD_BLOCK_MATERIALS) uniform MaterialBlock { GpuMaterial materials[TD_UNIFORM_MATERIALS]; };
 #else
@@ -55,6 +62,19 @@ layout(std430, binding = TD_BIND_MATERIALS) readonly buffer Materials { GpuMater
 
 #ifndef TD_SHADOW_MAPS
 #define TD_SHADOW_MAPS 1       // shadows = Raster: per-light visibility from the shadow maps
+#endif
+// Raster shadows on a ray grid (rayScale > 1; ShadePass::shade): the shadow-mask pass (TD_SHADOW_MASK_PASS)
+// looks the maps up once per grid pixel, at the full-resolution pixel it stands for, and the frame's pass
+// (TD_SHADOW_MASK, without maps of its own) gathers that visibility edge-aware like the rays' light mask.
+// A quarter of the lookups at rayScale 2: soft shadows are most of a raster frame's shading on llvmpipe.
+#ifndef TD_SHADOW_MASK_PASS
+#define TD_SHADOW_MASK_PASS 0
+#endif
+#ifndef TD_SHADOW_MASK
+#define TD_SHADOW_MASK 0
+#endif
+#if TD_SHADOW_MASK
+layout(binding = TD_UNIT_SHADOW_MASK) uniform TD_SAMPLER_SHADOW_MASK shadowMaskTex;  // layer 0: lights 0-3, 1: 4-7
 #endif
 #ifndef TD_PROBES
 #define TD_PROBES 3            // reflections (1) / refraction (2) = Raster: reflection-probe lookups
@@ -310,6 +330,49 @@ vec3 hitBarycentrics(vec3 origin, vec3 dir, Triangle t) {
 }
 
 
+// ---- the exact hit of a pixel's camera ray (rt::resolveHit's twin) ----
+struct PrimaryHit {
+  vec3 origin, dir;  // the pixel's camera ray
+  uint instance;
+  Triangle tri;
+  vec3 b;            // barycentrics on tri
+  vec3 posW;
+  vec3 ngRaw;        // the unflipped geometric normal
+  bool onSolid;      // a point on an exact solid (ids.y = TD_EXACT_TRIANGLE)
+};
+
+// The hit that pixel `pix` (GL rows) shows, with its ids `id` (id.x > 0): rebuilt from the camera ray through
+// the pixel's centre, as the CPU ray pass does.
+PrimaryHit primaryHit(ivec2 pix, uvec2 id) {
+  PrimaryHit h;
+  cameraRay(vec2(pix) + 0.5, h.origin, h.dir);
+  h.instance = id.x - 1u;
+  h.onSolid = false;
+#if TD_USE_EXACT
+  if (id.y == TD_EXACT_TRIANGLE) {
+    h.onSolid = true;
+    // A point on an exact solid (rt::resolveHit's twin): no vertices or attributes, the solid's own normal;
+    // its "triangle" is the point itself, so Gouraud and flat shade it per pixel with that normal.
+    vec4 exact = texelFetch(exactHitsTex, pix, 0);
+    mat4 worldFromObject;
+    uvec4 meshMaterial;
+    h.tri = loadInstance(h.instance, worldFromObject, meshMaterial);
+    h.posW = h.origin + exact.w * h.dir;
+    h.tri.p0 = h.posW;
+    h.tri.p1 = h.posW;
+    h.tri.p2 = h.posW;
+    h.b = vec3(1.0, 0.0, 0.0);
+    h.ngRaw = exact.xyz;
+    return h;
+  }
+#endif
+  h.tri = loadTriangle(h.instance, id.y);
+  h.b = hitBarycentrics(h.origin, h.dir, h.tri);
+  h.posW = h.b.x * h.tri.p0 + h.b.y * h.tri.p1 + h.b.z * h.tri.p2;
+  h.ngRaw = geometricNormal(h.tri);
+  return h;
+}
+
 // ---- the toon ramp: the same texel as shading::toonRampIndex picks in C++ ----
 int tdToonRampIndex(float nl) {
   float t = clamp(nl * 0.5 + 0.5, 0.0, 1.0);
@@ -338,7 +401,7 @@ void accumulate(inout RaySample acc, ivec2 g, float w) {
     uint mask = texelFetch(lightMaskTex, g, 0).x;
     for (int j = 0; j < TD_LIGHT_COUNT; ++j) {
 #if TD_USE_AREA_LIGHTS
-      if (tdIsAreaLight(lightType(j))) {
+      if (lightIsArea(j)) {
         uint bits = texelFetch(areaSamplesTex, ivec3(g, int(lights[j].shapeU.w + 0.5)), 0).x;
         acc.area[j] = bits;
         acc.vis[j] += w * float(bitCount(bits & (lightSamples >= 32 ? 0xFFFFFFFFu : (1u << uint(lightSamples)) - 1u))) /
@@ -349,6 +412,11 @@ void accumulate(inout RaySample acc, ivec2 g, float w) {
       acc.vis[j] += ((mask >> uint(j)) & 1u) != 0u ? w : 0.0;
     }
   }
+#if TD_SHADOW_MASK
+  vec4 lo = texelFetch(shadowMaskTex, ivec3(g, 0), 0);
+  vec4 hi = TD_LIGHT_COUNT > 4 ? texelFetch(shadowMaskTex, ivec3(g, 1), 0) : vec4(1.0);
+  for (int j = 0; j < TD_LIGHT_COUNT; ++j) acc.vis[j] += w * (j < 4 ? lo[j] : hi[j - 4]);
+#endif
   if ((rayInputs & TD_RAY_REFLECTED) != 0) acc.reflected += w * texelFetch(reflectedTex, g, 0).rgb;
   if ((rayInputs & TD_RAY_TRANSMITTED) != 0) acc.transmitted += w * texelFetch(transmittedTex, g, 0).rgb;
 }
@@ -361,7 +429,7 @@ RaySample gatherRays(ivec2 pTop, uint instance) {
   }
   acc.reflected = vec3(0.0);
   acc.transmitted = vec3(0.0);
-  if (rayInputs == 0) return acc;
+  if (rayInputs == 0 && TD_SHADOW_MASK == 0) return acc;
 #if !TD_RAY_SCALED
   // Full-resolution rays: grid pixel = this pixel, which saw this instance by definition.
   accumulate(acc, pTop, 1.0);
@@ -405,6 +473,11 @@ RaySample gatherRays(ivec2 pTop, uint instance) {
 }
 
 #if TD_SHADOW_MAPS
+// Light j's map kind (TD_SHADOW_*): a constant with the kinds, as lightIsArea.
+int shadowKind(int j) {
+  return TD_LIGHT_KINDS != 0u ? int((TD_LIGHT_KINDS >> uint(4 * j + 2)) & 3u) : int(shadows[j].originKind.w + 0.5);
+}
+
 // Visibility of direct light j at posW from its shadow map: the point is first moved 1.5 map texels along
 // the (viewer-facing) geometric normal — a normal offset, which removes acne at grazing angles without a
 // depth bias that would detach shadows from their casters — then 4 bilinear depth-compare taps half a
@@ -412,7 +485,7 @@ RaySample gatherRays(ivec2 pTop, uint instance) {
 float shadowVisibility(int j, vec3 posW, vec3 Ng) {
   GpuShadow s = shadows[j];
   if (int(s.originKind.w + 0.5) == TD_SHADOW_NONE) return 1.0;  // this light casts no shadow
-  int kind = TD_LIGHT_KINDS != 0u ? int((TD_LIGHT_KINDS >> uint(4 * j + 2)) & 3u) : int(s.originKind.w + 0.5);
+  int kind = shadowKind(j);
   vec3 rel = posW - s.originKind.xyz;
   float texel = s.params.w * (kind == TD_SHADOW_ORTHO ? 1.0 : length(rel));
   rel += Ng * (1.5 * texel);
@@ -462,11 +535,14 @@ float cubeDepth(vec3 rel, float n, float f) {
   return max(n * (f - d) / (d * (f - n)), 0.0);
 }
 
-// Tap i of `count` on Vogel's golden-angle spiral in the unit disk, turned by `turn` radians.
-vec2 vogelTap(int i, int count, float turn) {
+// Tap i of `count` on Vogel's golden-angle spiral in the unit disk, turned by the rotation (cos, sin) `turn`.
+// The unturned taps are constants once the loops unroll; one rotation a pixel instead of a sine and cosine a
+// tap.
+vec2 vogelTap(int i, int count, vec2 turn) {
   float r = sqrt((float(i) + 0.5) / float(count));
-  float theta = float(i) * 2.39996323 + turn;
-  return r * vec2(cos(theta), sin(theta));
+  float theta = float(i) * 2.39996323;
+  vec2 t = r * vec2(cos(theta), sin(theta));
+  return vec2(t.x * turn.x - t.y * turn.y, t.x * turn.y + t.y * turn.x);
 }
 
 // Raster soft shadows of area light j (docs/area-lights.md): percentage-closer soft shadows (Fernando 2005)
@@ -475,9 +551,9 @@ vec2 vogelTap(int i, int count, float turn) {
 // over it. Each tap compares against the receiver's tangent plane where the tap's direction meets it (a
 // receiver-plane depth bias: wide kernels on a floor would otherwise shadow the floor itself). `turn`
 // rotates the taps per pixel and frame, so accumulated frames average them.
-float softShadowVisibility(int j, vec3 posW, vec3 Ng, float lightSize, float turn) {
+float softShadowVisibility(int j, vec3 posW, vec3 Ng, float lightSize, vec2 turn) {
   GpuShadow s = shadows[j];
-  if (int(s.originKind.w + 0.5) != TD_SHADOW_CUBE) return shadowVisibility(j, posW, Ng);
+  if (shadowKind(j) != TD_SHADOW_CUBE) return shadowVisibility(j, posW, Ng);
   float n = s.params.y, f = s.params.z, layer = s.params.x;
   vec3 rel = posW - s.originKind.xyz;
   float len = length(rel);
@@ -487,8 +563,6 @@ float softShadowVisibility(int j, vec3 posW, vec3 Ng, float lightSize, float tur
   vec3 v = normalize(cross(rel, u));
   float planeDist = dot(Ng, rel);
   float texel = s.params.w * len;
-  // A light no wider than a texel of its map is a point light to it (the point limit of its radiometry).
-  if (lightSize <= texel) return shadowVisibility(j, posW, Ng);
   // 1. Blockers: their mean distance along the major axis, among taps nearer the light than the receiver.
   float search = min(2.0 * lightSize, 0.5 * len);
   float blockerSum = 0.0;
@@ -505,12 +579,15 @@ float softShadowVisibility(int j, vec3 posW, vec3 Ng, float lightSize, float tur
       blockers += 1.0;
     }
   }
-  if (blockers == 0.0) return 1.0;
   vec3 a = abs(rel);
   float receiver = max(a.x, max(a.y, a.z));
-  float blocker = blockerSum / blockers;
+  float blocker = blockerSum / max(blockers, 1.0);
   float width = lightSize * max(receiver - blocker, 0.0) / max(blocker, 1e-6 * receiver);
-  if (width <= texel) return shadowVisibility(j, posW, Ng);  // a penumbra narrower than the map resolves
+  // A light no wider than a texel of its map is a point light to it (the point limit of its radiometry), and
+  // a penumbra narrower than a texel the map resolves: both take the hard lookup. Each lookup is written once,
+  // with the branches around it: llvmpipe runs both sides of a branch, so every copy would cost its taps.
+  if (lightSize <= texel || (blockers > 0.0 && width <= texel)) return shadowVisibility(j, posW, Ng);
+  if (blockers == 0.0) return 1.0;
   // 2. Percentage-closer filtering over the penumbra.
   float lit = 0.0;
   const int kFilter = 8;
@@ -534,10 +611,11 @@ float areaLightSize(GpuLight L, int type) {
 // Light j's visibility from its shadow map: soft for an area light, else shadowVisibility's.
 float rasterShadow(int j, vec3 posW, vec3 Ng, ivec2 pTop) {
 #if TD_USE_AREA_LIGHTS && TD_SOFT_SHADOWS
-  int type = lightType(j);
-  if (tdIsAreaLight(type)) {
+  if (lightIsArea(j)) {
+    int type = lightType(j);
     uint h = tdHash(tdPixelSeed(pTop.x, pTop.y, 0u) ^ tdHash(sampleBase + uint(j)));
-    return softShadowVisibility(j, posW, Ng, areaLightSize(lights[j], type), float(h >> 8u) * (6.28318530718 / 16777216.0));
+    float angle = float(h >> 8u) * (6.28318530718 / 16777216.0);
+    return softShadowVisibility(j, posW, Ng, areaLightSize(lights[j], type), vec2(cos(angle), sin(angle)));
   }
 #endif
   return shadowVisibility(j, posW, Ng);
@@ -582,6 +660,88 @@ bool isEdge(ivec2 p, uvec2 id, vec3 ngUnflipped) {
   return false;
 }
 
+#if TD_MAX_LIGHTS != 8
+#error "shadePixel and shadowMaskPixel call each of the 8 lights by a constant index"
+#endif
+
+// What each light's term reads at the shaded point (shadePixel fills it once).
+struct LightingPoint {
+  vec3 C, ks;
+  float ns;
+  int model;
+  vec3 Ns, N0, N1, N2;  // the shading normal; Gouraud's vertex normals
+  vec3 posW, V, origin, Ng;
+  vec3 b;               // barycentrics on tri
+  ivec2 pTop;
+};
+
+// Direct light j's term at p, visibility included: the rays' or the shadow mask's (gathered in `rays`), or
+// the shadow maps'.
+vec3 directLight(int j, LightingPoint p, Triangle tri, GpuMaterial m, RaySample rays) {
+  GpuLight L = lights[j];
+  int type = lightType(j);
+  // The rays' light mask, or the raster shadows' grid (TD_SHADOW_MASK), gathered above.
+  bool rayShadowed = ((rayInputs & TD_RAY_LIGHT_MASK) != 0 || TD_SHADOW_MASK != 0) && L.radiance.w > 0.5;
+  float vis = rayShadowed ? rays.vis[j] : 1.0;
+  if (vis <= 0.0) return vec3(0.0);
+  vec3 Lj;
+  vec3 toLight;
+  float dist;
+#if TD_USE_AREA_LIGHTS
+  if (lightIsArea(j)) {
+    // The mean over the frame's samples (rt::shadeLocal's twin): with full-resolution rays each sample
+    // counts where its shadow ray got through, so the pixel is exactly the ray pass's estimate; with a
+    // coarser ray grid, all samples count, scaled by the visible fraction around the pixel.
+    uint bits = 0xFFFFFFFFu;
+#if !TD_RAY_SCALED
+    if (rayShadowed) {
+      bits = rays.area[j];
+      vis = 1.0;
+    }
+#endif
+    uint seed = tdPixelSeed(p.pTop.x, p.pTop.y, 0u);
+    vec3 sum = vec3(0.0);
+    for (int k = 0; k < lightSamples; ++k) {
+      if (((bits >> uint(k)) & 1u) == 0u) continue;
+      vec2 u = tdLightSampleU(seed, j, sampleBase + uint(k));
+      if (TD_USE_GOURAUD != 0 && p.model == TD_MODEL_GOURAUD) {
+        vec3 E0 = tdAreaLightSample(L, type, tri.p0, u, toLight, dist);
+        sum += p.b.x * tdShadeLight(p.C, p.ks, p.ns, p.model, p.N0, normalize(p.origin - tri.p0), E0, toLight, 0.0);
+        vec3 E1 = tdAreaLightSample(L, type, tri.p1, u, toLight, dist);
+        sum += p.b.y * tdShadeLight(p.C, p.ks, p.ns, p.model, p.N1, normalize(p.origin - tri.p1), E1, toLight, 0.0);
+        vec3 E2 = tdAreaLightSample(L, type, tri.p2, u, toLight, dist);
+        sum += p.b.z * tdShadeLight(p.C, p.ks, p.ns, p.model, p.N2, normalize(p.origin - tri.p2), E2, toLight, 0.0);
+      } else {
+        vec3 E = tdAreaLightSample(L, type, p.posW, u, toLight, dist);
+        float level = TD_USE_TOON != 0 && p.model == TD_MODEL_TOON ? toonLevel(m, dot(p.Ns, toLight)) : 0.0;
+        sum += tdShadeLight(p.C, p.ks, p.ns, p.model, p.Ns, p.V, E, toLight, level);
+      }
+    }
+    Lj = sum * (1.0 / float(lightSamples));
+  } else
+#endif
+  if (TD_USE_GOURAUD != 0 && p.model == TD_MODEL_GOURAUD) {
+    vec3 E0 = tdLightIncidentOfType(L, type, tri.p0, toLight, dist);
+    vec3 L0 = tdShadeLight(p.C, p.ks, p.ns, p.model, p.N0, normalize(p.origin - tri.p0), E0, toLight, 0.0);
+    vec3 E1 = tdLightIncidentOfType(L, type, tri.p1, toLight, dist);
+    vec3 L1 = tdShadeLight(p.C, p.ks, p.ns, p.model, p.N1, normalize(p.origin - tri.p1), E1, toLight, 0.0);
+    vec3 E2 = tdLightIncidentOfType(L, type, tri.p2, toLight, dist);
+    vec3 L2 = tdShadeLight(p.C, p.ks, p.ns, p.model, p.N2, normalize(p.origin - tri.p2), E2, toLight, 0.0);
+    Lj = p.b.x * L0 + p.b.y * L1 + p.b.z * L2;
+  } else {
+    vec3 E = tdLightIncidentOfType(L, type, p.posW, toLight, dist);
+    float level = TD_USE_TOON != 0 && p.model == TD_MODEL_TOON ? toonLevel(m, dot(p.Ns, toLight)) : 0.0;
+    Lj = tdShadeLight(p.C, p.ks, p.ns, p.model, p.Ns, p.V, E, toLight, level);
+  }
+#if TD_SHADOW_MAPS
+  // A light that adds nothing here needs no map lookup (a GPU skips it where a whole warp agrees; llvmpipe
+  // runs both sides); skipping it is exact, since vis · 0 would add nothing either.
+  if (L.radiance.w > 0.5 && (Lj.x != 0.0 || Lj.y != 0.0 || Lj.z != 0.0)) vis = rasterShadow(j, p.posW, p.Ng, p.pTop);
+  if (vis <= 0.0) return vec3(0.0);
+#endif
+  return vis * Lj;
+}
+
 void shadePixel() {
   ivec2 pix = ivec2(gl_FragCoord.xy);
   ivec2 pTop = ivec2(pix.x, frameSize.y - 1 - pix.y);
@@ -606,37 +766,14 @@ void shadePixel() {
   }
 
   // ---- the exact hit ----
-  vec3 origin, dir;
-  cameraRay(gl_FragCoord.xy, origin, dir);
-  uint instance = id.x - 1u;
-  Triangle tri;
-  vec3 b;
-  vec3 posW;
-  vec3 ngRaw;
-  bool onSolid = false;
-#if TD_USE_EXACT
-  if (id.y == TD_EXACT_TRIANGLE) {
-    onSolid = true;
-    // A point on an exact solid (rt::resolveHit's twin): no vertices or attributes, the solid's own normal;
-    // its "triangle" is the point itself, so Gouraud and flat shade it per pixel with that normal.
-    vec4 hit = texelFetch(exactHitsTex, pix, 0);
-    mat4 worldFromObject;
-    uvec4 meshMaterial;
-    tri = loadInstance(instance, worldFromObject, meshMaterial);
-    posW = origin + hit.w * dir;
-    tri.p0 = posW;
-    tri.p1 = posW;
-    tri.p2 = posW;
-    b = vec3(1.0, 0.0, 0.0);
-    ngRaw = hit.xyz;
-  } else
-#endif
-  {
-    tri = loadTriangle(instance, id.y);
-    b = hitBarycentrics(origin, dir, tri);
-    posW = b.x * tri.p0 + b.y * tri.p1 + b.z * tri.p2;
-    ngRaw = geometricNormal(tri);
-  }
+  PrimaryHit hit = primaryHit(pix, id);
+  vec3 origin = hit.origin, dir = hit.dir;
+  uint instance = hit.instance;
+  Triangle tri = hit.tri;
+  vec3 b = hit.b;
+  vec3 posW = hit.posW;
+  vec3 ngRaw = hit.ngRaw;
+  bool onSolid = hit.onSolid;
   vec3 V = -dir;
   vec3 Ng = ngRaw;
   vec3 N = Ng;
@@ -757,9 +894,10 @@ void shadePixel() {
     vec3 wTv = tdTransmitWeight(coverage, wT, tintRough.rgb);
     float layer = float(tri.probe - 1u);
     // A glossy material (docs/glossy.md) reads the probe at the mip level whose texels are as wide as its
-    // lobe: about α = roughness² radians, a level-0 texel of a 128² face being (π/2)/128.
+    // lobe: about α = roughness² radians, a level-0 texel of an n² face being (π/2)/n.
     float alpha = tintRough.a * tintRough.a;
-    float lod = alpha > 0.0 ? clamp(log2(alpha * (128.0 * 2.0 / 3.14159265)), 0.0, 7.0) : 0.0;
+    float faceSize = float(textureSize(probes, 0).x);
+    float lod = alpha > 0.0 ? clamp(log2(alpha * (faceSize * 2.0 / 3.14159265)), 0.0, log2(faceSize)) : 0.0;
 #if (TD_PROBES & TD_PROBE_REFLECT) != 0
     if (wR > 0.0) rays.reflected += wR * textureLod(probes, vec4(tdReflectOverFacet(V, N, Ng), layer), lod).rgb;
 #endif
@@ -773,7 +911,7 @@ void shadePixel() {
 #endif
   if (debugView == TD_VIEW_LIGHT_MASK) {
     float visible = 1.0;
-    if (((rayInputs & TD_RAY_LIGHT_MASK) != 0 || TD_SHADOW_MAPS != 0) && TD_LIGHT_COUNT > 0) {
+    if (((rayInputs & TD_RAY_LIGHT_MASK) != 0 || TD_SHADOW_MAPS != 0 || TD_SHADOW_MASK != 0) && TD_LIGHT_COUNT > 0) {
       visible = 0.0;
       for (int j = 0; j < TD_LIGHT_COUNT; ++j) visible += rays.vis[j];
       visible /= float(TD_LIGHT_COUNT);
@@ -813,69 +951,29 @@ void shadePixel() {
       N1 = dot(n1, n1) > 0.0 ? side * normalize(n1) : Ng;
       N2 = dot(n2, n2) > 0.0 ? side * normalize(n2) : Ng;
     }
-    for (int j = 0; j < TD_LIGHT_COUNT; ++j) {
-      GpuLight L = lights[j];
-      int type = lightType(j);
-      bool rayShadowed = (rayInputs & TD_RAY_LIGHT_MASK) != 0 && L.radiance.w > 0.5;
-      float vis = rayShadowed ? rays.vis[j] : 1.0;
-      if (vis <= 0.0) continue;
-      vec3 Lj;
-      vec3 toLight;
-      float dist;
-#if TD_USE_AREA_LIGHTS
-      if (tdIsAreaLight(type)) {
-        // The mean over the frame's samples (rt::shadeLocal's twin): with full-resolution rays each sample
-        // counts where its shadow ray got through, so the pixel is exactly the ray pass's estimate; with a
-        // coarser ray grid, all samples count, scaled by the visible fraction around the pixel.
-        uint bits = 0xFFFFFFFFu;
-#if !TD_RAY_SCALED
-        if (rayShadowed) {
-          bits = rays.area[j];
-          vis = 1.0;
-        }
-#endif
-        uint seed = tdPixelSeed(pTop.x, pTop.y, 0u);
-        vec3 sum = vec3(0.0);
-        for (int k = 0; k < lightSamples; ++k) {
-          if (((bits >> uint(k)) & 1u) == 0u) continue;
-          vec2 u = tdLightSampleU(seed, j, sampleBase + uint(k));
-          if (TD_USE_GOURAUD != 0 && model == TD_MODEL_GOURAUD) {
-            vec3 E0 = tdAreaLightSample(L, type, tri.p0, u, toLight, dist);
-            sum += b.x * tdShadeLight(C, ks, ns, model, N0, normalize(origin - tri.p0), E0, toLight, 0.0);
-            vec3 E1 = tdAreaLightSample(L, type, tri.p1, u, toLight, dist);
-            sum += b.y * tdShadeLight(C, ks, ns, model, N1, normalize(origin - tri.p1), E1, toLight, 0.0);
-            vec3 E2 = tdAreaLightSample(L, type, tri.p2, u, toLight, dist);
-            sum += b.z * tdShadeLight(C, ks, ns, model, N2, normalize(origin - tri.p2), E2, toLight, 0.0);
-          } else {
-            vec3 E = tdAreaLightSample(L, type, posW, u, toLight, dist);
-            float level = TD_USE_TOON != 0 && model == TD_MODEL_TOON ? toonLevel(m, dot(Ns, toLight)) : 0.0;
-            sum += tdShadeLight(C, ks, ns, model, Ns, V, E, toLight, level);
-          }
-        }
-        Lj = sum * (1.0 / float(lightSamples));
-      } else
-#endif
-      if (TD_USE_GOURAUD != 0 && model == TD_MODEL_GOURAUD) {
-        vec3 E0 = tdLightIncidentOfType(L, type, tri.p0, toLight, dist);
-        vec3 L0 = tdShadeLight(C, ks, ns, model, N0, normalize(origin - tri.p0), E0, toLight, 0.0);
-        vec3 E1 = tdLightIncidentOfType(L, type, tri.p1, toLight, dist);
-        vec3 L1 = tdShadeLight(C, ks, ns, model, N1, normalize(origin - tri.p1), E1, toLight, 0.0);
-        vec3 E2 = tdLightIncidentOfType(L, type, tri.p2, toLight, dist);
-        vec3 L2 = tdShadeLight(C, ks, ns, model, N2, normalize(origin - tri.p2), E2, toLight, 0.0);
-        Lj = b.x * L0 + b.y * L1 + b.z * L2;
-      } else {
-        vec3 E = tdLightIncidentOfType(L, type, posW, toLight, dist);
-        float level = TD_USE_TOON != 0 && model == TD_MODEL_TOON ? toonLevel(m, dot(Ns, toLight)) : 0.0;
-        Lj = tdShadeLight(C, ks, ns, model, Ns, V, E, toLight, level);
-      }
-#if TD_SHADOW_MAPS
-      // A light that adds nothing here needs no map lookup (4 depth-compare taps, a third of the pass on
-      // llvmpipe); skipping it is exact, since vis · 0 would add nothing either.
-      if (L.radiance.w > 0.5 && (Lj.x != 0.0 || Lj.y != 0.0 || Lj.z != 0.0)) vis = rasterShadow(j, posW, Ng, pTop);
-      if (vis <= 0.0) continue;
-#endif
-      local += vis * Lj;
-    }
+    LightingPoint lp;
+    lp.C = C;
+    lp.ks = ks;
+    lp.ns = ns;
+    lp.model = model;
+    lp.Ns = Ns;
+    lp.N0 = N0;
+    lp.N1 = N1;
+    lp.N2 = N2;
+    lp.posW = posW;
+    lp.V = V;
+    lp.origin = origin;
+    lp.Ng = Ng;
+    lp.b = b;
+    lp.pTop = pTop;
+    // One call per light with a constant index, not a loop: a body this large stays a rolled loop in the
+    // compiler, whose light index is a variable, so every light would run every light type's code and every
+    // map kind's lookup (llvmpipe runs both sides of each branch); the kinds (TD_LIGHT_KINDS) and
+    // lightIsArea specialize a constant index only.
+#define TD_ADD_LIGHT(J) if (J < TD_LIGHT_COUNT) local += directLight(J, lp, tri, m, rays);
+    TD_ADD_LIGHT(0) TD_ADD_LIGHT(1) TD_ADD_LIGHT(2) TD_ADD_LIGHT(3)
+    TD_ADD_LIGHT(4) TD_ADD_LIGHT(5) TD_ADD_LIGHT(6) TD_ADD_LIGHT(7)
+#undef TD_ADD_LIGHT
   }
 
   vec3 I = coverage * local;
@@ -900,9 +998,39 @@ layout(location = 15) uniform int toneMap;
 layout(location = 16) uniform int passThrough;
 #endif
 
+#if TD_SHADOW_MASK_PASS
+// The shadow-mask pass: this target is the ray grid (rows top first, as RayOutputs holds them; gl_FragCoord's
+// rows are the texture's), lights 0-3 in outColor, 4-7 here. Each grid pixel takes the visibility the full-
+// resolution pass would look up at the pixel it stands for; no surface there (the sky): visible.
+layout(location = 1) out TD_OUTPUT_SHADOW_MASK outMaskHi;
+
+void shadowMaskPixel() {
+  ivec2 g = ivec2(gl_FragCoord.xy);
+  ivec2 pTop = gridPixelCentre(g);
+  ivec2 pix = ivec2(pTop.x, frameSize.y - 1 - pTop.y);
+  uvec2 id = texelFetch(idsTex, pix, 0).xy;
+  float vis[8] = float[8](1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0);
+  if (id.x != 0u) {
+    PrimaryHit hit = primaryHit(pix, id);
+    vec3 Ng = dot(hit.ngRaw, hit.dir) > 0.0 ? -hit.ngRaw : hit.ngRaw;  // towards the viewer, as shadePixel's
+    // One lookup per light with a constant index, as shadePixel's lights (TD_ADD_LIGHT says why).
+#define TD_MASK_LIGHT(J) if (J < TD_LIGHT_COUNT && lights[J].radiance.w > 0.5) vis[J] = rasterShadow(J, hit.posW, Ng, pTop);
+    TD_MASK_LIGHT(0) TD_MASK_LIGHT(1) TD_MASK_LIGHT(2) TD_MASK_LIGHT(3)
+    TD_MASK_LIGHT(4) TD_MASK_LIGHT(5) TD_MASK_LIGHT(6) TD_MASK_LIGHT(7)
+#undef TD_MASK_LIGHT
+  }
+  outColor = vec4(vis[0], vis[1], vis[2], vis[3]);
+  outMaskHi = vec4(vis[4], vis[5], vis[6], vis[7]);
+}
+#endif
+
 void main() {
+#if TD_SHADOW_MASK_PASS
+  shadowMaskPixel();
+#else
   shadePixel();
 #if TD_FUSED_OUTPUT
   outDisplay = vec4(tdDisplay(outColor.rgb, exposure, toneMap, passThrough != 0), 1.0);
+#endif
 #endif
 }

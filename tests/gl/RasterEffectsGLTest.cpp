@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "GlTestUtil.h"
 #include "core/RenderSpace.h"
@@ -540,6 +541,92 @@ TEST(RasterEffectsGLTest, ShadowMapsDrawOnlyWhatADynamicInstanceChangesAndEqualA
   scene.instances[1].worldFromObject = glm::translate(glm::mat4(1.0f), glm::vec3(-1.4f, 1.0f, -1.0f));
   update(false);
   EXPECT_EQ(maps.facesDrawn(), maps.faceCount());
+}
+
+}  // namespace
+}  // namespace tandem
+
+namespace tandem {
+namespace {
+
+// A shadow map's or a probe's face draws only the instances it may see (gl::seenBy): the same ids and depth
+// to the bit as drawing them all, and in a scene spread around the eye most faces leave some out.
+TEST(RasterEffectsGLTest, CulledFaceDrawsEqualWholeSceneDrawsToTheBit) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto loaded = loadDefaultScene();
+  ASSERT_TRUE(loaded.ok());
+  const Scene& scene = *loaded;
+  gl::GpuScene gpu;
+  gpu.upload(scene, std::nullopt);
+  auto pass = gl::VisibilityPass::create();
+  ASSERT_TRUE(pass.ok());
+  const std::vector<gl::Bounds> bounds = gl::instanceBounds(scene, gl::meshBounds(scene), gpu.anchor());
+  constexpr int kSize = 128;
+  gl::Texture ids = gl::createTexture2D("test ids", gl::kChannelIds.internal, kSize, kSize);
+  gl::Texture depth = gl::createTexture2D("test depth", gl::kChannelDepth.internal, kSize, kSize);
+  gl::Framebuffer fbo = gl::createFramebuffer("test face");
+  glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT0, ids.id(), 0);
+  glNamedFramebufferTexture(fbo.id(), GL_DEPTH_ATTACHMENT, depth.id(), 0);
+  glNamedFramebufferDrawBuffer(fbo.id(), GL_COLOR_ATTACHMENT0);
+  auto read = [&](std::vector<std::uint32_t>& outIds, std::vector<float>& outDepth) {
+    outIds.assign(2 * kSize * kSize, 0);
+    outDepth.assign(kSize * kSize, 0.0f);
+    glGetTextureImage(ids.id(), 0, GL_RG_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(outIds.size() * 4), outIds.data());
+    glGetTextureImage(depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(outDepth.size() * 4),
+                      outDepth.data());
+  };
+  int left = 0, drawnPixels = 0;
+  // From the middle of the scene's objects (render space, as the bounds): every face sees some of them.
+  gl::Bounds world;
+  for (const gl::Bounds& b : bounds) world.add(b);
+  const glm::vec3 eye = 0.5f * (world.lo + world.hi) + glm::vec3(0.0f, 0.3f, 0.0f);
+  std::vector<std::uint8_t> seen;
+  for (int face = 0; face < 6; ++face) {
+    SCOPED_TRACE(face);
+    const Camera c = gl::cubeFaceCamera(eye, face, 1e-3f, std::numeric_limits<float>::infinity());
+    gl::seenBy(c.clipFromView(glm::ivec2(kSize)) * c.viewFromWorld(), bounds, seen);
+    for (std::uint8_t s : seen) left += s ? 0 : 1;
+    std::vector<std::uint32_t> idsAll, idsCulled;
+    std::vector<float> depthAll, depthCulled;
+    pass->renderInto(fbo.id(), kSize, kSize, gpu, c);
+    read(idsAll, depthAll);
+    pass->renderInto(fbo.id(), kSize, kSize, gpu, c, std::nullopt, gl::GpuScene::Instances::All, true, &seen);
+    read(idsCulled, depthCulled);
+    EXPECT_EQ(idsCulled, idsAll);
+    EXPECT_EQ(std::memcmp(depthCulled.data(), depthAll.data(), depthAll.size() * sizeof(float)), 0);
+    for (std::size_t i = 0; i < idsAll.size(); i += 2) drawnPixels += idsAll[i] != 0 ? 1 : 0;
+  }
+  EXPECT_GT(left, static_cast<int>(scene.instances.size())) << "the faces left nothing out: the test proves nothing";
+  EXPECT_GT(drawnPixels, 6 * kSize * kSize / 4) << "the faces see little of the scene";
+}
+
+// FrameSettings::probeSize: a change re-renders every probe at the new size at once, the frame that of a
+// fresh renderer at that size; a smaller probe is a blurrier mirror (the frames differ).
+TEST(RasterEffectsGLTest, ProbeSizeIsFollowedAtOnce) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene;
+  auto changing = gltest::whittedRenderer(*glContext_, scene), fresh = gltest::whittedRenderer(*glContext_, scene);
+  ASSERT_TRUE(changing && fresh);
+  FrameSettings small = *presetSettings("raster");
+  small.width = 320;
+  small.height = 180;
+  small.probeSize = 32;
+  FrameSettings large = small;
+  large.probeSize = 256;
+  changing->render(scene.camera, small);
+  const Image blurry = changing->readImage();
+  changing->render(scene.camera, large);
+  fresh->render(scene.camera, large);
+  const Image sharp = fresh->readImage();
+  EXPECT_EQ(changing->readImage().rgba, sharp.rgba);
+  int differing = 0;
+  for (std::size_t i = 0; i < sharp.rgba.size(); ++i) differing += sharp.rgba[i] != blurry.rgba[i];
+  EXPECT_GT(differing, 500) << "32² and 256² probes gave the same mirrors";
+  FrameSettings odd = small;
+  odd.probeSize = 100;
+  EXPECT_EQ(odd.resolved().probeSize, 64);
+  odd.probeSize = 4096;
+  EXPECT_EQ(odd.resolved().probeSize, 512);
 }
 
 }  // namespace

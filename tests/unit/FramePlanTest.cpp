@@ -120,6 +120,7 @@ TEST(FramePlan, SameRayInputsComparesWhatTheRayPassReads) {
   EXPECT_TRUE(same([](FrameSettings& s) { s.exposure = 3.0f; }));
   EXPECT_TRUE(same([](FrameSettings& s) { s.debugView = DebugView::Reflection; }));
   EXPECT_TRUE(same([](FrameSettings& s) { s.probesPerFrame = 2; }));
+  EXPECT_TRUE(same([](FrameSettings& s) { s.probeSize = 64; }));
   EXPECT_TRUE(same([](FrameSettings& s) { s.reuseRays = false; }));
   EXPECT_FALSE(same([](FrameSettings& s) { s.width += 1; }));
   EXPECT_FALSE(same([](FrameSettings& s) { s.maxDepth = 2; }));

@@ -62,6 +62,10 @@ struct FrameSettings {
   /// at most N, oldest first, so a moving scene's probes lag by up to ceil(probes / N) frames: a game's
   /// trade (each probe is six views of the scene). A new scene, material or shadowing still re-renders all.
   int probesPerFrame = 0;
+  /// Raster reflections/refraction: each probe's cube faces, texels a side (a power of two in [16, 512];
+  /// resolved() rounds down to one). Six faces of this many pixels are drawn and shaded per probe re-rendered:
+  /// 64 costs a quarter of 128 for a blurrier reflection (the raster preset's choice).
+  int probeSize = 128;
   /// A frame whose ray inputs equal the last frame's (the same camera, scene and ray settings: nothing moved,
   /// no light changed) reuses that frame's ray results instead of tracing them again: they would be the
   /// same to the bit. FrameStats::raysReused says when. With the camera still and instances moved or

@@ -29,6 +29,7 @@ inline constexpr GLuint kUnitTangentsTex = TD_UNIT_TANGENTS_TEX, kUnitNormalMaps
 inline constexpr GLuint kUnitAreaSamples = TD_UNIT_AREA_SAMPLES;
 inline constexpr GLuint kUnitRadiosityTableTex = TD_UNIT_RADIOSITY_TABLE_TEX, kUnitRadiosityTex = TD_UNIT_RADIOSITY_TEX;
 inline constexpr GLuint kUnitExactHits = TD_UNIT_EXACT_HITS;
+inline constexpr GLuint kUnitShadowMask = TD_UNIT_SHADOW_MASK;
 
 /// A frame channel's GL internal format, and the pixel format and type of its CPU copies (docs/gbuffer.md).
 struct ChannelFormat {
@@ -41,7 +42,8 @@ inline constexpr ChannelFormat kChannelIds{TD_CHANNEL_IDS}, kChannelDepth{TD_CHA
                                kChannelTransmitted{TD_CHANNEL_TRANSMITTED}, kChannelLinear{TD_CHANNEL_LINEAR},
                                kChannelDisplay{TD_CHANNEL_DISPLAY}, kChannelProbes{TD_CHANNEL_PROBES},
                                kChannelShadowMaps{TD_CHANNEL_SHADOW_MAPS}, kChannelAreaSamples{TD_CHANNEL_AREA_SAMPLES},
-                               kChannelExactHits{TD_CHANNEL_EXACT_HITS};
+                               kChannelExactHits{TD_CHANNEL_EXACT_HITS},
+                               kChannelShadowMask{TD_CHANNEL_SHADOW_MASK};
 
 /// Which ray results a frame uploaded (ShadeInputs::rayInputs), the shade pass's TD_RAY_INPUTS.
 enum RayInput : int { kRayLightMask = TD_RAY_LIGHT_MASK, kRayReflected = TD_RAY_REFLECTED, kRayTransmitted = TD_RAY_TRANSMITTED };

@@ -213,11 +213,13 @@ void GpuScene::uploadInstances(const Scene& scene, const std::vector<glm::uvec4>
   std::vector<DrawCommand> commands;
   std::vector<std::uint32_t> ids;
   staticDraws_ = dynamicDraws_ = 0;
+  drawInstance_.clear();
   for (bool dynamic : {false, true})
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
       if (scene.instances[i].dynamic != dynamic) continue;
       const glm::uvec4& mesh = meshes[scene.instances[i].mesh];
       commands.push_back({mesh.w * 3, 1, mesh.y, 0, static_cast<GLuint>(i)});
+      drawInstance_.push_back(static_cast<std::uint32_t>(i));
       ++(dynamic ? dynamicDraws_ : staticDraws_);
     }
   for (std::size_t i = 0; i < scene.instances.size(); ++i) ids.push_back(static_cast<std::uint32_t>(i));
@@ -428,17 +430,37 @@ void GpuScene::bindRadiosity() const {
   glBindTextureUnit(kUnitRadiosityTex, radiosityValuesTex_.id());
 }
 
-void GpuScene::draw(Instances which) const {
+void GpuScene::draw(Instances which, const std::vector<std::uint8_t>* seen) const {
   const int first = which == Instances::Dynamic ? staticDraws_ : 0;
   const int count = which == Instances::All ? staticDraws_ + dynamicDraws_
                     : which == Instances::Static ? staticDraws_
                                                  : dynamicDraws_;
   if (count == 0) return;
+  assert((!seen || seen->size() == static_cast<std::size_t>(instanceCount_)) && "draw: one flag per instance");
   glBindVertexArray(vao_.id());
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, indirect_.id());
-  glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                              reinterpret_cast<const void*>(static_cast<std::uintptr_t>(first) * sizeof(DrawCommand)),
-                              count, 0);
+  auto drawRange = [](int from, int n) {
+    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                                reinterpret_cast<const void*>(static_cast<std::uintptr_t>(from) * sizeof(DrawCommand)),
+                                n, 0);
+  };
+  if (!seen) {
+    drawRange(first, count);
+  } else {
+    // Each run of neighbouring commands whose instances are seen: one call. A culled instance would have
+    // drawn nothing (every fragment outside the view), so the target is the same to the bit; what it saves
+    // is its vertices, which llvmpipe shades on one thread per draw.
+    for (int k = first; k < first + count;) {
+      if (!(*seen)[drawInstance_[static_cast<std::size_t>(k)]]) {
+        ++k;
+        continue;
+      }
+      int end = k + 1;
+      while (end < first + count && (*seen)[drawInstance_[static_cast<std::size_t>(end)]]) ++end;
+      drawRange(k, end - k);
+      k = end;
+    }
+  }
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
   glBindVertexArray(0);
 }

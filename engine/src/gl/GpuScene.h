@@ -80,7 +80,8 @@ class GpuScene {
   /// Which instances a draw takes: all, those not marked Instance::dynamic, or only those (the raster
   /// effects keep what the static ones draw and draw the dynamic ones over it).
   enum class Instances { All, Static, Dynamic };
-  void draw(Instances which) const;
+  /// With `seen` (one flag per instance), only the instances it marks: a face's culled draw (seenBy).
+  void draw(Instances which, const std::vector<std::uint8_t>* seen = nullptr) const;
   int dynamicCount() const { return dynamicDraws_; }
 
   int instanceCount() const { return instanceCount_; }
@@ -106,6 +107,7 @@ class GpuScene {
       tangents_;
   Buffer indirect_, instanceIds_;  // one draw command per instance: the static ones first, then the dynamic ones
   int staticDraws_ = 0, dynamicDraws_ = 0;
+  std::vector<std::uint32_t> drawInstance_;  // the instance each draw command draws
   // Views of the buffers above for the shade pass (see createBufferTexture).
   Texture positionsTex_, normalsTex_, uvsTex_, colorsTex_, indicesTex_, meshesTex_, instancesTex_, instanceIdsTex_,
       uvTransformsTex_, tangentsTex_;

@@ -89,6 +89,11 @@ std::vector<glm::mat4> instanceTransforms(const Scene& scene, glm::vec3 anchor, 
   return out;
 }
 
+void seenBy(const glm::mat4& clipFromWorld, const std::vector<Bounds>& instances, std::vector<std::uint8_t>& seen) {
+  seen.resize(instances.size());
+  for (std::size_t i = 0; i < instances.size(); ++i) seen[i] = mayBeSeen(clipFromWorld, instances[i]) ? 1 : 0;
+}
+
 bool mayBeSeen(const glm::mat4& clipFromWorld, const Bounds& b) {
   if (b.empty()) return false;
   // Per plane, whether every corner is beyond it: x < −w, x > w, y < −w, y > w, z < 0, z > w.
@@ -296,25 +301,28 @@ void ShadowMaps::update(const Scene& scene, const GpuScene& gpu, const Visibilit
   auto drawFace = [&](const Camera& c, int size, const Texture& live, const Texture& kept, GLenum target, int layer,
                       int faceIndex) {
     faceCamera_[static_cast<std::size_t>(faceIndex)] = c;
-    faceClip_[static_cast<std::size_t>(faceIndex)] = c.clipFromView(glm::ivec2(size, size)) * c.viewFromWorld();
+    const glm::mat4& clip = faceClip_[static_cast<std::size_t>(faceIndex)] =
+        c.clipFromView(glm::ivec2(size, size)) * c.viewFromWorld();
     if (!whole) {
       bool sees = false;
-      for (const Bounds& b : moved) sees = sees || mayBeSeen(faceClip_[static_cast<std::size_t>(faceIndex)], b);
+      for (const Bounds& b : moved) sees = sees || mayBeSeen(clip, b);
       if (!sees) return;
     }
     ++facesDrawn_;
+    seenBy(clip, instances, seen_);  // each face draws what it may see (a cube face: about a sixth)
     if (!anyDynamic) {
       glNamedFramebufferTextureLayer(fbo_.id(), GL_DEPTH_ATTACHMENT, live.id(), 0, layer);
-      raster.renderInto(fbo_.id(), size, size, gpu, c);
+      raster.renderInto(fbo_.id(), size, size, gpu, c, std::nullopt, GpuScene::Instances::All, true, &seen_);
       return;
     }
     if (whole) {
       glNamedFramebufferTextureLayer(fbo_.id(), GL_DEPTH_ATTACHMENT, kept.id(), 0, layer);
-      raster.renderInto(fbo_.id(), size, size, gpu, c, std::nullopt, GpuScene::Instances::Static);
+      raster.renderInto(fbo_.id(), size, size, gpu, c, std::nullopt, GpuScene::Instances::Static, true, &seen_);
     }
     glCopyImageSubData(kept.id(), target, 0, 0, 0, layer, live.id(), target, 0, 0, 0, layer, size, size, 1);
     glNamedFramebufferTextureLayer(fbo_.id(), GL_DEPTH_ATTACHMENT, live.id(), 0, layer);
-    raster.renderInto(fbo_.id(), size, size, gpu, c, std::nullopt, GpuScene::Instances::Dynamic, /*clear=*/false);
+    raster.renderInto(fbo_.id(), size, size, gpu, c, std::nullopt, GpuScene::Instances::Dynamic, /*clear=*/false,
+                      &seen_);
   };
   for (const Job& job : jobs) {
     whole = full || !(lightsNow[static_cast<std::size_t>(job.light)] == drawn_.lights[static_cast<std::size_t>(job.light)]);

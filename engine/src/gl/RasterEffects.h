@@ -45,6 +45,9 @@ std::vector<glm::mat4> instanceTransforms(const Scene& scene, glm::vec3 anchor, 
 /// Whether any point of the box may be seen through `clipFromWorld` (GL_ZERO_TO_ONE depth): false only when
 /// its eight corners all lie beyond one plane of the frustum.
 bool mayBeSeen(const glm::mat4& clipFromWorld, const Bounds& b);
+/// One flag per instance: whether `clipFromWorld` may see its bounds (mayBeSeen). A face's draw takes only
+/// those (VisibilityPass::renderInto's `seen`): a shadow map's or a probe's face sees a sixth of the scene.
+void seenBy(const glm::mat4& clipFromWorld, const std::vector<Bounds>& instances, std::vector<std::uint8_t>& seen);
 
 /// The camera of cube-map face `face` (GL's order +X, −X, +Y, −Y, +Z, −Z) seen from `eye`: a face rendered by
 /// the ordinary raster and shade passes is then addressed by direction with no flip.
@@ -108,6 +111,7 @@ class ShadowMaps {
   std::vector<glm::mat4> faceClip_;  // per face (2D maps' layers, then 6 per cube): its clip-from-render-space
   std::vector<Camera> faceCamera_;
   int facesDrawn_ = 0;
+  std::vector<std::uint8_t> seen_;  // the face being drawn: which instances it may see (seenBy)
   Sampler cubeDepths_;  // reads cubeMaps_ without depth compare: the blocker search of area lights' soft shadows
   Framebuffer fbo_;
   Buffer records_;

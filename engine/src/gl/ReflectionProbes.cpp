@@ -1,6 +1,7 @@
 #include "gl/ReflectionProbes.h"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <limits>
 
@@ -12,16 +13,20 @@ namespace tandem::gl {
 
 void ReflectionProbes::update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster,
                               ShadePass& shade, const ShadeInputs& local,
-                              const std::vector<Bounds>& instances) {
+                              const std::vector<Bounds>& instances, int faceSize) {
+  assert(faceSize > 0 && (faceSize & (faceSize - 1)) == 0 && "probe faces: a power of two");
   std::vector<std::uint32_t> probes = probeInstances(scene);
   if (probes.empty()) {
     release();
     return;
   }
+  if (faceSize != faceSize_) release();
+  faceSize_ = faceSize;
+  levels_ = std::countr_zero(static_cast<unsigned>(faceSize)) + 1;
   if (static_cast<int>(probes.size()) != count_ || !cubes_) {
     count_ = static_cast<int>(probes.size());
     // Mipmapped: a glossy material looks its probe up at the level its lobe covers (docs/glossy.md).
-    cubes_ = createTextureCube("reflection probes", kChannelProbes.internal, kFaceSize, count_, kLevels);
+    cubes_ = createTextureCube("reflection probes", kChannelProbes.internal, faceSize_, count_, levels_);
     glTextureParameteri(cubes_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(cubes_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(cubes_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -29,11 +34,11 @@ void ReflectionProbes::update(const Scene& scene, const GpuScene& gpu, const Vis
     glTextureParameteri(cubes_.id(), GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
   }
   if (!ids_) {
-    ids_ = createTexture2D("probe ids", kChannelIds.internal, kFaceSize, kFaceSize);
+    ids_ = createTexture2D("probe ids", kChannelIds.internal, faceSize_, faceSize_);
     setSampling(ids_, GL_NEAREST, GL_NEAREST);
-    depth_ = createTexture2D("probe depth", kChannelDepth.internal, kFaceSize, kFaceSize);
+    depth_ = createTexture2D("probe depth", kChannelDepth.internal, faceSize_, faceSize_);
     setSampling(depth_, GL_NEAREST, GL_NEAREST);
-    sampledDepth_ = createTexture2D("probe depth (sampled copy)", kChannelDepth.internal, kFaceSize, kFaceSize);
+    sampledDepth_ = createTexture2D("probe depth (sampled copy)", kChannelDepth.internal, faceSize_, faceSize_);
     setSampling(sampledDepth_, GL_NEAREST, GL_NEAREST);
     rasterFbo_ = createFramebuffer("probe raster");
     glNamedFramebufferTexture(rasterFbo_.id(), GL_COLOR_ATTACHMENT0, ids_.id(), 0);
@@ -51,7 +56,7 @@ void ReflectionProbes::updateSlots(const GpuScene& gpu, const VisibilityPass& ra
                                    const ShadeInputs& local, const std::vector<Bounds>& instances,
                                    const std::vector<int>& slots) {
   assert(cubes_ && static_cast<int>(probes_.size()) == count_ && "updateSlots before update()");
-  // Filtering across face edges, so the seams of a 128² probe do not show in a smooth mirror.
+  // Filtering across face edges, so the seams of a probe's small faces do not show in a smooth mirror.
   glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
   Bounds world;
   for (const Bounds& b : instances) world.add(b);
@@ -62,9 +67,10 @@ void ReflectionProbes::updateSlots(const GpuScene& gpu, const VisibilityPass& ra
     glm::vec3 eye = instances[probe].centre();
     for (int face = 0; face < 6; ++face) {
       Camera c = cubeFaceCamera(eye, face, nearZ, std::numeric_limits<float>::infinity());
-      raster.renderInto(rasterFbo_.id(), kFaceSize, kFaceSize, gpu, c, probe);
+      seenBy(c.clipFromView(glm::ivec2(faceSize_)) * c.viewFromWorld(), instances, seen_);
+      raster.renderInto(rasterFbo_.id(), faceSize_, faceSize_, gpu, c, probe, GpuScene::Instances::All, true, &seen_);
       glNamedFramebufferTextureLayer(shadeFbo_.id(), GL_COLOR_ATTACHMENT0, cubes_.id(), 0, 6 * slot + face);
-      shade.shadeInto(shadeFbo_.id(), kFaceSize, kFaceSize, gpu, ids_, depth_, &sampledDepth_, c, local);
+      shade.shadeInto(shadeFbo_.id(), faceSize_, faceSize_, gpu, ids_, depth_, &sampledDepth_, c, local);
     }
   }
   // The mip chains of the re-rendered probes only, each level a linear blit of the one above (a 2×2 box, as
@@ -74,8 +80,8 @@ void ReflectionProbes::updateSlots(const GpuScene& gpu, const VisibilityPass& ra
     if (!mipRead_) mipRead_ = createFramebuffer("probe mip read"), mipDraw_ = createFramebuffer("probe mip draw");
     for (int slot : slots)
       for (int face = 0; face < 6; ++face)
-        for (int level = 1; level < kLevels; ++level) {
-          const int src = kFaceSize >> (level - 1), dst = kFaceSize >> level;
+        for (int level = 1; level < levels_; ++level) {
+          const int src = faceSize_ >> (level - 1), dst = faceSize_ >> level;
           glNamedFramebufferTextureLayer(mipRead_.id(), GL_COLOR_ATTACHMENT0, cubes_.id(), level - 1, 6 * slot + face);
           glNamedFramebufferTextureLayer(mipDraw_.id(), GL_COLOR_ATTACHMENT0, cubes_.id(), level, 6 * slot + face);
           glNamedFramebufferReadBuffer(mipRead_.id(), GL_COLOR_ATTACHMENT0);
@@ -97,6 +103,7 @@ void ReflectionProbes::release() {
   mipDraw_.reset();
   probes_.clear();
   count_ = 0;
+  faceSize_ = levels_ = 0;
 }
 
 }  // namespace tandem::gl

@@ -18,13 +18,11 @@ namespace tandem::gl {
 /// direction up in it.
 class ReflectionProbes {
  public:
-  static constexpr int kFaceSize = 128;
-  static constexpr int kLevels = 8;  // 128² down to 1²
-
-  /// Re-renders every probe (made anew when their number changed). `local` are the inputs of the probes'
-  /// shade pass (no ray results, no probes: one bounce).
+  /// Re-renders every probe with faces of `faceSize`² texels (a power of two; FrameSettings::probeSize), made
+  /// anew when their number or size changed. `local` are the inputs of the probes' shade pass (no ray
+  /// results, no probes: one bounce).
   void update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, ShadePass& shade,
-              const ShadeInputs& local, const std::vector<Bounds>& instances);
+              const ShadeInputs& local, const std::vector<Bounds>& instances, int faceSize);
   /// Re-renders only the probes in `slots` (all six faces each); their number must be unchanged since
   /// the last update().
   void updateSlots(const GpuScene& gpu, const VisibilityPass& raster, ShadePass& shade, const ShadeInputs& local,
@@ -33,6 +31,7 @@ class ReflectionProbes {
   /// The cube-map array (layer = probe slot) the shade pass looks reflected directions up in.
   const Texture& cubes() const { return cubes_; }
   int probeCount() const { return count_; }
+  int faceSize() const { return faceSize_; }
 
  private:
   Texture cubes_, ids_, depth_;
@@ -40,7 +39,10 @@ class ReflectionProbes {
   Framebuffer rasterFbo_, shadeFbo_;
   Framebuffer mipRead_, mipDraw_;  // the mip chain of a re-rendered probe, level by level
   std::vector<std::uint32_t> probes_;  // the instance of each slot (GpuScene's probeInstances order)
+  std::vector<std::uint8_t> seen_;     // the face being drawn: which instances it may see (seenBy)
   int count_ = 0;
+  int faceSize_ = 0;
+  int levels_ = 0;  // faceSize² down to 1²
 };
 
 }  // namespace tandem::gl

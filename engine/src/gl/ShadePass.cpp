@@ -169,11 +169,17 @@ Result<void> ShadePass::reserveSampledDepth(int width, int height) {
 
 void ShadePass::releaseFrame() { sampledDepth_.reset(); }
 
-const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in) {
+const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in, Role role) {
+  // The pass that reads the maps: the frame's (per pixel) or the shadow-mask pass (whose inputs have no
+  // view, rays, probes or display: drawShadowMask). The frame's pass after a mask reads the mask instead.
+  const bool maps = in.shadowMaps != nullptr && role != Role::ShadeWithMask;
+  const bool mask = role == Role::ShadowMask;
   // The map kinds matter only with shadow maps: without them a spot whose cone crosses kMaxSpotMapDeg
   // must not compile another variant.
-  const std::uint32_t lightKinds = in.shadowMaps ? f.lightKinds : f.lightKinds & 0x33333333u;
+  const std::uint32_t lightKinds = maps ? f.lightKinds : f.lightKinds & 0x33333333u;
   std::string defines = "#define TD_DEBUG_VIEW " + std::to_string(static_cast<int>(in.debugView)) +
+                        "\n#define TD_SHADOW_MASK_PASS " + std::to_string(mask ? 1 : 0) +
+                        "\n#define TD_SHADOW_MASK " + std::to_string(role == Role::ShadeWithMask ? 1 : 0) +
                         "\n#define TD_RAY_INPUTS " + std::to_string(in.rayChannels) +
                         "\n#define TD_RAY_SCALED " + std::to_string(in.rayScale > 1 ? 1 : 0) +
                         "\n#define TD_USE_GOURAUD " + std::to_string(f.gouraud) +
@@ -188,8 +194,8 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in)
                         "\n#define TD_LIGHT_KINDS " + std::to_string(lightKinds) + "u" +
                         "\n#define TD_USE_AREA_LIGHTS " + std::to_string(f.areaLights ? 1 : 0) +
                         "\n#define TD_UNIFORM_MATERIALS " + std::to_string(f.uniformMaterials) +
-                        "\n#define TD_SHADOW_MAPS " + std::to_string(in.shadowMaps ? 1 : 0) +
-                        "\n#define TD_SOFT_SHADOWS " + std::to_string(in.shadowMaps && in.softShadows ? 1 : 0) +
+                        "\n#define TD_SHADOW_MAPS " + std::to_string(maps ? 1 : 0) +
+                        "\n#define TD_SOFT_SHADOWS " + std::to_string(maps && in.softShadows ? 1 : 0) +
                         "\n#define TD_PROBES " + std::to_string(in.probeCubes ? in.probeEffects : 0) +
                         "\n#define TD_FRESNEL_SCHLICK " + std::to_string(in.fresnel == FresnelMode::Schlick ? 1 : 0) +
                         "\n#define TD_FRESNEL_WEIGHTED " + std::to_string(in.fresnelWeighted ? 1 : 0) +
@@ -214,37 +220,86 @@ void ShadePass::shade(GLuint framebuffer, const GpuScene& scene, const Visibilit
                       const Camera& camera, const ShadeInputs& in) {
   ShadeInputs frame = in;
   frame.exactHits = visibility.exactHits() ? &visibility.exactHits() : nullptr;
-  shadeInto(framebuffer, visibility.width(), visibility.height(), scene, visibility.ids(), visibility.depth(),
-            sampledDepth_ ? &sampledDepth_ : nullptr, camera, frame);
+  Role role = Role::Shade;
+  if (frame.shadowMaps && frame.rayScale > 1) {
+    // The ray grid (rt/RayTracer.h): ceil(W/s) × ceil(H/s), the rays' own when there are any.
+    const int gw = (visibility.width() + frame.rayScale - 1) / frame.rayScale;
+    const int gh = (visibility.height() + frame.rayScale - 1) / frame.rayScale;
+    assert((frame.rayWidth == 0 || (frame.rayWidth == gw && frame.rayHeight == gh)) && "shade: a ray grid of another size");
+    if (drawShadowMask(scene, visibility, camera, frame, gw, gh)) {
+      role = Role::ShadeWithMask;
+      frame.rayWidth = gw;
+      frame.rayHeight = gh;
+    }
+  }
+  draw(framebuffer, visibility.width(), visibility.height(), scene, visibility.ids(), visibility.depth(),
+       sampledDepth_ ? &sampledDepth_ : nullptr, camera, frame, role);
+}
+
+bool ShadePass::drawShadowMask(const GpuScene& scene, const VisibilityPass& visibility, const Camera& camera,
+                               const ShadeInputs& in, int gridWidth, int gridHeight) {
+  if (!shadowMask_ || maskWidth_ != gridWidth || maskHeight_ != gridHeight) {
+    shadowMask_.reset();
+    shadowMaskFbo_.reset();
+    maskWidth_ = maskHeight_ = 0;
+    auto made = tryCreateTexture2DArray("raster shadow mask", kChannelShadowMask.internal, gridWidth, gridHeight, 2);
+    if (!made) {
+      logError(made.error().message);  // the frame falls back to a lookup per pixel: slower, the same shadows
+      return false;
+    }
+    shadowMask_ = std::move(*made);
+    setSampling(shadowMask_, GL_NEAREST, GL_NEAREST);
+    shadowMaskFbo_ = createFramebuffer("raster shadow mask");
+    glNamedFramebufferTextureLayer(shadowMaskFbo_.id(), GL_COLOR_ATTACHMENT0, shadowMask_.id(), 0, 0);
+    glNamedFramebufferTextureLayer(shadowMaskFbo_.id(), GL_COLOR_ATTACHMENT1, shadowMask_.id(), 0, 1);
+    const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(shadowMaskFbo_.id(), 2, buffers);
+    if (auto complete = checkFramebufferComplete(shadowMaskFbo_, "raster shadow mask"); !complete) {
+      logError(complete.error().message);
+      shadowMask_.reset();
+      shadowMaskFbo_.reset();
+      return false;
+    }
+    maskWidth_ = gridWidth;
+    maskHeight_ = gridHeight;
+  }
+  // Every grid pixel is written (the sky's as visible): no depth test, no clear.
+  glBindFramebuffer(GL_FRAMEBUFFER, shadowMaskFbo_.id());
+  glViewport(0, 0, gridWidth, gridHeight);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  // The mask pass draws visibility only: no view, rays, probes, radiosity or display in its variant.
+  ShadeInputs grid = in;
+  grid.rayWidth = gridWidth;
+  grid.rayHeight = gridHeight;
+  grid.rayChannels = grid.rayInputs = 0;
+  grid.debugView = DebugView::Final;
+  grid.probeCubes = nullptr;
+  grid.probeEffects = 0;
+  grid.radiosity = false;
+  grid.fusedOutput = false;
+  GLuint p = variant(scene.features(), grid, Role::ShadowMask).id();
+  setUp(p, visibility.width(), visibility.height(), scene, visibility.ids(), camera, grid);
+  in.shadowMaps->bind(placeholders_);
+  glUseProgram(p);
+  glBindVertexArray(emptyVao_.id());
+  assertNoFeedbackLoop("shadow mask");
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return true;
 }
 
 void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuScene& scene, const Texture& ids,
-                              const Texture& depth, const Texture* sampledDepth, const Camera& camera,
-                              const ShadeInputs& in) {
-  // Background pixels never run the shader: the visibility depth is attached (read-only) and the
-  // full-screen triangle at depth 0 passes only where something was drawn (reversed-Z: cleared = 0), so
-  // llvmpipe's early depth test skips whole sky blocks; the clear gives them their colour. Attached
-  // every call: a resized visibility pass may get its old texture name back for a new texture.
-  glNamedFramebufferTexture(framebuffer, GL_DEPTH_ATTACHMENT, depth.id(), 0);
-  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);  // fullscreen.vert's z = 0 must land on depth 0
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-  glViewport(0, 0, width, height);
-  glm::vec4 clear(in.debugView == DebugView::Final ? in.background : glm::vec3(0.0f), 1.0f);
-  glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, glm::value_ptr(clear));
-  const bool passThrough = !isRadianceView(in.debugView);
-  if (in.fusedOutput) {
-    // The sky's display value, by the shader's formula (its C++ twin): the pixels the shader skips.
-    const glm::vec4 display(shading::tdDisplay(glm::vec3(clear), in.exposure, static_cast<int>(in.toneMap), passThrough),
-                            1.0f);
-    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 1, glm::value_ptr(display));
-  }
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_FALSE);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
+                          const Texture& depth, const Texture* sampledDepth, const Camera& camera,
+                          const ShadeInputs& in) {
+  draw(framebuffer, width, height, scene, ids, depth, sampledDepth, camera, in, Role::Shade);
+}
 
-  GLuint p = variant(scene.features(), in).id();
+void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, const Texture& ids, const Camera& camera,
+                      const ShadeInputs& in) {
   float aspect = float(width) / float(height);
   glm::vec3 forward = glm::normalize(camera.targetW - camera.posW);
   glm::vec3 right = glm::normalize(glm::cross(forward, camera.upW));
@@ -277,28 +332,11 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
     glProgramUniform3fv(p, 17, 1, glm::value_ptr(in.radiosityAmbient));
     glProgramUniform1i(p, 18, in.radiosityInstances);
   }
-  if (in.fusedOutput) {
-    glProgramUniform1f(p, 14, in.exposure);
-    glProgramUniform1i(p, 15, static_cast<int>(in.toneMap));
-    glProgramUniform1i(p, 16, passThrough ? 1 : 0);
-  }
-
   scene.bind(kUnitKd, kUnitRamps);
   scene.bindShading();
   assert((!in.radiosity || scene.hasRadiosity()) && "shadeInto: radiosity asked for and none uploaded");
   if (in.radiosity) scene.bindRadiosity();
   glBindTextureUnit(kUnitIds, ids.id());
-  // The shader never reads the attached depth: that is a feedback loop, undefined even with depth writes
-  // off (a GPU that compresses or tiles depth may hand the sampler stale or compressed data). Frames that
-  // need depth read a copy; the others bind nothing there.
-  const bool readsDepth = samplesDepth(scene.features(), in.debugView);
-  assert((!readsDepth || sampledDepth) && "shadeInto: this variant samples depth and has no copy to read");
-  if (readsDepth)
-    glCopyImageSubData(depth.id(), GL_TEXTURE_2D, 0, 0, 0, 0, sampledDepth->id(), GL_TEXTURE_2D, 0, 0, 0, 0, width,
-                       height, 1);
-  glBindTextureUnit(kUnitDepth, readsDepth ? sampledDepth->id() : 0);
-  if (in.shadowMaps) in.shadowMaps->bind(placeholders_);
-  if (in.probeCubes && in.probeEffects != 0) glBindTextureUnit(kUnitProbes, in.probeCubes->id());
   // Every sampler the variant declares gets a texture of its type: the frame's, or a placeholder the shader
   // never reads (rayInputs and the light kinds keep it away), never an empty unit (gl/Placeholders.h).
   using P = Placeholders;
@@ -308,6 +346,53 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   placeholders_.bindOr(kUnitReflected, (in.rayInputs & kRayReflected) ? reflected_.id() : 0, P::Float2D);
   placeholders_.bindOr(kUnitTransmitted, (in.rayInputs & kRayTransmitted) ? transmitted_.id() : 0, P::Float2D);
   placeholders_.bindOr(kUnitExactHits, in.exactHits ? in.exactHits->id() : 0, P::Float2D);
+}
+
+void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& scene, const Texture& ids,
+                     const Texture& depth, const Texture* sampledDepth, const Camera& camera, const ShadeInputs& in,
+                     Role role) {
+  // Background pixels never run the shader: the visibility depth is attached (read-only) and the
+  // full-screen triangle at depth 0 passes only where something was drawn (reversed-Z: cleared = 0), so
+  // llvmpipe's early depth test skips whole sky blocks; the clear gives them their colour. Attached
+  // every call: a resized visibility pass may get its old texture name back for a new texture.
+  glNamedFramebufferTexture(framebuffer, GL_DEPTH_ATTACHMENT, depth.id(), 0);
+  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);  // fullscreen.vert's z = 0 must land on depth 0
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glViewport(0, 0, width, height);
+  glm::vec4 clear(in.debugView == DebugView::Final ? in.background : glm::vec3(0.0f), 1.0f);
+  glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, glm::value_ptr(clear));
+  const bool passThrough = !isRadianceView(in.debugView);
+  if (in.fusedOutput) {
+    // The sky's display value, by the shader's formula (its C++ twin): the pixels the shader skips.
+    const glm::vec4 display(shading::tdDisplay(glm::vec3(clear), in.exposure, static_cast<int>(in.toneMap), passThrough),
+                            1.0f);
+    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 1, glm::value_ptr(display));
+  }
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_FALSE);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+
+  GLuint p = variant(scene.features(), in, role).id();
+  setUp(p, width, height, scene, ids, camera, in);
+  if (in.fusedOutput) {
+    glProgramUniform1f(p, 14, in.exposure);
+    glProgramUniform1i(p, 15, static_cast<int>(in.toneMap));
+    glProgramUniform1i(p, 16, passThrough ? 1 : 0);
+  }
+  // The shader never reads the attached depth: that is a feedback loop, undefined even with depth writes
+  // off (a GPU that compresses or tiles depth may hand the sampler stale or compressed data). Frames that
+  // need depth read a copy; the others bind nothing there.
+  const bool readsDepth = samplesDepth(scene.features(), in.debugView);
+  assert((!readsDepth || sampledDepth) && "shadeInto: this variant samples depth and has no copy to read");
+  if (readsDepth)
+    glCopyImageSubData(depth.id(), GL_TEXTURE_2D, 0, 0, 0, 0, sampledDepth->id(), GL_TEXTURE_2D, 0, 0, 0, 0, width,
+                       height, 1);
+  glBindTextureUnit(kUnitDepth, readsDepth ? sampledDepth->id() : 0);
+  if (in.shadowMaps && role == Role::Shade) in.shadowMaps->bind(placeholders_);
+  if (role == Role::ShadeWithMask) glBindTextureUnit(kUnitShadowMask, shadowMask_.id());
+  if (in.probeCubes && in.probeEffects != 0) glBindTextureUnit(kUnitProbes, in.probeCubes->id());
 
   glUseProgram(p);
   glBindVertexArray(emptyVao_.id());

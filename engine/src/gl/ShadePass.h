@@ -90,6 +90,8 @@ class ShadePass {
   Result<void> uploadTransmitted(int width, int height, const glm::vec4* rgba, const GridTiles& tiles = {});
   /// The textures those uploads fill (for tests: the grid they hold must be what was uploaded).
   const Texture& reflectedTexture() const { return reflected_; }
+  /// The last shadow-mask pass's grid (RGBA16 array, 2 layers; empty before the first).
+  const Texture& shadowMaskTexture() const { return shadowMask_; }
   const Texture& transmittedTexture() const { return transmitted_; }
 
   /// Whether the shade pass for these scene features and this view reads depth in the shader (the toon
@@ -103,7 +105,10 @@ class ShadePass {
   void releaseFrame();
 
   /// Shades the frame's visibility buffer into `framebuffer` (the frame's size). `camera` in render space
-  /// (GpuScene::anchor()), as the visibility pass drew with.
+  /// (GpuScene::anchor()), as the visibility pass drew with. Raster shadows with rayScale > 1 are looked up
+  /// on the ray grid first (the shadow-mask pass: one lookup per grid pixel, at the pixel it stands for) and
+  /// gathered edge-aware as the rays' light mask is; an error names the mask's texture when the GL refuses
+  /// it, and the frame is then shaded with a lookup per pixel.
   void shade(GLuint framebuffer, const GpuScene& scene, const VisibilityPass& visibility, const Camera& camera,
              const ShadeInputs& in);
   /// The same shade pass into another colour target of width × height (a reflection probe's face) from
@@ -114,8 +119,20 @@ class ShadePass {
                  const Texture& depth, const Texture* sampledDepth, const Camera& camera, const ShadeInputs& in);
 
  private:
+  /// What a variant draws: the frame or a probe's face (with maps of its own, or the mask's grid), or the
+  /// shadow-mask pass.
+  enum class Role { Shade, ShadeWithMask, ShadowMask };
   /// The shade program compiled for this frame's features (compiled on first use, then cached).
-  const Program& variant(const SceneFeatures& features, const ShadeInputs& in);
+  const Program& variant(const SceneFeatures& features, const ShadeInputs& in, Role role = Role::Shade);
+  /// The uniforms and the inputs every role reads (camera, frame, lights, scene, ids, exact hits).
+  void setUp(GLuint program, int width, int height, const GpuScene& scene, const Texture& ids, const Camera& camera,
+             const ShadeInputs& in);
+  /// shadeInto's draw, as `role` (Shade or ShadeWithMask).
+  void draw(GLuint framebuffer, int width, int height, const GpuScene& scene, const Texture& ids, const Texture& depth,
+            const Texture* sampledDepth, const Camera& camera, const ShadeInputs& in, Role role);
+  /// The shadow-mask pass into shadowMask_ (gridWidth × gridHeight); false when its texture was refused.
+  bool drawShadowMask(const GpuScene& scene, const VisibilityPass& visibility, const Camera& camera, const ShadeInputs& in,
+                      int gridWidth, int gridHeight);
 
   std::map<std::string, Program> variants_;
   VertexArray emptyVao_;  // core profile draws need a VAO even with no attributes
@@ -124,6 +141,10 @@ class ShadePass {
   int areaWidth_ = 0, areaHeight_ = 0, areaLayers_ = 0;
   GridResidency reflectedResident_, transmittedResident_;
   Texture sampledDepth_;  // frame size, with reserveSampledDepth()
+  Texture shadowMask_;    // the ray grid, 2 layers (kChannelShadowMask)
+  Framebuffer shadowMaskFbo_;
+  int maskWidth_ = 0, maskHeight_ = 0;
+
   Placeholders placeholders_;  // for the samplers a variant declares and a frame gives nothing to
 };
 

@@ -70,7 +70,8 @@ void VisibilityPass::render(const GpuScene& scene, const Camera& camera) {
 
 void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const GpuScene& scene,
                                 const Camera& camera, std::optional<std::uint32_t> excluded,
-                                GpuScene::Instances which, bool clear) const {
+                                GpuScene::Instances which, bool clear,
+                                const std::vector<std::uint8_t>* seen) const {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   glViewport(0, 0, width, height);
   // Reversed-Z: near → 1, far → 0 with [0, 1] clip depth, so float depth keeps its precision far away.
@@ -99,7 +100,7 @@ void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const
   glProgramUniform1ui(program, 2, excluded ? *excluded + 1u : 0u);
   scene.bind(2, 3);
   assertNoFeedbackLoop("visibility");
-  scene.draw(which);
+  scene.draw(which, seen);
   glUseProgram(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

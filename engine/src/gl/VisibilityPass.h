@@ -35,9 +35,11 @@ class VisibilityPass {
   /// is left out when given. Clears the target's depth to far (0) and its colour 0 (if any) to 0.
   /// `which`: all instances, or the static or dynamic ones only; with `clear` false the target keeps what it
   /// holds and the draw adds to it (the dynamic instances over a copy of what the static ones drew).
+  /// `seen`: only the instances it flags (seenBy: those the view may see), the same target to the bit.
   void renderInto(GLuint framebuffer, int width, int height, const GpuScene& scene, const Camera& camera,
                   std::optional<std::uint32_t> excluded = std::nullopt,
-                  GpuScene::Instances which = GpuScene::Instances::All, bool clear = true) const;
+                  GpuScene::Instances which = GpuScene::Instances::All, bool clear = true,
+                  const std::vector<std::uint8_t>* seen = nullptr) const;
   /// The ids channel, row 0 = top (the ray pass's convention); `ids` is resized to width × height.
   void readIds(std::vector<glm::uvec2>& ids) const;
 

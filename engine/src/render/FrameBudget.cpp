@@ -66,6 +66,7 @@ void copyViewPart(const FrameSettings& from, FrameSettings& to) {
   to.toneMap = from.toneMap;
   to.reuseRays = from.reuseRays;
   to.probesPerFrame = from.probesPerFrame;
+  to.probeSize = from.probeSize;
   to.targetMs = from.targetMs;
 }
 

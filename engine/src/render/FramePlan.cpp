@@ -69,6 +69,7 @@ bool sameRayInputs(const FramePlan& a, const FramePlan& b) {
     s.exposure = FrameSettings{}.exposure;
     s.debugView = FrameSettings{}.debugView;
     s.probesPerFrame = FrameSettings{}.probesPerFrame;
+    s.probeSize = FrameSettings{}.probeSize;
     s.reuseRays = FrameSettings{}.reuseRays;
     s.targetMs = FrameSettings{}.targetMs;  // the budget's choice is in the other fields
     return s;

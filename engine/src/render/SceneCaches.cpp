@@ -109,7 +109,8 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     }
     if (shadowMaps_.mapCount() + shadowMaps_.cubeCount() > 0) in.shadowMaps = &shadowMaps_;
   } else if (shadowVersion_ != 0) {
-    shadowMaps_.release();  // cost follows the settings: no maps held while shadows are not raster
+    // Cost follows the settings: no maps held while shadows are not raster (freeing them is the stage's too).
+    stage(stats.shadowsMs, gl::GpuTimers::Shadows, [&] { shadowMaps_.release(); });
     shadowVersion_ = 0;
   }
   if (probeEffects != 0) {
@@ -126,6 +127,7 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
       ++radiosityChanges_;
     }
     const bool all = probeLayoutVersion_ != gpuLayoutVersion_ || probesShadowed_ != shadowed || probeVersion_ == 0 ||
+                     (probes_.probeCount() > 0 && probes_.faceSize() != plan.settings.probeSize) ||
                      (budget <= 0 && probeVersion_ != probeInputs());
     // Probes show moving instances at the middle of the shutter, lit by shadow maps of that time, whatever
     // sample's time the GL copy is at: what they hold must not depend on which sample happened to draw them.
@@ -140,7 +142,8 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     }
     const std::vector<gl::Bounds>& probeBounds = middleBounds.empty() ? instanceBounds : middleBounds;
     if (all) {
-      stage(stats.probesMs, gl::GpuTimers::Probes, [&] { probes_.update(scene, gpu_, raster, shade, local, probeBounds); });
+      stage(stats.probesMs, gl::GpuTimers::Probes,
+            [&] { probes_.update(scene, gpu_, raster, shade, local, probeBounds, plan.settings.probeSize); });
       probeSlotVersions_.assign(static_cast<std::size_t>(probes_.probeCount()), probeInputs());
       probeVersion_ = probeInputs();
       probeLayoutVersion_ = gpuLayoutVersion_;
@@ -157,7 +160,7 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
       in.probeEffects = probeEffects;
     }
   } else if (probeVersion_ != 0) {
-    probes_.release();
+    stage(stats.probesMs, gl::GpuTimers::Probes, [&] { probes_.release(); });
     probeSlotVersions_.clear();
     probeVersion_ = 0;
   }
