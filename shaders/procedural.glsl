@@ -159,7 +159,10 @@ TD_FN vec4 tdPattern(int type, vec3 p, float scale, float turbulence, int octave
     vec4 t = tdTurbulenceGrad(q, octaves);
     float s = q.x + turbulence * t.x;
     vec3 ds = scale * (vec3(1.0f, 0.0f, 0.0f) + turbulence * vec3(t.y, t.z, t.w));
-    float angle = 3.14159265f * s;
+    // sin(πs) repeats every 2 in s: s is reduced to [0, 2) first, exactly (s/2, its floor and twice that are exact
+    // in float, and so is the difference), so the sine never sees a large argument. GPU sines reduce large ones
+    // coarsely (NVIDIA's are off by ~|x|·2^-22: 0.01 at a point 1e4 from the origin), the C++ sin exactly.
+    float angle = 3.14159265f * (s - 2.0f * floor(0.5f * s));
     float w = 0.5f + 0.5f * sin(angle);
     return tdClampPattern(w * w * w, (3.0f * w * w * 0.5f * 3.14159265f * cos(angle)) * ds);
   }
@@ -171,7 +174,7 @@ TD_FN vec4 tdPattern(int type, vec3 p, float scale, float turbulence, int octave
     vec4 n = tdNoiseGrad(q * vec3(1.0f, 0.25f, 1.0f));  // stretched along the grain
     float s = rho + turbulence * n.x;
     vec3 ds = scale * (dRho + turbulence * vec3(n.y, 0.25f * n.z, n.w));
-    float angle = 6.28318531f * s;
+    float angle = 6.28318531f * (s - floor(s));  // cos(2πs) repeats every 1 in s: reduced exactly, as marble's
     float w = 0.5f + 0.5f * cos(angle);
     return tdClampPattern(w * w, (-2.0f * w * 0.5f * 6.28318531f * sin(angle)) * ds);
   }

@@ -240,6 +240,32 @@ TEST(Procedural, DeterministicAndPinned) {
   EXPECT_NEAR(n.w, 0.290918827f, 1e-5f);
 }
 
+TEST(Procedural, FarVeinsAndRingsAreWhereTheirFloatPointSays) {
+  // Far from the origin marble's sine and wood's cosine take large arguments: π·s rounded to float is off by
+  // up to half an ulp of it (0.002 at s = 1.5e4), and GPU sines reduce large arguments coarsely. The patterns
+  // reduce s exactly before the angle, so each equals the closed form of its own float s in double precision.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> jitter(-1.0f, 1.0f);
+  double worstMarble = 0.0, worstWood = 0.0;
+  for (const float far : {1e3f, 1e4f, -3e4f, 2e5f})
+    for (int i = 0; i < 200; ++i) {
+      const glm::vec3 p(far + jitter(rng), 0.3f * jitter(rng), far * 0.5f + jitter(rng));
+      const float scale = 1.5f, turbulence = 1.5f;
+      glm::vec3 q = p * scale;
+      q = glm::vec3(tdLatticeSafe(q.x), tdLatticeSafe(q.y), tdLatticeSafe(q.z));
+      const float s = q.x + turbulence * tdTurbulenceGrad(q, 4).x;
+      const double w = 0.5 + 0.5 * std::sin(3.14159265358979 * double(s));
+      worstMarble = std::max(worstMarble, std::abs(double(tdPattern(TD_PATTERN_MARBLE, p, scale, turbulence, 4).x) - w * w * w));
+      const float rho = std::sqrt(q.x * q.x + q.z * q.z);
+      const float r = rho + turbulence * tdNoiseGrad(q * glm::vec3(1.0f, 0.25f, 1.0f)).x;
+      const double v = 0.5 + 0.5 * std::cos(6.28318530717959 * double(r));
+      worstWood = std::max(worstWood, std::abs(double(tdPattern(TD_PATTERN_WOOD, p, scale, turbulence, 4).x) - v * v));
+    }
+  // Float sines of reduced arguments are within a few 1e-7; the unreduced angle gave errors of ~1e-3 here.
+  EXPECT_LT(worstMarble, 2e-6);
+  EXPECT_LT(worstWood, 2e-6);
+}
+
 TEST(Procedural, OctavesClampToOneThroughEight) {
   // 0 or negative octaves would divide by a zero amplitude sum; more than 8 cost without showing (the 9th is
   // 1/256 of the first).
