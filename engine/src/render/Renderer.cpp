@@ -27,7 +27,7 @@
 #include "rt/EmbreeScene.h"
 #include "rt/RayReuse.h"
 #include "rt/RayTracer.h"
-#include "render/Adaptive.h"
+#include "render/Accumulation.h"
 #include "render/FrameBudget.h"
 #include "render/FramePlan.h"
 #include "render/RadiosityJob.h"
@@ -81,24 +81,7 @@ struct Renderer::Impl {
     std::vector<Light> directLights;    // Scene::directLights() order
   } last;
 
-  // Anti-aliasing and progressive accumulation (FrameSettings::aa, accumulate): the samples drawn so far for
-  // the camera, scene and settings they were drawn with, summed per pixel in linear radiance.
-  struct Accumulation {
-    bool active = false;
-    Camera camera;            // as the application gave it, without jitter
-    FrameSettings settings;   // the plan's
-    int frames = 0;           // frames whose samples are in the sums
-    std::uint32_t next = 0;   // index of the next sample's sub-pixel offset (subpixelJitter)
-    int width = 0, height = 0;
-    std::vector<glm::dvec3> sum;  // double: 65536 frames of 256 samples would drift in float
-    std::vector<std::uint32_t> count;
-    std::vector<float> lo, hi;  // adaptive: each pixel's samples' smallest and largest display luminance
-    ImageF mean;
-    // The first frame's one sample is shown as drawn and read into the sums only if the next frame goes on:
-    // a game that accumulates at rest pays nothing for it while things move.
-    bool firstUnread = false;
-    void release() { *this = Accumulation{}; }
-  } accum;
+  Accumulation accum;  // anti-aliasing and progressive accumulation: the samples so far (render/Accumulation.h)
 
   Result<void> allocateFrame(int width, int height);
   // One sample of the frame: raster → readback → rays → upload → shade with `camera` (jittered by the
@@ -331,7 +314,7 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   if (!timed(stats.prepareMs, [&] { return r.prepare(plan, camera, stats); })) return finished();
   const FrameSettings& s = plan.settings;
   if (s.aa == AntiAlias::Off && s.accumulate <= 1) {
-    if (r.accum.active) timed(stats.accumulateMs, [&] { r.accum.release(); });  // cost follows the settings
+    if (r.accum.active()) timed(stats.accumulateMs, [&] { r.accum.release(); });  // cost follows the settings
     if (r.drawSample(plan, camera, stats, lastDrawn, nullptr)) timed(stats.presentMs, [&] { r.present(); });
     return finished();
   }
@@ -417,83 +400,42 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
 
 bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn) {
   const FrameSettings& s = plan.settings;
-  const int w = s.width, h = s.height;
-  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
-  // The samples so far go on only while nothing they show changed: the camera (unjittered), the scene (every
-  // change to it marks last.sceneChanged) and the settings.
-  // Probes that are still catching up with a move (probesPerFrame > 0) change what the samples show too.
-  const bool goesOn = s.accumulate > 1 && accum.active && lastDrawn && !last.sceneChanged &&
-                      caches.probesCurrent() && accum.camera == camera && accum.settings == s && accum.width == w &&
-                      accum.height == h;
-  if (goesOn && accum.frames >= s.accumulate) {
-    // Converged: the mean is in the output targets already.
+  const Accumulation::Step step = accum.step(camera, s, {lastDrawn, last.sceneChanged, caches.probesCurrent()});
+  auto converged = [&] {  // the mean is in the output targets already
     last.drawn = true;
-    stats.samples = 0;
     stats.rayWidth = plan.reference ? reference.width : rays.width;
     stats.rayHeight = plan.reference ? reference.height : rays.height;
     stats.threads = tracer->threads();
-    stats.accumulated = static_cast<int>(*std::max_element(accum.count.begin(), accum.count.end()));
+    stats.accumulated = accum.mostSamples();
     return true;
-  }
-  if (!goesOn)
-    timed(stats.accumulateMs, [&] {
-      accum.release();
-      accum.active = true;
-      accum.camera = camera;
-      accum.settings = s;
-      accum.width = w;
-      accum.height = h;
-      accum.sum.assign(n, glm::dvec3(0.0));
-      accum.count.assign(n, 0u);
-      if (s.aa == AntiAlias::Adaptive) {
-        accum.lo.assign(n, std::numeric_limits<float>::infinity());
-        accum.hi.assign(n, -std::numeric_limits<float>::infinity());
-      }
-    });
-  const bool adaptive = s.aa == AntiAlias::Adaptive;
+  };
+  stats.samples = 0;
+  if (step == Accumulation::Step::Converged) return converged();
+  if (step == Accumulation::Step::Restart) timed(stats.accumulateMs, [&] { accum.restart(camera, s); });
+  // The linear frame's read-back and the sums are the accumulation's time.
   auto addLinear = [&](const std::vector<std::uint8_t>* only) {
-    Timer clock;
-    struct Charge {  // the linear frame's read-back and the sums: the accumulation's time
-      Timer& clock;
-      double& ms;
-      ~Charge() { ms += clock.ms(); }
-    } charge{clock, stats.accumulateMs};
-    const ImageF sampleImage = plan.reference ? ImageF{} : outputPass.readLinear();
-    const ImageF& linear = plan.reference ? reference : sampleImage;
-    if (linear.rgb.size() != n) return;  // a debug view without a linear frame: nothing to add
-    for (std::size_t i = 0; i < n; ++i) {
-      if (only != nullptr && (*only)[i] == 0) continue;
-      accum.sum[i] += glm::dvec3(linear.rgb[i]);
-      ++accum.count[i];
-      if (adaptive) {
-        const float l = displayLuminance(linear.rgb[i], s);
-        accum.lo[i] = std::min(accum.lo[i], l);
-        accum.hi[i] = std::max(accum.hi[i], l);
-      }
-    }
+    timed(stats.accumulateMs, [&] {
+      if (plan.reference) accum.add(reference, only);
+      else accum.add(outputPass.readLinear(), only);
+    });
   };
   if (accum.firstUnread) {
     // Still in the linear target (or the reference image): nothing drew since.
     addLinear(nullptr);
     accum.firstUnread = false;
   }
-  const bool single = accum.frames == 0 && s.aa == AntiAlias::Off;
+  const bool adaptive = s.aa == AntiAlias::Adaptive;
+  const bool single = accum.frames() == 0 && s.aa == AntiAlias::Off;
   const int perFrame = s.aa == AntiAlias::Off ? 1 : s.aaSamples;
-  // Adaptive: the pixels a round samples, and the wider set whose rays it traces (see `disagreeing`).
+  // Adaptive: the pixels a round samples, and the wider set whose rays it traces (Accumulation::nextRound).
   std::vector<std::uint8_t> refine, traced;
-  stats.samples = 0;
   bool drawnOnce = lastDrawn;
   // Several samples in one frame must all see the same probes: probes still catching up with a move
   // (probesPerFrame > 0) are all brought up to date by the first sample instead of a few by each.
   FramePlan caughtUp = plan;
   caughtUp.settings.probesPerFrame = 0;
   auto addSample = [&](const std::vector<std::uint8_t>* only, const std::vector<std::uint8_t>* rayPixels) {
-    Camera jittered = camera;
-    jittered.sampleIndex = accum.next;  // new light samples with each new sub-pixel offset
-    jittered.jitterPx = subpixelJitter(accum.next);
-    if (camera.aperture > 0.0f) jittered.lensUv = lensSample(accum.next);  // and a new point of the lens
-    if (camera.shutter > 0.0f) jittered.timeU = timeSample(accum.next);   // and a new time in the shutter
-    ++accum.next;
+    const Camera jittered = accum.nextSample(camera);
     const bool catchUp = !single && !caches.probesCurrent();
     if (!drawSample(catchUp ? caughtUp : plan, jittered, stats, drawnOnce, rayPixels)) {
       accum.release();  // a sample is missing: the sums no longer stand for these settings
@@ -510,39 +452,28 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
       });
     return true;
   };
-  // Adaptive: the next round's pixels and rays (render/Adaptive.h); false when no pixel disagrees.
-  auto disagreeing = [&] {
-    return timed(stats.accumulateMs, [&] {
-      return adaptiveRound(accum.lo, accum.hi, accum.count, w, h, s.aaThreshold, s.rayScale, refine, traced);
-    });
-  };
   if (!adaptive) {
     for (int k = 0; k < perFrame; ++k)
       if (!addSample(nullptr, nullptr)) return false;
   } else {
     int drawn = 0;
-    if (accum.frames == 0) {
+    if (accum.frames() == 0) {
       // Every pixel first gets a few samples, enough to see whether they disagree.
       for (; drawn < std::min(4, perFrame); ++drawn)
         if (!addSample(nullptr, nullptr)) return false;
     }
-    while (drawn < perFrame && disagreeing()) {
+    while (drawn < perFrame && timed(stats.accumulateMs, [&] { return accum.nextRound(refine, traced); })) {
       for (int k = 0; k < std::min(4, perFrame - drawn); ++k)
         if (!addSample(&refine, &traced)) return false;
       drawn += std::min(4, perFrame - drawn);
     }
     if (stats.samples == 0) {
       // Nothing disagrees any more: the accumulation has converged early.
-      accum.frames = std::max(accum.frames, s.accumulate);
-      last.drawn = true;
-      stats.rayWidth = rays.width;
-      stats.rayHeight = rays.height;
-      stats.threads = tracer->threads();
-      stats.accumulated = static_cast<int>(*std::max_element(accum.count.begin(), accum.count.end()));
-      return true;
+      accum.convergedEarly();
+      return converged();
     }
   }
-  ++accum.frames;
+  accum.frameDone();
   if (single) {
     // The one sample is on show as the shade pass (or the reference's output) drew it.
     stats.accumulated = 1;
@@ -550,18 +481,9 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
   }
   // Show the mean: the output pass tone-maps it as it does a reference frame (the accumulation's time).
   timed(stats.accumulateMs, [&] {
-    accum.mean.width = w;
-    accum.mean.height = h;
-    accum.mean.rgb.resize(n);
-    std::uint32_t most = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint32_t c = accum.count[i];
-      accum.mean.rgb[i] = c > 0 ? glm::vec3(accum.sum[i] / static_cast<double>(c)) : glm::vec3(0.0f);
-      most = std::max(most, c);
-    }
-    stats.accumulated = static_cast<int>(most);
+    stats.accumulated = accum.mostSamples();
     gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Accumulate);
-    outputPass.uploadLinear(accum.mean);
+    outputPass.uploadLinear(accum.mean());
     outputPass.output(s.exposure, s.toneMap, s.debugView);
     glFinish();
   });

@@ -1,0 +1,84 @@
+#pragma once
+// Anti-aliasing and progressive accumulation (FrameSettings::aa and accumulate; docs/antialiasing.md) as one
+// unit without GL, so its decisions are unit tests (tests/unit/AccumulationTest.cpp): the samples drawn so far
+// for the camera, scene and settings they were drawn with, summed per pixel in linear radiance; whether a frame
+// goes on with them, starts again or has nothing left to add; each sample's camera; adaptive rounds; the mean
+// to show. The Renderer draws the samples it is asked for and hands their linear frames here.
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "tandem/Camera.h"
+#include "tandem/Image.h"
+#include "tandem/Settings.h"
+
+namespace tandem {
+
+class Accumulation {
+ public:
+  /// What a frame does with the samples so far.
+  enum class Step {
+    Restart,    // draw from nothing: something they show changed (or there are none)
+    GoOn,       // add this frame's samples to them
+    Converged,  // `accumulate` frames are in: the mean on show stays, nothing is drawn
+  };
+
+  /// What the frame as it stands has changed since the samples, for `step`.
+  struct Since {
+    bool lastDrawn = false;      // the last frame was drawn (a frame that failed leaves the targets unknown)
+    bool sceneChanged = false;   // an instance, a light or the scene changed since it
+    bool probesCurrent = true;   // no probe is still catching up with a move (probesPerFrame > 0)
+  };
+
+  /// Pure: the samples go on only while nothing they show changed: the camera as the application gave it
+  /// (unjittered), the scene, the settings (the plan's, which hold the size) and the probes.
+  Step step(const Camera& camera, const FrameSettings& settings, const Since& since) const;
+
+  /// Starts again from nothing for `camera` and `settings` (its size): sums, counts, and for adaptive
+  /// anti-aliasing each pixel's smallest and largest display luminance.
+  void restart(const Camera& camera, const FrameSettings& settings);
+  /// Frees everything (cost follows the settings: a frame without anti-aliasing or accumulation holds none).
+  void release() { *this = Accumulation{}; }
+  bool active() const { return active_; }
+
+  /// The next sample's camera: its sub-pixel offset, its index for light samples, and where the camera has a
+  /// lens or a shutter, its lens point and time (core/Sampling.h's sequences, in order).
+  Camera nextSample(const Camera& camera);
+
+  /// Adds a sample's linear frame at the pixels `only` marks (nullptr: all). A frame of another size (a debug
+  /// view has no linear frame) adds nothing.
+  void add(const ImageF& linear, const std::vector<std::uint8_t>* only);
+
+  /// Adaptive: the next round's pixels (`refine`) and the pixels whose rays it traces (`traced`;
+  /// render/Adaptive.h). False when no pixel's samples disagree.
+  bool nextRound(std::vector<std::uint8_t>& refine, std::vector<std::uint8_t>& traced) const;
+
+  /// The mean of each pixel's samples (black where none), to show.
+  const ImageF& mean();
+  /// The most samples any pixel has.
+  int mostSamples() const;
+
+  /// Frames whose samples are in the sums.
+  int frames() const { return frames_; }
+  void frameDone() { ++frames_; }
+  /// Adaptive: no pixel disagrees any more, so the accumulation has converged early.
+  void convergedEarly() { frames_ = std::max(frames_, settings_.accumulate); }
+  /// The first frame's one sample is shown as drawn and read into the sums only if the next frame goes on
+  /// (`firstUnread`): a game that accumulates at rest pays nothing for it while things move.
+  bool firstUnread = false;
+
+ private:
+  bool active_ = false;
+  Camera camera_;            // as the application gave it, without jitter
+  FrameSettings settings_;   // the plan's
+  int frames_ = 0;
+  std::uint32_t next_ = 0;   // index of the next sample's sub-pixel offset (subpixelJitter)
+  std::vector<glm::dvec3> sum_;  // double: 65536 frames of 256 samples would drift in float
+  std::vector<std::uint32_t> count_;
+  std::vector<float> lo_, hi_;  // adaptive: each pixel's samples' smallest and largest display luminance
+  ImageF mean_;
+};
+
+}  // namespace tandem

@@ -1,0 +1,188 @@
+// Anti-aliasing and progressive accumulation as a unit (render/Accumulation.h), without GL: when a frame goes on
+// with the samples so far, starts again or has converged; each sample's camera; sums of partial frames; the
+// mean. Worked out here from the rules docs/antialiasing.md states.
+#include <gtest/gtest.h>
+
+#include "core/Sampling.h"
+#include "render/Accumulation.h"
+
+namespace tandem {
+namespace {
+
+using Step = Accumulation::Step;
+
+FrameSettings accumulating(int frames, AntiAlias aa = AntiAlias::Off) {
+  FrameSettings s;
+  s.width = 4;
+  s.height = 3;
+  s.accumulate = frames;
+  s.aa = aa;
+  return s;
+}
+
+ImageF flat(int w, int h, glm::vec3 value) {
+  ImageF f;
+  f.width = w;
+  f.height = h;
+  f.rgb.assign(std::size_t(w * h), value);
+  return f;
+}
+
+const Accumulation::Since kStill{true, false, true};  // drawn, nothing changed, probes current
+
+TEST(Accumulation, GoesOnOnlyWhileNothingItShowsChanged) {
+  Accumulation a;
+  Camera camera;
+  const FrameSettings s = accumulating(8);
+  EXPECT_EQ(a.step(camera, s, kStill), Step::Restart) << "no samples yet";
+  a.restart(camera, s);
+  EXPECT_EQ(a.step(camera, s, kStill), Step::GoOn);
+
+  Camera moved = camera;
+  moved.posW.x += 1e-3f;
+  EXPECT_EQ(a.step(moved, s, kStill), Step::Restart) << "the camera moved";
+  FrameSettings other = s;
+  other.exposure = 2.0f;
+  EXPECT_EQ(a.step(camera, other, kStill), Step::Restart) << "a setting changed";
+  other = s;
+  other.width = 5;
+  EXPECT_EQ(a.step(camera, other, kStill), Step::Restart) << "the size changed";
+  EXPECT_EQ(a.step(camera, s, {false, false, true}), Step::Restart) << "the last frame was not drawn";
+  EXPECT_EQ(a.step(camera, s, {true, true, true}), Step::Restart) << "the scene changed";
+  EXPECT_EQ(a.step(camera, s, {true, false, false}), Step::Restart) << "probes still catching up";
+  Accumulation ssaa;
+  ssaa.restart(camera, accumulating(1, AntiAlias::Ssaa));
+  ssaa.frameDone();
+  EXPECT_EQ(ssaa.step(camera, accumulating(1, AntiAlias::Ssaa), kStill), Step::Restart)
+      << "anti-aliasing alone starts every frame from nothing";
+
+  // The camera as the application gives it: a sample's jitter is not a move.
+  const Camera sample = a.nextSample(camera);
+  EXPECT_NE(sample, camera);
+  EXPECT_EQ(a.step(camera, s, kStill), Step::GoOn);
+}
+
+TEST(Accumulation, ConvergesAfterItsFramesAndEarlyWhenAdaptiveRoundsAgree) {
+  Accumulation a;
+  const Camera camera;
+  const FrameSettings s = accumulating(3);
+  a.restart(camera, s);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(a.step(camera, s, kStill), Step::GoOn) << "frame " << k;
+    a.frameDone();
+  }
+  EXPECT_EQ(a.step(camera, s, kStill), Step::Converged);
+  EXPECT_EQ(a.step(camera, s, {true, true, true}), Step::Restart) << "converged, then the scene changed";
+
+  const FrameSettings adaptive = accumulating(16, AntiAlias::Adaptive);
+  a.restart(camera, adaptive);
+  a.frameDone();
+  a.convergedEarly();
+  EXPECT_EQ(a.frames(), 16);
+  EXPECT_EQ(a.step(camera, adaptive, kStill), Step::Converged);
+}
+
+TEST(Accumulation, EachSampleTakesTheNextPointsOfTheSequences) {
+  Accumulation a;
+  Camera camera;
+  camera.aperture = 0.1f;
+  camera.shutter = 0.02f;
+  a.restart(camera, accumulating(4));
+  for (std::uint32_t i = 0; i < 5; ++i) {
+    const Camera c = a.nextSample(camera);
+    EXPECT_EQ(c.sampleIndex, i);
+    EXPECT_EQ(c.jitterPx, subpixelJitter(i));
+    EXPECT_EQ(c.lensUv, lensSample(i));
+    EXPECT_EQ(c.timeU, timeSample(i));
+  }
+  // A pinhole camera keeps its lens point and its time: only what the camera has is sampled.
+  Camera pinhole;
+  Accumulation b;
+  b.restart(pinhole, accumulating(4));
+  b.nextSample(pinhole);
+  const Camera c = b.nextSample(pinhole);
+  EXPECT_EQ(c.lensUv, pinhole.lensUv);
+  EXPECT_EQ(c.timeU, pinhole.timeU);
+  // Starting again starts the sequences again.
+  b.restart(pinhole, accumulating(4));
+  EXPECT_EQ(b.nextSample(pinhole).jitterPx, subpixelJitter(0));
+}
+
+TEST(Accumulation, TheMeanIsEachPixelsOwnSamples) {
+  Accumulation a;
+  const Camera camera;
+  a.restart(camera, accumulating(8));
+  EXPECT_EQ(a.mostSamples(), 0);
+  a.add(flat(4, 3, glm::vec3(1.0f, 2.0f, 3.0f)), nullptr);
+  a.add(flat(4, 3, glm::vec3(3.0f, 2.0f, 1.0f)), nullptr);
+  // A partial round: only pixel (1, 1) gets a third sample.
+  std::vector<std::uint8_t> only(12, 0);
+  only[5] = 1;
+  a.add(flat(4, 3, glm::vec3(8.0f)), &only);
+  // A frame of another size (a debug view without a linear frame) adds nothing.
+  a.add(flat(2, 2, glm::vec3(100.0f)), nullptr);
+  EXPECT_EQ(a.mostSamples(), 3);
+  const ImageF& m = a.mean();
+  ASSERT_EQ(m.width, 4);
+  ASSERT_EQ(m.height, 3);
+  EXPECT_EQ(m.at(0, 0), glm::vec3(2.0f));
+  EXPECT_EQ(m.at(1, 1), glm::vec3(4.0f));  // (1 + 3 + 8) / 3 = 4 in each channel
+  EXPECT_EQ(m.at(3, 2), glm::vec3(2.0f));
+  // A pixel without samples shows black, not NaN.
+  Accumulation b;
+  b.restart(camera, accumulating(8));
+  b.add(flat(4, 3, glm::vec3(1.0f)), &only);
+  EXPECT_EQ(b.mean().at(0, 0), glm::vec3(0.0f));
+  EXPECT_EQ(b.mean().at(1, 1), glm::vec3(1.0f));
+}
+
+TEST(Accumulation, AdaptiveRoundsFollowTheSamplesThatDisagree) {
+  Accumulation a;
+  const Camera camera;
+  FrameSettings s = accumulating(16, AntiAlias::Adaptive);
+  s.width = 9;
+  s.height = 9;
+  s.aaThreshold = 0.05f;
+  s.rayScale = 1;
+  a.restart(camera, s);
+  std::vector<std::uint8_t> refine, traced;
+  ImageF grey = flat(9, 9, glm::vec3(0.2f));
+  a.add(grey, nullptr);
+  a.add(grey, nullptr);
+  EXPECT_FALSE(a.nextRound(refine, traced)) << "every pixel's samples agree";
+  // One pixel's second sample is much brighter: it and its 8 neighbours are refined, no other.
+  ImageF edge = grey;
+  edge.at(4, 4) = glm::vec3(5.0f);
+  a.add(edge, nullptr);
+  ASSERT_TRUE(a.nextRound(refine, traced));
+  int marked = 0;
+  for (int y = 0; y < 9; ++y)
+    for (int x = 0; x < 9; ++x) {
+      const bool want = std::abs(x - 4) <= 1 && std::abs(y - 4) <= 1;
+      EXPECT_EQ(refine[std::size_t(y * 9 + x)] != 0, want) << x << "," << y;
+      marked += refine[std::size_t(y * 9 + x)];
+    }
+  EXPECT_EQ(marked, 9);
+  EXPECT_EQ(traced, refine) << "full-resolution rays: the traced pixels are the refined ones";
+  // Starting again forgets the ranges.
+  a.restart(camera, s);
+  a.add(grey, nullptr);
+  EXPECT_FALSE(a.nextRound(refine, traced));
+}
+
+TEST(Accumulation, ReleaseFreesEverything) {
+  Accumulation a;
+  a.restart(Camera{}, accumulating(8));
+  a.add(flat(4, 3, glm::vec3(1.0f)), nullptr);
+  a.firstUnread = true;
+  EXPECT_TRUE(a.active());
+  a.release();
+  EXPECT_FALSE(a.active());
+  EXPECT_FALSE(a.firstUnread);
+  EXPECT_EQ(a.mostSamples(), 0);
+  EXPECT_EQ(a.frames(), 0);
+  EXPECT_EQ(a.step(Camera{}, accumulating(8), kStill), Step::Restart);
+}
+
+}  // namespace
+}  // namespace tandem
