@@ -67,6 +67,13 @@ MUTATIONS = [
     ("torus-proxy-not-widened", "engine/src/io/SolidProxy.cpp",
      "const double rt = r + widened;", "const double rt = r;",
      "tandem-unit-tests", "SolidProxy.*"),
+    # The frame's decisions (render/Accumulation.h, render/FrameHistory.h).
+    ("accumulation-ignores-probes-catching-up", "engine/src/render/Accumulation.cpp",
+     "!since.sceneChanged && since.probesCurrent &&", "!since.sceneChanged &&",
+     "tandem-unit-tests", "Accumulation.*"),
+    ("answers-kept-just-after-motion-blur", "engine/src/render/FrameHistory.cpp",
+     "  if (moving) return false;\n", "",
+     "tandem-unit-tests", "FrameHistory.*"),
     # Procedural textures.
     ("noise-fade-derivative-dropped", "shaders/procedural.glsl",
      "vec3 du = 30.0f * f * f * (f * (f - vec3(2.0f)) + vec3(1.0f));", "vec3 du = vec3(0.0f);",

@@ -9,7 +9,6 @@
 #include <type_traits>
 #include <vector>
 
-#include "core/Motion.h"
 #include "core/RenderSpace.h"
 #include "core/Sampling.h"
 #include "core/Shading.h"
@@ -29,6 +28,7 @@
 #include "rt/RayTracer.h"
 #include "render/Accumulation.h"
 #include "render/FrameBudget.h"
+#include "render/FrameHistory.h"
 #include "render/FramePlan.h"
 #include "render/RadiosityJob.h"
 #include "render/SceneCaches.h"
@@ -66,20 +66,8 @@ struct Renderer::Impl {
   int failedWidth = 0, failedHeight = 0;
   std::string failure;
 
-  // The last frame drawn, as tracePixel re-runs it: what it was rendered with and which parts the GL made.
-  struct LastFrame {
-    bool drawn = false;
-    bool sceneChanged = false;  // setScene, setInstanceTransform or setLight since: its ids are stale
-    bool sceneReplaced = false; // setScene since: nothing of it can be kept
-    Camera camera;
-    FramePlan plan;
-    bool shadowMaps = false;    // primary hits' lights by the shadow maps
-    int probeEffects = 0;       // gl::kProbeReflect / kProbeRefract in use
-    bool moving = false;        // some instance moved under its open shutter (motion blur)
-    // What the scene was when it was drawn, for reuse when something moved since.
-    std::vector<glm::mat4> transforms;  // every instance's worldFromObject
-    std::vector<Light> directLights;    // Scene::directLights() order
-  } last;
+  // The last frame drawn, as the next frame's decisions and tracePixel need it (render/FrameHistory.h).
+  FrameHistory last;
 
   Accumulation accum;  // anti-aliasing and progressive accumulation: the samples so far (render/Accumulation.h)
 
@@ -103,8 +91,6 @@ struct Renderer::Impl {
   std::uint64_t resolveExact(const FramePlan& plan, const Camera& camera);
   void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats, const rt::RayReuse* reuse);
   void reuseRays(const FramePlan& plan, FrameStats& stats) const;
-  // Whether this frame can keep some of the last frame's answers, and what changed since it.
-  bool keepsSome(const FramePlan& plan, const Camera& camera, bool lastDrawn, rt::RayReuse& reuse) const;
   // Cost follows the settings: the second copy goes when reuse is off or the scene is replaced.
   void releaseKept() {
     keptVisibility = {};
@@ -340,8 +326,7 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
   in.sampleBase = camera.sampleIndex * static_cast<std::uint32_t>(plan.settings.lightSamples);
   raster(plan, glCamera, in, sample);
   // Nothing the rays depend on changed since the last frame drawn: its ids and ray results still hold.
-  const bool reuse = plan.settings.reuseRays && lastDrawn && !last.sceneChanged && last.camera == camera &&
-                     sameRayInputs(last.plan, plan) && only == nullptr;
+  const bool reuse = last.reusesRays(plan, camera, lastDrawn, only != nullptr);
   if (reuse) {
     reuseRays(plan, sample);
   } else {
@@ -349,7 +334,10 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
     // of the frame: bookkeeping).
     rt::RayReuse kept;
     const bool keeps = timed(sample.bookkeepingMs, [&] {
-      const bool some = only == nullptr && keepsSome(plan, camera, lastDrawn, kept);
+      FrameHistory::Changes changes;
+      const bool some = only == nullptr && last.keepsSome(plan, camera, scene, lastDrawn, !rays.lightMask.empty(), changes);
+      kept.moved = std::move(changes.moved);
+      kept.changedLights = changes.changedLights;
       if (!plan.settings.reuseRays && !keptVisibility.ids.empty()) releaseKept();
       if (some) {
         std::swap(visibility, keptVisibility);
@@ -603,30 +591,6 @@ void Renderer::Impl::reuseRays(const FramePlan& plan, FrameStats& stats) const {
   stats.threads = tracer->threads();
 }
 
-bool Renderer::Impl::keepsSome(const FramePlan& plan, const Camera& camera, bool lastDrawn, rt::RayReuse& reuse) const {
-  // Only primary shadow answers are kept, and only from a frame that looked at the same scene from the
-  // same camera with the same ray settings.
-  if (!plan.settings.reuseRays || !lastDrawn || !last.sceneChanged || last.sceneReplaced || !plan.rayPass ||
-      !plan.rays.primaryShadows || rays.lightMask.empty() || !(last.camera == camera) || !sameRayInputs(last.plan, plan))
-    return false;
-  // Motion blur: the reuse gate bounds instances at their transforms, and with a shutter open a moving one is
-  // where its time puts it (and its motion may have changed with the transform unchanged): nothing kept while
-  // anything moves, nor just after (the last frame's rays saw the instances where their time put them).
-  if (last.moving) return false;
-  for (const Instance& inst : scene.instances)
-    if (isMoving(inst, camera.shutter)) return false;
-  const std::vector<const Light*> lights = scene.directLights();
-  if (last.transforms.size() != scene.instances.size() || last.directLights.size() != lights.size()) return false;
-  reuse.moved.clear();
-  for (std::size_t i = 0; i < scene.instances.size(); ++i)
-    if (!(scene.instances[i].worldFromObject == last.transforms[i]))
-      reuse.moved.emplace_back(static_cast<std::uint32_t>(i), last.transforms[i]);
-  reuse.changedLights = 0;
-  for (std::size_t j = 0; j < lights.size(); ++j)
-    if (!(*lights[j] == last.directLights[j])) reuse.changedLights |= 1u << j;
-  return true;
-}
-
 // upload: only the ray results that exist this frame. Reused results are in the ray textures already (only
 // this stage writes them), so they are named as inputs without being sent again.
 bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats, bool reused) {
@@ -703,29 +667,12 @@ void Renderer::Impl::present() {
 
 // What tracePixel re-runs: the frame as it was drawn.
 void Renderer::Impl::remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in) {
-  last.drawn = true;
-  last.sceneChanged = false;
-  last.sceneReplaced = false;
-  last.camera = camera;
-  last.plan = plan;
-  if (plan.settings.reuseRays) {
-    last.transforms.resize(scene.instances.size());
-    for (std::size_t i = 0; i < scene.instances.size(); ++i) last.transforms[i] = scene.instances[i].worldFromObject;
-    last.directLights.clear();
-    for (const Light* l : scene.directLights()) last.directLights.push_back(*l);
-  } else {
-    last.transforms.clear();
-    last.directLights.clear();
-  }
-  last.shadowMaps = in.shadowMaps != nullptr;
-  last.probeEffects = in.probeCubes ? in.probeEffects : 0;
-  last.moving = std::any_of(scene.instances.begin(), scene.instances.end(),
-                            [&](const Instance& inst) { return isMoving(inst, camera.shutter); });
+  last.remember(plan, camera, scene, in.shadowMaps != nullptr, in.probeCubes ? in.probeEffects : 0);
 }
 
 Result<PixelTrace> Renderer::tracePixel(int x, int y) {
   Impl& r = *impl_;
-  const Impl::LastFrame& f = r.last;
+  const FrameHistory& f = r.last;
   if (!f.drawn) return Error{"tracePixel: no frame to trace (none rendered yet, or the last one was not drawn)"};
   if (f.sceneChanged)
     return Error{"tracePixel: the scene changed since the last frame (setScene, setInstanceTransform or setLight); "
