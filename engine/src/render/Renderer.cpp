@@ -77,6 +77,9 @@ struct Renderer::Impl {
   // traced (adaptive rounds; nullptr: all). False when it could not be drawn (stats.error says why).
   bool drawSample(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn,
                   const std::vector<std::uint8_t>* only);
+  // readback → rays of one sample that does not reuse the last frame's rays whole.
+  void traceSample(const FramePlan& plan, const Camera& camera, FrameStats& sample, bool lastDrawn,
+                   const std::vector<std::uint8_t>* only);
   // The frame as a mean of samples (aa or accumulate): draws this frame's samples into `accum` and shows
   // their mean. False when a sample could not be drawn.
   bool drawSampled(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn);
@@ -327,46 +330,8 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
   raster(plan, glCamera, in, sample);
   // Nothing the rays depend on changed since the last frame drawn: its ids and ray results still hold.
   const bool reuse = last.reusesRays(plan, camera, lastDrawn, only != nullptr);
-  if (reuse) {
-    reuseRays(plan, sample);
-  } else {
-    // The camera still but something moved: the rays clear of it keep their answers (the history's part
-    // of the frame: bookkeeping).
-    rt::RayReuse kept;
-    const bool keeps = timed(sample.bookkeepingMs, [&] {
-      FrameHistory::Changes changes;
-      const bool some = only == nullptr && last.keepsSome(plan, camera, scene, lastDrawn, !rays.lightMask.empty(), changes);
-      kept.moved = std::move(changes.moved);
-      kept.changedLights = changes.changedLights;
-      if (!plan.settings.reuseRays && !keptVisibility.ids.empty()) releaseKept();
-      if (some) {
-        std::swap(visibility, keptVisibility);
-        std::swap(rays, keptRays);
-        kept.ids = &keptVisibility;
-        kept.rays = &keptRays;
-      }
-      return some;
-    });
-    timed(sample.readbackMs, [&] { readback(plan); });
-    // Exact solids first: the ray pass starts from the hits the resolve step finds (every pixel's, since the
-    // GL shades them all). Its time and rays are the rays stage's, with the ray pass's.
-    double resolveMs = 0;
-    const std::uint64_t resolvedRays = timed(resolveMs, [&] { return resolveExact(plan, camera); });
-    // An adaptive round traces only the pixels it refines: the others read as background, which has no rays.
-    // The ids themselves are put back after, for tracePixel.
-    // (The masking is the accumulation's time.)
-    std::vector<glm::uvec2> allIds;
-    if (only != nullptr && visibility.ids.size() == only->size())
-      timed(sample.accumulateMs, [&] {
-        allIds = visibility.ids;
-        for (std::size_t i = 0; i < only->size(); ++i)
-          if ((*only)[i] == 0) visibility.ids[i] = glm::uvec2(0u);
-      });
-    timed(sample.raysMs, [&] { traceRays(plan, camera, sample, keeps ? &kept : nullptr); });
-    sample.raysMs += resolveMs;
-    sample.rays.resolved = resolvedRays;
-    if (!allIds.empty()) timed(sample.accumulateMs, [&] { visibility.ids.swap(allIds); });
-  }
+  if (reuse) reuseRays(plan, sample);
+  else traceSample(plan, camera, sample, lastDrawn, only);
   const bool uploaded = timed(sample.uploadMs, [&] {
     gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Upload);
     return upload(plan, in, sample, reuse);
@@ -385,6 +350,48 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
   return true;
 }
 
+
+// readback → rays for one sample: the ids read back, the exact solids resolved, the ray pass traced, keeping
+// the last frame's shadow answers where only some things changed (FrameHistory::keepsSome) and, in an adaptive
+// round, tracing only the pixels it refines.
+void Renderer::Impl::traceSample(const FramePlan& plan, const Camera& camera, FrameStats& sample, bool lastDrawn,
+                                 const std::vector<std::uint8_t>* only) {
+  // The camera still but something moved: the rays clear of it keep their answers (the history's part of the
+  // frame: bookkeeping).
+  rt::RayReuse kept;
+  const bool keeps = timed(sample.bookkeepingMs, [&] {
+    FrameHistory::Changes changes;
+    const bool some = only == nullptr && last.keepsSome(plan, camera, scene, lastDrawn, !rays.lightMask.empty(), changes);
+    kept.moved = std::move(changes.moved);
+    kept.changedLights = changes.changedLights;
+    if (!plan.settings.reuseRays && !keptVisibility.ids.empty()) releaseKept();
+    if (some) {
+      std::swap(visibility, keptVisibility);
+      std::swap(rays, keptRays);
+      kept.ids = &keptVisibility;
+      kept.rays = &keptRays;
+    }
+    return some;
+  });
+  timed(sample.readbackMs, [&] { readback(plan); });
+  // Exact solids first: the ray pass starts from the hits the resolve step finds (every pixel's, since the
+  // GL shades them all). Its time and rays are the rays stage's, with the ray pass's.
+  double resolveMs = 0;
+  const std::uint64_t resolvedRays = timed(resolveMs, [&] { return resolveExact(plan, camera); });
+  // An adaptive round traces only the pixels it refines: the others read as background, which has no rays.
+  // The ids themselves are put back after, for tracePixel. (The masking is the accumulation's time.)
+  std::vector<glm::uvec2> allIds;
+  if (only != nullptr && visibility.ids.size() == only->size())
+    timed(sample.accumulateMs, [&] {
+      allIds = visibility.ids;
+      for (std::size_t i = 0; i < only->size(); ++i)
+        if ((*only)[i] == 0) visibility.ids[i] = glm::uvec2(0u);
+    });
+  timed(sample.raysMs, [&] { traceRays(plan, camera, sample, keeps ? &kept : nullptr); });
+  sample.raysMs += resolveMs;
+  sample.rays.resolved = resolvedRays;
+  if (!allIds.empty()) timed(sample.accumulateMs, [&] { visibility.ids.swap(allIds); });
+}
 
 bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn) {
   const FrameSettings& s = plan.settings;
