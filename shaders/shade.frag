@@ -415,7 +415,9 @@ void accumulate(inout RaySample acc, ivec2 g, float w) {
 #if TD_SHADOW_MASK
   vec4 lo = texelFetch(shadowMaskTex, ivec3(g, 0), 0);
   vec4 hi = TD_LIGHT_COUNT > 4 ? texelFetch(shadowMaskTex, ivec3(g, 1), 0) : vec4(1.0);
-  for (int j = 0; j < TD_LIGHT_COUNT; ++j) acc.vis[j] += w * (j < 4 ? lo[j] : hi[j - 4]);
+  // (j < 4 ? lo : hi)[j & 3], not j < 4 ? lo[j] : hi[j - 4]: once the loop unrolls, the untaken arm's
+  // hi[-4] is a constant index out of bounds, which NVIDIA's compiler rejects (the program fails to link).
+  for (int j = 0; j < TD_LIGHT_COUNT; ++j) acc.vis[j] += w * (j < 4 ? lo : hi)[j & 3];
 #endif
   if ((rayInputs & TD_RAY_REFLECTED) != 0) acc.reflected += w * texelFetch(reflectedTex, g, 0).rgb;
   if ((rayInputs & TD_RAY_TRANSMITTED) != 0) acc.transmitted += w * texelFetch(transmittedTex, g, 0).rgb;

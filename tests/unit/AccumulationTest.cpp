@@ -170,6 +170,39 @@ TEST(Accumulation, AdaptiveRoundsFollowTheSamplesThatDisagree) {
   EXPECT_FALSE(a.nextRound(refine, traced));
 }
 
+TEST(Accumulation, ARestartSetsUpNoSumsUntilASampleIsAdded) {
+  // A game that accumulates at rest restarts every frame while things move and shows its one sample as drawn:
+  // the restart must cost nothing, and the sums appear with the first sample added, empty of the last ones.
+  Accumulation a;
+  a.restart(Camera{}, accumulating(8));
+  EXPECT_FALSE(a.holdsSums());
+  a.add(flat(4, 3, glm::vec3(5.0f)), nullptr);
+  a.add(flat(4, 3, glm::vec3(7.0f)), nullptr);
+  a.frameDone();
+  EXPECT_TRUE(a.holdsSums());
+  Camera moved;
+  moved.posW.x += 1.0f;
+  FrameSettings bigger = accumulating(8);
+  bigger.width = 5;
+  a.restart(moved, bigger);
+  EXPECT_FALSE(a.holdsSums());
+  EXPECT_EQ(a.frames(), 0);
+  EXPECT_EQ(a.mostSamples(), 0);
+  EXPECT_EQ(a.mean().rgb.size(), 15u);
+  EXPECT_EQ(a.mean().at(4, 2), glm::vec3(0.0f));
+  std::vector<std::uint8_t> refine, traced;
+  EXPECT_FALSE(a.nextRound(refine, traced));  // nothing drawn, nothing to compare
+  // The next sample alone is the mean: nothing of the samples before the restart is left in the sums.
+  a.add(flat(5, 3, glm::vec3(1.0f)), nullptr);
+  EXPECT_TRUE(a.holdsSums());
+  EXPECT_EQ(a.mostSamples(), 1);
+  EXPECT_EQ(a.mean().at(0, 0), glm::vec3(1.0f));
+  EXPECT_EQ(a.mean().at(4, 2), glm::vec3(1.0f));
+  // A frame of the old size adds nothing after the restart.
+  a.add(flat(4, 3, glm::vec3(9.0f)), nullptr);
+  EXPECT_EQ(a.mostSamples(), 1);
+}
+
 TEST(Accumulation, ReleaseFreesEverything) {
   Accumulation a;
   a.restart(Camera{}, accumulating(8));

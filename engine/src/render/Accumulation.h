@@ -42,6 +42,9 @@ class Accumulation {
   /// Frees everything (cost follows the settings: a frame without anti-aliasing or accumulation holds none).
   void release() { *this = Accumulation{}; }
   bool active() const { return active_; }
+  /// Whether the sums are set up: from the first sample added after a restart (a restart itself touches no
+  /// per-pixel memory).
+  bool holdsSums() const { return summing_; }
 
   /// The next sample's camera: its sub-pixel offset, its index for light samples, and where the camera has a
   /// lens or a shutter, its lens point and time (core/Sampling.h's sequences, in order).
@@ -70,7 +73,9 @@ class Accumulation {
   bool firstUnread = false;
 
  private:
+  void startSums();  // zeroed sums and counts (adaptive: the luminance bounds) for the settings' size
   bool active_ = false;
+  bool summing_ = false;     // the sums hold this restart's samples (false until the first add)
   Camera camera_;            // as the application gave it, without jitter
   FrameSettings settings_;   // the plan's
   int frames_ = 0;
