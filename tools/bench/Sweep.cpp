@@ -238,7 +238,8 @@ void printHeader(const Machine& m, const GlContext& ctx, int threads, const Swee
   std::printf("  GL: %s\n", ctx.describe().c_str());
   std::printf("  threads: ray pass (TBB arena) %d, TBB default %d, LP_NUM_THREADS %s; Embree %s\n", threads,
               m.tbbThreads, m.lpNumThreads.c_str(), m.embreeVersion.c_str());
-  std::printf("  frames: %d warm-up + %d measured per combination; output %s\n", o.warmup, o.frames, o.out.c_str());
+  std::printf("  frames: %d warm-up (and at least %.1f s of them) + %d measured per combination; output %s\n", o.warmup,
+              o.warmupSeconds, o.frames, o.out.c_str());
   std::fflush(stdout);
 }
 
@@ -254,10 +255,15 @@ struct FrameRun {
 
 // Every frame traces: the camera stands still, and reusing the last frame's rays would time a still frame,
 // not the frame's cost.
-FrameRun renderFrames(Renderer& r, const Camera& camera, FrameSettings s, int warmup, int frames) {
+// The warm-up is `warmup` frames and at least `warmupSeconds` of frames: a GPU left idle (between
+// combinations, or while the floor is measured) runs at its lowest clock and needs a while to come up (an H100
+// drew Whitted's raster frame in 9.8 ms over 2 warm-up frames and 1.8 ms once warm; docs/bench.md).
+FrameRun renderFrames(Renderer& r, const Camera& camera, FrameSettings s, int warmup, double warmupSeconds, int frames) {
   s.reuseRays = false;
   FrameRun run;
-  for (int i = 0; i < warmup; ++i) (void)r.render(camera, s);
+  const auto start = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  for (int i = 0; i < warmup || (i < 1000 && seconds() < warmupSeconds); ++i) (void)r.render(camera, s);
   for (int i = 0; i < frames; ++i) run.stats.push_back(r.render(camera, s));
   run.image = r.readImage();
   return run;
@@ -372,7 +378,7 @@ void writeSweepMarkdown(const std::string& path, const std::vector<Row>& rows, c
   f << "# tandem-bench sweep\n\n";
   f << "Machine: " << m.cpu << ", " << m.logicalCpus << " logical CPUs; GL: " << gl << "; ray-pass threads "
     << threads << "; LP_NUM_THREADS " << m.lpNumThreads << "; Embree " << m.embreeVersion << ". "
-    << o.warmup << " warm-up + " << o.frames << " measured frames per combination; times in ms are "
+    << o.warmup << " warm-up (at least " << o.warmupSeconds << " s) + " << o.frames << " measured frames per combination; times in ms are "
     << "median [min–max]. Error against the reference at N×N spp (N in the section title). ★ = on the "
     << "Pareto front (frame time vs FLIP).\n";
   std::string section;
@@ -601,7 +607,7 @@ int runSweep(const SweepOptions& o) {
       if (hasAreaLights(l.scene)) truthSettings.lightSamples = 16;
       if (hasGloss(l.scene)) truthSettings.glossSamples = 16;
       Timer truthTimer;
-      FrameRun truth = renderFrames(renderer, camera, truthSettings, 0, 1);
+      FrameRun truth = renderFrames(renderer, camera, truthSettings, 0, 0.0, 1);
       std::string prefix = fileSafe(l.label) + "-" + size.label();
       (void)writePng((fs::path(o.out) / "images" / (prefix + "-truth.png")).string(), truth.image);
       progress(l.label + " " + size.label() + " reference " + std::to_string(truthSettings.referenceSpp) + "x" +
@@ -610,7 +616,7 @@ int runSweep(const SweepOptions& o) {
       std::map<std::string, Image> images;
       std::vector<std::size_t> mine;
       for (const Combo& combo : makeCombos(base, hasAreaLights(l.scene), hasGloss(l.scene), hasLensOrMotion(l.scene))) {
-        FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup, o.frames);
+        FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup, o.warmupSeconds, o.frames);
         Row row = measuredRow(l.label, size, combo, o.frames, run, truth.image);
         (void)writePng((fs::path(o.out) / "images" / (prefix + "-" + combo.name + ".png")).string(), run.image);
         images[combo.name] = std::move(run.image);
@@ -627,7 +633,7 @@ int runSweep(const SweepOptions& o) {
         Combo combo{"budget-" + std::to_string(static_cast<int>(fraction * 100)) + "pct", "budget",
                     *presetSettings("hybrid-full", base)};
         combo.settings.targetMs = static_cast<float>(fraction * fullMs);
-        FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup + kBudgetSettleFrames, o.frames);
+        FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup + kBudgetSettleFrames, o.warmupSeconds, o.frames);
         Row row = measuredRow(l.label, size, combo, o.frames, run, truth.image);
         row.budgetChoice = describeBudget(run.stats.back().budget);
         (void)writePng((fs::path(o.out) / "images" / (prefix + "-" + combo.name + ".png")).string(), run.image);
@@ -785,11 +791,11 @@ int runHeavy(const SweepOptions& o) {
       h.generateMs = genMs;
       h.setSceneMs = setMs;
       h.embreeBuildMs = buildMs;
-      FrameRun run = renderFrames(renderer, scene.camera, *presetSettings("hybrid-full", base), o.warmup, o.frames);
+      FrameRun run = renderFrames(renderer, scene.camera, *presetSettings("hybrid-full", base), o.warmup, o.warmupSeconds, o.frames);
       for (std::size_t i = 0; i < kStageCount; ++i) h.stageMs.push_back(stageStat(run.stats, kStages[i].field).median);
       h.totalMs = stageStat(run.stats, &FrameStats::totalMs).median;
       h.rays = run.stats.back().rays;
-      FrameRun rasterRun = renderFrames(renderer, scene.camera, *presetSettings("raster", base), o.warmup, o.frames);
+      FrameRun rasterRun = renderFrames(renderer, scene.camera, *presetSettings("raster", base), o.warmup, o.warmupSeconds, o.frames);
       h.rasterPresetMs = stageStat(rasterRun.stats, &FrameStats::totalMs).median;
       if (rtOk) {
         rt::VisibilityBuffer vis;
@@ -889,7 +895,7 @@ int runSummary(const SweepOptions& o) {
       base.height = size.height;
       for (const char* preset : {"raster", "hybrid-fast", "hybrid-full"}) {
         const FrameSettings s = *presetSettings(preset, base);
-        FrameRun run = renderFrames(renderer, scene.camera, s, o.warmup, o.frames);
+        FrameRun run = renderFrames(renderer, scene.camera, s, o.warmup, o.warmupSeconds, o.frames);
         SummaryRow row;
         row.scene = sceneLabel(spec);
         row.preset = preset;
@@ -918,9 +924,9 @@ int runSummary(const SweepOptions& o) {
     std::fprintf(stderr, "tandem-bench: no scene could be rendered\n");
     return 1;
   }
-  std::printf("\nframe, worst and stages in ms (medians of %d frames after %d warm-up; worst = slowest measured "
-              "frame); compiles = shader programs compiled in the measured frames\n",
-              o.frames, o.warmup);
+  std::printf("\nframe, worst and stages in ms (medians of %d frames after %d warm-up, at least %.1f s; worst = "
+              "slowest measured frame); compiles = shader programs compiled in the measured frames\n",
+              o.frames, o.warmup, o.warmupSeconds);
   printSummary(stdout, rows, false);
   const std::string path = (fs::path(o.out) / "summary.md").string();
   if (std::FILE* f = std::fopen(path.c_str(), "w")) {

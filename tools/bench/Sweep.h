@@ -16,6 +16,7 @@ struct SweepOptions {
   std::vector<Size> sizes;
   int frames = 3;
   int warmup = 1;
+  double warmupSeconds = 1.0;  // and at least this long: a GPU's clock comes up from idle (renderFrames)
   int truthSpp = 0;  // 0: 8×8 up to 640×360 pixels, 4×4 above
   int threads = 0;   // ray-pass threads, 0 = all
   std::string out = "out/bench";

@@ -91,6 +91,10 @@ int sweepMain(int argc, char** argv) {
   app.add_option("--sizes", sizes, "Comma-separated WxH")->capture_default_str();
   app.add_option("--frames", o.frames, "Measured frames per combination")->check(CLI::Range(1, 1000))->capture_default_str();
   app.add_option("--warmup", o.warmup, "Warm-up frames per combination")->check(CLI::Range(0, 1000))->capture_default_str();
+  app.add_option("--warmup-seconds", o.warmupSeconds,
+                 "Warm up for at least this long too (a GPU left idle needs a while to raise its clock)")
+      ->check(CLI::Range(0.0, 60.0))
+      ->capture_default_str();
   app.add_option("--truth-spp", o.truthSpp, "Reference N (N×N spp); 0 = 8 up to 640×360, else 4")
       ->check(CLI::Range(0, 64))->capture_default_str();
   app.add_option("--converge-frames", o.convergeFrames,

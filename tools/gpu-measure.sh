@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# One measurement batch on the GPU machine (docs/bench.md, "On the GPU class"). It runs there, inside the
+# bundle ../shared/tools/gpu-bundle.sh packs, and writes one archive under $OUT:
+#
+#   ../shared/tools/gpu-bundle.sh            # here, after a Release build (tools/run.sh)
+#   device run, carry [".gpu"], command:  bash .gpu/run.sh bash "$(pwd)/tools/gpu-measure.sh"
+#
+# The GPU's clock is logged beside every step (nvidia-smi, read only): an H100 left idle while the CPU traces
+# drops to 345 MHz from 1980, and GL stage times follow it, so a GPU figure means little without its clock.
+# Each step has its own time limit, so a hang costs one step, not the batch; the whole batch takes ~4 min.
+set -u
+out=${OUT:?run on the GPU machine, where \$OUT is set}/r
+mkdir -p "$out"
+B=build/bin
+S=tests/game/collect3.script
+step() {  # step NAME LIMIT_S COMMAND...: stdout+stderr to NAME.txt, then its status and wall time
+  local name=$1 limit=$2; shift 2
+  echo "$name start $(date +%H:%M:%S.%N)" >> "$out/marks.txt"
+  local s; s=$(date +%s%N)
+  timeout "$limit" "$@" > "$out/$name.txt" 2>&1
+  echo "rc=$? wall_ms=$(( ($(date +%s%N) - s) / 1000000 ))" >> "$out/$name.txt"
+  echo "$name end $(date +%H:%M:%S.%N)" >> "$out/marks.txt"
+}
+game() { local name=$1; shift; step "game-$name" 60 $B/tandem-game --headless --frames 60 --size 1920x1080 --script $S \
+           --frame-log "$out/game-$name.csv" "$@"; }
+nvidia-smi -L > "$out/gpu.txt" 2>&1; nproc >> "$out/gpu.txt"
+nvidia-smi --query-gpu=timestamp,pstate,clocks.sm,clocks.mem,utilization.gpu,power.draw --format=csv -lms 200 \
+  > "$out/clocks.csv" 2>&1 &
+smi=$!
+step render-raster-720 40 $B/tandem-render --size 1280x720 --preset raster --frames 200 --stats "$out/render-raster-720.json"
+step render-fast-1080 40 $B/tandem-render --size 1920x1080 --preset hybrid-fast --frames 30 --stats "$out/render-fast-1080.json"
+step render-full-1080 60 $B/tandem-render --size 1920x1080 --preset hybrid-full --frames 15 --stats "$out/render-full-1080.json"
+step bench-summary 150 $B/tandem-bench --summary --sizes 1280x720,1920x1080 --out "$out/bench"
+game raster --preset raster
+game hybrid-fast --preset hybrid-fast
+game fps30 --preset hybrid-full --target-fps 30
+step gl-tests 240 $B/tandem-gl-tests
+# The golden tests' frames as this GPU drew them (gltest::savePng), to look at beside the goldens.
+mkdir -p "$out/frames" && find build -name 'golden-*.png' -newer "$out/gpu.txt" -exec cp {} "$out/frames/" \; 2>/dev/null
+kill "$smi" 2>/dev/null
+cd "$OUT" && tar czf results.tgz r && rm -rf r
