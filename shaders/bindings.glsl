@@ -65,6 +65,37 @@
 // ---- texture units: raster shadows on the ray grid (ShadePass's shadow-mask pass) ----
 #define TD_UNIT_SHADOW_MASK 26  // RGBA16 array, ray grid: visibility of lights 0-3 (layer 0) and 4-7 (layer 1)
 
+// ---- uniform locations (explicit, so C++ sets them without looking names up) ----
+// The shade pass (shade.frag; ShadePass::shade).
+#define TD_LOC_CAMERA_POS 0
+#define TD_LOC_CAMERA_FORWARD 1
+#define TD_LOC_CAMERA_RIGHT 2        // scaled: tan(fov/2)·aspect (perspective) or half width (ortho)
+#define TD_LOC_CAMERA_UP 3           // scaled: tan(fov/2) or half height
+#define TD_LOC_ORTHOGRAPHIC 4
+#define TD_LOC_FRAME_SIZE 5
+#define TD_LOC_BACKGROUND 6
+#define TD_LOC_AMBIENT 7
+#define TD_LOC_LIGHT_SAMPLES 8
+#define TD_LOC_SAMPLE_BASE 9
+#define TD_LOC_RAY_SCALE 11
+#define TD_LOC_RAY_GRID_SIZE 12
+#define TD_LOC_RAY_PRESENT 13
+#define TD_LOC_FUSED_EXPOSURE 14     // TD_FUSED_OUTPUT: the output pass's three, in the shade pass
+#define TD_LOC_FUSED_TONE_MAP 15
+#define TD_LOC_FUSED_PASS_THROUGH 16
+#define TD_LOC_RADIOSITY_AMBIENT 17
+#define TD_LOC_RADIOSITY_INSTANCES 18
+#define TD_LOC_RENDER_ANCHOR 19
+// The output pass (tonemap.frag; OutputPass).
+#define TD_LOC_EXPOSURE 0
+#define TD_LOC_TONE_MAP 1
+#define TD_LOC_PASS_THROUGH 2
+// The visibility pass (visibility.vert; VisibilityPass::draw) and its resolve patch (resolve.vert).
+#define TD_LOC_CLIP_FROM_WORLD_RELATIVE 0
+#define TD_LOC_VISIBILITY_CAMERA_POS 1
+#define TD_LOC_EXCLUDED_PLUS_ONE 2
+#define TD_LOC_RESOLVE_FRAME_SIZE 0
+
 // The triangle field of an id whose hit lies on an exact solid (core/ResolvedPixel.h, kExactTriangle).
 #define TD_EXACT_TRIANGLE 0xFFFFFFFFu
 

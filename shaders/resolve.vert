@@ -11,7 +11,7 @@ struct ResolvedPixel {
   float depth;  // reversed-Z window depth; 0 for the background
 };
 layout(std430, binding = TD_BIND_RESOLVED) readonly buffer Resolved { ResolvedPixel resolved[]; };
-layout(location = 0) uniform ivec2 frameSize;
+layout(location = TD_LOC_RESOLVE_FRAME_SIZE) uniform ivec2 frameSize;
 
 flat out uvec2 vId;
 flat out vec4 vHit;

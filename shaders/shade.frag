@@ -124,18 +124,18 @@ layout(binding = TD_UNIT_TRANSMITTED) uniform TD_SAMPLER_TRANSMITTED transmitted
 layout(binding = TD_UNIT_AREA_SAMPLES) uniform TD_SAMPLER_AREA_SAMPLES areaSamplesTex;  // ray grid, row 0 = top
 #endif
 
-layout(location = 0) uniform vec3 cameraPosW;
-layout(location = 1) uniform vec3 cameraForward;
-layout(location = 2) uniform vec3 cameraRight;  // scaled: tan(fov/2)·aspect (perspective) or half width (ortho)
-layout(location = 3) uniform vec3 cameraUp;     // scaled: tan(fov/2) or half height
-layout(location = 4) uniform int orthographic;
-layout(location = 5) uniform ivec2 frameSize;
-layout(location = 6) uniform vec3 background;
-layout(location = 7) uniform vec3 ambientIa;
-layout(location = 8) uniform int lightSamples;  // area-light samples per pixel (rt::FrameShading::lightSamples)
-layout(location = 9) uniform uint sampleBase;   // the sequence index of the first (FrameShading::sampleBase)
-layout(location = 11) uniform int rayScale;
-layout(location = 19) uniform vec3 renderAnchor;  // render space's origin in world space (world-space patterns)
+layout(location = TD_LOC_CAMERA_POS) uniform vec3 cameraPosW;
+layout(location = TD_LOC_CAMERA_FORWARD) uniform vec3 cameraForward;
+layout(location = TD_LOC_CAMERA_RIGHT) uniform vec3 cameraRight;  // scaled: tan(fov/2)·aspect (perspective) or half width (ortho)
+layout(location = TD_LOC_CAMERA_UP) uniform vec3 cameraUp;     // scaled: tan(fov/2) or half height
+layout(location = TD_LOC_ORTHOGRAPHIC) uniform int orthographic;
+layout(location = TD_LOC_FRAME_SIZE) uniform ivec2 frameSize;
+layout(location = TD_LOC_BACKGROUND) uniform vec3 background;
+layout(location = TD_LOC_AMBIENT) uniform vec3 ambientIa;
+layout(location = TD_LOC_LIGHT_SAMPLES) uniform int lightSamples;  // area-light samples per pixel (rt::FrameShading::lightSamples)
+layout(location = TD_LOC_SAMPLE_BASE) uniform uint sampleBase;   // the sequence index of the first (FrameShading::sampleBase)
+layout(location = TD_LOC_RAY_SCALE) uniform int rayScale;
+layout(location = TD_LOC_RENDER_ANCHOR) uniform vec3 renderAnchor;  // render space's origin in world space (world-space patterns)
 
 // Variant flags, set by CompositePass for each frame's scene and settings. llvmpipe runs both sides of a
 // branch that diverges inside an 8-pixel SIMD group, so features a frame does not use are compiled out
@@ -176,8 +176,8 @@ layout(location = 19) uniform vec3 renderAnchor;  // render space's origin in wo
 #if TD_USE_RADIOSITY
 layout(binding = TD_UNIT_RADIOSITY_TABLE_TEX) uniform usamplerBuffer radiosityTable;  // core/Radiosity.h's table
 layout(binding = TD_UNIT_RADIOSITY_TEX) uniform samplerBuffer radiosityValues;        // RGB32F, 2 per grid vertex
-layout(location = 17) uniform vec3 radiosityAmbient;  // RadiosityField::ambient
-layout(location = 18) uniform int radiosityInstances;  // RadiosityField::instanceCount
+layout(location = TD_LOC_RADIOSITY_AMBIENT) uniform vec3 radiosityAmbient;  // RadiosityField::ambient
+layout(location = TD_LOC_RADIOSITY_INSTANCES) uniform int radiosityInstances;  // RadiosityField::instanceCount
 #endif
 #ifndef TD_USE_EXACT
 #define TD_USE_EXACT 1       // some instance is an exact solid: ids may name a hit on it (docs/csg.md)
@@ -195,11 +195,11 @@ layout(binding = TD_UNIT_TANGENTS_TEX) uniform samplerBuffer tangentsBuf;   // R
 layout(binding = TD_UNIT_NORMAL_MAPS) uniform sampler2DArray normalMaps;   // linear RGBA8, layer = Scene::textures index
 #endif
 #define debugView TD_DEBUG_VIEW
-layout(location = 12) uniform ivec2 rayGridSize;
+layout(location = TD_LOC_RAY_GRID_SIZE) uniform ivec2 rayGridSize;
 // The ray results uploaded this frame (TD_RAY_* bits): the variant is compiled for the channels the
 // frame's plan can produce (TD_RAY_INPUTS), and a frame whose rays left one empty says so here instead
 // of switching to another variant.
-layout(location = 13) uniform int rayPresent;
+layout(location = TD_LOC_RAY_PRESENT) uniform int rayPresent;
 #define rayInputs (TD_RAY_INPUTS & rayPresent)
 
 
@@ -885,9 +885,8 @@ void shadePixel() {
     float F = 0.0;
     if (kt > 0.0 && etaI != etaT)
       F = cos2T <= 0.0 ? 1.0 : (TD_FRESNEL_SCHLICK != 0 ? tdFresnelSchlick(cosI, etaI, etaT) : tdFresnelExact(cosI, etaI, etaT));
-    float wR = TD_FRESNEL_WEIGHTED != 0 ? kr + kt * F : kr;
-    float wT = TD_FRESNEL_WEIGHTED != 0 ? kt * (1.0 - F) : kt;
-    if (kt <= 0.0 || (etaI != etaT && cos2T <= 0.0)) wT = 0.0;  // T is absent on total internal reflection
+    vec2 sum = tdWhittedSum(kr, kt, F, etaI != etaT && cos2T <= 0.0, TD_FRESNEL_WEIGHTED != 0);
+    float wR = sum.x, wT = sum.y;
     // Coverage and tint (docs/gltf.md): the covered part reflects and refracts (tinted), the rest passes
     // straight through; BLEND materials have IOR 1, so both go along the same direction.
     wR *= coverage;
@@ -995,9 +994,9 @@ void shadePixel() {
 #endif
 #if TD_FUSED_OUTPUT
 layout(location = 1) out TD_OUTPUT_DISPLAY outDisplay;
-layout(location = 14) uniform float exposure;
-layout(location = 15) uniform int toneMap;
-layout(location = 16) uniform int passThrough;
+layout(location = TD_LOC_FUSED_EXPOSURE) uniform float exposure;
+layout(location = TD_LOC_FUSED_TONE_MAP) uniform int toneMap;
+layout(location = TD_LOC_FUSED_PASS_THROUGH) uniform int passThrough;
 #endif
 
 #if TD_SHADOW_MASK_PASS

@@ -333,6 +333,21 @@ TD_FN vec3 tdPerturbNormal(vec3 N, vec3 tangentW, float handedness, vec3 tn, flo
   return len > 0.0f ? n / len : N;
 }
 
+// The Whitted sum's reflected (x) and transmitted (y) weights before coverage (docs/shading.md), at Fresnel
+// reflectance f of the hit (1 under total internal reflection, where T is absent): Fresnel-weighted,
+// wR = kr + kt·F and wT = kt·(1 − F); classic, wR = kr and wT = kt. The ray pass (rt::Whitted::weights, through
+// core/FrameRules.h's whittedSum), the frame's plan and the shade pass's probes all weigh with this.
+TD_FN vec2 tdWhittedSum(float kr, float kt, float f, bool totalInternal, bool fresnelWeighted) {
+  float wR = kr;
+  float wT = kt;
+  if (fresnelWeighted) {
+    wR = kr + (kt > 0.0f ? kt * f : 0.0f);
+    wT = kt > 0.0f ? kt * (1.0f - f) : 0.0f;
+  }
+  if (kt <= 0.0f || totalInternal) wT = 0.0f;
+  return vec2(wR, wT);
+}
+
 // Weight of the transmitted radiance T at a surface point with coverage `a` (docs/gltf.md): the covered
 // part transmits wT·tint (the material's refraction, tinted by its transmission tint), the uncovered part
 // 1 − a passes straight through (BLEND as thin transmission with IOR 1). wR and local shading scale by a.

@@ -6,9 +6,9 @@
 #include "shading.glsl"
 
 layout(binding = TD_UNIT_LINEAR) uniform TD_SAMPLER_LINEAR linearColor;
-layout(location = 0) uniform float exposure;
-layout(location = 1) uniform int toneMap;
-layout(location = 2) uniform int passThrough;
+layout(location = TD_LOC_EXPOSURE) uniform float exposure;
+layout(location = TD_LOC_TONE_MAP) uniform int toneMap;
+layout(location = TD_LOC_PASS_THROUGH) uniform int passThrough;
 
 layout(location = 0) out TD_OUTPUT_DISPLAY outColor;
 

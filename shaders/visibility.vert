@@ -18,10 +18,10 @@ layout(location = 0) in uint instanceIndex;  // divisor 1, offset by the draw co
 
 // clipFromView · viewFromWorld with the camera translation taken out: positions are made relative to
 // the camera before the matrix, which keeps precision for scenes far from the origin.
-layout(location = 0) uniform mat4 clipFromWorldRelative;
-layout(location = 1) uniform vec3 cameraPosW;
+layout(location = TD_LOC_CLIP_FROM_WORLD_RELATIVE) uniform mat4 clipFromWorldRelative;
+layout(location = TD_LOC_VISIBILITY_CAMERA_POS) uniform vec3 cameraPosW;
 // Instance index + 1 to leave out (0 = none): a reflection probe does not see the object it sits in.
-layout(location = 2) uniform uint excludedPlusOne;
+layout(location = TD_LOC_EXCLUDED_PLUS_ONE) uniform uint excludedPlusOne;
 
 flat out uint vInstance;
 

@@ -3,6 +3,7 @@
 // weights (docs/shading.md), which materials those weights let reflect or transmit, and which ray effects
 // the settings ask of the ray pass. The ray pass (rt::TraceModes, rt::Whitted::weights) and the frame's
 // plan (render/FramePlan) both take them from here, so a decision cannot drift from what is traced.
+#include "core/Shading.h"
 #include "tandem/Scene.h"
 #include "tandem/Settings.h"
 
@@ -14,17 +15,10 @@ struct SumWeights {
   float reflect = 0.0f;   // wR
   float transmit = 0.0f;  // wT
 };
+/// (The one definition is shaders/shading.glsl's tdWhittedSum, which the shade pass's probes use too.)
 inline SumWeights whittedSum(float kr, float kt, float f, bool totalInternal, bool fresnelWeighted) {
-  SumWeights w;
-  if (fresnelWeighted) {
-    w.reflect = kr + (kt > 0.0f ? kt * f : 0.0f);
-    w.transmit = kt > 0.0f ? kt * (1.0f - f) : 0.0f;
-  } else {
-    w.reflect = kr;
-    w.transmit = kt;
-  }
-  if (kt <= 0.0f || totalInternal) w.transmit = 0.0f;  // T is absent
-  return w;
+  const glm::vec2 w = shading::tdWhittedSum(kr, kt, f, totalInternal, fresnelWeighted);
+  return {w.x, w.y};
 }
 
 /// Whether reflected rays from a material can carry weight at some hit of some depth: wR at the largest

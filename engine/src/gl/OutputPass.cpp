@@ -84,9 +84,9 @@ void OutputPass::output(float exposure, ToneMap toneMap, DebugView view) {
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   GLuint p = toneMap_.id();
-  glProgramUniform1f(p, 0, exposure);
-  glProgramUniform1i(p, 1, static_cast<int>(toneMap));
-  glProgramUniform1i(p, 2, radiance ? 0 : 1);
+  glProgramUniform1f(p, TD_LOC_EXPOSURE, exposure);
+  glProgramUniform1i(p, TD_LOC_TONE_MAP, static_cast<int>(toneMap));
+  glProgramUniform1i(p, TD_LOC_PASS_THROUGH, radiance ? 0 : 1);
   glBindTextureUnit(kUnitLinear, linear_.id());
   glUseProgram(p);
   glBindVertexArray(emptyVao_.id());

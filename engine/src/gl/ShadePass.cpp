@@ -313,24 +313,24 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
                                 upScaled * (2.0f * camera.jitterPx.y / float(height));
   const glm::vec3 originW = camera.orthographic ? camera.posW + jitterShift : camera.posW;
   const glm::vec3 forwardShifted = camera.orthographic ? forward : forward + jitterShift;
-  glProgramUniform3fv(p, 0, 1, glm::value_ptr(originW));
-  glProgramUniform3fv(p, 1, 1, glm::value_ptr(forwardShifted));
-  glProgramUniform3fv(p, 2, 1, glm::value_ptr(rightScaled));
-  glProgramUniform3fv(p, 3, 1, glm::value_ptr(upScaled));
-  glProgramUniform1i(p, 4, camera.orthographic ? 1 : 0);
-  glProgramUniform2i(p, 5, width, height);
-  glProgramUniform3fv(p, 6, 1, glm::value_ptr(in.background));
-  glProgramUniform3fv(p, 7, 1, glm::value_ptr(in.ambient));
-  glProgramUniform1i(p, 8, std::clamp(in.lightSamples, 1, TD_MAX_LIGHT_SAMPLES));
-  glProgramUniform1ui(p, 9, in.sampleBase);
-  glProgramUniform1i(p, 11, in.rayScale);
-  glProgramUniform3fv(p, 19, 1, glm::value_ptr(scene.anchor()));
-  glProgramUniform2i(p, 12, std::max(in.rayWidth, 1), std::max(in.rayHeight, 1));
+  glProgramUniform3fv(p, TD_LOC_CAMERA_POS, 1, glm::value_ptr(originW));
+  glProgramUniform3fv(p, TD_LOC_CAMERA_FORWARD, 1, glm::value_ptr(forwardShifted));
+  glProgramUniform3fv(p, TD_LOC_CAMERA_RIGHT, 1, glm::value_ptr(rightScaled));
+  glProgramUniform3fv(p, TD_LOC_CAMERA_UP, 1, glm::value_ptr(upScaled));
+  glProgramUniform1i(p, TD_LOC_ORTHOGRAPHIC, camera.orthographic ? 1 : 0);
+  glProgramUniform2i(p, TD_LOC_FRAME_SIZE, width, height);
+  glProgramUniform3fv(p, TD_LOC_BACKGROUND, 1, glm::value_ptr(in.background));
+  glProgramUniform3fv(p, TD_LOC_AMBIENT, 1, glm::value_ptr(in.ambient));
+  glProgramUniform1i(p, TD_LOC_LIGHT_SAMPLES, std::clamp(in.lightSamples, 1, TD_MAX_LIGHT_SAMPLES));
+  glProgramUniform1ui(p, TD_LOC_SAMPLE_BASE, in.sampleBase);
+  glProgramUniform1i(p, TD_LOC_RAY_SCALE, in.rayScale);
+  glProgramUniform3fv(p, TD_LOC_RENDER_ANCHOR, 1, glm::value_ptr(scene.anchor()));
+  glProgramUniform2i(p, TD_LOC_RAY_GRID_SIZE, std::max(in.rayWidth, 1), std::max(in.rayHeight, 1));
   assert((in.rayInputs & ~in.rayChannels) == 0 && "shade: a ray result the variant was not compiled for");
-  glProgramUniform1i(p, 13, in.rayInputs & in.rayChannels);
+  glProgramUniform1i(p, TD_LOC_RAY_PRESENT, in.rayInputs & in.rayChannels);
   if (in.radiosity) {
-    glProgramUniform3fv(p, 17, 1, glm::value_ptr(in.radiosityAmbient));
-    glProgramUniform1i(p, 18, in.radiosityInstances);
+    glProgramUniform3fv(p, TD_LOC_RADIOSITY_AMBIENT, 1, glm::value_ptr(in.radiosityAmbient));
+    glProgramUniform1i(p, TD_LOC_RADIOSITY_INSTANCES, in.radiosityInstances);
   }
   scene.bind(kUnitKd, kUnitRamps);
   scene.bindShading();
@@ -377,9 +377,9 @@ void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& 
   GLuint p = variant(scene.features(), in, role).id();
   setUp(p, width, height, scene, ids, camera, in);
   if (in.fusedOutput) {
-    glProgramUniform1f(p, 14, in.exposure);
-    glProgramUniform1i(p, 15, static_cast<int>(in.toneMap));
-    glProgramUniform1i(p, 16, passThrough ? 1 : 0);
+    glProgramUniform1f(p, TD_LOC_FUSED_EXPOSURE, in.exposure);
+    glProgramUniform1i(p, TD_LOC_FUSED_TONE_MAP, static_cast<int>(in.toneMap));
+    glProgramUniform1i(p, TD_LOC_FUSED_PASS_THROUGH, passThrough ? 1 : 0);
   }
   // The shader never reads the attached depth: that is a feedback loop, undefined even with depth writes
   // off (a GPU that compresses or tiles depth may hand the sampler stale or compressed data). Frames that

@@ -95,9 +95,9 @@ void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const
   // Scenes with MASK materials get the variant that discards; others keep early depth testing.
   GLuint program = scene.features().alphaMask ? maskProgram_.id() : program_.id();
   glUseProgram(program);
-  glProgramUniformMatrix4fv(program, 0, 1, GL_FALSE, glm::value_ptr(clipFromWorldRelative));
-  glProgramUniform3fv(program, 1, 1, glm::value_ptr(camera.posW));
-  glProgramUniform1ui(program, 2, excluded ? *excluded + 1u : 0u);
+  glProgramUniformMatrix4fv(program, TD_LOC_CLIP_FROM_WORLD_RELATIVE, 1, GL_FALSE, glm::value_ptr(clipFromWorldRelative));
+  glProgramUniform3fv(program, TD_LOC_VISIBILITY_CAMERA_POS, 1, glm::value_ptr(camera.posW));
+  glProgramUniform1ui(program, TD_LOC_EXCLUDED_PLUS_ONE, excluded ? *excluded + 1u : 0u);
   scene.bind(2, 3);
   assertNoFeedbackLoop("visibility");
   scene.draw(which, seen);
@@ -149,7 +149,7 @@ Result<void> VisibilityPass::patch(std::span<const ResolvedPixel> pixels) {
   glDisable(GL_PROGRAM_POINT_SIZE);
   glPointSize(1.0f);
   glUseProgram(resolveProgram_.id());
-  glProgramUniform2i(resolveProgram_.id(), 0, width_, height_);
+  glProgramUniform2i(resolveProgram_.id(), TD_LOC_RESOLVE_FRAME_SIZE, width_, height_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindResolved, resolved_.id());
   glBindVertexArray(emptyVao_.id());
   assertNoFeedbackLoop("resolve patch");
