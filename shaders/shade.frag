@@ -63,6 +63,9 @@ layout(std430, binding = TD_BIND_MATERIALS) readonly buffer Materials { GpuMater
 #ifndef TD_SHADOW_MAPS
 #define TD_SHADOW_MAPS 1       // shadows = Raster: per-light visibility from the shadow maps
 #endif
+#ifndef TD_SOFT_SHADOWS
+#define TD_SOFT_SHADOWS 1      // area lights' raster shadows soft (ShadeInputs::softShadows)
+#endif
 // Raster shadows on a ray grid (rayScale > 1; ShadePass::shade): the shadow-mask pass (TD_SHADOW_MASK_PASS)
 // looks the maps up once per grid pixel, at the full-resolution pixel it stands for, and the frame's pass
 // (TD_SHADOW_MASK, without maps of its own) gathers that visibility edge-aware like the rays' light mask.

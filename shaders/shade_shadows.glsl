@@ -50,9 +50,6 @@ float shadowVisibility(int j, vec3 posW, vec3 Ng) {
 }
 #endif
 
-#ifndef TD_SOFT_SHADOWS
-#define TD_SOFT_SHADOWS 1
-#endif
 #if TD_SHADOW_MAPS && TD_USE_AREA_LIGHTS && TD_SOFT_SHADOWS
 // The cube maps' stored depths (no compare): where the blockers are.
 layout(binding = TD_UNIT_SHADOW_CUBES_DEPTH) uniform TD_SAMPLER_SHADOW_CUBES_DEPTH shadowCubesDepth;

@@ -174,46 +174,46 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in,
   // view, rays, probes or display: drawShadowMask). The frame's pass after a mask reads the mask instead.
   const bool maps = in.shadowMaps != nullptr && role != Role::ShadeWithMask;
   const bool mask = role == Role::ShadowMask;
+  ShadeVariant v;
+  v.debugView = in.debugView;
+  v.shadowMaskPass = mask;
+  v.shadowMask = role == Role::ShadeWithMask;
+  v.rayInputs = in.rayChannels;
+  v.rayScaled = in.rayScale > 1;
+  v.gouraud = f.gouraud;
+  v.toon = f.toon;
+  v.uvs = f.uvs;
+  v.kdTextures = f.kdTextures;
+  v.colors = f.colors;
+  v.normalMaps = f.normalMaps;
+  v.emissive = f.emissiveTextures;
+  v.alphaBlend = f.alphaBlend;
+  v.lightCount = f.lightCount;
   // The map kinds matter only with shadow maps: without them a spot whose cone crosses kMaxSpotMapDeg
   // must not compile another variant.
-  const std::uint32_t lightKinds = maps ? f.lightKinds : f.lightKinds & 0x33333333u;
-  std::string defines = "#define TD_DEBUG_VIEW " + std::to_string(static_cast<int>(in.debugView)) +
-                        "\n#define TD_SHADOW_MASK_PASS " + std::to_string(mask ? 1 : 0) +
-                        "\n#define TD_SHADOW_MASK " + std::to_string(role == Role::ShadeWithMask ? 1 : 0) +
-                        "\n#define TD_RAY_INPUTS " + std::to_string(in.rayChannels) +
-                        "\n#define TD_RAY_SCALED " + std::to_string(in.rayScale > 1 ? 1 : 0) +
-                        "\n#define TD_USE_GOURAUD " + std::to_string(f.gouraud) +
-                        "\n#define TD_USE_TOON " + std::to_string(f.toon) +
-                        "\n#define TD_USE_UVS " + std::to_string(f.uvs) +
-                        "\n#define TD_USE_KD_TEXTURES " + std::to_string(f.kdTextures) +
-                        "\n#define TD_USE_COLORS " + std::to_string(f.colors) +
-                        "\n#define TD_USE_NORMAL_MAPS " + std::to_string(f.normalMaps) +
-                        "\n#define TD_USE_EMISSIVE " + std::to_string(f.emissiveTextures) +
-                        "\n#define TD_USE_ALPHA_BLEND " + std::to_string(f.alphaBlend) +
-                        "\n#define TD_LIGHT_COUNT " + std::to_string(f.lightCount) +
-                        "\n#define TD_LIGHT_KINDS " + std::to_string(lightKinds) + "u" +
-                        "\n#define TD_USE_AREA_LIGHTS " + std::to_string(f.areaLights ? 1 : 0) +
-                        "\n#define TD_UNIFORM_MATERIALS " + std::to_string(f.uniformMaterials) +
-                        "\n#define TD_SHADOW_MAPS " + std::to_string(maps ? 1 : 0) +
-                        "\n#define TD_SOFT_SHADOWS " + std::to_string(maps && in.softShadows ? 1 : 0) +
-                        "\n#define TD_PROBES " + std::to_string(in.probeCubes ? in.probeEffects : 0) +
-                        "\n#define TD_FRESNEL_SCHLICK " + std::to_string(in.fresnel == FresnelMode::Schlick ? 1 : 0) +
-                        "\n#define TD_FRESNEL_WEIGHTED " + std::to_string(in.fresnelWeighted ? 1 : 0) +
-                        "\n#define TD_FUSED_OUTPUT " + std::to_string(in.fusedOutput ? 1 : 0) +
-                        "\n#define TD_USE_RADIOSITY " + std::to_string(in.radiosity ? 1 : 0) +
-                        "\n#define TD_USE_EXACT " + std::to_string(f.exact ? 1 : 0) +
-                        "\n#define TD_USE_PROCEDURAL " + std::to_string(f.procedural ? 1 : 0) + "\n";
-  auto found = variants_.find(defines);
+  v.lightKinds = maps ? f.lightKinds : f.lightKinds & 0x33333333u;
+  v.areaLights = f.areaLights;
+  v.uniformMaterials = f.uniformMaterials;
+  v.shadowMaps = maps;
+  v.softShadows = maps && in.softShadows;
+  v.probes = in.probeCubes ? in.probeEffects : 0;
+  v.fresnelSchlick = in.fresnel == FresnelMode::Schlick;
+  v.fresnelWeighted = in.fresnelWeighted;
+  v.fusedOutput = in.fusedOutput;
+  v.radiosity = in.radiosity;
+  v.exact = f.exact;
+  v.procedural = f.procedural;
+  auto found = variants_.find(v);
   if (found != variants_.end()) return found->second;
   auto built = buildProgram("shade", {{GL_VERTEX_SHADER, "shaders/fullscreen.vert"},
-                                      {GL_FRAGMENT_SHADER, "shaders/shade.frag"}}, defines);
+                                      {GL_FRAGMENT_SHADER, "shaders/shade.frag"}}, v.defines());
   // create() compiled the superset of every variant; a variant that fails is a shader bug.
   assert(built.ok() && "shade.frag variant failed to compile");
   if (!built) {
     logError(built.error().message);
-    return variants_.emplace(defines, Program()).first->second;
+    return variants_.emplace(v, Program()).first->second;
   }
-  return variants_.emplace(defines, std::move(*built)).first->second;
+  return variants_.emplace(v, std::move(*built)).first->second;
 }
 
 void ShadePass::shade(GLuint framebuffer, const GpuScene& scene, const VisibilityPass& visibility,

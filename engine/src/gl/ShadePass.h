@@ -16,6 +16,7 @@
 #include "gl/Placeholders.h"
 #include "gl/Program.h"
 #include "gl/RasterEffects.h"
+#include "gl/ShadeVariant.h"
 #include "gl/VisibilityPass.h"
 #include "tandem/Camera.h"
 #include "tandem/Result.h"
@@ -134,7 +135,7 @@ class ShadePass {
   bool drawShadowMask(const GpuScene& scene, const VisibilityPass& visibility, const Camera& camera, const ShadeInputs& in,
                       int gridWidth, int gridHeight);
 
-  std::map<std::string, Program> variants_;
+  std::map<ShadeVariant, Program> variants_;
   VertexArray emptyVao_;  // core profile draws need a VAO even with no attributes
   Texture lightMask_, reflected_, transmitted_;
   Texture areaSamples_;  // R32UI array, one layer per area light
