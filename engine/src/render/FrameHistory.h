@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "render/FramePlan.h"
+#include "render/SceneChanges.h"
 #include "tandem/Camera.h"
 #include "tandem/Scene.h"
 
@@ -17,7 +18,7 @@ namespace tandem {
 
 struct FrameHistory {
   bool drawn = false;
-  bool sceneChanged = false;   // setScene, setInstanceTransform, setLight or the radiosity solution since: its ids are stale
+  bool sceneChanged = false;   // the scene (SceneChanges::any) or the radiosity solution since: its ids are stale
   bool sceneReplaced = false;  // setScene since: nothing of it can be kept
   Camera camera;
   FramePlan plan;
@@ -45,6 +46,12 @@ struct FrameHistory {
   /// shadow answers to keep.
   bool keepsSome(const FramePlan& plan, const Camera& camera, const Scene& scene, bool lastDrawn, bool haveAnswers,
                  Changes& changes) const;
+
+  /// The scene's changes since the last frame (the Renderer's record, applied before the next frame).
+  void apply(const SceneChanges& changes) {
+    sceneChanged = sceneChanged || changes.any();
+    sceneReplaced = sceneReplaced || changes.replaced;
+  }
 
   /// Records a frame as drawn: its camera and plan, and with reuseRays the scene's transforms and lights.
   void remember(const FramePlan& plan, const Camera& camera, const Scene& scene, bool usedShadowMaps,

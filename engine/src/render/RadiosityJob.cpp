@@ -42,16 +42,15 @@ RadiosityJob::~RadiosityJob() {
   for (Retired& r : retired_) r.thread.join();
 }
 
-void RadiosityJob::invalidate(bool sceneReplaced) {
-  stale_ = true;
-  if (sceneReplaced) {
+void RadiosityJob::apply(const SceneChanges& changes) {
+  if (changes.replaced || changes.staticMoved) stale_ = true;
+  if (changes.replaced) {
     replaced_ = true;
     shown_.reset();
     shownStats_ = {};
   }
+  if (changes.lights) lightsStale_ = true;
 }
-
-void RadiosityJob::lightsChanged() { lightsStale_ = true; }
 
 void RadiosityJob::stop() {
   if (shared_) {

@@ -15,6 +15,8 @@
 #include "tandem/Scene.h"
 #include "tandem/Settings.h"
 
+#include "render/SceneChanges.h"
+
 namespace tandem {
 
 class RadiosityJob {
@@ -24,16 +26,14 @@ class RadiosityJob {
   RadiosityJob(const RadiosityJob&) = delete;
   RadiosityJob& operator=(const RadiosityJob&) = delete;
 
-  /// The geometry changed (a static instance moved, or `sceneReplaced`: a new scene): the next sync starts
-  /// again from the scene as it is then. A replaced scene's solution is dropped at once and its solve
-  /// stopped; after a move the old solution stays on screen until the new solve publishes, and in the
-  /// background a solve that has not published yet is let run until it does (a static instance moved every
-  /// frame still shows solutions).
-  void invalidate(bool sceneReplaced);
-  /// Only the lights changed: in the background the running solve takes the new lights (at most ~10 times a
-  /// second) and carries its solution over (RadiositySolver::relight); before the frame, the next sync
-  /// solves again.
-  void lightsChanged();
+  /// What the scene's changes mean for the solution. The geometry (a static instance moved, or a new scene):
+  /// the next sync starts again from the scene as it is then; a replaced scene's solution is dropped at once
+  /// and its solve stopped; after a move the old solution stays on screen until the new solve publishes,
+  /// and in the background a solve that has not published yet is let run until it does (a static instance
+  /// moved every frame still shows solutions). Dynamic instances are not in the solution. Only the lights:
+  /// in the background the running solve takes the new lights (at most ~10 times a second) and carries its
+  /// solution over (RadiositySolver::relight); before the frame, the next sync solves again.
+  void apply(const SceneChanges& changes);
   /// Brings the solution to `settings` for `scene`: in the background (radiosityBackground), starts a solve
   /// when none runs for this scene and these options and hands back the latest solution it published;
   /// otherwise solves on this thread (on `threads` TBB threads, 0: all), when the scene or options changed,

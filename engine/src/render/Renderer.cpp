@@ -1,109 +1,15 @@
 // The Renderer: the frame, top to bottom, in Renderer::render. The GL objects (GpuScene, the passes)
-// and the Embree scene are caches of the Scene held here, rebuilt or patched only in the prepare stage.
-#include "tandem/Renderer.h"
-
+// and the Embree scene are caches of the Scene held here, rebuilt or patched only in the prepare stage. The
+// rest of the API (creation, the scene's mutators, tracePixel): RendererApi.cpp.
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <limits>
 #include <type_traits>
 #include <vector>
 
-#include "core/RenderSpace.h"
-#include "core/Sampling.h"
-#include "core/Shading.h"
-#include "core/Timer.h"
-#include "gl/OutputPass.h"
-#include "gl/Program.h"
-#include "gl/ShadePass.h"
-#include "gl/FrameLimits.h"
-#include "gl/Gl.h"
-#include "gl/GpuScene.h"
-#include "gl/RasterEffects.h"
-#include "gl/VisibilityPass.h"
-#include "gl/GlObjects.h"
-#include "gl/GpuTimers.h"
-#include "rt/EmbreeScene.h"
-#include "rt/RayReuse.h"
-#include "rt/RayTracer.h"
-#include "render/Accumulation.h"
-#include "render/FrameBudget.h"
-#include "render/FrameHistory.h"
-#include "render/FramePlan.h"
-#include "render/RadiosityJob.h"
-#include "render/SceneCaches.h"
-#include "tandem/Log.h"
+#include "render/RendererImpl.h"
 
 namespace tandem {
-
-struct Renderer::Impl {
-  GlContext* context = nullptr;
-  std::unique_ptr<rt::RayTracer> tracer;
-  gl::VisibilityPass visibilityPass;
-  gl::ShadePass shadePass;
-  gl::OutputPass outputPass;
-  SceneCaches caches;  // the GL copy, the raster effects and the Embree scene, with what they miss
-  RadiosityJob radiosity;  // FrameSettings::radiosity: the solution, solved from the scene as it is
-  FrameBudget budget;  // FrameSettings::targetMs: what each frame is drawn with
-  gl::GpuTimers gpuTimers;  // the GL stages' GPU time (FrameStats::gpu)
-  Scene scene;
-
-  rt::VisibilityBuffer visibility;
-  rt::RayOutputs rays;
-  // Exact solids: what the resolve step found at the pixels of their proxies (drawn into the GL's visibility
-  // buffer by upload), kept with the frame's rays since a frame that reuses them needs it drawn again.
-  std::vector<ResolvedPixel> resolved;
-  ImageF reference;
-  // The frame before's ids and rays, swapped out of `visibility` and `rays` by a frame that keeps some of
-  // its answers (the camera still, something moved: rt/RayReuse.h).
-  rt::VisibilityBuffer keptVisibility;
-  rt::RayOutputs keptRays;
-
-  // The frame's GL targets: the size they have, or the size they could not have and why (render() does
-  // not try that size again; resize() does).
-  gl::FrameLimits limits;
-  int targetWidth = 0, targetHeight = 0;
-  int failedWidth = 0, failedHeight = 0;
-  std::string failure;
-
-  // The last frame drawn, as the next frame's decisions and tracePixel need it (render/FrameHistory.h).
-  FrameHistory last;
-
-  Accumulation accum;  // anti-aliasing and progressive accumulation: the samples so far (render/Accumulation.h)
-
-  Result<void> allocateFrame(int width, int height);
-  // One sample of the frame: raster → readback → rays → upload → shade with `camera` (jittered by the
-  // caller when anti-aliasing), its times and rays added to `stats`. `only`: the pixels whose rays are
-  // traced (adaptive rounds; nullptr: all). False when it could not be drawn (stats.error says why).
-  bool drawSample(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn,
-                  const std::vector<std::uint8_t>* only);
-  // readback → rays of one sample that does not reuse the last frame's rays whole.
-  void traceSample(const FramePlan& plan, const Camera& camera, FrameStats& sample, bool lastDrawn,
-                   const std::vector<std::uint8_t>* only);
-  // The frame as a mean of samples (aa or accumulate): draws this frame's samples into `accum` and shows
-  // their mean. False when a sample could not be drawn.
-  bool drawSampled(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn);
-
-  // The frame's stages (Renderer::render calls them in order). A stage that cannot go on sets
-  // stats.error and returns false: the frame is then not drawn.
-  bool prepare(FramePlan& plan, const Camera& camera, FrameStats& stats);
-  // raster: the raster effects' maps (their own stages, shadows and probes), then the visibility pass.
-  void raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in, FrameStats& stats);
-  void readback(const FramePlan& plan);
-  // rays, first step: the exact solids' proxy pixels by camera rays (FramePlan::resolve); the rays traced.
-  std::uint64_t resolveExact(const FramePlan& plan, const Camera& camera);
-  void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats, const rt::RayReuse* reuse);
-  void reuseRays(const FramePlan& plan, FrameStats& stats) const;
-  // Cost follows the settings: the second copy goes when reuse is off or the scene is replaced.
-  void releaseKept() {
-    keptVisibility = {};
-    keptRays = {};
-  }
-  bool upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats, bool reused);
-  void shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in);
-  void present();
-  void remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in);
-};
 
 Result<void> Renderer::Impl::allocateFrame(int width, int height) {
   if (width == targetWidth && height == targetHeight) return {};
@@ -142,13 +48,6 @@ Result<void> Renderer::Impl::allocateFrame(int width, int height) {
 
 namespace {
 
-bool finiteMatrix(const glm::mat4& m) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (!std::isfinite(m[c][r])) return false;
-  return true;
-}
-
 std::string frameError(const FrameSettings& s, const std::string& why) {
   return "frame " + std::to_string(s.width) + "x" + std::to_string(s.height) + ": " + why;
 }
@@ -168,108 +67,6 @@ auto timed(double& ms, F&& stage) {
 }
 
 }  // namespace
-
-Result<std::unique_ptr<Renderer>> Renderer::create(GlContext& context, const RendererDesc& desc) {
-  context.makeCurrent();
-  auto impl = std::make_unique<Impl>();
-  impl->context = &context;
-  auto tracer = rt::RayTracer::create(desc.threads);
-  if (!tracer) return Error{"Renderer: " + tracer.error().message};
-  impl->tracer = std::move(*tracer);
-  impl->tracer->setProgressCallback(desc.progress);
-  auto visibility = gl::VisibilityPass::create();
-  if (!visibility) return Error{"Renderer: " + visibility.error().message};
-  impl->visibilityPass = std::move(*visibility);
-  auto shade = gl::ShadePass::create();
-  if (!shade) return Error{"Renderer: " + shade.error().message};
-  impl->shadePass = std::move(*shade);
-  auto output = gl::OutputPass::create();
-  if (!output) return Error{"Renderer: " + output.error().message};
-  impl->outputPass = std::move(*output);
-  impl->limits = gl::queryFrameLimits();
-  return std::unique_ptr<Renderer>(new Renderer(std::move(impl)));
-}
-
-Renderer::Renderer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-Renderer::~Renderer() = default;
-
-Result<void> Renderer::setScene(Scene scene) {
-  auto valid = validateScene(scene);
-  if (!valid) return Error{"Renderer::setScene: " + valid.error().message + " (the previous scene stays)"};
-  impl_->scene = std::move(scene);
-  impl_->caches.sceneChanged();
-  impl_->radiosity.invalidate(true);
-  impl_->last.sceneChanged = true;
-  impl_->last.sceneReplaced = true;
-  impl_->releaseKept();
-  impl_->budget.reset();
-  return {};
-}
-
-const Scene& Renderer::scene() const { return impl_->scene; }
-
-void Renderer::setInstanceTransform(std::uint32_t instance, const glm::mat4& worldFromObject) {
-  Impl& r = *impl_;
-  assert(instance < r.scene.instances.size() && "Renderer::setInstanceTransform: instance out of range");
-  if (!finiteMatrix(worldFromObject)) {
-    logWarning("Renderer::setInstanceTransform: instance " + std::to_string(instance) +
-               " given a NaN or infinite transform; kept the previous one");
-    return;
-  }
-  Instance& inst = r.scene.instances[instance];
-  // A game may set every transform every frame: one that did not change leaves the caches, the shadow maps
-  // and the last frame's rays valid.
-  if (inst.worldFromObject == worldFromObject) return;
-  inst.worldFromObject = worldFromObject;
-  r.caches.instanceMoved();
-  if (!inst.dynamic) r.radiosity.invalidate(false);  // dynamic instances are not in the solution
-  r.last.sceneChanged = true;
-}
-
-void Renderer::setInstanceMotion(std::uint32_t instance, glm::vec3 velocity, glm::vec3 angularVelocity) {
-  Impl& r = *impl_;
-  assert(instance < r.scene.instances.size() && "Renderer::setInstanceMotion: instance out of range");
-  auto finite = [](glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
-  if (!finite(velocity) || !finite(angularVelocity)) {
-    logWarning("Renderer::setInstanceMotion: instance " + std::to_string(instance) +
-               " given a NaN or infinite motion; kept the previous one");
-    return;
-  }
-  Instance& inst = r.scene.instances[instance];
-  if (inst.velocity == velocity && inst.angularVelocity == angularVelocity) return;
-  inst.velocity = velocity;
-  inst.angularVelocity = angularVelocity;
-  r.caches.instanceMoved();
-  r.last.sceneChanged = true;
-}
-
-void Renderer::setLight(std::uint32_t light, const Light& value) {
-  Impl& r = *impl_;
-  assert(light < r.scene.lights.size() && "Renderer::setLight: light out of range");
-  const Result<void> valid = validateLight(value, "Renderer::setLight: light " + std::to_string(light));
-  int direct = 0;
-  for (std::size_t i = 0; i < r.scene.lights.size(); ++i)
-    direct += (i == light ? value.type : r.scene.lights[i].type) != LightType::Ambient ? 1 : 0;
-  if (!valid || direct > kMaxLights) {
-    logWarning((valid ? "Renderer::setLight: light " + std::to_string(light) + " would exceed the light limit"
-                      : valid.error().message) +
-               "; kept the previous one");
-    return;
-  }
-  if (r.scene.lights[light] == value) return;  // unchanged: as for setInstanceTransform
-  r.scene.lights[light] = value;
-  r.caches.lightChanged();
-  r.radiosity.lightsChanged();
-  r.last.sceneChanged = true;
-}
-
-Result<void> Renderer::resize(int width, int height) {
-  Impl& r = *impl_;
-  if (width < 1 || height < 1)
-    return Error{"frame size " + std::to_string(width) + "x" + std::to_string(height) + ": must be at least 1x1"};
-  r.failedWidth = r.failedHeight = 0;  // asked again: try again (memory may have been freed since)
-  return r.allocateFrame(width, height);
-}
 
 // The frame, top to bottom: plan → prepare (targets, caches) → raster → readback → rays → upload →
 // shade (composite and output) → present. Each stage is one call below, timed into FrameStats.
@@ -293,6 +90,7 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
     stats.totalMs = total.ms();
     return stats;
   };
+  timed(stats.bookkeepingMs, [&] { r.applyChanges(); });
   const bool lastDrawn = r.last.drawn;
   r.last.drawn = false;  // until this frame is drawn
   // With a frame-time budget, the settings this frame can afford; otherwise the requested ones.
@@ -360,10 +158,10 @@ void Renderer::Impl::traceSample(const FramePlan& plan, const Camera& camera, Fr
   // frame: bookkeeping).
   rt::RayReuse kept;
   const bool keeps = timed(sample.bookkeepingMs, [&] {
-    FrameHistory::Changes changes;
-    const bool some = only == nullptr && last.keepsSome(plan, camera, scene, lastDrawn, !rays.lightMask.empty(), changes);
-    kept.moved = std::move(changes.moved);
-    kept.changedLights = changes.changedLights;
+    FrameHistory::Changes since;
+    const bool some = only == nullptr && last.keepsSome(plan, camera, scene, lastDrawn, !rays.lightMask.empty(), since);
+    kept.moved = std::move(since.moved);
+    kept.changedLights = since.changedLights;
     if (!plan.settings.reuseRays && !keptVisibility.ids.empty()) releaseKept();
     if (some) {
       std::swap(visibility, keptVisibility);
@@ -675,87 +473,6 @@ void Renderer::Impl::present() {
 // What tracePixel re-runs: the frame as it was drawn.
 void Renderer::Impl::remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in) {
   last.remember(plan, camera, scene, in.shadowMaps != nullptr, in.probeCubes ? in.probeEffects : 0);
-}
-
-Result<PixelTrace> Renderer::tracePixel(int x, int y) {
-  Impl& r = *impl_;
-  const FrameHistory& f = r.last;
-  if (!f.drawn) return Error{"tracePixel: no frame to trace (none rendered yet, or the last one was not drawn)"};
-  if (f.sceneChanged)
-    return Error{"tracePixel: the scene changed since the last frame (setScene, setInstanceTransform or setLight); "
-                 "render a frame, then trace it"};
-  if (f.plan.settings.gi == GlobalIllumination::Path)
-    return Error{"tracePixel: a path-traced reference frame (FrameSettings::gi) has no ray tree"};
-  const int width = f.plan.settings.width, height = f.plan.settings.height;
-  if (x < 0 || y < 0 || x >= width || y >= height)
-    return Error{"tracePixel: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
-                 std::to_string(width) + "x" + std::to_string(height) + " frame"};
-  // A frame without rays did not need the Embree scene; the trace does (the scene is the frame's: unchanged).
-  if (!r.caches.syncRays(r.scene, f.camera.shutter, *r.tracer))
-    return Error{"tracePixel: the ray pass cannot use this scene (Embree refused it)"};
-
-  PixelTrace trace;
-  if (f.plan.reference) {
-    trace = r.tracer->tracePixelReference(r.scene, f.camera, f.plan.settings, x, y);
-  } else {
-    // The ids the ray pass read back, or (a frame without a ray pass) the visibility pass's, still the frame's.
-    rt::VisibilityBuffer idsNow;
-    const rt::VisibilityBuffer* visibility = &r.visibility;
-    if (!f.plan.rayPass) {
-      idsNow.width = width;
-      idsNow.height = height;
-      r.visibilityPass.readIds(idsNow.ids);
-      visibility = &idsNow;
-    }
-    const int scale = std::max(1, f.plan.raySettings.rayScale);
-    trace = r.tracer->tracePixel(r.scene, f.camera, f.plan.raySettings, *visibility, x / scale, y / scale);
-    trace.x = x;
-    trace.y = y;
-  }
-  trace.settings = f.plan.settings;
-  trace.rayPass = f.plan.rayPass;
-
-  // What the frame's pixel has that the rays do not: the GL's parts the trace names but does not recompute.
-  const TraceNode* primary = trace.roots.empty() ? nullptr : &trace.nodes[static_cast<std::size_t>(trace.roots.front())];
-  const bool onSurface = primary && primary->hit;
-  if (f.plan.settings.debugView != DebugView::Final)
-    trace.notes.push_back("the frame shows the " + std::string(toString(f.plan.settings.debugView)) +
-                          " debug view, not this colour");
-  if (!f.plan.reference && trace.rayScale > 1)
-    trace.notes.push_back("the ray pass ran at 1/" + std::to_string(trace.rayScale) +
-                          " resolution: the frame shades its local term at (" + std::to_string(x) + ", " +
-                          std::to_string(y) + ") and upsamples the grid's reflected and transmitted radiance there; "
-                          "this trace is of the grid pixel's rays, at pixel (" + std::to_string(trace.tracedX) +
-                          ", " + std::to_string(trace.tracedY) + ")");
-  if (onSurface && f.shadowMaps)
-    trace.notes.push_back("shadows are raster: the frame takes the primary hit's light visibility from the shadow "
-                          "maps, which the trace does not model (its local term counts every light as visible)");
-  if (onSurface && (f.probeEffects & gl::kProbeReflect))
-    trace.notes.push_back("reflections are raster: the frame's primary hit reflects a probe, which the trace does not model");
-  if (onSurface && (f.probeEffects & gl::kProbeRefract))
-    trace.notes.push_back("refraction is raster: the frame's primary hit refracts a probe, which the trace does not model");
-  if (onSurface && !f.plan.reference) {
-    const ShadingModel model = f.plan.settings.shadingOverride.value_or(r.scene.materials[primary->material].shading);
-    if (model == ShadingModel::Toon)
-      trace.notes.push_back("toon shading: the frame may draw a silhouette outline over this pixel");
-  }
-  return trace;
-}
-
-void Renderer::present(int framebufferWidth, int framebufferHeight) {
-  impl_->outputPass.present(framebufferWidth, framebufferHeight);
-}
-
-Image Renderer::readImage() { return impl_->outputPass.readImage(); }
-
-ImageF Renderer::readLinear() { return impl_->outputPass.readLinear(); }
-
-ResourceStats Renderer::resources() const {
-  ResourceStats r;
-  r.glObjects = gl::liveObjectCount();
-  r.embreeBytes = impl_->tracer ? impl_->tracer->embreeBytes() : 0;
-  r.embreeHandles = rt::liveEmbreeHandles();
-  return r;
 }
 
 }  // namespace tandem

@@ -11,20 +11,20 @@
 
 namespace tandem {
 
-void SceneCaches::sceneChanged() {
-  gpuStale_ = true;
-  rtSceneStale_ = true;
-  rtBroken_ = false;
-}
-
-void SceneCaches::instanceMoved() {
-  gpuInstancesStale_ = true;
-  rtTransformsStale_ = true;
-}
-
-void SceneCaches::lightChanged() {
-  gpuLightsStale_ = true;
-  rtTransformsStale_ = true;
+void SceneCaches::apply(const SceneChanges& changes) {
+  if (changes.replaced) {
+    gpuStale_ = true;
+    rtSceneStale_ = true;
+    rtBroken_ = false;
+  }
+  if (changes.instancesMoved()) {
+    gpuInstancesStale_ = true;
+    rtTransformsStale_ = true;
+  }
+  if (changes.lights) {
+    gpuLightsStale_ = true;
+    rtTransformsStale_ = true;
+  }
 }
 
 void SceneCaches::syncGpu(const Scene& scene, std::optional<ShadingModel> shadingOverride, float shutter,

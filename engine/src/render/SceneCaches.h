@@ -1,8 +1,8 @@
 #pragma once
 // The scene's derived copies and what they are missing: the GL copy (GpuScene) and the raster effects
 // made from it (shadow maps, probes), and the Embree scene. The Scene is the truth; these are caches,
-// told what changed (sceneChanged, instanceMoved, lightChanged) and brought up to date by the sync calls
-// the frame makes. All the stale flags and version counters live here and nowhere else.
+// told what changed (apply, from the frame's SceneChanges) and brought up to date by the sync calls the frame
+// makes. All the caches' stale flags and version counters live here and nowhere else.
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -14,6 +14,7 @@
 #include "gl/ShadePass.h"
 #include "gl/VisibilityPass.h"
 #include "render/FramePlan.h"
+#include "render/SceneChanges.h"
 #include "rt/RayTracer.h"
 
 namespace tandem {
@@ -21,11 +22,9 @@ namespace tandem {
 class SceneCaches {
  public:
   // ---- what changed ----
-  void sceneChanged();
-  /// An instance (static or dynamic) moved: the GL instance buffer is patched and Embree's top level
-  /// updated; no mesh's BVH is rebuilt.
-  void instanceMoved();
-  void lightChanged();
+  /// A new scene: everything is made again. An instance (static or dynamic) moved: the GL instance buffer
+  /// is patched and Embree's top level updated; no mesh's BVH is rebuilt. A light: the GL lights re-packed.
+  void apply(const SceneChanges& changes);
 
   // ---- syncs ----
   /// The GL copy: uploaded or patched as needed, re-packed when the shading override changes; moving
