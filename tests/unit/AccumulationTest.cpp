@@ -203,6 +203,36 @@ TEST(Accumulation, ARestartSetsUpNoSumsUntilASampleIsAdded) {
   EXPECT_EQ(a.mostSamples(), 1);
 }
 
+TEST(Accumulation, SamplesOfOneFrameSeeTheSameProbes) {
+  Accumulation a;
+  FramePlan plan;
+  plan.settings = accumulating(8);
+  plan.settings.probesPerFrame = 2;
+  a.restart(Camera{}, plan.settings);
+  // The first frame's one sample is a plain frame: its probes catch up a few at a time, as without
+  // accumulation.
+  EXPECT_TRUE(a.singleSample(plan.settings));
+  EXPECT_EQ(a.samplePlan(plan, false).settings.probesPerFrame, 2);
+  a.frameDone();
+  // Later frames (and any frame of several samples) draw every sample with the probes brought up to date by
+  // the first, so no two samples of a mean show different probes...
+  EXPECT_FALSE(a.singleSample(plan.settings));
+  EXPECT_EQ(a.samplePlan(plan, false).settings.probesPerFrame, 0);
+  // ...and when the probes are current nothing changes.
+  EXPECT_EQ(a.samplePlan(plan, true).settings.probesPerFrame, 2);
+  Accumulation b;
+  FramePlan ssaa = plan;
+  ssaa.settings.aa = AntiAlias::Ssaa;
+  ssaa.settings.aaSamples = 4;
+  b.restart(Camera{}, ssaa.settings);
+  EXPECT_FALSE(b.singleSample(ssaa.settings));
+  EXPECT_EQ(b.samplePlan(ssaa, false).settings.probesPerFrame, 0);
+  // Only the probes' pace changes: the rest of the plan is the frame's.
+  FramePlan caught = b.samplePlan(ssaa, false);
+  caught.settings.probesPerFrame = ssaa.settings.probesPerFrame;
+  EXPECT_TRUE(caught.settings == ssaa.settings);
+}
+
 TEST(Accumulation, ReleaseFreesEverything) {
   Accumulation a;
   a.restart(Camera{}, accumulating(8));

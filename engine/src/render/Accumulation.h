@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "render/FramePlan.h"
 #include "tandem/Camera.h"
 #include "tandem/Image.h"
 #include "tandem/Settings.h"
@@ -50,6 +51,19 @@ class Accumulation {
   /// lens or a shutter, its lens point and time (core/Sampling.h's sequences, in order).
   Camera nextSample(const Camera& camera);
 
+  /// Whether this frame is the accumulation's first and draws one sample (no anti-aliasing): it is shown as
+  /// drawn, and read into the sums only if the next frame goes on (firstUnread).
+  bool singleSample(const FrameSettings& settings) const { return frames_ == 0 && settings.aa == AntiAlias::Off; }
+  /// The plan each of this frame's samples is drawn with. Several samples in one frame must all see the same
+  /// probes: probes still catching up with a move (probesPerFrame > 0, `probesCurrent` false) are all
+  /// brought up to date by the first sample instead of a few by each. A frame of one sample catches up as a
+  /// plain frame does.
+  FramePlan samplePlan(const FramePlan& plan, bool probesCurrent) const {
+    if (singleSample(plan.settings) || probesCurrent) return plan;
+    FramePlan caughtUp = plan;
+    caughtUp.settings.probesPerFrame = 0;
+    return caughtUp;
+  }
   /// Adds a sample's linear frame at the pixels `only` marks (nullptr: all). A frame of another size (a debug
   /// view has no linear frame) adds nothing.
   void add(const ImageF& linear, const std::vector<std::uint8_t>* only);

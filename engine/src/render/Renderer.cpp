@@ -218,19 +218,14 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
     accum.firstUnread = false;
   }
   const bool adaptive = s.aa == AntiAlias::Adaptive;
-  const bool single = accum.frames() == 0 && s.aa == AntiAlias::Off;
+  const bool single = accum.singleSample(s);
   const int perFrame = s.aa == AntiAlias::Off ? 1 : s.aaSamples;
   // Adaptive: the pixels a round samples, and the wider set whose rays it traces (Accumulation::nextRound).
   std::vector<std::uint8_t> refine, traced;
   bool drawnOnce = lastDrawn;
-  // Several samples in one frame must all see the same probes: probes still catching up with a move
-  // (probesPerFrame > 0) are all brought up to date by the first sample instead of a few by each.
-  FramePlan caughtUp = plan;
-  caughtUp.settings.probesPerFrame = 0;
   auto addSample = [&](const std::vector<std::uint8_t>* only, const std::vector<std::uint8_t>* rayPixels) {
     const Camera jittered = accum.nextSample(camera);
-    const bool catchUp = !single && !caches.probesCurrent();
-    if (!drawSample(catchUp ? caughtUp : plan, jittered, stats, drawnOnce, rayPixels)) {
+    if (!drawSample(accum.samplePlan(plan, caches.probesCurrent()), jittered, stats, drawnOnce, rayPixels)) {
       accum.release();  // a sample is missing: the sums no longer stand for these settings
       last.drawn = false;  // and `last` describes the sample before it, not what the buffers hold
       return false;
