@@ -231,7 +231,7 @@ MUTATIONS = [
      "if (!j.is_number_integer() && d != std::floor(d)) fail(",
      "if (!j.is_number_integer() && std::abs(d - std::floor(d)) > 0.5) fail(", "tandem-unit-tests", "SceneFile*"),
     # The raster frame: shadows on the ray grid, culled face draws, the probes' size.
-    ("shadow-mask-second-layer-from-the-first", "shaders/shade.frag",
+    ("shadow-mask-second-layer-from-the-first", "shaders/shade_rays.glsl",
      "texelFetch(shadowMaskTex, ivec3(g, 1), 0)", "texelFetch(shadowMaskTex, ivec3(g, 0), 0)",
      "tandem-gl-tests", "ShadowMaskGL.*"),
     ("shadow-mask-at-the-grid-corner", "shaders/shade.frag",
@@ -245,7 +245,13 @@ MUTATIONS = [
     ("probe-size-change-ignored", "engine/src/render/SceneCaches.cpp",
      "(probes_.probeCount() > 0 && probes_.faceSize() != plan.settings.probeSize) ||", "",
      "tandem-gl-tests", "RasterEffectsGLTest.ProbeSize*"),
-    ("probe-lod-for-128-faces", "shaders/shade.frag",
+    ("ray-tiles-trusted-in-a-new-texture", "engine/src/gl/ShadePass.cpp",
+     "if (remade || resident.mayBeNonZero.size() != count", "if (resident.mayBeNonZero.size() != count",
+     "tandem-gl-tests", "RayUpload.*"),
+    ("area-samples-bound-without-area-lights", "engine/src/gl/ShadePass.cpp",
+     "(!c.perAreaLight || scene.features().areaLights)", "true",
+     "tandem-gl-tests", "AreaLight.*:FrameDecisions.*:Golden.Whitted*"),
+    ("probe-lod-for-128-faces", "shaders/shade_probes.glsl",
      "float faceSize = float(textureSize(probes, 0).x);", "float faceSize = 128.0;",
      "tandem-gl-tests", "Glossy.RasterBlur*"),
     # The game.

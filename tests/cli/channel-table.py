@@ -42,7 +42,8 @@ for name, fmt in channels.items():
 # channel's transfer to the C++ type it is read into is the one place such a name may appear.
 literal = re.compile(r"\bGL_(RG32UI|R32UI|RGBA32F|RGBA16F|RGBA16|RGBA8|DEPTH_COMPONENT32F|RG_INTEGER|RED_INTEGER|RGBA|"
                      r"FLOAT|HALF_FLOAT|UNSIGNED_BYTE|UNSIGNED_SHORT|UNSIGNED_INT|DEPTH_COMPONENT)\b")
-for f in ["VisibilityPass.cpp", "ShadePass.cpp", "OutputPass.cpp", "ReflectionProbes.cpp", "RasterEffects.cpp"]:
+for f in ["VisibilityPass.cpp", "ShadePass.cpp", "OutputPass.cpp", "ReflectionProbes.cpp", "RasterEffects.cpp",
+          "RayChannels.h"]:
     path = os.path.join(root, "engine", "src", "gl", f)
     in_assert = False
     for n, line in enumerate(open(path), 1):

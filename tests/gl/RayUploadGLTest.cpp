@@ -1,6 +1,8 @@
-// The ray pass's results reach the shade pass tile by tile (ShadePass::uploadReflected with GridTiles):
-// only tiles that hold something are sent, and tiles that held something last time are zeroed. Whatever
-// the sequence of frames, the texture must equal the grid last uploaded, to the bit.
+// The ray pass's results reach the shade pass by the channel table (gl/RayChannels.h, ShadePass::uploadRays):
+// the tiled channels tile by tile (only tiles that hold something are sent, and tiles that held something
+// last time are zeroed), the light mask whole, the area lights' samples one layer per light. Whatever the
+// sequence of frames, each texture must equal what was last uploaded, to the bit; a channel a frame leaves
+// out keeps what it held.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -69,11 +71,41 @@ TEST(RayUpload, TileByTileUploadsLeaveTheTextureEqualToTheGrid) {
     const Grid t = randomGrid(rng, step.width, step.height, step.fill);
     const gl::GridTiles rt = step.tiled ? gl::GridTiles{r.flags, r.tile} : gl::GridTiles{};
     const gl::GridTiles tt = step.tiled ? gl::GridTiles{t.flags, t.tile} : gl::GridTiles{};
-    ASSERT_TRUE(pass->uploadReflected(r.width, r.height, r.texels.data(), rt).ok());
-    ASSERT_TRUE(pass->uploadTransmitted(t.width, t.height, t.texels.data(), tt).ok());
-    expectTextureHolds(pass->reflectedTexture(), r, "reflected");
-    expectTextureHolds(pass->transmittedTexture(), t, "transmitted");
+    const std::size_t n = static_cast<std::size_t>(step.width) * static_cast<std::size_t>(step.height);
+    std::vector<std::uint8_t> mask(n);
+    for (std::uint8_t& m : mask) m = static_cast<std::uint8_t>(rng() & 0xFFu);
+    const int areaLights = step.width == 50 ? 3 : 2;  // the layer count changes with the size
+    std::vector<std::uint32_t> samples(n * static_cast<std::size_t>(areaLights));
+    for (std::uint32_t& b : samples) b = static_cast<std::uint32_t>(rng());
+    gl::RayGrid grid;
+    grid[std::size_t(gl::RayChannelId::Reflected)] = {r.texels.data(), 1, rt};
+    grid[std::size_t(gl::RayChannelId::Transmitted)] = {t.texels.data(), 1, tt};
+    grid[std::size_t(gl::RayChannelId::LightMask)] = {mask.data(), 1, {}};
+    grid[std::size_t(gl::RayChannelId::AreaSamples)] = {samples.data(), areaLights, {}};
+    auto sent = pass->uploadRays(step.width, step.height, grid);
+    ASSERT_TRUE(sent.ok());
+    EXPECT_EQ(*sent, gl::kRayLightMask | gl::kRayReflected | gl::kRayTransmitted);
+    expectTextureHolds(pass->rayTexture(gl::RayChannelId::Reflected), r, "reflected");
+    expectTextureHolds(pass->rayTexture(gl::RayChannelId::Transmitted), t, "transmitted");
+    std::vector<std::uint8_t> gotMask(n, 0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);  // 75 one-byte texels a row: no padding
+    glGetTextureImage(pass->rayTexture(gl::RayChannelId::LightMask).id(), 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE,
+                      static_cast<GLsizei>(gotMask.size()), gotMask.data());
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    EXPECT_TRUE(gotMask == mask) << "light mask";
+    std::vector<std::uint32_t> gotSamples(samples.size(), 0);
+    glGetTextureImage(pass->rayTexture(gl::RayChannelId::AreaSamples).id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                      static_cast<GLsizei>(gotSamples.size() * sizeof(std::uint32_t)), gotSamples.data());
+    EXPECT_TRUE(gotSamples == samples) << "area-light samples, " << areaLights << " layers";
   }
+  // A frame without reflections or area lights: those channels are left as they were, the others sent.
+  const Grid keep = randomGrid(rng, 50, 50, 0.5f);
+  gl::RayGrid some;
+  some[std::size_t(gl::RayChannelId::Transmitted)] = {keep.texels.data(), 1, {}};
+  auto sent = pass->uploadRays(50, 50, some);
+  ASSERT_TRUE(sent.ok());
+  EXPECT_EQ(*sent, gl::kRayTransmitted);
+  expectTextureHolds(pass->rayTexture(gl::RayChannelId::Transmitted), keep, "transmitted, alone");
 }
 
 }  // namespace

@@ -14,54 +14,25 @@ namespace tandem::gl {
 
 namespace {
 
-// Recreates `texture` only when the size changes: the ray grid is the same every frame in practice.
-// True when it was made again (its contents are undefined).
-Result<bool> reserveGrid(Texture& texture, const char* label, ChannelFormat channel, int width, int height) {
-  GLint w = 0, h = 0;
-  if (texture) {
-    glGetTextureLevelParameteriv(texture.id(), 0, GL_TEXTURE_WIDTH, &w);
-    glGetTextureLevelParameteriv(texture.id(), 0, GL_TEXTURE_HEIGHT, &h);
-  }
-  if (texture && w == width && h == height) return false;
-  texture.reset();
-  auto made = tryCreateTexture2D(label, channel.internal, width, height);
-  if (!made) return made.error();
-  texture = std::move(*made);
-  setSampling(texture, GL_NEAREST, GL_NEAREST);
-  return true;
-}
-
-Result<void> uploadGrid(Texture& texture, const char* label, ChannelFormat channel, int width, int height,
-                        const void* data) {
-  auto reserved = reserveGrid(texture, label, channel, width, height);
-  if (!reserved) return reserved.error();
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // rows tightly packed, whatever the texel size
-  glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, channel.transfer, channel.type, data);
-  return {};
-}
-
 // The tile's action: send its texels, zero it in the texture, or leave it.
 enum class TileUpload { Keep, Clear, Send };
 
 // Sends only the tiles that hold something and zeroes the ones that held something last time, so the
 // texture ends equal to `data` (every other tile is zero in both). `resident` remembers, per tile, whether
-// the texture may hold a non-zero value there. Without tile flags it sends everything.
-Result<void> uploadSparseGrid(Texture& texture, GridResidency& resident, const char* label,
-                              ChannelFormat channel, int width, int height, const glm::vec4* data,
-                              const GridTiles& tiles) {
-  auto reserved = reserveGrid(texture, label, channel, width, height);
-  if (!reserved) return reserved.error();
+// the texture may hold a non-zero value there; `remade`: the texture is new (its contents undefined).
+// Without tile flags it sends everything.
+void sendTiles(const Texture& texture, GridResidency& resident, bool remade, ChannelFormat channel, int width,
+               int height, const glm::vec4* data, const GridTiles& tiles) {
   const int tilesX = tiles.size > 0 ? (width + tiles.size - 1) / tiles.size : 0;
   const int tilesY = tiles.size > 0 ? (height + tiles.size - 1) / tiles.size : 0;
   const std::size_t count = static_cast<std::size_t>(tilesX) * static_cast<std::size_t>(tilesY);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // rows tightly packed, whatever the texel size
   if (tiles.nonZero.size() != count || count == 0) {
     glTextureSubImage2D(texture.id(), 0, 0, 0, width, height, channel.transfer, channel.type, data);
     resident.mayBeNonZero.assign(count, 1);
     resident.size = tiles.size;
-    return {};
+    return;
   }
-  if (*reserved || resident.mayBeNonZero.size() != count || resident.size != tiles.size) {
+  if (remade || resident.mayBeNonZero.size() != count || resident.size != tiles.size) {
     glClearTexImage(texture.id(), 0, channel.transfer, channel.type, nullptr);
     resident.mayBeNonZero.assign(count, 0);
     resident.size = tiles.size;
@@ -90,7 +61,6 @@ Result<void> uploadSparseGrid(Texture& texture, GridResidency& resident, const c
   }
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
   resident.mayBeNonZero.assign(tiles.nonZero.begin(), tiles.nonZero.end());
-  return {};
 }
 
 }  // namespace
@@ -116,34 +86,36 @@ static_assert(kChannelReflected.transfer == GL_RGBA && kChannelReflected.type ==
 static_assert(kChannelAreaSamples.transfer == GL_RED_INTEGER && kChannelAreaSamples.type == GL_UNSIGNED_INT,
               "area-light sample bits travel as one std::uint32_t per grid pixel and area light");
 
-Result<void> ShadePass::uploadLightMask(int width, int height, const std::uint8_t* mask, const std::uint32_t* areaSamples,
-                                        int areaLights) {
-  auto sent = uploadGrid(lightMask_, "ray light mask", kChannelLightMask, width, height, mask);
-  if (!sent || areaLights <= 0 || !areaSamples) return sent;
-  if (!areaSamples_ || areaWidth_ != width || areaHeight_ != height || areaLayers_ != areaLights) {
-    areaSamples_.reset();
-    areaWidth_ = areaHeight_ = areaLayers_ = 0;
-    auto made = tryCreateTexture2DArray("ray area-light samples", kChannelAreaSamples.internal, width, height, areaLights);
-    if (!made) return made.error();
-    areaSamples_ = std::move(*made);
-    setSampling(areaSamples_, GL_NEAREST, GL_NEAREST);
-    areaWidth_ = width;
-    areaHeight_ = height;
-    areaLayers_ = areaLights;
+Result<int> ShadePass::uploadRays(int width, int height, const RayGrid& grid) {
+  int held = 0;
+  for (const RayChannel& c : kRayChannels) {
+    const RayGridData& d = grid[static_cast<std::size_t>(c.id)];
+    if (d.texels == nullptr || d.layers < 1) continue;
+    GridTexture& g = rayGrid_[static_cast<std::size_t>(c.id)];
+    const int layers = c.perAreaLight ? d.layers : 1;
+    // Made again only when the grid's size (or the area lights' count) changes: in practice, never in play.
+    const bool remade = !g.texture || g.width != width || g.height != height || g.layers != layers;
+    if (remade) {
+      g = GridTexture{};
+      auto made = c.perAreaLight ? tryCreateTexture2DArray(c.label, c.format.internal, width, height, layers)
+                                 : tryCreateTexture2D(c.label, c.format.internal, width, height);
+      if (!made) return made.error();
+      g.texture = std::move(*made);
+      setSampling(g.texture, GL_NEAREST, GL_NEAREST);
+      g.width = width;
+      g.height = height;
+      g.layers = layers;
+    }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // rows tightly packed, whatever the texel size
+    if (c.tiled)
+      sendTiles(g.texture, g.resident, remade, c.format, width, height, static_cast<const glm::vec4*>(d.texels), d.tiles);
+    else if (c.perAreaLight)
+      glTextureSubImage3D(g.texture.id(), 0, 0, 0, 0, width, height, layers, c.format.transfer, c.format.type, d.texels);
+    else
+      glTextureSubImage2D(g.texture.id(), 0, 0, 0, width, height, c.format.transfer, c.format.type, d.texels);
+    held |= c.input;
   }
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage3D(areaSamples_.id(), 0, 0, 0, 0, width, height, areaLights, kChannelAreaSamples.transfer,
-                      kChannelAreaSamples.type, areaSamples);
-  return {};
-}
-
-Result<void> ShadePass::uploadReflected(int width, int height, const glm::vec4* rgba, const GridTiles& tiles) {
-  return uploadSparseGrid(reflected_, reflectedResident_, "ray reflected", kChannelReflected, width, height, rgba, tiles);
-}
-
-Result<void> ShadePass::uploadTransmitted(int width, int height, const glm::vec4* rgba, const GridTiles& tiles) {
-  return uploadSparseGrid(transmitted_, transmittedResident_, "ray transmitted", kChannelTransmitted, width, height,
-                          rgba, tiles);
+  return held;
 }
 
 bool ShadePass::samplesDepth(const SceneFeatures& features, DebugView view) {
@@ -340,11 +312,10 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
   // Every sampler the variant declares gets a texture of its type: the frame's, or a placeholder the shader
   // never reads (rayInputs and the light kinds keep it away), never an empty unit (gl/Placeholders.h).
   using P = Placeholders;
-  placeholders_.bindOr(kUnitLightMask, (in.rayInputs & kRayLightMask) ? lightMask_.id() : 0, P::Uint2D);
-  placeholders_.bindOr(kUnitAreaSamples,
-                       (in.rayInputs & kRayLightMask) && scene.features().areaLights ? areaSamples_.id() : 0, P::Uint2DArray);
-  placeholders_.bindOr(kUnitReflected, (in.rayInputs & kRayReflected) ? reflected_.id() : 0, P::Float2D);
-  placeholders_.bindOr(kUnitTransmitted, (in.rayInputs & kRayTransmitted) ? transmitted_.id() : 0, P::Float2D);
+  for (const RayChannel& c : kRayChannels) {
+    const bool held = (in.rayInputs & c.input) != 0 && (!c.perAreaLight || scene.features().areaLights);
+    placeholders_.bindOr(c.unit, held ? rayGrid_[static_cast<std::size_t>(c.id)].texture.id() : 0, c.placeholder);
+  }
   placeholders_.bindOr(kUnitExactHits, in.exactHits ? in.exactHits->id() : 0, P::Float2D);
 }
 

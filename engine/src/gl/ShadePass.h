@@ -3,6 +3,7 @@
 // with the raster effects and the ray results added; its compiled variants, and the textures the ray
 // results are uploaded into. It draws into a target it is given (the output pass's linear radiance, or a
 // probe's face). Channel table: docs/gbuffer.md; binding points: gl/Bindings.h.
+#include <array>
 #include <cstdint>
 #include <map>
 #include <span>
@@ -16,6 +17,7 @@
 #include "gl/Placeholders.h"
 #include "gl/Program.h"
 #include "gl/RasterEffects.h"
+#include "gl/RayChannels.h"
 #include "gl/ShadeVariant.h"
 #include "gl/VisibilityPass.h"
 #include "tandem/Camera.h"
@@ -62,13 +64,6 @@ struct ShadeInputs {
   ToneMap toneMap = ToneMap::Aces;
 };
 
-/// Which square tiles of a ray grid hold a non-zero value (RayOutputs::reflectedTiles): `size` texels a
-/// side, row-major, one flag per tile; the rest of the grid is zero. Empty: unknown, the whole grid is sent.
-struct GridTiles {
-  std::span<const std::uint8_t> nonZero;
-  int size = 0;
-};
-
 /// What a ray-grid texture may hold, per tile of `size` texels (uploadReflected with GridTiles): 1 where
 /// the tile may be non-zero, 0 where it is zero.
 struct GridResidency {
@@ -80,20 +75,17 @@ class ShadePass {
  public:
   static Result<ShadePass> create();
 
-  /// Ray results on the ray grid (row 0 = top, as RayOutputs holds them). The grid's texture is made
-  /// again when the grid's size changes: an error names it when the GL refuses, and nothing is uploaded.
-  /// With area lights, their sample bits too (rt::RayOutputs::areaSamples: `areaLights` planes of the grid).
-  Result<void> uploadLightMask(int width, int height, const std::uint8_t* mask, const std::uint32_t* areaSamples = nullptr,
-                               int areaLights = 0);
-  /// With `tiles`, only the tiles that hold something, and those that held something the last time, are
-  /// sent (a reflective surface covers a fraction of the frame); the texture still equals `rgba` to the bit.
-  Result<void> uploadReflected(int width, int height, const glm::vec4* rgba, const GridTiles& tiles = {});
-  Result<void> uploadTransmitted(int width, int height, const glm::vec4* rgba, const GridTiles& tiles = {});
-  /// The textures those uploads fill (for tests: the grid they hold must be what was uploaded).
-  const Texture& reflectedTexture() const { return reflected_; }
+  /// The ray pass's results on the ray grid (gl/RayChannels.h: one entry per channel, row 0 = top, as
+  /// RayOutputs holds them; a channel without texels is left as it is). A channel's texture is made again when
+  /// the grid's size (or the area lights' count) changes: an error names it when the GL refuses, and the rest
+  /// is not uploaded. Tiled channels send only the tiles that hold something, and zero those that held
+  /// something the last time: the texture still equals the texels to the bit. Returns the RayInput bits of
+  /// the channels sent.
+  Result<int> uploadRays(int width, int height, const RayGrid& grid);
+  /// A channel's texture as the last upload left it (for tests: the grid it holds must be what was sent).
+  const Texture& rayTexture(RayChannelId id) const { return rayGrid_[static_cast<std::size_t>(id)].texture; }
   /// The last shadow-mask pass's grid (RGBA16 array, 2 layers; empty before the first).
   const Texture& shadowMaskTexture() const { return shadowMask_; }
-  const Texture& transmittedTexture() const { return transmitted_; }
 
   /// Whether the shade pass for these scene features and this view reads depth in the shader (the toon
   /// outlines' depth test, the depth view). Such a pass samples a copy of the depth: the depth itself
@@ -137,10 +129,13 @@ class ShadePass {
 
   std::map<ShadeVariant, Program> variants_;
   VertexArray emptyVao_;  // core profile draws need a VAO even with no attributes
-  Texture lightMask_, reflected_, transmitted_;
-  Texture areaSamples_;  // R32UI array, one layer per area light
-  int areaWidth_ = 0, areaHeight_ = 0, areaLayers_ = 0;
-  GridResidency reflectedResident_, transmittedResident_;
+  // The ray grid's channels, kRayChannels order.
+  struct GridTexture {
+    Texture texture;
+    int width = 0, height = 0, layers = 0;
+    GridResidency resident;  // tiled channels: the tiles that may hold a non-zero value
+  };
+  std::array<GridTexture, kRayChannelCount> rayGrid_;
   Texture sampledDepth_;  // frame size, with reserveSampledDepth()
   Texture shadowMask_;    // the ray grid, 2 layers (kChannelShadowMask)
   Framebuffer shadowMaskFbo_;

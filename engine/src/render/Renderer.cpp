@@ -66,6 +66,26 @@ auto timed(double& ms, F&& stage) {
   }
 }
 
+// The ray grid's channels as the shade pass takes them (gl/RayChannels.h), from the ray pass's outputs: a
+// channel the frame's rays did not fill (or filled at another size) has no texels.
+gl::RayGrid rayGridData(const rt::RayOutputs& rays) {
+  gl::RayGrid grid;
+  const std::size_t n = static_cast<std::size_t>(rays.width) * static_cast<std::size_t>(rays.height);
+  if (n == 0) return grid;
+  auto at = [&](gl::RayChannelId id) -> gl::RayGridData& { return grid[static_cast<std::size_t>(id)]; };
+  if (rays.lightMask.size() == n) {
+    at(gl::RayChannelId::LightMask).texels = rays.lightMask.data();
+    if (rays.areaLights > 0 && rays.areaSamples.size() == static_cast<std::size_t>(rays.areaLights) * n) {
+      at(gl::RayChannelId::AreaSamples).texels = rays.areaSamples.data();
+      at(gl::RayChannelId::AreaSamples).layers = rays.areaLights;
+    }
+  }
+  if (rays.reflected.size() == n) at(gl::RayChannelId::Reflected) = {rays.reflected.data(), 1, {rays.reflectedTiles, rays.tileSize}};
+  if (rays.transmitted.size() == n)
+    at(gl::RayChannelId::Transmitted) = {rays.transmitted.data(), 1, {rays.transmittedTiles, rays.tileSize}};
+  return grid;
+}
+
 }  // namespace
 
 // The frame, top to bottom: plan → prepare (targets, caches) → raster → readback → rays → upload →
@@ -401,38 +421,23 @@ bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameSta
       return false;
     }
   if (plan.rayPass) {
-    const std::size_t n = static_cast<std::size_t>(rays.width) * static_cast<std::size_t>(rays.height);
     // The shade variant follows what the plan can produce, not what this frame's rays left non-empty.
     in.rayChannels = (plan.rays.primaryShadows ? gl::kRayLightMask : 0) | (plan.rays.reflections ? gl::kRayReflected : 0) |
                      (plan.rays.refraction ? gl::kRayTransmitted : 0);
     in.rayWidth = rays.width;
     in.rayHeight = rays.height;
-    std::string refused;
-    auto take = [&](auto send, int input) {
-      const Result<void> uploaded = reused ? Result<void>{} : send();
-      if (uploaded) in.rayInputs |= input;
-      else if (refused.empty()) refused = uploaded.error().message;
-    };
-    if (rays.lightMask.size() == n && n > 0)
-      take([&] {
-        const bool area = rays.areaLights > 0 && rays.areaSamples.size() == static_cast<std::size_t>(rays.areaLights) * n;
-        return shadePass.uploadLightMask(rays.width, rays.height, rays.lightMask.data(),
-                                         area ? rays.areaSamples.data() : nullptr, area ? rays.areaLights : 0);
-      }, gl::kRayLightMask);
-    if (rays.reflected.size() == n && n > 0)
-      take([&] {
-        return shadePass.uploadReflected(rays.width, rays.height, rays.reflected.data(), {rays.reflectedTiles, rays.tileSize});
-      }, gl::kRayReflected);
-    if (rays.transmitted.size() == n && n > 0)
-      take([&] {
-        return shadePass.uploadTransmitted(rays.width, rays.height, rays.transmitted.data(),
-                                           {rays.transmittedTiles, rays.tileSize});
-      }, gl::kRayTransmitted);
-    if (!refused.empty()) {
-      // A ray grid's texture the GL refused: the frame would miss an effect, so it is not drawn.
-      stats.error = frameError(plan.settings, refused);
-      return false;
-    }
+    const gl::RayGrid grid = rayGridData(rays);
+    int held = 0;
+    for (const gl::RayChannel& c : gl::kRayChannels)
+      if (grid[static_cast<std::size_t>(c.id)].texels != nullptr) held |= c.input;
+    // Reused rays are in the textures already (FrameHistory::reusesRays).
+    if (!reused)
+      if (auto sent = shadePass.uploadRays(rays.width, rays.height, grid); !sent) {
+        // A ray grid's texture the GL refused: the frame would miss an effect, so it is not drawn.
+        stats.error = frameError(plan.settings, sent.error().message);
+        return false;
+      }
+    in.rayInputs |= held;
   } else if (plan.reference) {
     outputPass.uploadLinear(reference);
   }
