@@ -19,10 +19,10 @@ enum class TileUpload { Keep, Clear, Send };
 
 // Sends only the tiles that hold something and zeroes the ones that held something last time, so the
 // texture ends equal to `data` (every other tile is zero in both). `resident` remembers, per tile, whether
-// the texture may hold a non-zero value there; `remade`: the texture is new (its contents undefined).
-// Without tile flags it sends everything.
-void sendTiles(const Texture& texture, GridResidency& resident, bool remade, ChannelFormat channel, int width,
-               int height, const glm::vec4* data, const GridTiles& tiles) {
+// the texture may hold a non-zero value there (empty for a new texture, whose contents are undefined: it is
+// cleared first). Without tile flags it sends everything.
+void sendTiles(const Texture& texture, GridResidency& resident, ChannelFormat channel, int width, int height,
+               const glm::vec4* data, const GridTiles& tiles) {
   const int tilesX = tiles.size > 0 ? (width + tiles.size - 1) / tiles.size : 0;
   const int tilesY = tiles.size > 0 ? (height + tiles.size - 1) / tiles.size : 0;
   const std::size_t count = static_cast<std::size_t>(tilesX) * static_cast<std::size_t>(tilesY);
@@ -32,7 +32,7 @@ void sendTiles(const Texture& texture, GridResidency& resident, bool remade, Cha
     resident.size = tiles.size;
     return;
   }
-  if (remade || resident.mayBeNonZero.size() != count || resident.size != tiles.size) {
+  if (resident.mayBeNonZero.size() != count || resident.size != tiles.size) {
     glClearTexImage(texture.id(), 0, channel.transfer, channel.type, nullptr);
     resident.mayBeNonZero.assign(count, 0);
     resident.size = tiles.size;
@@ -94,9 +94,8 @@ Result<int> ShadePass::uploadRays(int width, int height, const RayGrid& grid) {
     GridTexture& g = rayGrid_[static_cast<std::size_t>(c.id)];
     const int layers = c.perAreaLight ? d.layers : 1;
     // Made again only when the grid's size (or the area lights' count) changes: in practice, never in play.
-    const bool remade = !g.texture || g.width != width || g.height != height || g.layers != layers;
-    if (remade) {
-      g = GridTexture{};
+    if (!g.texture || g.width != width || g.height != height || g.layers != layers) {
+      g = GridTexture{};  // its residency too: a new texture holds nothing known
       auto made = c.perAreaLight ? tryCreateTexture2DArray(c.label, c.format.internal, width, height, layers)
                                  : tryCreateTexture2D(c.label, c.format.internal, width, height);
       if (!made) return made.error();
@@ -108,7 +107,7 @@ Result<int> ShadePass::uploadRays(int width, int height, const RayGrid& grid) {
     }
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // rows tightly packed, whatever the texel size
     if (c.tiled)
-      sendTiles(g.texture, g.resident, remade, c.format, width, height, static_cast<const glm::vec4*>(d.texels), d.tiles);
+      sendTiles(g.texture, g.resident, c.format, width, height, static_cast<const glm::vec4*>(d.texels), d.tiles);
     else if (c.perAreaLight)
       glTextureSubImage3D(g.texture.id(), 0, 0, 0, 0, width, height, layers, c.format.transfer, c.format.type, d.texels);
     else
