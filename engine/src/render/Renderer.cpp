@@ -93,40 +93,45 @@ gl::RayGrid rayGridData(const rt::RayOutputs& rays) {
 FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested) {
   Impl& r = *impl_;
   FrameStats stats;
-  Timer total;
-  const std::uint64_t compiledBefore = gl::programsBuilt();
-  auto finished = [&] {
-    Timer book;
-    // Every stage ended with glFinish, but for the timestamp queries issued after it: finishing them costs
-    // microseconds and gives this frame's GPU times now (a pipelined frame would read them a frame later).
-    glFinish();
-    stats.gpu = r.gpuTimers.endFrame();
-    stats.shaderCompiles = static_cast<int>(gl::programsBuilt() - compiledBefore);
-    stats.budget = r.budget.stats();
-    // The budget learns from the frame's total as it stands here; its own few microseconds join the total after.
-    stats.totalMs = total.ms();
-    r.budget.observe(stats);
-    stats.bookkeepingMs += book.ms();
-    stats.totalMs = total.ms();
-    return stats;
-  };
-  timed(stats.bookkeepingMs, [&] { r.applyChanges(); });
-  const bool lastDrawn = r.last.drawn;
-  r.last.drawn = false;  // until this frame is drawn
+  const Impl::FrameClock clock = r.startFrame(stats);
   // With a frame-time budget, the settings this frame can afford; otherwise the requested ones.
   FramePlan plan = timed(stats.planMs, [&] {
     const SceneFacts facts = sceneFacts(r.scene);
     return planFrame(facts, r.budget.choose(requested.resolved(), facts));
   });
-  if (!timed(stats.prepareMs, [&] { return r.prepare(plan, camera, stats); })) return finished();
+  if (!timed(stats.prepareMs, [&] { return r.prepare(plan, camera, stats); })) return r.finishFrame(clock, stats);
   const FrameSettings& s = plan.settings;
-  if (s.aa == AntiAlias::Off && s.accumulate <= 1) {
-    if (r.accum.active()) timed(stats.accumulateMs, [&] { r.accum.release(); });  // cost follows the settings
-    if (r.drawSample(plan, camera, stats, lastDrawn, nullptr)) timed(stats.presentMs, [&] { r.present(); });
-    return finished();
-  }
-  if (r.drawSampled(plan, camera, stats, lastDrawn)) timed(stats.presentMs, [&] { r.present(); });
-  return finished();
+  const bool sampled = s.aa != AntiAlias::Off || s.accumulate > 1;
+  if (!sampled && r.accum.active()) timed(stats.accumulateMs, [&] { r.accum.release(); });  // cost follows the settings
+  const bool drawn = sampled ? r.drawSampled(plan, camera, stats, clock.lastDrawn)
+                             : r.drawSample(plan, camera, stats, clock.lastDrawn, nullptr);
+  if (drawn) timed(stats.presentMs, [&] { r.present(); });
+  return r.finishFrame(clock, stats);
+}
+
+Renderer::Impl::FrameClock Renderer::Impl::startFrame(FrameStats& stats) {
+  FrameClock clock;
+  clock.compiledBefore = gl::programsBuilt();
+  timed(stats.bookkeepingMs, [&] { applyChanges(); });
+  clock.lastDrawn = last.drawn;
+  last.drawn = false;  // until this frame is drawn
+  return clock;
+}
+
+FrameStats Renderer::Impl::finishFrame(const FrameClock& clock, FrameStats& stats) {
+  Timer book;
+  // Every stage ended with glFinish, but for the timestamp queries issued after it: finishing them costs
+  // microseconds and gives this frame's GPU times now (a pipelined frame would read them a frame later).
+  glFinish();
+  stats.gpu = gpuTimers.endFrame();
+  stats.shaderCompiles = static_cast<int>(gl::programsBuilt() - clock.compiledBefore);
+  stats.budget = budget.stats();
+  // The budget learns from the frame's total as it stands here; its own few microseconds join the total after.
+  stats.totalMs = clock.total.ms();
+  budget.observe(stats);
+  stats.bookkeepingMs += book.ms();
+  stats.totalMs = clock.total.ms();
+  return stats;
 }
 
 bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamera, FrameStats& stats, bool lastDrawn,

@@ -99,6 +99,17 @@ struct Renderer::Impl {
   // their mean. False when a sample could not be drawn.
   bool drawSampled(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn);
 
+  // The frame's start and end around its stages: the scene's recorded changes applied, whether the last
+  // frame was drawn, the shader compiles and the total time counted; at the end the GPU's times, the budget's
+  // view of the frame and its total.
+  struct FrameClock {
+    Timer total;
+    std::uint64_t compiledBefore = 0;
+    bool lastDrawn = false;
+  };
+  FrameClock startFrame(FrameStats& stats);
+  FrameStats finishFrame(const FrameClock& clock, FrameStats& stats);
+
   // The frame's stages (Renderer::render calls them in order). A stage that cannot go on sets
   // stats.error and returns false: the frame is then not drawn.
   bool prepare(FramePlan& plan, const Camera& camera, FrameStats& stats);
