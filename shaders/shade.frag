@@ -10,9 +10,7 @@
 #ifndef TD_USE_PROCEDURAL
 #define TD_USE_PROCEDURAL 1  // some material has a procedural texture (docs/procedural.md)
 #endif
-#if TD_USE_PROCEDURAL
 #include "procedural.glsl"
-#endif
 
 // Per-pixel gathers go through buffer-texture views of scene.glsl's SSBOs (engine/src/gl/GpuScene.h):
 // llvmpipe turns an SSBO read into a bounds-checked loop over the 8 lanes, a texelFetch into one
@@ -76,9 +74,7 @@ layout(std430, binding = TD_BIND_MATERIALS) readonly buffer Materials { GpuMater
 #ifndef TD_SHADOW_MASK
 #define TD_SHADOW_MASK 0
 #endif
-#if TD_SHADOW_MASK
 layout(binding = TD_UNIT_SHADOW_MASK) uniform TD_SAMPLER_SHADOW_MASK shadowMaskTex;  // layer 0: lights 0-3, 1: 4-7
-#endif
 #ifndef TD_PROBES
 #define TD_PROBES 3            // reflections (1) / refraction (2) = Raster: reflection-probe lookups
 #endif
@@ -89,7 +85,6 @@ layout(binding = TD_UNIT_SHADOW_MASK) uniform TD_SAMPLER_SHADOW_MASK shadowMaskT
 #define TD_FRESNEL_WEIGHTED 1  // wR = kr + kt·F, wT = kt·(1 − F); else wR = kr, wT = kt
 #endif
 
-#if TD_SHADOW_MAPS
 // engine/src/gl/RasterEffects.h: GpuShadow, one per direct light, and the maps (reversed-Z depth,
 // hardware compare GL_GEQUAL: 1 where the receiver is at least as near the light as the stored occluder).
 #define TD_SHADOW_NONE 0
@@ -104,10 +99,9 @@ struct GpuShadow {
 layout(std140, binding = TD_BLOCK_SHADOWS) uniform ShadowBlock { GpuShadow shadows[TD_MAX_LIGHTS]; };
 layout(binding = TD_UNIT_SHADOW_MAPS) uniform TD_SAMPLER_SHADOW_MAPS shadowMaps;
 layout(binding = TD_UNIT_SHADOW_CUBES) uniform TD_SAMPLER_SHADOW_CUBES shadowCubes;
-#endif
-#if TD_PROBES != 0
+// The cube maps' stored depths (no compare): where the blockers are (soft shadows).
+layout(binding = TD_UNIT_SHADOW_CUBES_DEPTH) uniform TD_SAMPLER_SHADOW_CUBES_DEPTH shadowCubesDepth;
 layout(binding = TD_UNIT_PROBES) uniform TD_SAMPLER_PROBES probes;  // RGBA16F linear radiance, layer = probe slot
-#endif
 
 vec3 positionO(uint v) { return texelFetch(positionsBuf, int(v)).xyz; }
 vec3 objectNormal(uint v) { return texelFetch(normalsBuf, int(v)).xyz; }
@@ -122,10 +116,8 @@ layout(binding = TD_UNIT_TRANSMITTED) uniform TD_SAMPLER_TRANSMITTED transmitted
 #ifndef TD_USE_AREA_LIGHTS
 #define TD_USE_AREA_LIGHTS 1 // some direct light is an area light
 #endif
-#if TD_USE_AREA_LIGHTS
 // Area lights' sample bits (layer = GpuLight.shapeU.w): bit k set where sample k's shadow ray got through.
 layout(binding = TD_UNIT_AREA_SAMPLES) uniform TD_SAMPLER_AREA_SAMPLES areaSamplesTex;  // ray grid, row 0 = top
-#endif
 
 layout(location = TD_LOC_CAMERA_POS) uniform vec3 cameraPosW;
 layout(location = TD_LOC_CAMERA_FORWARD) uniform vec3 cameraForward;
@@ -176,27 +168,21 @@ layout(location = TD_LOC_RENDER_ANCHOR) uniform vec3 renderAnchor;  // render sp
 #ifndef TD_USE_RADIOSITY
 #define TD_USE_RADIOSITY 1   // the radiosity solution replaces the ambient term (docs/radiosity.md)
 #endif
-#if TD_USE_RADIOSITY
 layout(binding = TD_UNIT_RADIOSITY_TABLE_TEX) uniform usamplerBuffer radiosityTable;  // core/Radiosity.h's table
 layout(binding = TD_UNIT_RADIOSITY_TEX) uniform samplerBuffer radiosityValues;        // RGB32F, 2 per grid vertex
 layout(location = TD_LOC_RADIOSITY_AMBIENT) uniform vec3 radiosityAmbient;  // RadiosityField::ambient
 layout(location = TD_LOC_RADIOSITY_INSTANCES) uniform int radiosityInstances;  // RadiosityField::instanceCount
-#endif
 #ifndef TD_USE_EXACT
 #define TD_USE_EXACT 1       // some instance is an exact solid: ids may name a hit on it (docs/csg.md)
 #endif
-#if TD_USE_EXACT
 // Where ids.y = TD_EXACT_TRIANGLE: the solid's outward unit normal (xyz) and t along this pixel's camera ray
 // (w), as the ray pass's resolve step found them (VisibilityPass::patch).
 layout(binding = TD_UNIT_EXACT_HITS) uniform TD_SAMPLER_EXACT_HITS exactHitsTex;
-#endif
 #ifndef TD_USE_ALPHA_BLEND
 #define TD_USE_ALPHA_BLEND 1 // some material is BLEND: coverage scales the surface, the rest passes through
 #endif
-#if TD_USE_NORMAL_MAPS
 layout(binding = TD_UNIT_TANGENTS_TEX) uniform samplerBuffer tangentsBuf;   // RGBA32F: object-space tangent, w handedness
 layout(binding = TD_UNIT_NORMAL_MAPS) uniform sampler2DArray normalMaps;   // linear RGBA8, layer = Scene::textures index
-#endif
 #define debugView TD_DEBUG_VIEW
 layout(location = TD_LOC_RAY_GRID_SIZE) uniform ivec2 rayGridSize;
 // The ray results uploaded this frame (TD_RAY_* bits): the variant is compiled for the channels the
@@ -215,6 +201,38 @@ layout(location = TD_LOC_RAY_PRESENT) uniform int rayPresent;
 #define TD_VIEW_LIGHT_MASK 5
 #define TD_VIEW_REFLECTION 6
 #define TD_VIEW_TRANSMISSION 7
+
+#ifndef TD_FUSED_OUTPUT
+#define TD_FUSED_OUTPUT 0    // the frame's pass writes the display too (ShadeInputs::fusedOutput)
+#endif
+
+// The variant's flags as typed constants. A feature the frame does not use is skipped by a plain if on
+// one of these: every compiler folds the branch away, and with it the reads of the resources only that
+// code uses, which are therefore declared regardless (an unread sampler or block is not active, so it
+// needs nothing bound). #if stays only where the declaration itself differs between variants.
+const bool kUseProcedural = TD_USE_PROCEDURAL != 0;
+const bool kShadowMaps = TD_SHADOW_MAPS != 0;
+const bool kSoftShadows = TD_SOFT_SHADOWS != 0;
+const bool kShadowMaskPass = TD_SHADOW_MASK_PASS != 0;
+const bool kShadowMask = TD_SHADOW_MASK != 0;
+const bool kUseProbes = TD_PROBES != 0;
+const bool kProbeReflect = (TD_PROBES & TD_PROBE_REFLECT) != 0;
+const bool kProbeRefract = (TD_PROBES & TD_PROBE_REFRACT) != 0;
+const bool kFresnelSchlick = TD_FRESNEL_SCHLICK != 0;
+const bool kFresnelWeighted = TD_FRESNEL_WEIGHTED != 0;
+const bool kUseAreaLights = TD_USE_AREA_LIGHTS != 0;
+const bool kRaysScaled = TD_RAY_SCALED != 0;
+const bool kUseGouraud = TD_USE_GOURAUD != 0;
+const bool kUseToon = TD_USE_TOON != 0;
+const bool kUseUvs = TD_USE_UVS != 0;
+const bool kUseKdTextures = TD_USE_KD_TEXTURES != 0;
+const bool kUseColors = TD_USE_COLORS != 0;
+const bool kUseNormalMaps = TD_USE_NORMAL_MAPS != 0;
+const bool kUseEmissive = TD_USE_EMISSIVE != 0;
+const bool kUseRadiosity = TD_USE_RADIOSITY != 0;
+const bool kUseExact = TD_USE_EXACT != 0;
+const bool kUseAlphaBlend = TD_USE_ALPHA_BLEND != 0;
+const bool kFusedOutput = TD_FUSED_OUTPUT != 0;
 
 layout(location = 0) out TD_OUTPUT_LINEAR outColor;
 
@@ -248,17 +266,15 @@ void shadePixel() {
   }
   orientTwoSided(s);
   RaySample rays = gatherRays(pTop, id.x);
-#if TD_PROBES != 0
-  probeLight(s, rays);
-#endif
+  if (kUseProbes) probeLight(s, rays);
   if (rayView(s, pTop, rays, shown)) {
     outColor = vec4(shown, 1.0);
     return;
   }
   vec3 I = s.coverage * localLight(s, rays, id, pTop);
-  if ((rayInputs & TD_RAY_REFLECTED) != 0 || (TD_PROBES & TD_PROBE_REFLECT) != 0) I += rays.reflected;
-  if ((rayInputs & TD_RAY_TRANSMITTED) != 0 || (TD_PROBES & TD_PROBE_REFRACT) != 0) I += rays.transmitted;
-  bool toon = TD_USE_TOON != 0 && int(s.m.krKtIorModel.w + 0.5) == TD_MODEL_TOON && s.m.emissionFlags.w < 0.5;
+  if ((rayInputs & TD_RAY_REFLECTED) != 0 || kProbeReflect) I += rays.reflected;
+  if ((rayInputs & TD_RAY_TRANSMITTED) != 0 || kProbeRefract) I += rays.transmitted;
+  bool toon = kUseToon && int(s.m.krKtIorModel.w + 0.5) == TD_MODEL_TOON && s.m.emissionFlags.w < 0.5;
   if (toon && isEdge(pix, id, s.hit.ngRaw)) I = vec3(0.0);
   outColor = vec4(I, 1.0);
 }
@@ -266,22 +282,23 @@ void shadePixel() {
 // The frame's shade pass also writes the display value (TD_FUSED_OUTPUT): one full-screen pass instead of
 // a second one that reads the RGBA32F target back (on llvmpipe ~6 ms at 1280x720). Sky pixels never run
 // this shader; their display value is the clear of attachment 1.
-#ifndef TD_FUSED_OUTPUT
-#define TD_FUSED_OUTPUT 0
-#endif
-#if TD_FUSED_OUTPUT
-layout(location = 1) out TD_OUTPUT_DISPLAY outDisplay;
 layout(location = TD_LOC_FUSED_EXPOSURE) uniform float exposure;
 layout(location = TD_LOC_FUSED_TONE_MAP) uniform int toneMap;
 layout(location = TD_LOC_FUSED_PASS_THROUGH) uniform int passThrough;
+// The second colour target: the display (the fused frame pass) or lights 4-7 (the shadow-mask pass); the
+// two channels' output types may differ, so which one is declared is the one resource the roles choose.
+#if TD_SHADOW_MASK_PASS
+layout(location = 1) out TD_OUTPUT_SHADOW_MASK outMaskHi;
+#define TD_SECOND_TARGET outMaskHi
+#else
+layout(location = 1) out TD_OUTPUT_DISPLAY outDisplay;
+#define TD_SECOND_TARGET outDisplay
 #endif
 
-#if TD_SHADOW_MASK_PASS
 // The shadow-mask pass: this target is the ray grid (rows top first, as RayOutputs holds them; gl_FragCoord's
-// rows are the texture's), lights 0-3 in outColor, 4-7 here. Each grid pixel takes the visibility the full-
-// resolution pass would look up at the pixel it stands for; no surface there (the sky): visible.
-layout(location = 1) out TD_OUTPUT_SHADOW_MASK outMaskHi;
-
+// rows are the texture's), lights 0-3 in outColor, 4-7 in the second target. Each grid pixel takes the
+// visibility the full-resolution pass would look up at the pixel it stands for; no surface there (the sky):
+// visible.
 void shadowMaskPixel() {
   ivec2 g = ivec2(gl_FragCoord.xy);
   ivec2 pTop = gridPixelCentre(g);
@@ -298,17 +315,14 @@ void shadowMaskPixel() {
 #undef TD_MASK_LIGHT
   }
   outColor = vec4(vis[0], vis[1], vis[2], vis[3]);
-  outMaskHi = vec4(vis[4], vis[5], vis[6], vis[7]);
+  TD_SECOND_TARGET = vec4(vis[4], vis[5], vis[6], vis[7]);
 }
-#endif
 
 void main() {
-#if TD_SHADOW_MASK_PASS
-  shadowMaskPixel();
-#else
+  if (kShadowMaskPass) {
+    shadowMaskPixel();
+    return;
+  }
   shadePixel();
-#if TD_FUSED_OUTPUT
-  outDisplay = vec4(tdDisplay(outColor.rgb, exposure, toneMap, passThrough != 0), 1.0);
-#endif
-#endif
+  if (kFusedOutput) TD_SECOND_TARGET = vec4(tdDisplay(outColor.rgb, exposure, toneMap, passThrough != 0), 1.0);
 }

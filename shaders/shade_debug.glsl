@@ -12,9 +12,7 @@ vec3 hashColor(uint x) {
 // ---- toon outlines: black where instance, depth or normal are discontinuous ----
 // The unflipped geometric normal of what pixel p (GL rows) shows, id its ids.
 vec3 surfaceNormal(ivec2 p, uvec2 id) {
-#if TD_USE_EXACT
-  if (id.y == TD_EXACT_TRIANGLE) return texelFetch(exactHitsTex, p, 0).xyz;
-#endif
+  if (kUseExact && id.y == TD_EXACT_TRIANGLE) return texelFetch(exactHitsTex, p, 0).xyz;
   return geometricNormal(loadTriangle(id.x - 1u, id.y));
 }
 
@@ -55,15 +53,14 @@ bool idView(ivec2 pix, uvec2 id, out vec3 shown) {
 bool rayView(Surface s, ivec2 pTop, RaySample rays, out vec3 shown) {
   shown = vec3(0.0);
   if (debugView == TD_VIEW_LIGHT_MASK) {
-#if TD_SHADOW_MAPS
     // Raster shadows stand where the ray pass's light mask would (the two are never both on). The final
     // view looks a map up only where its light adds something (directLight), as the ray pass traces a
     // shadow ray only where the light can reach.
-    for (int j = 0; j < TD_LIGHT_COUNT; ++j)
-      rays.vis[j] = lights[j].radiance.w > 0.5 ? rasterShadow(j, s.hit.posW, s.Ng, pTop) : 1.0;
-#endif
+    if (kShadowMaps)
+      for (int j = 0; j < TD_LIGHT_COUNT; ++j)
+        rays.vis[j] = lights[j].radiance.w > 0.5 ? rasterShadow(j, s.hit.posW, s.Ng, pTop) : 1.0;
     float visible = 1.0;
-    if (((rayInputs & TD_RAY_LIGHT_MASK) != 0 || TD_SHADOW_MAPS != 0 || TD_SHADOW_MASK != 0) && TD_LIGHT_COUNT > 0) {
+    if (((rayInputs & TD_RAY_LIGHT_MASK) != 0 || kShadowMaps || kShadowMask) && TD_LIGHT_COUNT > 0) {
       visible = 0.0;
       for (int j = 0; j < TD_LIGHT_COUNT; ++j) visible += rays.vis[j];
       visible /= float(TD_LIGHT_COUNT);

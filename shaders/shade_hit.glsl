@@ -115,8 +115,7 @@ PrimaryHit primaryHit(ivec2 pix, uvec2 id) {
   cameraRay(vec2(pix) + 0.5, h.origin, h.dir);
   h.instance = id.x - 1u;
   h.onSolid = false;
-#if TD_USE_EXACT
-  if (id.y == TD_EXACT_TRIANGLE) {
+  if (kUseExact && id.y == TD_EXACT_TRIANGLE) {
     h.onSolid = true;
     // A point on an exact solid (rt::resolveHit's twin): no vertices or attributes, the solid's own normal;
     // its "triangle" is the point itself, so Gouraud and flat shade it per pixel with that normal.
@@ -132,7 +131,6 @@ PrimaryHit primaryHit(ivec2 pix, uvec2 id) {
     h.ngRaw = exact.xyz;
     return h;
   }
-#endif
   h.tri = loadTriangle(h.instance, id.y);
   h.b = hitBarycentrics(h.origin, h.dir, h.tri);
   h.posW = h.b.x * h.tri.p0 + h.b.y * h.tri.p1 + h.b.z * h.tri.p2;

@@ -11,7 +11,6 @@ float toonLevel(GpuMaterial m, float nl) {
   return texelFetch(toonRamps, ivec2(tdToonRampIndex(nl), int(m.kaToon.w + 0.5)), 0).r;
 }
 
-#if TD_USE_RADIOSITY
 // The indirect irradiance H at barycentrics b of a triangle, seen from its back or front, and whether the
 // solution covers the triangle: RadiosityField::at.
 bool radiosityAt(uint instance, uint triangle, vec3 b, bool backFace, out vec3 H) {
@@ -28,11 +27,7 @@ bool radiosityAt(uint instance, uint triangle, vec3 b, bool backFace, out vec3 H
       w.y * texelFetch(radiosityValues, base + 2 * corner.y).rgb + w.z * texelFetch(radiosityValues, base + 2 * corner.z).rgb;
   return true;
 }
-#endif
 
-#if TD_MAX_LIGHTS != 8
-#error "shadePixel and shadowMaskPixel call each of the 8 lights by a constant index"
-#endif
 
 // What each light's term reads at the shaded point (shadePixel fills it once).
 struct LightingPoint {
@@ -51,18 +46,18 @@ vec3 directLight(int j, LightingPoint p, Triangle tri, GpuMaterial m, RaySample 
   GpuLight L = lights[j];
   int type = lightType(j);
   // The rays' light mask, or the raster shadows' grid (TD_SHADOW_MASK), gathered above.
-  bool rayShadowed = ((rayInputs & TD_RAY_LIGHT_MASK) != 0 || TD_SHADOW_MASK != 0) && L.radiance.w > 0.5;
+  bool rayShadowed = ((rayInputs & TD_RAY_LIGHT_MASK) != 0 || kShadowMask) && L.radiance.w > 0.5;
   float vis = rayShadowed ? rays.vis[j] : 1.0;
   if (vis <= 0.0) return vec3(0.0);
   vec3 Lj;
   vec3 toLight;
   float dist;
-  if (TD_USE_AREA_LIGHTS != 0 && lightIsArea(j)) {
+  if (kUseAreaLights && lightIsArea(j)) {
     // The mean over the frame's samples (rt::shadeLocal's twin): with full-resolution rays each sample
     // counts where its shadow ray got through, so the pixel is exactly the ray pass's estimate; with a
     // coarser ray grid, all samples count, scaled by the visible fraction around the pixel.
     uint bits = 0xFFFFFFFFu;
-    if (TD_RAY_SCALED == 0 && rayShadowed) {
+    if (!kRaysScaled && rayShadowed) {
       bits = rays.area[j];
       vis = 1.0;
     }
@@ -71,7 +66,7 @@ vec3 directLight(int j, LightingPoint p, Triangle tri, GpuMaterial m, RaySample 
     for (int k = 0; k < lightSamples; ++k) {
       if (((bits >> uint(k)) & 1u) == 0u) continue;
       vec2 u = tdLightSampleU(seed, j, sampleBase + uint(k));
-      if (TD_USE_GOURAUD != 0 && p.model == TD_MODEL_GOURAUD) {
+      if (kUseGouraud && p.model == TD_MODEL_GOURAUD) {
         vec3 E0 = tdAreaLightSample(L, type, tri.p0, u, toLight, dist);
         sum += p.b.x * tdShadeLight(p.C, p.ks, p.ns, p.model, p.N0, normalize(p.origin - tri.p0), E0, toLight, 0.0);
         vec3 E1 = tdAreaLightSample(L, type, tri.p1, u, toLight, dist);
@@ -80,12 +75,12 @@ vec3 directLight(int j, LightingPoint p, Triangle tri, GpuMaterial m, RaySample 
         sum += p.b.z * tdShadeLight(p.C, p.ks, p.ns, p.model, p.N2, normalize(p.origin - tri.p2), E2, toLight, 0.0);
       } else {
         vec3 E = tdAreaLightSample(L, type, p.posW, u, toLight, dist);
-        float level = TD_USE_TOON != 0 && p.model == TD_MODEL_TOON ? toonLevel(m, dot(p.Ns, toLight)) : 0.0;
+        float level = kUseToon && p.model == TD_MODEL_TOON ? toonLevel(m, dot(p.Ns, toLight)) : 0.0;
         sum += tdShadeLight(p.C, p.ks, p.ns, p.model, p.Ns, p.V, E, toLight, level);
       }
     }
     Lj = sum * (1.0 / float(lightSamples));
-  } else if (TD_USE_GOURAUD != 0 && p.model == TD_MODEL_GOURAUD) {
+  } else if (kUseGouraud && p.model == TD_MODEL_GOURAUD) {
     vec3 E0 = tdLightIncidentOfType(L, type, tri.p0, toLight, dist);
     vec3 L0 = tdShadeLight(p.C, p.ks, p.ns, p.model, p.N0, normalize(p.origin - tri.p0), E0, toLight, 0.0);
     vec3 E1 = tdLightIncidentOfType(L, type, tri.p1, toLight, dist);
@@ -95,15 +90,15 @@ vec3 directLight(int j, LightingPoint p, Triangle tri, GpuMaterial m, RaySample 
     Lj = p.b.x * L0 + p.b.y * L1 + p.b.z * L2;
   } else {
     vec3 E = tdLightIncidentOfType(L, type, p.posW, toLight, dist);
-    float level = TD_USE_TOON != 0 && p.model == TD_MODEL_TOON ? toonLevel(m, dot(p.Ns, toLight)) : 0.0;
+    float level = kUseToon && p.model == TD_MODEL_TOON ? toonLevel(m, dot(p.Ns, toLight)) : 0.0;
     Lj = tdShadeLight(p.C, p.ks, p.ns, p.model, p.Ns, p.V, E, toLight, level);
   }
-#if TD_SHADOW_MAPS
-  // A light that adds nothing here needs no map lookup (a GPU skips it where a whole warp agrees; llvmpipe
-  // runs both sides); skipping it is exact, since vis · 0 would add nothing either.
-  if (L.radiance.w > 0.5 && (Lj.x != 0.0 || Lj.y != 0.0 || Lj.z != 0.0)) vis = rasterShadow(j, p.posW, p.Ng, p.pTop);
-  if (vis <= 0.0) return vec3(0.0);
-#endif
+  if (kShadowMaps) {
+    // A light that adds nothing here needs no map lookup (a GPU skips it where a whole warp agrees; llvmpipe
+    // runs both sides); skipping it is exact, since vis · 0 would add nothing either.
+    if (L.radiance.w > 0.5 && (Lj.x != 0.0 || Lj.y != 0.0 || Lj.z != 0.0)) vis = rasterShadow(j, p.posW, p.Ng, p.pTop);
+    if (vis <= 0.0) return vec3(0.0);
+  }
   return vis * Lj;
 }
 
@@ -127,18 +122,15 @@ vec3 localLight(Surface s, RaySample rays, uvec2 id, ivec2 pTop) {
     local = C + emission;
   } else {
     // Diffuse interreflection: the radiosity solution where it covers the surface, else the ambient term.
-#if TD_USE_RADIOSITY
     vec3 H;
-    local = emission + (radiosityAt(instance, id.y, b, side < 0.0, H) ? tdRadiosityTerm(m, H, uv, pattern, tint)
-                                                                       : tdAmbient(m, ambientIa, uv, pattern, tint));
-#else
-    local = emission + tdAmbient(m, ambientIa, uv, pattern, tint);
-#endif
+    local = emission + (kUseRadiosity && radiosityAt(instance, id.y, b, side < 0.0, H)
+                            ? tdRadiosityTerm(m, H, uv, pattern, tint)
+                            : tdAmbient(m, ambientIa, uv, pattern, tint));
     vec3 ks = vec3(m.ksNs);
     float ns = m.ksNs.w;
     vec3 Ns = model == TD_MODEL_FLAT ? Ng : N;
     vec3 N0 = Ng, N1 = Ng, N2 = Ng;
-    if (TD_USE_GOURAUD != 0 && model == TD_MODEL_GOURAUD && hasNormals) {
+    if (kUseGouraud && model == TD_MODEL_GOURAUD && hasNormals) {
       vec3 n0 = tri.normalFromObject * objectNormal(tri.v0);
       vec3 n1 = tri.normalFromObject * objectNormal(tri.v1);
       vec3 n2 = tri.normalFromObject * objectNormal(tri.v2);

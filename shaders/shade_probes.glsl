@@ -1,7 +1,6 @@
 // The shade pass (shade.frag): raster reflections and refraction through reflection probes.
 // A part of shade.frag, included by it after its resources and variant flags, which it reads; not a
 // standalone include.
-#if TD_PROBES != 0
 // Raster reflection and refraction (reflections / refraction = Raster): the surface's probe, added to the
 // gathered rays' reflected and transmitted radiance.
 void probeLight(Surface s, inout RaySample rays) {
@@ -23,8 +22,8 @@ void probeLight(Surface s, inout RaySample rays) {
     float cos2T = tdCos2T(cosI, eta);
     float F = 0.0;
     if (kt > 0.0 && etaI != etaT)
-      F = cos2T <= 0.0 ? 1.0 : (TD_FRESNEL_SCHLICK != 0 ? tdFresnelSchlick(cosI, etaI, etaT) : tdFresnelExact(cosI, etaI, etaT));
-    vec2 sum = tdWhittedSum(kr, kt, F, etaI != etaT && cos2T <= 0.0, TD_FRESNEL_WEIGHTED != 0);
+      F = cos2T <= 0.0 ? 1.0 : (kFresnelSchlick ? tdFresnelSchlick(cosI, etaI, etaT) : tdFresnelExact(cosI, etaI, etaT));
+    vec2 sum = tdWhittedSum(kr, kt, F, etaI != etaT && cos2T <= 0.0, kFresnelWeighted);
     float wR = sum.x, wT = sum.y;
     // Coverage and tint (docs/gltf.md): the covered part reflects and refracts (tinted), the rest passes
     // straight through; BLEND materials have IOR 1, so both go along the same direction.
@@ -38,11 +37,10 @@ void probeLight(Surface s, inout RaySample rays) {
     float alpha = tintRough.a * tintRough.a;
     float faceSize = float(textureSize(probes, 0).x);
     float lod = alpha > 0.0 ? clamp(log2(alpha * (faceSize * 2.0 / 3.14159265)), 0.0, log2(faceSize)) : 0.0;
-    if ((TD_PROBES & TD_PROBE_REFLECT) != 0 && wR > 0.0) rays.reflected += wR * textureLod(probes, vec4(tdReflectOverFacet(V, N, Ng), layer), lod).rgb;
-    if ((TD_PROBES & TD_PROBE_REFRACT) != 0 && (wTv.x > 0.0 || wTv.y > 0.0 || wTv.z > 0.0)) {
+    if (kProbeReflect && wR > 0.0) rays.reflected += wR * textureLod(probes, vec4(tdReflectOverFacet(V, N, Ng), layer), lod).rgb;
+    if (kProbeRefract && (wTv.x > 0.0 || wTv.y > 0.0 || wTv.z > 0.0)) {
       vec3 T = etaI == etaT ? -V : tdRefractOverFacet(normalize(eta * -V + (eta * cosI - sqrt(max(cos2T, 0.0))) * N), V, Ng, eta);
       rays.transmitted += wTv * textureLod(probes, vec4(T, layer), kt > 0.0 ? lod : 0.0).rgb;  // pass-through: sharp
     }
   }
 }
-#endif

@@ -18,25 +18,23 @@ void accumulate(inout RaySample acc, ivec2 g, float w) {
   if ((rayInputs & TD_RAY_LIGHT_MASK) != 0) {
     uint mask = texelFetch(lightMaskTex, g, 0).x;
     for (int j = 0; j < TD_LIGHT_COUNT; ++j) {
-#if TD_USE_AREA_LIGHTS
-      if (lightIsArea(j)) {
+      if (kUseAreaLights && lightIsArea(j)) {
         uint bits = texelFetch(areaSamplesTex, ivec3(g, int(lights[j].shapeU.w + 0.5)), 0).x;
         acc.area[j] = bits;
         acc.vis[j] += w * float(bitCount(bits & (lightSamples >= 32 ? 0xFFFFFFFFu : (1u << uint(lightSamples)) - 1u))) /
                       float(lightSamples);
         continue;
       }
-#endif
       acc.vis[j] += ((mask >> uint(j)) & 1u) != 0u ? w : 0.0;
     }
   }
-#if TD_SHADOW_MASK
-  vec4 lo = texelFetch(shadowMaskTex, ivec3(g, 0), 0);
-  vec4 hi = TD_LIGHT_COUNT > 4 ? texelFetch(shadowMaskTex, ivec3(g, 1), 0) : vec4(1.0);
-  // (j < 4 ? lo : hi)[j & 3], not j < 4 ? lo[j] : hi[j - 4]: once the loop unrolls, the untaken arm's
-  // hi[-4] is a constant index out of bounds, which NVIDIA's compiler rejects (the program fails to link).
-  for (int j = 0; j < TD_LIGHT_COUNT; ++j) acc.vis[j] += w * (j < 4 ? lo : hi)[j & 3];
-#endif
+  if (kShadowMask) {
+    vec4 lo = texelFetch(shadowMaskTex, ivec3(g, 0), 0);
+    vec4 hi = TD_LIGHT_COUNT > 4 ? texelFetch(shadowMaskTex, ivec3(g, 1), 0) : vec4(1.0);
+    // (j < 4 ? lo : hi)[j & 3], not j < 4 ? lo[j] : hi[j - 4]: once the loop unrolls, the untaken arm's
+    // hi[-4] is a constant index out of bounds, which NVIDIA's compiler rejects (the program fails to link).
+    for (int j = 0; j < TD_LIGHT_COUNT; ++j) acc.vis[j] += w * (j < 4 ? lo : hi)[j & 3];
+  }
   if ((rayInputs & TD_RAY_REFLECTED) != 0) acc.reflected += w * texelFetch(reflectedTex, g, 0).rgb;
   if ((rayInputs & TD_RAY_TRANSMITTED) != 0) acc.transmitted += w * texelFetch(transmittedTex, g, 0).rgb;
 }
@@ -49,8 +47,8 @@ RaySample gatherRays(ivec2 pTop, uint instance) {
   }
   acc.reflected = vec3(0.0);
   acc.transmitted = vec3(0.0);
-  if (rayInputs == 0 && TD_SHADOW_MASK == 0) return acc;
-  if (TD_RAY_SCALED == 0) {
+  if (rayInputs == 0 && !kShadowMask) return acc;
+  if (!kRaysScaled) {
     // Full-resolution rays: grid pixel = this pixel, which saw this instance by definition.
     accumulate(acc, pTop, 1.0);
     return acc;

@@ -1,7 +1,6 @@
 // The shade pass (shade.frag): raster shadows, hard and soft, from the shadow maps.
 // A part of shade.frag, included by it after its resources and variant flags, which it reads; not a
 // standalone include.
-#if TD_SHADOW_MAPS
 // Light j's map kind (TD_SHADOW_*): a constant with the kinds, as lightIsArea.
 int shadowKind(int j) {
   return TD_LIGHT_KINDS != 0u ? int((TD_LIGHT_KINDS >> uint(4 * j + 2)) & 3u) : int(shadows[j].originKind.w + 0.5);
@@ -48,11 +47,6 @@ float shadowVisibility(int j, vec3 posW, vec3 Ng) {
               texture(shadowMaps, vec4(uv + vec2(-h.x, -h.y), layer, ref));
   return 0.25 * sum;
 }
-#endif
-
-#if TD_SHADOW_MAPS && TD_USE_AREA_LIGHTS && TD_SOFT_SHADOWS
-// The cube maps' stored depths (no compare): where the blockers are.
-layout(binding = TD_UNIT_SHADOW_CUBES_DEPTH) uniform TD_SAMPLER_SHADOW_CUBES_DEPTH shadowCubesDepth;
 
 // Reversed-Z depth of a point `rel` from a cube map's centre: that of its major axis (as shadowVisibility).
 float cubeDepth(vec3 rel, float n, float f) {
@@ -131,19 +125,14 @@ float softShadowVisibility(int j, vec3 posW, vec3 Ng, float lightSize, vec2 turn
 float areaLightSize(GpuLight L, int type) {
   return type == TD_LIGHT_SPHERE ? L.shapeV.w : 0.5 * (length(vec3(L.shapeU)) + length(vec3(L.shapeV)));
 }
-#endif
 
-#if TD_SHADOW_MAPS
 // Light j's visibility from its shadow map: soft for an area light, else shadowVisibility's.
 float rasterShadow(int j, vec3 posW, vec3 Ng, ivec2 pTop) {
-#if TD_USE_AREA_LIGHTS && TD_SOFT_SHADOWS
-  if (lightIsArea(j)) {
+  if (kUseAreaLights && kSoftShadows && lightIsArea(j)) {
     int type = lightType(j);
     uint h = tdHash(tdPixelSeed(pTop.x, pTop.y, 0u) ^ tdHash(sampleBase + uint(j)));
     float angle = float(h >> 8u) * (6.28318530718 / 16777216.0);
     return softShadowVisibility(j, posW, Ng, areaLightSize(lights[j], type), vec2(cos(angle), sin(angle)));
   }
-#endif
   return shadowVisibility(j, posW, Ng);
 }
-#endif

@@ -45,16 +45,16 @@ Surface loadSurface(ivec2 pix, uvec2 id) {
   vec3 tint = vec3(1.0);
   vec3 emission = vec3(m.emissionFlags);
   float texA = 1.0;  // kd texture alpha (coverage)
-  if (TD_USE_UVS != 0 && (tri.flags & TD_MESH_HAS_UVS) != 0u) {
+  if (kUseUvs && (tri.flags & TD_MESH_HAS_UVS) != 0u) {
     vec2 uv0 = texelFetch(uvsBuf, int(tri.v0)).xy, uv1 = texelFetch(uvsBuf, int(tri.v1)).xy,
          uv2 = texelFetch(uvsBuf, int(tri.v2)).xy;
     int ut = 4 * int(tri.material);  // Material::uvTransform, its upper 3×3
     mat3 uvFromMesh = mat3(texelFetch(uvTransformsBuf, ut).xyz, texelFetch(uvTransformsBuf, ut + 1).xyz,
                            texelFetch(uvTransformsBuf, ut + 2).xyz);
     uv = (uvFromMesh * vec3(b.x * uv0 + b.y * uv1 + b.z * uv2, 1.0)).xy;
-    bool kdTex = TD_USE_KD_TEXTURES != 0 && m.kdTex.w >= 0.0;
-    bool emTex = TD_USE_EMISSIVE != 0 && m.texAlpha.x >= 0.0;
-    bool nmTex = TD_USE_NORMAL_MAPS != 0 && m.texAlpha.y >= 0.0 && (tri.flags & TD_MESH_HAS_TANGENTS) != 0u;
+    bool kdTex = kUseKdTextures && m.kdTex.w >= 0.0;
+    bool emTex = kUseEmissive && m.texAlpha.x >= 0.0;
+    bool nmTex = kUseNormalMaps && m.texAlpha.y >= 0.0 && (tri.flags & TD_MESH_HAS_TANGENTS) != 0u;
     if (kdTex || emTex || nmTex) {
       // Ray differentials: where the neighbouring pixels' rays meet this triangle's plane gives exact
       // uv derivatives (screen-space dFdx would mix triangles at edges in a full-screen pass).
@@ -71,7 +71,6 @@ Surface loadSurface(ivec2 pix, uvec2 id) {
         texA = texel.a;
       }
       if (emTex) emission *= textureGrad(kdTextures, vec3(uv, float(int(m.texAlpha.x + 0.5))), duvx, duvy).rgb;
-#if TD_USE_NORMAL_MAPS
       if (nmTex) {
         // The CPU twin's frame (rt::resolveHit): interpolated tangent through the upper 3×3, the shared
         // perturbation, before the two-sided flip.
@@ -80,18 +79,16 @@ Surface loadSurface(ivec2 pix, uvec2 id) {
         vec3 tn = textureGrad(normalMaps, vec3(uv, float(int(m.texAlpha.y + 0.5))), duvx, duvy).xyz * 2.0 - 1.0;
         N = tdPerturbNormal(N, tri.worldLinear * t4.xyz, t4.w, tn, m.texAlpha.z);
       }
-#endif
     }
   }
-  if (TD_USE_COLORS != 0 && (tri.flags & TD_MESH_HAS_COLORS) != 0u)
+  if (kUseColors && (tri.flags & TD_MESH_HAS_COLORS) != 0u)
     tint *= (b.x * texelFetch(colorsBuf, int(tri.v0)) + b.y * texelFetch(colorsBuf, int(tri.v1)) +
              b.z * texelFetch(colorsBuf, int(tri.v2))).rgb;
   // The procedural texture (rt::resolveHit's twin): its value mixes kd and kd2, its gradient bumps N. The point
   // in the pattern's space: world (render space + the anchor), or object space, the vertices' positions
   // interpolated, or a solid's point brought back through the inverse of the instance's transform.
   float pattern = 0.0;
-#if TD_USE_PROCEDURAL
-  if (m.pattern.x > 0.5) {
+  if (kUseProcedural && m.pattern.x > 0.5) {
     bool world = m.patternSpace.x > 0.5;
     vec3 p = world ? posW + renderAnchor
            : onSolid ? transpose(tri.normalFromObject) * (posW - instanceWorldFromObject(instance)[3].xyz)
@@ -100,9 +97,8 @@ Surface loadSurface(ivec2 pix, uvec2 id) {
     pattern = v.x;
     if (m.patternSpace.y > 0.0) N = tdBumpNormal(N, world ? v.yzw : tri.normalFromObject * v.yzw, m.patternSpace.y);
   }
-#endif
   // BLEND coverage (MASK was decided by the visibility pass's discard: a pixel here is covered).
-  float coverage = TD_USE_ALPHA_BLEND != 0 && m.texAlpha.w < 0.0 ? tdCoverage(m, texA) : 1.0;
+  float coverage = kUseAlphaBlend && m.texAlpha.w < 0.0 ? tdCoverage(m, texA) : 1.0;
   Surface s;
   s.hit = hit;
   s.V = V;

@@ -86,6 +86,9 @@ static_assert(kChannelReflected.transfer == GL_RGBA && kChannelReflected.type ==
 static_assert(kChannelAreaSamples.transfer == GL_RED_INTEGER && kChannelAreaSamples.type == GL_UNSIGNED_INT,
               "area-light sample bits travel as one std::uint32_t per grid pixel and area light");
 
+// shade.frag's light loop and the shadow-mask pass call each light by a constant index, 0 to 7.
+static_assert(TD_MAX_LIGHTS == 8, "shade.frag calls each of the 8 direct lights by a constant index");
+
 Result<int> ShadePass::uploadRays(int width, int height, const RayGrid& grid) {
   int held = 0;
   for (const RayChannel& c : kRayChannels) {
