@@ -497,6 +497,44 @@ TEST(RayPassWhitted, ImagesAreIdenticalWithOneAndTwoThreads) {
   writeDebugPng(r1, "rt-whitted-reference-spp2.png");
 }
 
+// An adaptive round's selection (trace's `only`): the pixels left out are traced as the sky is, so the
+// results equal a trace of ids with those pixels cleared, to the bit and ray for ray; the ids are not touched.
+TEST(RayPassWhitted, ASelectionTracesAsIfTheOtherPixelsWereSky) {
+  Scene scene = makeWhittedScene();
+  auto tracer = makeTracer(scene, 2);
+  ASSERT_TRUE(tracer);
+  for (int scale : {1, 2}) {
+    SCOPED_TRACE("ray scale " + std::to_string(scale));
+    const int w = 120, h = 90;
+    FrameSettings s = settingsFor(w, h);
+    s.rayScale = scale;
+    VisibilityBuffer vis;
+    tracer->castVisibility(scene.camera, w, h, vis);
+    std::vector<std::uint8_t> only(vis.ids.size(), 0);
+    VisibilityBuffer masked = vis;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const bool chosen = ((x / 7) + (y / 5)) % 3 == 0;  // stripes across the spheres and the floor
+        only[at(x, y, w)] = chosen ? 1 : 0;
+        if (!chosen) masked.ids[at(x, y, w)] = glm::uvec2(0u);
+      }
+    const std::vector<glm::uvec2> idsBefore = vis.ids;
+    RayOutputs selected, expected, all;
+    tracer->trace(scene, scene.camera, s, vis, selected, nullptr, only);
+    tracer->trace(scene, scene.camera, s, masked, expected);
+    tracer->trace(scene, scene.camera, s, vis, all);
+    EXPECT_EQ(vis.ids, idsBefore);
+    EXPECT_EQ(selected.lightMask, expected.lightMask);
+    EXPECT_EQ(selected.reflected, expected.reflected);
+    EXPECT_EQ(selected.transmitted, expected.transmitted);
+    EXPECT_EQ(selected.reflectedTiles, expected.reflectedTiles);
+    EXPECT_EQ(selected.counts.total(), expected.counts.total());
+    EXPECT_EQ(selected.counts.primary, expected.counts.primary);
+    EXPECT_GT(selected.counts.reflection, 0u);
+    EXPECT_LT(selected.counts.total(), all.counts.total()) << "the selection must leave rays out";
+  }
+}
+
 // The upload sends only the tiles the pass flags (RayOutputs::reflectedTiles): a tile flagged empty must be
 // zero to the bit, or the shade pass would miss radiance. Every flag is checked against the texels, at a
 // grid size that leaves partial tiles at the edges and at a half-resolution grid.

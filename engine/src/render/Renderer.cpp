@@ -201,19 +201,12 @@ void Renderer::Impl::traceSample(const FramePlan& plan, const Camera& camera, Fr
   // GL shades them all). Its time and rays are the rays stage's, with the ray pass's.
   double resolveMs = 0;
   const std::uint64_t resolvedRays = timed(resolveMs, [&] { return resolveExact(plan, camera); });
-  // An adaptive round traces only the pixels it refines: the others read as background, which has no rays.
-  // The ids themselves are put back after, for tracePixel. (The masking is the accumulation's time.)
-  std::vector<glm::uvec2> allIds;
-  if (only != nullptr && visibility.ids.size() == only->size())
-    timed(sample.accumulateMs, [&] {
-      allIds = visibility.ids;
-      for (std::size_t i = 0; i < only->size(); ++i)
-        if ((*only)[i] == 0) visibility.ids[i] = glm::uvec2(0u);
-    });
-  timed(sample.raysMs, [&] { traceRays(plan, camera, sample, keeps ? &kept : nullptr); });
+  // An adaptive round traces only the pixels it refines (the ray pass takes the others as background).
+  std::span<const std::uint8_t> selection;
+  if (only != nullptr && visibility.ids.size() == only->size()) selection = *only;
+  timed(sample.raysMs, [&] { traceRays(plan, camera, sample, keeps ? &kept : nullptr, selection); });
   sample.raysMs += resolveMs;
   sample.rays.resolved = resolvedRays;
-  if (!allIds.empty()) timed(sample.accumulateMs, [&] { visibility.ids.swap(allIds); });
 }
 
 bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn) {
@@ -381,7 +374,7 @@ std::uint64_t Renderer::Impl::resolveExact(const FramePlan& plan, const Camera& 
 
 // rays: the hybrid ray pass on the ray grid, or the whole reference frame.
 void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats,
-                               const rt::RayReuse* reuse) {
+                               const rt::RayReuse* reuse, std::span<const std::uint8_t> only) {
   rays.lightMask.clear();
   rays.areaSamples.clear();
   rays.areaLights = 0;
@@ -392,7 +385,7 @@ void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, Fram
   rays.transmittedTiles.clear();
   rays.counts = {};
   if (plan.rayPass) {
-    tracer->trace(scene, camera, plan.raySettings, visibility, rays, reuse);
+    tracer->trace(scene, camera, plan.raySettings, visibility, rays, reuse, only);
     stats.rays = rays.counts;
     if (plan.raySettings.hybridShadows) {
       stats.shadowMapsMs = tracer->lastShadowMapMs();

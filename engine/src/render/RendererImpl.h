@@ -4,6 +4,7 @@
 // Internal: only those two files include it.
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -118,7 +119,8 @@ struct Renderer::Impl {
   void readback(const FramePlan& plan);
   // rays, first step: the exact solids' proxy pixels by camera rays (FramePlan::resolve); the rays traced.
   std::uint64_t resolveExact(const FramePlan& plan, const Camera& camera);
-  void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats, const rt::RayReuse* reuse);
+  void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats, const rt::RayReuse* reuse,
+                 std::span<const std::uint8_t> only);
   void reuseRays(const FramePlan& plan, FrameStats& stats) const;
   // Cost follows the settings: the second copy goes when reuse is off or the scene is replaced.
   void releaseKept() {

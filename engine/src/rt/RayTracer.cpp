@@ -115,9 +115,11 @@ void RayTracer::updateTransforms(const Scene& scene, float shutter) {
 float RayTracer::shutter() const { return impl_->scene ? impl_->scene->shutter() : 0.0f; }
 
 void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSettings& settings,
-                      const VisibilityBuffer& visibility, RayOutputs& out, const RayReuse* reuse) {
+                      const VisibilityBuffer& visibility, RayOutputs& out, const RayReuse* reuse,
+                      std::span<const std::uint8_t> only) {
   assert((!reuse || (reuse->rays != &out && reuse->ids != &visibility)) && "trace: the kept frame is being written");
-  hybridPass(scene, camera, settings, visibility, out, nullptr, true, reuse);
+  assert((only.empty() || only.size() == visibility.ids.size()) && "trace: a selection of another frame size");
+  hybridPass(scene, camera, settings, visibility, out, nullptr, true, reuse, only);
 }
 
 const ShadowCertainty& RayTracer::updateShadowMaps(const Scene& scene, const FrameShading& frame) {
@@ -179,6 +181,7 @@ struct HybridTiles {
   int scale;
   bool batched;
   const ReuseGate& reuse;  // active only when batched
+  std::span<const std::uint8_t> only;  // full-resolution pixels to trace (empty: all)
 
   void run(int x0, int y0, int x1, int y1, Capture& capture, RayCounts& counts) const {
     const TraceModes& modes = whitted.modes();
@@ -229,6 +232,7 @@ struct HybridTiles {
         const std::size_t pixel = static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x);
         glm::uvec2 id = visibility.ids[pixel];
         if (id.x == 0) continue;  // background: no light, nothing reflected or transmitted
+        if (!only.empty() && only[pixel] == 0) continue;  // not this round's: as the background
         std::uint32_t instance = id.x - 1;
         // Ids come from the rasterizer of the same scene (or its resolve step); a stale one is a bug, skipped
         // in release.
@@ -284,7 +288,8 @@ struct HybridTiles {
 template <class Capture>
 void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const FrameSettings& settings,
                                const VisibilityBuffer& visibility, RayOutputs& out, RayCapture* capture,
-                               bool batchedShadowRays, const RayReuse* reuse) {
+                               bool batchedShadowRays, const RayReuse* reuse,
+                               std::span<const std::uint8_t> only) {
   const EmbreeScene& embree = *impl_->scene;
   // Camera-relative rendering (docs/numerics.md): rays and lights in the Embree scene's render space.
   const Camera cam = toRenderSpace(camera, embree.anchor());
@@ -302,7 +307,7 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
                                          visibility.ids.size(), out.lightMask.size())
                              : ReuseGate();
   const HybridTiles<Capture> tiles{scene, embree, frame, whitted, cam, cameraRays, visibility,
-                                   out,   std::max(1, settings.rayScale), batchedShadowRays, gate};
+                                   out,   std::max(1, settings.rayScale), batchedShadowRays, gate, only};
   AtomicCounts total;
   resetCapture(capture, out.width, out.height, false);
   TileProgress progress(impl_->progress, out.width, out.height);
@@ -332,7 +337,7 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
 
 void RayTracer::hybridPass(const Scene& scene, const Camera& camera, const FrameSettings& settings,
                            const VisibilityBuffer& visibility, RayOutputs& out, RayCapture* capture,
-                           bool batchedShadowRays, const RayReuse* reuse) {
+                           bool batchedShadowRays, const RayReuse* reuse, std::span<const std::uint8_t> only) {
   assert(impl_->scene && "trace before a successful setScene");
   assert(visibility.ids.size() == static_cast<std::size_t>(visibility.width) * static_cast<std::size_t>(visibility.height));
   const int scale = std::max(1, settings.rayScale);
@@ -374,9 +379,9 @@ void RayTracer::hybridPass(const Scene& scene, const Camera& camera, const Frame
   }
   // One branch per frame: the frame's loops are compiled without any capture code.
   if (capture)
-    hybridPassWith<TileCapture>(scene, camera, settings, visibility, out, capture, batchedShadowRays, reuse);
+    hybridPassWith<TileCapture>(scene, camera, settings, visibility, out, capture, batchedShadowRays, reuse, only);
   else
-    hybridPassWith<NoCapture>(scene, camera, settings, visibility, out, nullptr, batchedShadowRays, reuse);
+    hybridPassWith<NoCapture>(scene, camera, settings, visibility, out, nullptr, batchedShadowRays, reuse, only);
 }
 
 template <class Capture>

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -58,9 +59,12 @@ class RayTracer {
   /// The hybrid ray pass: per grid pixel, the exact primary hit of the visible triangle, then shadow
   /// rays, Whitted reflection and refraction as the settings ask. Never fails. With `reuse` (the camera
   /// still, something moved: rt/RayReuse.h), primary shadow rays clear of what moved keep the answers of
-  /// the frame `reuse` holds, which must not be `out`.
+  /// the frame `reuse` holds, which must not be `out`. With `only` (one byte per full-resolution pixel, an
+  /// adaptive round's selection), a grid pixel whose stand-in pixel is 0 there is traced as the sky is:
+  /// nothing; `visibility` itself is read, never changed.
   void trace(const Scene& scene, const Camera& camera, const FrameSettings& settings,
-             const VisibilityBuffer& visibility, RayOutputs& out, const RayReuse* reuse = nullptr);
+             const VisibilityBuffer& visibility, RayOutputs& out, const RayReuse* reuse = nullptr,
+             std::span<const std::uint8_t> only = {});
 
   /// Exact solids in the hybrid frame (docs/csg.md, "In the raster frame"): each pixel the raster drew with an
   /// exact solid's proxy is resolved by its camera ray, which finds the solid's exact hit, a surface behind the
@@ -112,14 +116,14 @@ class RayTracer {
   friend class RayTracerBench;
   void hybridPass(const Scene& scene, const Camera& camera, const FrameSettings& settings,
                   const VisibilityBuffer& visibility, RayOutputs& out, RayCapture* capture, bool batchedShadowRays,
-                  const RayReuse* reuse = nullptr);
+                  const RayReuse* reuse = nullptr, std::span<const std::uint8_t> only = {});
   void referencePass(const Scene& scene, const Camera& camera, const FrameSettings& settings, ImageF& out,
                      RayCounts& counts, RayCapture* capture);
   // Capture: NoCapture or TileCapture (rt/TileCapture.h).
   template <class Capture>
   void hybridPassWith(const Scene& scene, const Camera& camera, const FrameSettings& settings,
                       const VisibilityBuffer& visibility, RayOutputs& out, RayCapture* capture,
-                      bool batchedShadowRays, const RayReuse* reuse);
+                      bool batchedShadowRays, const RayReuse* reuse, std::span<const std::uint8_t> only);
   template <class Capture>
   void referencePassWith(const Scene& scene, const Camera& camera, const FrameSettings& settings, ImageF& out,
                          RayCounts& counts, RayCapture* capture);
