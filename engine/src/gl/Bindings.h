@@ -14,9 +14,7 @@ inline constexpr GLuint kBindPositions = TD_BIND_POSITIONS, kBindNormals = TD_BI
 inline constexpr GLuint kBlockLights = TD_BLOCK_LIGHTS, kBlockMaterials = TD_BLOCK_MATERIALS,
                         kBlockShadows = TD_BLOCK_SHADOWS;
 inline constexpr GLuint kUnitIds = TD_UNIT_IDS, kUnitDepth = TD_UNIT_DEPTH, kUnitKd = TD_UNIT_KD,
-                        kUnitRamps = TD_UNIT_RAMPS, kUnitLightMask = TD_UNIT_LIGHT_MASK,
-                        kUnitReflected = TD_UNIT_REFLECTED, kUnitTransmitted = TD_UNIT_TRANSMITTED,
-                        kUnitLinear = TD_UNIT_LINEAR;
+                        kUnitRamps = TD_UNIT_RAMPS, kUnitLinear = TD_UNIT_LINEAR;
 inline constexpr GLuint kUnitPositionsTex = TD_UNIT_POSITIONS_TEX, kUnitNormalsTex = TD_UNIT_NORMALS_TEX,
                         kUnitUvsTex = TD_UNIT_UVS_TEX, kUnitColorsTex = TD_UNIT_COLORS_TEX,
                         kUnitIndicesTex = TD_UNIT_INDICES_TEX, kUnitMeshesTex = TD_UNIT_MESHES_TEX,
@@ -26,7 +24,6 @@ inline constexpr GLuint kUnitShadowMaps = TD_UNIT_SHADOW_MAPS, kUnitShadowCubes 
                         kUnitShadowCubesDepth = TD_UNIT_SHADOW_CUBES_DEPTH,
                         kUnitProbes = TD_UNIT_PROBES;
 inline constexpr GLuint kUnitTangentsTex = TD_UNIT_TANGENTS_TEX, kUnitNormalMaps = TD_UNIT_NORMAL_MAPS;
-inline constexpr GLuint kUnitAreaSamples = TD_UNIT_AREA_SAMPLES;
 inline constexpr GLuint kUnitRadiosityTableTex = TD_UNIT_RADIOSITY_TABLE_TEX, kUnitRadiosityTex = TD_UNIT_RADIOSITY_TEX;
 inline constexpr GLuint kUnitExactHits = TD_UNIT_EXACT_HITS;
 inline constexpr GLuint kUnitShadowMask = TD_UNIT_SHADOW_MASK;
@@ -37,16 +34,12 @@ struct ChannelFormat {
   GLenum transfer;
   GLenum type;
 };
+// The ray grid's channels (light mask, area-light samples, reflected, transmitted) are rows of
+// gl/RayChannels.h, which reads their units, formats and bits from the table directly.
 inline constexpr ChannelFormat kChannelIds{TD_CHANNEL_IDS}, kChannelDepth{TD_CHANNEL_DEPTH},
-                               kChannelLightMask{TD_CHANNEL_LIGHT_MASK}, kChannelReflected{TD_CHANNEL_REFLECTED},
-                               kChannelTransmitted{TD_CHANNEL_TRANSMITTED}, kChannelLinear{TD_CHANNEL_LINEAR},
-                               kChannelDisplay{TD_CHANNEL_DISPLAY}, kChannelProbes{TD_CHANNEL_PROBES},
-                               kChannelShadowMaps{TD_CHANNEL_SHADOW_MAPS}, kChannelAreaSamples{TD_CHANNEL_AREA_SAMPLES},
-                               kChannelExactHits{TD_CHANNEL_EXACT_HITS},
-                               kChannelShadowMask{TD_CHANNEL_SHADOW_MASK};
-
-/// Which ray results a frame uploaded (ShadeInputs::rayInputs), the shade pass's TD_RAY_INPUTS.
-enum RayInput : int { kRayLightMask = TD_RAY_LIGHT_MASK, kRayReflected = TD_RAY_REFLECTED, kRayTransmitted = TD_RAY_TRANSMITTED };
+                               kChannelLinear{TD_CHANNEL_LINEAR}, kChannelDisplay{TD_CHANNEL_DISPLAY},
+                               kChannelProbes{TD_CHANNEL_PROBES}, kChannelShadowMaps{TD_CHANNEL_SHADOW_MAPS},
+                               kChannelExactHits{TD_CHANNEL_EXACT_HITS}, kChannelShadowMask{TD_CHANNEL_SHADOW_MASK};
 /// Which effects the probes stand in for (ShadeInputs::probeEffects), the shade pass's TD_PROBES.
 enum ProbeEffect : int { kProbeReflect = TD_PROBE_REFLECT, kProbeRefract = TD_PROBE_REFRACT };
 

@@ -90,12 +90,29 @@ constexpr std::size_t texelBytes(GLenum internalFormat) {
   }
 }
 // Every frame channel's format is one the frame-size check (targetBytes) can count.
+// (The ray grid's: gl/RayChannels.h.)
 static_assert(texelBytes(kChannelIds.internal) > 0 && texelBytes(kChannelDepth.internal) > 0 &&
-              texelBytes(kChannelLightMask.internal) > 0 && texelBytes(kChannelReflected.internal) > 0 &&
-              texelBytes(kChannelTransmitted.internal) > 0 && texelBytes(kChannelLinear.internal) > 0 &&
+              texelBytes(kChannelLinear.internal) > 0 &&
               texelBytes(kChannelDisplay.internal) > 0 && texelBytes(kChannelProbes.internal) > 0 &&
               texelBytes(kChannelShadowMaps.internal) > 0,
               "texelBytes: a frame channel's format is missing");
+/// Bytes per texel of a CPU copy in `format`'s pixel transfer format and type (0 for a pair no channel uses).
+constexpr std::size_t transferBytes(ChannelFormat format) {
+  std::size_t components = 0, bytes = 0;
+  switch (format.transfer) {
+    case GL_RED: case GL_RED_INTEGER: case GL_DEPTH_COMPONENT: components = 1; break;
+    case GL_RG: case GL_RG_INTEGER: components = 2; break;
+    case GL_RGBA: case GL_RGBA_INTEGER: components = 4; break;
+    default: return 0;
+  }
+  switch (format.type) {
+    case GL_UNSIGNED_BYTE: bytes = 1; break;
+    case GL_UNSIGNED_SHORT: case GL_HALF_FLOAT: bytes = 2; break;
+    case GL_UNSIGNED_INT: case GL_FLOAT: bytes = 4; break;
+    default: return 0;
+  }
+  return components * bytes;
+}
 /// Completeness of a framebuffer whose attachments are made: an error naming `label` and the status.
 Result<void> checkFramebufferComplete(const Framebuffer& framebuffer, std::string_view label);
 /// "GL_OUT_OF_MEMORY", ..., or the value in hex for an error GL 4.5 does not define.

@@ -2,19 +2,28 @@
 // The ray pass's results as the shade pass reads them: one row per channel of the ray grid (docs/gbuffer.md,
 // its rows "light mask" to "area-light samples"). The shade pass's textures, their uploads (whole, tile by
 // tile, or one layer per area light), the texture units they are bound to, the placeholder an absent one
-// gets, and the TD_RAY_* bit that tells the shader it is there all follow this table.
+// gets, the TD_RAY_* bit that tells the shader it is there, and the C++ type its CPU copy must have all
+// follow this table.
 //
-// A new ray-pass channel is: its CPU copy in rt::RayOutputs (written by the ray pass), a row here and its
-// unit, format and sampler in shaders/bindings.glsl, its data in render's rayGridData (Renderer.cpp), its
-// use in shaders/shade_rays.glsl, and its row in docs/gbuffer.md.
+// A new ray-pass channel touches four engine files: its CPU copy in rt::RayOutputs (rt/RayBuffers.h) and
+// the ray pass that writes it (rt/RayTracer.cpp's tiles), a row here (with its TD_RAY_* bit below), and
+// render/Renderer.cpp (rayGridData hands it over with setRayGrid; the plan's flag sets its bit in
+// rayChannels). Beside them: its unit, format, sampler and bit in shaders/bindings.glsl, its sampler and
+// use in the shade pass (shade.frag, shade_rays.glsl), and its row in docs/gbuffer.md (cli.channel-table).
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <span>
+#include <vector>
 
 #include "gl/Bindings.h"
+#include "gl/GlObjects.h"
 #include "gl/Placeholders.h"
 
 namespace tandem::gl {
+
+/// Which ray results a frame uploaded (ShadeInputs::rayInputs), the shade pass's TD_RAY_INPUTS.
+enum RayInput : int { kRayLightMask = TD_RAY_LIGHT_MASK, kRayReflected = TD_RAY_REFLECTED, kRayTransmitted = TD_RAY_TRANSMITTED };
 
 enum class RayChannelId : int { LightMask, AreaSamples, Reflected, Transmitted };
 
@@ -22,39 +31,39 @@ struct RayChannel {
   RayChannelId id;
   const char* label;        // the texture's GL debug label, and what an error names
   int input;                // RayInput bit: the variant reads it (TD_RAY_INPUTS), the frame holds it (rayPresent)
-  GLuint unit;
-  ChannelFormat format;
+  GLuint unit;              // TD_UNIT_*
+  ChannelFormat format;     // TD_CHANNEL_*
   Placeholders::Kind placeholder;  // what the unit holds when the frame has no such data
   bool perAreaLight;        // a 2D array, one layer per area light (present only in scenes with area lights)
   bool tiled;               // sent tile by tile (GridTiles): only the tiles that hold something
+  std::size_t texelBytes;   // one texel of the CPU copy: sizeof the element of its RayOutputs vector
 };
 
 inline constexpr std::array<RayChannel, 4> kRayChannels{{
-    {RayChannelId::LightMask, "ray light mask", kRayLightMask, kUnitLightMask, kChannelLightMask,
-     Placeholders::Uint2D, false, false},
-    {RayChannelId::AreaSamples, "ray area-light samples", kRayLightMask, kUnitAreaSamples, kChannelAreaSamples,
-     Placeholders::Uint2DArray, true, false},
-    {RayChannelId::Reflected, "ray reflected", kRayReflected, kUnitReflected, kChannelReflected, Placeholders::Float2D,
-     false, true},
-    {RayChannelId::Transmitted, "ray transmitted", kRayTransmitted, kUnitTransmitted, kChannelTransmitted,
-     Placeholders::Float2D, false, true},
+    {RayChannelId::LightMask, "ray light mask", kRayLightMask, TD_UNIT_LIGHT_MASK, {TD_CHANNEL_LIGHT_MASK},
+     Placeholders::Uint2D, false, false, sizeof(std::uint8_t)},
+    {RayChannelId::AreaSamples, "ray area-light samples", kRayLightMask, TD_UNIT_AREA_SAMPLES,
+     {TD_CHANNEL_AREA_SAMPLES}, Placeholders::Uint2DArray, true, false, sizeof(std::uint32_t)},
+    {RayChannelId::Reflected, "ray reflected", kRayReflected, TD_UNIT_REFLECTED, {TD_CHANNEL_REFLECTED},
+     Placeholders::Float2D, false, true, sizeof(float) * 4},
+    {RayChannelId::Transmitted, "ray transmitted", kRayTransmitted, TD_UNIT_TRANSMITTED, {TD_CHANNEL_TRANSMITTED},
+     Placeholders::Float2D, false, true, sizeof(float) * 4},
 }};
 inline constexpr std::size_t kRayChannelCount = kRayChannels.size();
+constexpr const RayChannel& rayChannel(RayChannelId id) { return kRayChannels[static_cast<std::size_t>(id)]; }
 
-constexpr bool rayChannelsInOrder() {
-  for (std::size_t i = 0; i < kRayChannelCount; ++i)
-    if (static_cast<std::size_t>(kRayChannels[i].id) != i) return false;
+constexpr bool rayChannelsWellFormed() {
+  for (std::size_t i = 0; i < kRayChannelCount; ++i) {
+    const RayChannel& c = kRayChannels[i];
+    if (static_cast<std::size_t>(c.id) != i) return false;  // the uploads index them by RayChannelId
+    // The CPU copy is what the transfer format and type say, and the frame-size check can count the texture.
+    if (transferBytes(c.format) != c.texelBytes || texelBytes(c.format.internal) == 0) return false;
+    if (c.tiled && c.texelBytes != sizeof(float) * 4) return false;  // ShadePass's tile uploads: one vec4 a texel
+  }
   return true;
 }
-static_assert(rayChannelsInOrder(), "kRayChannels[i] is channel i: the uploads index them by RayChannelId");
-constexpr bool tiledChannelsTravelAsReflectedDoes() {
-  for (const RayChannel& c : kRayChannels)
-    if (c.tiled && !(c.format.transfer == kChannelReflected.transfer && c.format.type == kChannelReflected.type))
-      return false;
-  return true;
-}
-// ShadePass.cpp pins kChannelReflected to one glm::vec4 per grid pixel, which its tile uploads assume.
-static_assert(tiledChannelsTravelAsReflectedDoes(), "a tiled channel travels as one glm::vec4 per grid pixel");
+static_assert(rayChannelsWellFormed(),
+              "kRayChannels: row i is channel i, its CPU texel is its transfer's, a tiled channel travels as vec4s");
 
 /// Which square tiles of a ray grid hold a non-zero value (RayOutputs::reflectedTiles): `size` texels a
 /// side, row-major, one flag per tile; the rest of the grid is zero. Empty: unknown, the whole grid is sent.
@@ -71,5 +80,13 @@ struct RayGridData {
   GridTiles tiles;
 };
 using RayGrid = std::array<RayGridData, kRayChannelCount>;
+
+/// Hands `texels` (a RayOutputs vector: one element per grid pixel, and per layer) to channel `Id` of `grid`;
+/// the element's type must be the row's texel, which is checked where the channel is handed over.
+template <RayChannelId Id, class T>
+void setRayGrid(RayGrid& grid, const std::vector<T>& texels, int layers = 1, GridTiles tiles = {}) {
+  static_assert(sizeof(T) == rayChannel(Id).texelBytes, "a ray channel's CPU copy is not its row's texel type");
+  grid[static_cast<std::size_t>(Id)] = {texels.data(), layers, tiles};
+}
 
 }  // namespace tandem::gl

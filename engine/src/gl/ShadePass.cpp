@@ -76,16 +76,6 @@ Result<ShadePass> ShadePass::create() {
   return pass;
 }
 
-// The CPU side of each ray channel is what its transfer format and type say (bindings.glsl).
-static_assert(kChannelLightMask.transfer == GL_RED_INTEGER && kChannelLightMask.type == GL_UNSIGNED_BYTE,
-              "the light mask travels as one std::uint8_t per grid pixel (rt::LightMask)");
-static_assert(kChannelReflected.transfer == GL_RGBA && kChannelReflected.type == GL_FLOAT &&
-                  kChannelTransmitted.transfer == GL_RGBA && kChannelTransmitted.type == GL_FLOAT,
-              "reflected and transmitted travel as one glm::vec4 per grid pixel");
-
-static_assert(kChannelAreaSamples.transfer == GL_RED_INTEGER && kChannelAreaSamples.type == GL_UNSIGNED_INT,
-              "area-light sample bits travel as one std::uint32_t per grid pixel and area light");
-
 // shade.frag's light loop and the shadow-mask pass call each light by a constant index, 0 to 7.
 static_assert(TD_MAX_LIGHTS == 8, "shade.frag calls each of the 8 direct lights by a constant index");
 

@@ -72,17 +72,16 @@ gl::RayGrid rayGridData(const rt::RayOutputs& rays) {
   gl::RayGrid grid;
   const std::size_t n = static_cast<std::size_t>(rays.width) * static_cast<std::size_t>(rays.height);
   if (n == 0) return grid;
-  auto at = [&](gl::RayChannelId id) -> gl::RayGridData& { return grid[static_cast<std::size_t>(id)]; };
+  using Id = gl::RayChannelId;
   if (rays.lightMask.size() == n) {
-    at(gl::RayChannelId::LightMask).texels = rays.lightMask.data();
-    if (rays.areaLights > 0 && rays.areaSamples.size() == static_cast<std::size_t>(rays.areaLights) * n) {
-      at(gl::RayChannelId::AreaSamples).texels = rays.areaSamples.data();
-      at(gl::RayChannelId::AreaSamples).layers = rays.areaLights;
-    }
+    gl::setRayGrid<Id::LightMask>(grid, rays.lightMask);
+    if (rays.areaLights > 0 && rays.areaSamples.size() == static_cast<std::size_t>(rays.areaLights) * n)
+      gl::setRayGrid<Id::AreaSamples>(grid, rays.areaSamples, rays.areaLights);
   }
-  if (rays.reflected.size() == n) at(gl::RayChannelId::Reflected) = {rays.reflected.data(), 1, {rays.reflectedTiles, rays.tileSize}};
+  if (rays.reflected.size() == n)
+    gl::setRayGrid<Id::Reflected>(grid, rays.reflected, 1, {rays.reflectedTiles, rays.tileSize});
   if (rays.transmitted.size() == n)
-    at(gl::RayChannelId::Transmitted) = {rays.transmitted.data(), 1, {rays.transmittedTiles, rays.tileSize}};
+    gl::setRayGrid<Id::Transmitted>(grid, rays.transmitted, 1, {rays.transmittedTiles, rays.tileSize});
   return grid;
 }
 
