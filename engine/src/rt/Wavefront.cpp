@@ -13,12 +13,14 @@ namespace tandem::rt {
 
 void ShadowBatch::clear() {
   byMap_ = kept_ = 0;
-  rays_.clear();
-  slots_.clear();
-  bits_.clear();
+  for (auto& rays : byLight_) rays.clear();
+  for (auto& captured : capturedByLight_) captured.clear();
+  areaRays_.clear();
+  areaSlots_.clear();
+  areaBits_.clear();
   areaWords_.clear();
   samples_.clear();
-  captured_.clear();
+  areaCaptured_.clear();
 }
 
 template <class Capture>
@@ -44,14 +46,14 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
           ++kept_;
           continue;
         }
-        rays_.emplace_back();
-        makeEmbreeRay(rays_.back(), s.originW, s.dirW, 0.0f, s.tFar, hit.time);
-        slots_.push_back(slot);
-        bits_.push_back(1u << j);
+        areaRays_.emplace_back();
+        makeEmbreeRay(areaRays_.back(), s.originW, s.dirW, 0.0f, s.tFar, hit.time);
+        areaSlots_.push_back(slot);
+        areaBits_.push_back(1u << j);
         areaWords_.push_back(&word);
         samples_.push_back(static_cast<std::uint8_t>(k));
         if constexpr (Capture::kRecords)
-          captured_.push_back(capture.deferred(RayKind::Shadow, s.originW, s.dirW, 0.0f, s.tFar, static_cast<std::uint8_t>(j)));
+          areaCaptured_.push_back(capture.deferred(RayKind::Shadow, s.originW, s.dirW, 0.0f, s.tFar, static_cast<std::uint8_t>(j)));
       }
       if (word != 0) visible |= 1u << j;
       continue;
@@ -71,14 +73,11 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
       if (s.byMap) ++byMap_;
       continue;
     }
-    rays_.emplace_back();
-    makeEmbreeRay(rays_.back(), s.originW, s.dirW, 0.0f, s.tFar, hit.time);  // finite: shadowRay checked
-    slots_.push_back(slot);
-    bits_.push_back(1u << j);
-    areaWords_.push_back(nullptr);
-    samples_.push_back(0);
+    // makeEmbreeRay's checks hold already (origin and direction finite: shadowRay; tFar > 0 or +inf), so
+    // the lane is written straight from them.
+    byLight_[j].push_back({s.originW, s.tFar, s.dirW, embreeTime(hit.time), static_cast<std::uint32_t>(slot)});
     if constexpr (Capture::kRecords)
-      captured_.push_back(capture.deferred(RayKind::Shadow, s.originW, s.dirW, 0.0f, s.tFar, static_cast<std::uint8_t>(j)));
+      capturedByLight_[j].push_back(capture.deferred(RayKind::Shadow, s.originW, s.dirW, 0.0f, s.tFar, static_cast<std::uint8_t>(j)));
   }
   return visible;
 }
@@ -88,7 +87,6 @@ void ShadowBatch::trace(RTCScene scene, LightMask* masks, RayCounts& counts, Cap
   counts.shadowByMap += byMap_;
   counts.shadowKept += kept_;
   byMap_ = kept_ = 0;
-  if (rays_.empty()) return;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   // Packets of rays towards one light, neighbouring hits first: such rays start close together and
@@ -102,40 +100,50 @@ void ShadowBatch::trace(RTCScene scene, LightMask* masks, RayCounts& counts, Cap
   // another surface (a wall's foot on the floor) can get another answer when the packet changes. Reuse
   // across frames keeps per-sample answers and so changes the packets of the samples it traces; single
   // rays make each answer the ray's own, as the frame traced whole gives it (docs/reuse.md).
-  std::array<std::uint32_t, 33> first{};  // counting sort by light: bits_ holds one bit, 1 << j
-  std::size_t packed = 0;
-  for (std::size_t i = 0; i < rays_.size(); ++i) {
-    if (areaWords_[i]) {
-      rtcOccluded1(scene, &ctx, &rays_[i]);
-      continue;
+  for (std::size_t i = 0; i < areaRays_.size(); ++i) {
+    rtcOccluded1(scene, &ctx, &areaRays_[i]);
+    // Embree marks an occluded ray by tfar = -inf.
+    const bool visible = areaRays_[i].tfar >= 0.0f;
+    if (visible) {
+      masks[areaSlots_[i]] = static_cast<LightMask>(masks[areaSlots_[i]] | areaBits_[i]);
+      *areaWords_[i] |= 1u << samples_[i];
     }
-    ++first[static_cast<std::size_t>(std::countr_zero(bits_[i])) + 1];
-    ++packed;
+    if constexpr (Capture::kRecords) capture.answer(RayKind::Shadow, areaCaptured_[i], !visible);
   }
-  for (std::size_t j = 1; j < first.size(); ++j) first[j] += first[j - 1];
-  order_.resize(packed);
-  for (std::size_t i = 0; i < rays_.size(); ++i)
-    if (!areaWords_[i]) order_[first[static_cast<std::size_t>(std::countr_zero(bits_[i]))]++] = static_cast<std::uint32_t>(i);
+  counts.shadow += areaRays_.size();
   RTCRay8 packet{};  // inactive lanes of a last, partial packet stay defined
   alignas(32) int valid[kPacket];
-  for (std::size_t start = 0; start < order_.size(); start += kPacket) {
-    const std::size_t lanes = std::min<std::size_t>(kPacket, order_.size() - start);
-    for (std::size_t k = 0; k < static_cast<std::size_t>(kPacket); ++k) {
-      valid[k] = k < lanes ? -1 : 0;
-      if (k < lanes) setPacketLane(packet, static_cast<int>(k), rays_[order_[start + k]]);
+  for (std::size_t j = 0; j < byLight_.size(); ++j) {
+    const std::vector<LaneRay>& rays = byLight_[j];
+    const auto bit = static_cast<LightMask>(1u << j);
+    for (std::size_t start = 0; start < rays.size(); start += kPacket) {
+      const std::size_t lanes = std::min<std::size_t>(kPacket, rays.size() - start);
+      for (std::size_t k = 0; k < static_cast<std::size_t>(kPacket); ++k) {
+        valid[k] = k < lanes ? -1 : 0;
+        if (k >= lanes) continue;
+        const LaneRay& r = rays[start + k];
+        packet.org_x[k] = r.org.x;
+        packet.org_y[k] = r.org.y;
+        packet.org_z[k] = r.org.z;
+        packet.tnear[k] = 0.0f;
+        packet.dir_x[k] = r.dir.x;
+        packet.dir_y[k] = r.dir.y;
+        packet.dir_z[k] = r.dir.z;
+        packet.time[k] = r.time;
+        packet.tfar[k] = r.tfar;
+        packet.mask[k] = 0xFFFFFFFFu;
+        packet.id[k] = 0;
+        packet.flags[k] = 0;
+      }
+      rtcOccluded8(valid, scene, &ctx, &packet);
+      for (std::size_t k = 0; k < lanes; ++k) {
+        const bool visible = packet.tfar[k] >= 0.0f;
+        if (visible) masks[rays[start + k].slot] = static_cast<LightMask>(masks[rays[start + k].slot] | bit);
+        if constexpr (Capture::kRecords) capture.answer(RayKind::Shadow, capturedByLight_[j][start + k], !visible);
+      }
     }
-    rtcOccluded8(valid, scene, &ctx, &packet);
-    for (std::size_t k = 0; k < lanes; ++k) rays_[order_[start + k]].tfar = packet.tfar[k];
+    counts.shadow += rays.size();
   }
-  counts.shadow += rays_.size();
-  // Embree marks an occluded ray by tfar = -inf.
-  for (std::size_t i = 0; i < rays_.size(); ++i)
-    if (rays_[i].tfar >= 0.0f) {
-      masks[slots_[i]] = static_cast<LightMask>(masks[slots_[i]] | bits_[i]);
-      if (areaWords_[i]) *areaWords_[i] |= 1u << samples_[i];
-    }
-  if constexpr (Capture::kRecords)
-    for (std::size_t i = 0; i < captured_.size(); ++i) capture.answer(RayKind::Shadow, captured_[i], rays_[i].tfar < 0.0f);
 }
 
 Wavefront::Wavefront(const Whitted& whitted, Buffers& buffers) : whitted_(whitted), b_(buffers) {

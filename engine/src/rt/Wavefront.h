@@ -2,6 +2,7 @@
 // The batched forms of the Whitted pass that the frame runs: a tile's shadow rays in one Embree call, and
 // its reflection and refraction rays breadth first, one call per depth. Both take the capture policy of
 // rt/TileCapture.h as a template parameter (instantiated for NoCapture and TileCapture only).
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -51,13 +52,25 @@ class ShadowBatch {
   void trace(RTCScene scene, LightMask* masks, RayCounts& counts);
 
  private:
-  std::vector<RTCRay> rays_;
-  std::vector<std::size_t> slots_;
-  std::vector<std::uint32_t> bits_;
-  std::vector<std::uint32_t*> areaWords_;  // an area light's ray: the word its sample bit goes to; else null
-  std::vector<std::uint8_t> samples_;      // an area light's ray: its sample number
-  std::vector<std::size_t> captured_;  // under a recording Capture: each ray's index there
-  std::vector<std::uint32_t> order_;   // ray indices grouped by light, in the order they were added
+  // A point, spot or directional light's shadow ray as its packet lane will hold it: written once by
+  // add(), copied into the packet by trace() (no RTCRay in between: the rays are kept per light, in the
+  // order they were added, which is the order the packets take them in).
+  struct LaneRay {
+    glm::vec3 org;
+    float tfar;
+    glm::vec3 dir;
+    float time;
+    std::uint32_t slot;
+  };
+  std::array<std::vector<LaneRay>, kMaxLights> byLight_;
+  std::array<std::vector<std::size_t>, kMaxLights> capturedByLight_;  // under a recording Capture: capture indices
+  // Area lights' rays, traced one by one (trace() says why).
+  std::vector<RTCRay> areaRays_;
+  std::vector<std::size_t> areaSlots_;
+  std::vector<std::uint32_t> areaBits_;
+  std::vector<std::uint32_t*> areaWords_;  // the word each ray's sample bit goes to
+  std::vector<std::uint8_t> samples_;      // each ray's sample number
+  std::vector<std::size_t> areaCaptured_;  // under a recording Capture: each ray's index there
   std::uint64_t byMap_ = 0;            // rays the hybrid shadows' maps answered since the last trace()
   std::uint64_t kept_ = 0;             // rays answered by the frame before since the last trace()
 };

@@ -42,7 +42,7 @@ bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, 
   ray.dir_x = dirW.x;
   ray.dir_y = dirW.y;
   ray.dir_z = dirW.z;
-  ray.time = std::clamp(std::isfinite(time) ? time : 0.5f, 0.0f, 1.0f);  // Embree's time range
+  ray.time = embreeTime(time);
   ray.tfar = tFar;
   ray.mask = 0xFFFFFFFFu;
   ray.id = 0;

@@ -2,6 +2,7 @@
 // Whitted recursion on Embree for one frame: shadow rays, mirror reflection, refraction with Fresnel.
 // Read-only after construction, so any number of tiles trace through one instance concurrently.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -292,6 +293,8 @@ class Whitted {
 /// Fills an Embree ray; false (and nothing to trace) when any component is NaN or infinite, which
 /// Debian's Embree does not filter out.
 bool makeEmbreeRay(RTCRay& ray, glm::vec3 originW, glm::vec3 dirW, float tNear, float tFar, float time);
+/// A ray's time as Embree takes it: within [0, 1], 0.5 (mid-shutter) when not finite (makeEmbreeRay's).
+inline float embreeTime(float time) { return std::clamp(std::isfinite(time) ? time : 0.5f, 0.0f, 1.0f); }
 
 /// Packets of this many rays (rtcOccluded8 / rtcIntersect8): AVX2's width; 16-wide packets measured no
 /// faster on this project's 2-core machine, which has AVX-512 (docs/bench.md).
