@@ -57,6 +57,17 @@ MUTATIONS = [
      "float d = kUlp * (kErrUlps * glm::dot(an, magnitude) + kMinUlps * maxMag);",
      "float d = 0.0f * kUlp * (kErrUlps * glm::dot(an, magnitude) + kMinUlps * maxMag);",
      "tandem-rt-tests", "OriginOffset.*"),
+    # The ray pass's inputs and batches.
+    ("selection-ignored", "engine/src/rt/RayTracer.cpp",
+     "        if (!only.empty() && only[pixel] == 0) continue;  // not this round's: as the background",
+     "        if (!only.empty() && only[pixel] == 2) continue;  // not this round's: as the background",
+     "tandem-rt-tests", "RayPassWhitted.ASelection*"),
+    ("shadow-packet-bit-of-light-0", "engine/src/rt/Wavefront.cpp",
+     "    const auto bit = static_cast<LightMask>(1u << j);", "    const auto bit = static_cast<LightMask>(1u);",
+     "tandem-rt-tests", "RayPassWhitted.*:RayPassShadows.*"),
+    ("shadow-packet-lane-time-mid", "engine/src/rt/Wavefront.cpp",
+     "        packet.time[k] = r.time;", "        packet.time[k] = 0.5f;",
+     "tandem-rt-tests", "MotionBlurRays.*"),
     # Exact solids and their frame.
     ("resolve-keeps-the-proxy-id", "engine/src/rt/RayTracer.cpp",
      "                r.id.y = kExactTriangle;", "                r.id.y = r.id.y;",
