@@ -161,8 +161,19 @@ void Wavefront::spawn(const SurfaceHit& hit, int depth, float throughput, std::i
                       RayCounts& counts, Capture& capture) {
   const TraceModes& modes = whitted_.modes();
   if (depth >= modes.maxDepth || (!modes.reflections && !modes.refraction)) return;
-  WhittedWeights w = whitted_.weights(hit);
   const std::size_t first = b_.nodes.size();
+  // A surface that neither reflects nor transmits (kr, kt <= 0) and is fully covered has zero weights
+  // (whittedSum; tdTransmitWeight with a = 1): it spawns no ray, and the weights are not worked out. Most
+  // primary hits are such surfaces.
+  const glm::vec4& krKt = whitted_.frame().materials[hit.material].krKtIorModel;
+  if (!(krKt.x > 0.0f) && !(krKt.y > 0.0f) && hit.coverage >= 1.0f) {
+    if (parent >= 0) {  // a leaf of the path tree
+      b_.nodes[static_cast<std::size_t>(parent)].firstChild = first;
+      b_.nodes[static_cast<std::size_t>(parent)].children = 0;
+    }
+    return;
+  }
+  WhittedWeights w = whitted_.weights(hit);
   auto queue = [&](RayKind kind, glm::vec3 dir, glm::vec3 weight, float weightMax) {
     // The sides of Whitted::secondary: reflection in front of the facet, transmission behind it.
     Buffers::Node& n = b_.nodes.emplace_back();
