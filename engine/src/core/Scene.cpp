@@ -5,6 +5,8 @@
 
 #include "tandem/Result.h"
 
+#include "core/Finite.h"
+
 namespace tandem {
 
 glm::vec3 Scene::ambientIntensity() const {
@@ -28,19 +30,10 @@ std::size_t Scene::triangleCount() const {
   return n;
 }
 
-namespace {
-bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-bool finite(const glm::mat4& m) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (!std::isfinite(m[c][r])) return false;
-  return true;
-}
-}  // namespace
 
 Result<void> validateLight(const Light& l, const std::string& id) {
-  if (!finite(l.color) || !std::isfinite(l.intensity) || !finite(l.posW) || !finite(l.dirW) ||
-      !std::isfinite(l.range) || !finite(l.attenuation) || !finite(l.upW) || !std::isfinite(l.size.x) ||
+  if (!allFinite(l.color) || !std::isfinite(l.intensity) || !allFinite(l.posW) || !allFinite(l.dirW) ||
+      !std::isfinite(l.range) || !allFinite(l.attenuation) || !allFinite(l.upW) || !std::isfinite(l.size.x) ||
       !std::isfinite(l.size.y) || !std::isfinite(l.radius))
     return Error{id + ": a value is NaN or infinite"};
   if (isAreaLight(l.type) && (l.size.x < 0.0f || l.size.y < 0.0f || l.radius < 0.0f))
@@ -73,7 +66,7 @@ Result<void> validateScene(const Scene& scene) {
     for (std::uint32_t idx : mesh.indices)
       if (idx >= mesh.positions.size()) return Error{id + ": index " + std::to_string(idx) + " out of range"};
     for (const glm::vec3& p : mesh.positions)
-      if (!finite(p)) return Error{id + ": a position is NaN or infinite"};
+      if (!allFinite(p)) return Error{id + ": a position is NaN or infinite"};
     if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
       return Error{id + ": normal count differs from position count"};
     if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
@@ -82,15 +75,15 @@ Result<void> validateScene(const Scene& scene) {
   for (std::size_t m = 0; m < scene.materials.size(); ++m) {
     const Material& mat = scene.materials[m];
     std::string id = where + ": material " + std::to_string(m) + (mat.name.empty() ? "" : " '" + mat.name + "'");
-    if (!finite(mat.ka) || !finite(mat.kd) || !finite(mat.ks) || !std::isfinite(mat.ns) || !std::isfinite(mat.kr) ||
-        !std::isfinite(mat.kt) || !std::isfinite(mat.ior) || !finite(mat.emission) || !std::isfinite(mat.roughness))
+    if (!allFinite(mat.ka) || !allFinite(mat.kd) || !allFinite(mat.ks) || !std::isfinite(mat.ns) || !std::isfinite(mat.kr) ||
+        !std::isfinite(mat.kt) || !std::isfinite(mat.ior) || !allFinite(mat.emission) || !std::isfinite(mat.roughness))
       return Error{id + ": a value is NaN or infinite"};
     if (mat.ior <= 0.0f) return Error{id + ": ior must be > 0"};
     if (mat.roughness < 0.0f || mat.roughness > 1.0f) return Error{id + ": roughness must be in [0, 1]"};
     if (mat.ns < 0.0f) return Error{id + ": ns must be >= 0"};
     if (const ProceduralTexture& t = mat.procedural; t.type != Pattern::None) {
       if (static_cast<int>(t.type) > static_cast<int>(Pattern::Granite)) return Error{id + ": unknown procedural pattern"};
-      if (!finite(mat.kd2) || !(t.scale > 0.0f) || !std::isfinite(t.scale) || !(t.turbulence >= 0.0f) ||
+      if (!allFinite(mat.kd2) || !(t.scale > 0.0f) || !std::isfinite(t.scale) || !(t.turbulence >= 0.0f) ||
           !std::isfinite(t.turbulence) || !(t.bump >= 0.0f) || !std::isfinite(t.bump))
         return Error{id + ": procedural texture: scale must be finite and > 0, turbulence and bump finite and >= 0"};
       if (t.octaves < 1 || t.octaves > 8) return Error{id + ": procedural texture: octaves must be in 1..8"};
@@ -105,11 +98,11 @@ Result<void> validateScene(const Scene& scene) {
     std::string id = where + ": instance " + std::to_string(i) + (inst.name.empty() ? "" : " '" + inst.name + "'");
     if (inst.mesh >= scene.meshes.size()) return Error{id + ": mesh index out of range"};
     if (inst.material >= scene.materials.size()) return Error{id + ": material index out of range"};
-    if (!finite(inst.worldFromObject)) return Error{id + ": transform is NaN or infinite"};
-    if (!finite(inst.velocity) || !finite(inst.angularVelocity)) return Error{id + ": motion is NaN or infinite"};
+    if (!allFinite(inst.worldFromObject)) return Error{id + ": transform is NaN or infinite"};
+    if (!allFinite(inst.velocity) || !allFinite(inst.angularVelocity)) return Error{id + ": motion is NaN or infinite"};
   }
   const Camera& c = scene.camera;
-  if (!finite(c.posW) || !finite(c.targetW) || !finite(c.upW) || !(c.nearZ > 0.0f) || !(c.farZ > c.nearZ) ||
+  if (!allFinite(c.posW) || !allFinite(c.targetW) || !allFinite(c.upW) || !(c.nearZ > 0.0f) || !(c.farZ > c.nearZ) ||
       !(c.yFovDeg > 0.0f && c.yFovDeg < 180.0f) || glm::length(c.targetW - c.posW) <= 0.0f)
     return Error{where + ": camera is invalid (needs finite position, target != position, 0 < near < far, 0 < fov < 180)"};
   if (!std::isfinite(c.aperture) || c.aperture < 0.0f || std::isnan(c.focusDistance) || std::isinf(c.focusDistance))

@@ -7,6 +7,8 @@
 
 #include <glm/gtc/matrix_inverse.hpp>
 
+#include "core/Finite.h"
+
 namespace tandem::solid {
 
 namespace {
@@ -463,13 +465,6 @@ Bounds subtreeBounds(const Solid& solid, std::uint32_t index) {
   return out;
 }
 
-bool finiteMatrix(const glm::dmat4& m) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (!std::isfinite(m[c][r])) return false;
-  return true;
-}
-
 }  // namespace
 
 Hits intersect(const Primitive& primitive, const Ray& ray) {
@@ -566,7 +561,7 @@ std::string validate(const Solid& solid) {
   for (std::size_t i = 0; i < solid.nodes.size(); ++i) {
     const Node& n = solid.nodes[i];
     const std::string where = "node " + std::to_string(i) + ": ";
-    if (!finiteMatrix(n.parentFromNode) || !std::isfinite(glm::determinant(n.parentFromNode)) ||
+    if (!allFinite(n.parentFromNode) || !std::isfinite(glm::determinant(n.parentFromNode)) ||
         std::abs(glm::determinant(glm::dmat3(n.parentFromNode))) < 1e-300)
       return where + "its transform is not finite and invertible";
     if (n.op == Op::Leaf) {

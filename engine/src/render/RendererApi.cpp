@@ -5,20 +5,10 @@
 #include <cmath>
 #include <string>
 
+#include "core/Finite.h"
 #include "render/RendererImpl.h"
 
 namespace tandem {
-
-namespace {
-
-bool finiteMatrix(const glm::mat4& m) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (!std::isfinite(m[c][r])) return false;
-  return true;
-}
-
-}  // namespace
 
 Result<std::unique_ptr<Renderer>> Renderer::create(GlContext& context, const RendererDesc& desc) {
   context.makeCurrent();
@@ -57,7 +47,7 @@ const Scene& Renderer::scene() const { return impl_->scene; }
 void Renderer::setInstanceTransform(std::uint32_t instance, const glm::mat4& worldFromObject) {
   Impl& r = *impl_;
   assert(instance < r.scene.instances.size() && "Renderer::setInstanceTransform: instance out of range");
-  if (!finiteMatrix(worldFromObject)) {
+  if (!allFinite(worldFromObject)) {
     logWarning("Renderer::setInstanceTransform: instance " + std::to_string(instance) +
                " given a NaN or infinite transform; kept the previous one");
     return;
