@@ -65,6 +65,18 @@ vec2 vogelTap(int i, int count, vec2 turn) {
   return vec2(t.x * turn.x - t.y * turn.y, t.x * turn.y + t.y * turn.x);
 }
 
+// A soft-shadow tap: the cube-map direction `radius` along tap i of `count` in the plane (u, v) around rel,
+// and in `ref` the depth it is compared with, the receiver's tangent plane (Ng, planeDist) where that
+// direction meets it (rel's own depth when it runs along the plane).
+vec3 penumbraTap(int i, int count, vec2 turn, float radius, vec3 rel, vec3 u, vec3 v, vec3 Ng, float planeDist,
+                 float n, float f, out float ref) {
+  vec2 o = vogelTap(i, count, turn) * radius;
+  vec3 dir = rel + u * o.x + v * o.y;
+  float along = dot(Ng, dir);
+  ref = along * planeDist > 0.0 ? cubeDepth(dir * (planeDist / along), n, f) : cubeDepth(rel, n, f);
+  return dir;
+}
+
 // Raster soft shadows of area light j (docs/area-lights.md): percentage-closer soft shadows (Fernando 2005)
 // on the cube map rendered from the light's centre. A blocker search over the light's extent, the penumbra
 // width from similar triangles, w = size·(receiver − blocker)/blocker, then percentage-closer filtering
@@ -89,10 +101,8 @@ float softShadowVisibility(int j, vec3 posW, vec3 Ng, float lightSize, vec2 turn
   float blockers = 0.0;
   const int kSearch = 8;
   for (int i = 0; i < kSearch; ++i) {
-    vec2 o = vogelTap(i, kSearch, turn) * search;
-    vec3 dir = rel + u * o.x + v * o.y;
-    float along = dot(Ng, dir);
-    float ref = along * planeDist > 0.0 ? cubeDepth(dir * (planeDist / along), n, f) : cubeDepth(rel, n, f);
+    float ref;
+    vec3 dir = penumbraTap(i, kSearch, turn, search, rel, u, v, Ng, planeDist, n, f, ref);
     float stored = texture(shadowCubesDepth, vec4(dir, layer)).r;
     if (stored > ref) {
       blockerSum += n * f / (stored * (f - n) + n);  // the stored depth's distance along its axis
@@ -112,10 +122,8 @@ float softShadowVisibility(int j, vec3 posW, vec3 Ng, float lightSize, vec2 turn
   float lit = 0.0;
   const int kFilter = 8;
   for (int i = 0; i < kFilter; ++i) {
-    vec2 o = vogelTap(i, kFilter, turn) * width;
-    vec3 dir = rel + u * o.x + v * o.y;
-    float along = dot(Ng, dir);
-    float ref = along * planeDist > 0.0 ? cubeDepth(dir * (planeDist / along), n, f) : cubeDepth(rel, n, f);
+    float ref;
+    vec3 dir = penumbraTap(i, kFilter, turn, width, rel, u, v, Ng, planeDist, n, f, ref);
     lit += texture(shadowCubes, vec4(dir, layer), ref);
   }
   return lit / float(kFilter);
