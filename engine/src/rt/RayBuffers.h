@@ -17,6 +17,9 @@ struct VisibilityBuffer {
   int width = 0;
   int height = 0;
   std::vector<glm::uvec2> ids;
+  /// The GL's shadow proofs (gl/ShadowProofPass.h) of each pixel's primary hit, beside its id: bit 8 + j set
+  /// where light j's shadow ray is decided, bit j its answer (lit). Empty: none (every ray is the pass's).
+  std::vector<std::uint16_t> proofs;
 };
 
 /// Bit j: direct light j visible. Eight bits are enough: a scene has at most kMaxLights (8) lights, and

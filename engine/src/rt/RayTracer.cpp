@@ -135,6 +135,16 @@ const ShadowCertainty& RayTracer::updateShadowMaps(const Scene& scene, const Fra
   return s.shadowMaps;
 }
 
+const ShadowCertainty* RayTracer::shadowMapsFor(const Scene& scene, const Camera& camera, const FrameSettings& settings,
+                                                glm::vec3 glAnchor) {
+  if (!impl_->scene || !settings.hybridShadows || impl_->scene->hasMotion() || impl_->scene->anchor() != glAnchor)
+    return nullptr;
+  const FrameShading frame = FrameShading::forFrame(scene, settings, camera.sampleIndex, impl_->scene->anchor(),
+                                                    impl_->radiosity.get());
+  const ShadowCertainty& maps = updateShadowMaps(scene, frame);
+  return maps.empty() ? nullptr : &maps;
+}
+
 std::size_t RayTracer::shadowMapBuilds() const { return impl_->shadowMapBuilds; }
 std::size_t RayTracer::shadowMapBytes() const { return impl_->shadowMaps.bytes(); }
 double RayTracer::lastShadowMapMs() const { return impl_->lastShadowMapMs; }
@@ -193,7 +203,7 @@ struct HybridTiles {
     // kept shadow rays can meet are chosen once for the tile from where its hits lie (ReuseTile). Without,
     // each hit's rays are queued as it is resolved. The queues get the same hits in the same order.
     struct Primary {
-      std::size_t g;
+      std::size_t g, pixel;
       SurfaceHit hit;
       bool samePoint;
     };
@@ -203,7 +213,7 @@ struct HybridTiles {
     primaries.clear();
     Wavefront wavefront(whitted, wavefrontBuffers);
     const bool keeping = reuse.active() && batched && modes.primaryShadowRays;
-    auto queue = [&](std::size_t g, const SurfaceHit& hit, bool samePoint) {
+    auto queue = [&](std::size_t g, std::size_t pixel, const SurfaceHit& hit, bool samePoint) {
       if (modes.primaryShadowRays) {
         ShadowKeep keep;
         if (samePoint) keep = {&reuse, &keptTile, reuse.keepableLights(), reuse.keptMask(g), g};
@@ -211,7 +221,8 @@ struct HybridTiles {
         std::uint32_t* area = out.areaLights > 0 ? out.areaSamples.data() + g : nullptr;
         if (batched) {
           out.lightMask[g] = static_cast<LightMask>(
-              shadows.add(whitted, frame.lights.size(), hit, g, capture, samePoint ? &keep : nullptr, area, plane));
+              shadows.add(whitted, frame.lights.size(), hit, g, capture, samePoint ? &keep : nullptr, area, plane,
+                          visibility.proofs.empty() ? std::uint16_t{0} : visibility.proofs[pixel]));
         } else {
           AreaSampleBits bits{};
           out.lightMask[g] = static_cast<LightMask>(whitted.lightMask(hit, counts, capture.recorder(), &bits));
@@ -246,7 +257,7 @@ struct HybridTiles {
         ++counts.primary;
         if constexpr (Capture::kRecords) capture.rasterPrimary(ray.origin, ray.dir);
         if (!keeping) {
-          queue(g, hit, false);
+          queue(g, pixel, hit, false);
           continue;
         }
         const bool samePoint = reuse.samePoint(pixel, id);
@@ -256,11 +267,11 @@ struct HybridTiles {
           keptOffsetScale = std::max({keptOffsetScale, static_cast<double>(hit.posMagnitude.x),
                                       static_cast<double>(hit.posMagnitude.y), static_cast<double>(hit.posMagnitude.z)});
         }
-        primaries.push_back({g, hit, samePoint});
+        primaries.push_back({g, pixel, hit, samePoint});
       }
     if (keeping) {
       reuse.selectForTile(keptLo, keptHi, keptOffsetScale, keptTile);
-      for (const Primary& pr : primaries) queue(pr.g, pr.hit, pr.samePoint);
+      for (const Primary& pr : primaries) queue(pr.g, pr.pixel, pr.hit, pr.samePoint);
     }
     shadows.trace(embree.top(), out.lightMask.data(), counts, capture);
     wavefront.run(counts, out.reflected.data(), out.transmitted.data(), capture);

@@ -104,6 +104,11 @@ class RayTracer {
   /// Milliseconds the last trace() spent building them (0 when it did not).
   double lastShadowMapMs() const;
   std::size_t shadowMapBytes() const;
+  /// Hybrid shadows proved in the GL (gl/ShadowProofPass.h): the maps a trace() with these inputs reads, built
+  /// now when the geometry or a light changed (lastShadowMapMs), or null where it reads none (no hybrid
+  /// shadows, motion blur) or the GL copy's render space (`glAnchor`) is not the ray scene's.
+  const ShadowCertainty* shadowMapsFor(const Scene& scene, const Camera& camera, const FrameSettings& settings,
+                                       glm::vec3 glAnchor);
 
   /// trace() and renderReference() call `progress` (when set) as each tile finishes (tandem/Progress.h).
   void setProgressCallback(RayPassProgressCallback progress);

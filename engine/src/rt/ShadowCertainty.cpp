@@ -16,16 +16,12 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 // Texel arithmetic is float; a projected coordinate is off by far less than this many texels.
 constexpr float kTexelSlack = 1.0f / 64.0f;
-// A query's ray may stray this much less than kMarginTexels from its texel (the rest covers rounding).
-constexpr float kQueryMargin = ShadowCertainty::kMarginTexels - 0.03f;
-// Relative depth margin: contacts closer than this fraction of the distance to the light go to rays.
-constexpr float kDepthRel = 1e-4f;
+constexpr float kQueryMargin = ShadowCertainty::kQueryMargin;
+constexpr float kDepthRel = ShadowCertainty::kDepthRel;
 // At most this many triangles near a point light are tested against each of its rays (build()).
 constexpr std::size_t kNearLightMax = 64;
 
-// The exact tests' margin, relative to the magnitudes involved: a hundred times the rounding of Embree's
-// float test, of the two transforms of the vertices (Embree's and build()'s) and of the tests' own arithmetic.
-constexpr float kRelativeMargin = 1e-5f;
+constexpr float kRelativeMargin = ShadowCertainty::kRelativeMargin;
 // The rounding itself (about 16 ulps of the magnitudes): how far the vertices build() made, and the
 // geometry Embree tests in object space, may lie from each other in render space. The maps list a triangle
 // wherever it may lie.
@@ -69,7 +65,7 @@ constexpr float kFaceAxes[6][3][3] = {
 // queries of neighbouring pixels fall in neighbouring texels, and a block shares a few memory pages
 // where a row-major face would touch a page per texel row (measured: the texel fetch was a fifth of the
 // classification's time before). Faces have a multiple of 16 texels per side.
-constexpr int kBlock = 16;
+constexpr int kBlock = ShadowCertainty::kBlock;
 inline std::size_t texelIndex(int x, int y, int n) {
   const auto ux = static_cast<std::size_t>(x), uy = static_cast<std::size_t>(y), un = static_cast<std::size_t>(n);
   return ((uy / kBlock) * (un / kBlock) + ux / kBlock) * (kBlock * kBlock) + (uy % kBlock) * kBlock + ux % kBlock;
@@ -346,6 +342,7 @@ bool sameLight(const shading::GpuLight& a, const shading::GpuLight& b) {
 }  // namespace
 
 void ShadowCertainty::clear() {
+  ++generation_;
   maps_.clear();
   triangleBase_.clear();
   tests_.clear();
@@ -368,6 +365,7 @@ std::size_t ShadowCertainty::bytes() const {
 void ShadowCertainty::build(const Scene& scene, const EmbreeScene& embree, const FrameShading& frame, int threads) {
   // The arrays keep their memory from build to build: a scene whose instances move every frame
   // rebuilds the maps every frame, and fresh pages would cost as much as the rasterization.
+  ++generation_;
   triangleBase_.clear();
   tests_.clear();
   blocksAll_.clear();

@@ -43,6 +43,15 @@ class ShadowCertainty {
   /// How far (in texels) beyond its own square a texel records geometry: the room a query's ray may
   /// stray from the texel's direction (offset origin, rounding) and still be covered by it.
   static constexpr float kMarginTexels = 0.25f;
+  /// A query's ray may stray this much less than kMarginTexels from its texel (the rest covers rounding).
+  static constexpr float kQueryMargin = kMarginTexels - 0.03f;
+  /// Relative depth margin: contacts closer than this fraction of the distance to the light go to rays.
+  static constexpr float kDepthRel = 1e-4f;
+  /// The exact tests' margin, relative to the magnitudes involved: a hundred times the rounding of Embree's
+  /// float test, of the two transforms of the vertices (Embree's and build()'s) and of the tests' own arithmetic.
+  static constexpr float kRelativeMargin = 1e-5f;
+  /// Texels are stored in kBlock × kBlock blocks (texelIndex in ShadowCertainty.cpp; the GL's proof pass too).
+  static constexpr int kBlock = 16;
 
   /// One map per direct light that casts shadows (frame.lights order), from the Embree scene's
   /// render-space transforms. `threads` as RayTracer's (run inside its arena).
@@ -58,6 +67,9 @@ class ShadowCertainty {
 
   std::size_t bytes() const;
   bool empty() const { return maps_.empty(); }
+  /// Changes with every build() and clear(): what a copy of the maps (the GL's, gl/ShadowProofPass.h) compares
+  /// to tell that it is stale.
+  std::uint64_t generation() const { return generation_; }
 
   static constexpr int kCandidates = 6;
   /// One texel: the triangles touching it nearest the light (by a lower bound of their depth over it),
@@ -97,6 +109,14 @@ class ShadowCertainty {
   std::vector<std::uint32_t> triangleBase_;  // per instance: its first global triangle id
   std::vector<TriangleTest> tests_;          // per global triangle, in render space
   std::vector<std::uint8_t> blocksAll_;      // per global triangle: no alpha-mask filter on its instance
+  std::uint64_t generation_ = 0;
+
+ public:
+  // The maps as the GL's proof pass copies them (read-only).
+  const std::vector<Map>& maps() const { return maps_; }
+  const std::vector<TriangleTest>& tests() const { return tests_; }
+  const std::vector<std::uint8_t>& blocksAll() const { return blocksAll_; }
+  const std::vector<std::uint32_t>& triangleBase() const { return triangleBase_; }
 };
 
 }  // namespace tandem::rt

@@ -25,7 +25,8 @@ void ShadowBatch::clear() {
 
 template <class Capture>
 std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot,
-                               Capture& capture, const ShadowKeep* keep, std::uint32_t* area, std::size_t areaStride) {
+                               Capture& capture, const ShadowKeep* keep, std::uint32_t* area, std::size_t areaStride,
+                               std::uint16_t proof) {
   std::uint32_t visible = 0;
   SpawnOrigins origins;
   const FrameShading& frame = whitted.frame();
@@ -65,6 +66,12 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
         keep->gate->clearOfMoved(*keep->tile, j, s.originW, s.dirW, s.tFar)) {
       visible |= keep->bits & (1u << j);
       ++kept_;
+      continue;
+    }
+    if (s.needed && ((proof >> (8 + j)) & 1u)) {
+      // The GL proved this ray's answer (shaders/shadow_proof.frag): the ray is not traced.
+      visible |= ((proof >> j) & 1u) << j;
+      ++byMap_;
       continue;
     }
     if (s.needed) whitted.answerByMap(hit, j, s, NoRecorder{});
@@ -322,9 +329,9 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
 
 // The frame's instantiation and the bench's; no others.
 template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, NoCapture&,
-                                        const ShadowKeep*, std::uint32_t*, std::size_t);
+                                        const ShadowKeep*, std::uint32_t*, std::size_t, std::uint16_t);
 template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, TileCapture&,
-                                        const ShadowKeep*, std::uint32_t*, std::size_t);
+                                        const ShadowKeep*, std::uint32_t*, std::size_t, std::uint16_t);
 template void ShadowBatch::trace(RTCScene, LightMask*, RayCounts&, NoCapture&);
 template void ShadowBatch::trace(RTCScene, LightMask*, RayCounts&, TileCapture&);
 template void Wavefront::addPrimary(const SurfaceHit&, std::size_t, RayCounts&, NoCapture&);

@@ -40,10 +40,12 @@ class ShadowBatch {
   /// With `keep`, a needed ray that passes clear of everything that moved takes the kept bit instead.
   /// Area lights: a ray per sample (Whitted::areaShadowRay), whose bit goes to area[slot · areaStride]
   /// for the light's area slot; add() sets those words to the samples visible without a ray.
+  /// `proof`: the GL's shadow proofs of this (primary) hit (VisibilityBuffer::proofs): where bit 8 + j is
+  /// set, light j's ray is answered by bit j without being traced (counted in shadowByMap).
   template <class Capture>
   std::uint32_t add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot,
                     Capture& capture, const ShadowKeep* keep = nullptr, std::uint32_t* area = nullptr,
-                    std::size_t areaStride = 1);
+                    std::size_t areaStride = 1, std::uint16_t proof = 0);
   /// Traces the queued rays and ORs the bit of every unoccluded one into masks[its slot].
   template <class Capture>
   void trace(RTCScene scene, LightMask* masks, RayCounts& counts, Capture& capture);

@@ -10,11 +10,6 @@ namespace tandem::rt {
 
 using namespace tandem::shading;
 
-namespace {
-// Shadow rays stop this fraction short of a point light, so a light sitting on a surface (or an
-// emitter's own geometry around it) does not occlude itself; Embree promises nothing at exactly tfar.
-constexpr float kShadowRayEnd = 1.0f - 1.0f / 4096.0f;
-}  // namespace
 
 TraceModes TraceModes::hybrid(const FrameSettings& s) { return from(hybridRayEffects(s), s); }
 

@@ -21,6 +21,10 @@
 
 namespace tandem::rt {
 
+/// Shadow rays stop this fraction short of a point light, so a light sitting on a surface (or an emitter's
+/// own geometry around it) does not occlude itself; Embree promises nothing at exactly tfar.
+inline constexpr float kShadowRayEnd = 1.0f - 1.0f / 4096.0f;
+
 /// Which effects rays produce this frame, from the settings (hybrid or reference).
 struct TraceModes {
   bool primaryShadowRays = false;    // lightMask of the primary point by rays
