@@ -21,6 +21,7 @@
 #define TD_BLOCK_LIGHTS 0
 #define TD_BLOCK_MATERIALS 1
 #define TD_BLOCK_SHADOWS 2
+#define TD_BLOCK_PROOF_MAPS 3    // the shadow-proof pass's maps (ShadowProofPass)
 
 // ---- texture units: the shade pass's frame inputs (CompositePass) ----
 #define TD_UNIT_IDS 0           // visibility ids, RG32UI
@@ -64,6 +65,18 @@
 #define TD_UNIT_EXACT_HITS 25  // RGBA32F, full res: a solid's outward normal and t along the camera ray
 // ---- texture units: raster shadows on the ray grid (ShadePass's shadow-mask pass) ----
 #define TD_UNIT_SHADOW_MASK 26  // RGBA16 array, ray grid: visibility of lights 0-3 (layer 0) and 4-7 (layer 1)
+// ---- texture units: the hybrid shadows' maps in the GL (ShadowProofPass; shadow_proof.frag) ----
+#define TD_UNIT_PROOF_TEXELS 27     // R32UI: texel records, TD_PROOF_RECORD words each
+#define TD_UNIT_PROOF_TRIANGLES 28  // RGBA32F: 5 per triangle (plane, edges, magnitude / valid / blocks)
+#define TD_UNIT_PROOF_NEAR 29       // R32UI: the point lights' near-light triangle ids
+#define TD_UNIT_PROOF_INSTANCES 30  // R32UI: per instance, its first global triangle id (~0: not proved)
+// rt::ShadowCertainty's texel records: candidates per texel, words per record (ids, depths, rest), block side.
+// Their buffer textures' formats (C++ only): 32-bit words, and the triangles' vec4s.
+#define TD_FORMAT_PROOF_WORDS GL_R32UI
+#define TD_FORMAT_PROOF_TRIANGLES GL_RGBA32F
+#define TD_PROOF_CANDIDATES 6
+#define TD_PROOF_RECORD 13
+#define TD_PROOF_BLOCK 16
 
 // ---- uniform locations (explicit, so C++ sets them without looking names up) ----
 // The shade pass (shade.frag; ShadePass::shade).
@@ -122,6 +135,8 @@
 #define TD_CHANNEL_SHADOW_MASK GL_RGBA16, GL_RGBA, GL_UNSIGNED_SHORT  // ray grid, 2 layers: raster shadows' visibility per light
 #define TD_SAMPLER_SHADOW_MASK sampler2DArray
 #define TD_OUTPUT_SHADOW_MASK vec4                                 // its second layer (the first: the pass's outColor)
+#define TD_CHANNEL_SHADOW_PROOFS GL_R16UI, GL_RED_INTEGER, GL_UNSIGNED_SHORT  // full res: bit j lit, 8 + j decided
+#define TD_OUTPUT_SHADOW_PROOFS uint
 #define TD_CHANNEL_LINEAR GL_RGBA32F, GL_RGBA, GL_FLOAT          // linear radiance, full res
 #define TD_SAMPLER_LINEAR sampler2D
 #define TD_OUTPUT_LINEAR vec4                                     // the shade pass's output (probes' too)

@@ -31,6 +31,9 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
   app.add_option("--shadows", o.shadows,
                  "off | raster | ray | hybrid (rays only where the light-space maps cannot prove the answer; "
                  "the same image) (default: the preset's)");
+  app.add_option("--shadow-proofs", o.shadowProofs,
+                 "With --shadows hybrid: where the primary hits' shadow rays are proved, auto (the GL on a GPU, "
+                 "else the CPU) | gl | cpu; the same image (default " + std::string(toString(d.shadowProofs)) + ")");
   app.add_option("--reflections", o.reflections, "off | raster | ray (default: the preset's)");
   app.add_option("--refraction", o.refraction, "off | raster | ray (default: the preset's)");
   app.add_option("--depth", o.depth,
@@ -127,6 +130,11 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
   };
   if (o.shadows && !applyShadowMode(*o.shadows, s))
     return Error{"--shadows: expected off, raster, ray or hybrid, got " + inQuotes(*o.shadows)};
+  if (o.shadowProofs) {
+    auto p = parseShadowProofs(*o.shadowProofs);
+    if (!p) return Error{"--shadow-proofs: expected auto, gl or cpu, got " + inQuotes(*o.shadowProofs)};
+    s.shadowProofs = *p;
+  }
   if (auto r = effect("--reflections", o.reflections, s.reflections); !r) return r.error();
   if (auto r = effect("--refraction", o.refraction, s.refraction); !r) return r.error();
   if (o.depth) {

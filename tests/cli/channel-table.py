@@ -27,7 +27,7 @@ for line in open(os.path.join(root, "docs", "gbuffer.md")):
 doc_name = {"IDS": "ids", "DEPTH": "depth", "LIGHT_MASK": "light mask", "REFLECTED": "reflected",
             "TRANSMITTED": "transmitted", "LINEAR": "linear radiance", "DISPLAY": "display",
             "PROBES": "reflection probes", "SHADOW_MAPS": "shadow maps", "AREA_SAMPLES": "area-light samples",
-            "EXACT_HITS": "exact hits", "SHADOW_MASK": "shadow mask"}
+            "EXACT_HITS": "exact hits", "SHADOW_MASK": "shadow mask", "SHADOW_PROOFS": "shadow proofs"}
 for name, fmt in channels.items():
     row = doc_name.get(name)
     if row is None:
@@ -40,10 +40,10 @@ for name, fmt in channels.items():
 # The passes that own the channels take every format from the table.
 # Internal formats and the pixel transfer formats and types of CPU copies; a static_assert that pins a
 # channel's transfer to the C++ type it is read into is the one place such a name may appear.
-literal = re.compile(r"\bGL_(RG32UI|R32UI|RGBA32F|RGBA16F|RGBA16|RGBA8|DEPTH_COMPONENT32F|RG_INTEGER|RED_INTEGER|RGBA|"
+literal = re.compile(r"\bGL_(RG32UI|R16UI|R32UI|RGBA32F|RGBA16F|RGBA16|RGBA8|DEPTH_COMPONENT32F|RG_INTEGER|RED_INTEGER|RGBA|"
                      r"FLOAT|HALF_FLOAT|UNSIGNED_BYTE|UNSIGNED_SHORT|UNSIGNED_INT|DEPTH_COMPONENT)\b")
 for f in ["VisibilityPass.cpp", "ShadePass.cpp", "OutputPass.cpp", "ReflectionProbes.cpp", "RasterEffects.cpp",
-          "RayChannels.h"]:
+          "RayChannels.h", "ShadowProofPass.cpp"]:
     path = os.path.join(root, "engine", "src", "gl", f)
     in_assert = False
     for n, line in enumerate(open(path), 1):

@@ -99,6 +99,31 @@ TEST(FramePlan, ReferenceTracesEveryEffectThatIsNotOff) {
   EXPECT_FALSE(planFrame(everything(), s).reference) << "a debug view is the hybrid frame's";
 }
 
+// Hybrid shadows' primary rays are proved in the GL where it is a GPU (Auto), always (Gl) or never (Cpu); only
+// when the ray pass traces the primary hits' shadow rays at all.
+TEST(FramePlan, ShadowProofsGoToTheGlWhereItIsAGpu) {
+  FrameSettings s = with(EffectMode::Ray, EffectMode::Ray, EffectMode::Ray);
+  s.hybridShadows = true;
+  SceneFacts gpu = everything(), software = everything();
+  software.softwareGl = true;
+  EXPECT_TRUE(planFrame(gpu, s).glShadowProofs);
+  EXPECT_FALSE(planFrame(software, s).glShadowProofs) << "on llvmpipe the GL's pass costs more than the CPU's proofs";
+  s.shadowProofs = ShadowProofs::Gl;
+  EXPECT_TRUE(planFrame(software, s).glShadowProofs);
+  s.shadowProofs = ShadowProofs::Cpu;
+  EXPECT_FALSE(planFrame(gpu, s).glShadowProofs);
+  s.shadowProofs = ShadowProofs::Gl;
+  s.hybridShadows = false;
+  EXPECT_FALSE(planFrame(gpu, s).glShadowProofs) << "every shadow ray traced: nothing to prove";
+  s.hybridShadows = true;
+  s.shadows = EffectMode::Raster;
+  EXPECT_FALSE(planFrame(gpu, s).glShadowProofs) << "raster shadows: the primary hits trace no shadow ray";
+  s.shadows = EffectMode::Ray;
+  FramePlan p = planFrame(gpu, s);
+  p.withoutRays();
+  EXPECT_FALSE(p.glShadowProofs);
+}
+
 TEST(FramePlan, WithoutRaysDropsThePassAndTheReference) {
   FramePlan p = planFrame(everything(), *presetSettings("reference"));
   ASSERT_TRUE(p.needsRayScene());

@@ -171,6 +171,21 @@ std::optional<DebugView> parseDebugView(std::string_view s) {
 
 std::string_view toString(DebugView v) { return kDebugNames[static_cast<int>(v)]; }
 
+std::string_view toString(ShadowProofs p) {
+  switch (p) {
+    case ShadowProofs::Auto: return "auto";
+    case ShadowProofs::Gl: return "gl";
+    case ShadowProofs::Cpu: return "cpu";
+  }
+  return "?";
+}
+
+std::optional<ShadowProofs> parseShadowProofs(std::string_view s) {
+  for (ShadowProofs p : {ShadowProofs::Auto, ShadowProofs::Gl, ShadowProofs::Cpu})
+    if (s == toString(p)) return p;
+  return std::nullopt;
+}
+
 std::string_view toString(EffectMode m) {
   switch (m) {
     case EffectMode::Off: return "off";

@@ -27,6 +27,9 @@ inline constexpr GLuint kUnitTangentsTex = TD_UNIT_TANGENTS_TEX, kUnitNormalMaps
 inline constexpr GLuint kUnitRadiosityTableTex = TD_UNIT_RADIOSITY_TABLE_TEX, kUnitRadiosityTex = TD_UNIT_RADIOSITY_TEX;
 inline constexpr GLuint kUnitExactHits = TD_UNIT_EXACT_HITS;
 inline constexpr GLuint kUnitShadowMask = TD_UNIT_SHADOW_MASK;
+inline constexpr GLuint kUnitProofTexels = TD_UNIT_PROOF_TEXELS, kUnitProofTriangles = TD_UNIT_PROOF_TRIANGLES,
+                        kUnitProofNear = TD_UNIT_PROOF_NEAR, kUnitProofInstances = TD_UNIT_PROOF_INSTANCES;
+inline constexpr GLuint kBlockProofMaps = TD_BLOCK_PROOF_MAPS;
 
 /// A frame channel's GL internal format, and the pixel format and type of its CPU copies (docs/gbuffer.md).
 struct ChannelFormat {
@@ -39,7 +42,8 @@ struct ChannelFormat {
 inline constexpr ChannelFormat kChannelIds{TD_CHANNEL_IDS}, kChannelDepth{TD_CHANNEL_DEPTH},
                                kChannelLinear{TD_CHANNEL_LINEAR}, kChannelDisplay{TD_CHANNEL_DISPLAY},
                                kChannelProbes{TD_CHANNEL_PROBES}, kChannelShadowMaps{TD_CHANNEL_SHADOW_MAPS},
-                               kChannelExactHits{TD_CHANNEL_EXACT_HITS}, kChannelShadowMask{TD_CHANNEL_SHADOW_MASK};
+                               kChannelExactHits{TD_CHANNEL_EXACT_HITS}, kChannelShadowMask{TD_CHANNEL_SHADOW_MASK},
+                               kChannelShadowProofs{TD_CHANNEL_SHADOW_PROOFS};
 /// Which effects the probes stand in for (ShadeInputs::probeEffects), the shade pass's TD_PROBES.
 enum ProbeEffect : int { kProbeReflect = TD_PROBE_REFLECT, kProbeRefract = TD_PROBE_REFRACT };
 

@@ -15,6 +15,10 @@ FrameLimits queryFrameLimits() {
   glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport);
   l.maxViewportWidth = viewport[0];
   l.maxViewportHeight = viewport[1];
+  const GLubyte* renderer = glGetString(GL_RENDERER);
+  const std::string name = renderer ? reinterpret_cast<const char*>(renderer) : "";
+  l.software = name.find("llvmpipe") != std::string::npos || name.find("softpipe") != std::string::npos ||
+               name.find("swrast") != std::string::npos;
   return l;
 }
 

@@ -12,6 +12,9 @@ struct FrameLimits {
   int maxFramebufferHeight = 0;  // GL_MAX_FRAMEBUFFER_HEIGHT
   int maxViewportWidth = 0;      // GL_MAX_VIEWPORT_DIMS: a larger viewport is silently clamped
   int maxViewportHeight = 0;
+  /// The GL rasterizes on the CPU (Mesa's llvmpipe, softpipe or swrast: GL_RENDERER names them), sharing the
+  /// cores with the ray pass: the plan keeps per-pixel work there that a GPU would take (SceneFacts::softwareGl).
+  bool software = false;
 };
 
 /// The current context's limits.

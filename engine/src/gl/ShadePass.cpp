@@ -262,8 +262,7 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   draw(framebuffer, width, height, scene, ids, depth, sampledDepth, camera, in, Role::Shade);
 }
 
-void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, const Texture& ids, const Camera& camera,
-                      const ShadeInputs& in) {
+void setCameraUniforms(GLuint p, int width, int height, const Camera& camera) {
   float aspect = float(width) / float(height);
   glm::vec3 forward = glm::normalize(camera.targetW - camera.posW);
   glm::vec3 right = glm::normalize(glm::cross(forward, camera.upW));
@@ -283,6 +282,11 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
   glProgramUniform3fv(p, TD_LOC_CAMERA_UP, 1, glm::value_ptr(upScaled));
   glProgramUniform1i(p, TD_LOC_ORTHOGRAPHIC, camera.orthographic ? 1 : 0);
   glProgramUniform2i(p, TD_LOC_FRAME_SIZE, width, height);
+}
+
+void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, const Texture& ids, const Camera& camera,
+                      const ShadeInputs& in) {
+  setCameraUniforms(p, width, height, camera);
   glProgramUniform3fv(p, TD_LOC_BACKGROUND, 1, glm::value_ptr(in.background));
   glProgramUniform3fv(p, TD_LOC_AMBIENT, 1, glm::value_ptr(in.ambient));
   glProgramUniform1i(p, TD_LOC_LIGHT_SAMPLES, std::clamp(in.lightSamples, 1, TD_MAX_LIGHT_SAMPLES));

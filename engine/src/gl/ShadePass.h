@@ -71,6 +71,10 @@ struct GridResidency {
   int size = 0;
 };
 
+/// The camera uniforms of shade_hit.glsl's cameraRay (TD_LOC_CAMERA_*, TD_LOC_ORTHOGRAPHIC, TD_LOC_FRAME_SIZE)
+/// for a width × height frame; `camera` in render space. The shade pass's, and the shadow-proof pass's.
+void setCameraUniforms(GLuint program, int width, int height, const Camera& camera);
+
 class ShadePass {
  public:
   static Result<ShadePass> create();

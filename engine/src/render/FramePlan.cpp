@@ -28,6 +28,7 @@ void FramePlan::withoutRays() {
   rayPass = false;
   reference = false;
   resolve = false;
+  glShadowProofs = false;
 }
 
 FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested) {
@@ -49,6 +50,8 @@ FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested) {
   p.rayPass = wantsRays && !p.reference;
   p.rays = p.reference ? referenceRayEffects(s) : p.rayPass ? hybridRayEffects(r) : RayEffects{};
   p.resolve = facts.exactSolids && !p.reference;
+  p.glShadowProofs = p.rayPass && p.rays.primaryShadows && r.hybridShadows &&
+                     (r.shadowProofs == ShadowProofs::Gl || (r.shadowProofs == ShadowProofs::Auto && !facts.softwareGl));
   // Raster effects only for what the scene can show (a glass object reflects through its Fresnel term).
   p.rasterShadows = s.shadows == EffectMode::Raster && facts.shadowLight && !p.reference;
   if (s.maxDepth > 0 && !p.reference) {

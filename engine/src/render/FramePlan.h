@@ -9,13 +9,14 @@
 
 namespace tandem {
 
-/// What a scene can show, for planning its frames.
+/// What a scene can show, and the GL it is drawn with, for planning its frames.
 struct SceneFacts {
   bool shadowLight = false;          // a direct light casts shadows
   bool reflectiveWeighted = false;   // a material's wR can be > 0 under the Fresnel-weighted sum
   bool reflectiveClassic = false;    // ... under the classic sum (kr only)
   bool transmissive = false;         // a material's wT can be > 0, or BLEND coverage lets light through
   bool exactSolids = false;          // an instance is an exact solid (Mesh::exact): its proxy's pixels need rays
+  bool softwareGl = false;           // the GL rasterizes on the CPU (llvmpipe): its passes share the ray pass's cores
   bool reflective(bool fresnelWeighted) const { return fresnelWeighted ? reflectiveWeighted : reflectiveClassic; }
   bool operator==(const SceneFacts&) const = default;
 };
@@ -33,6 +34,10 @@ struct FramePlan {
   /// Exact solids (docs/csg.md): the pixels the raster drew with a solid's proxy are resolved by camera rays
   /// (RayTracer::resolveExact) before the ray pass, in every hybrid frame, raster-only ones too.
   bool resolve = false;
+  /// Hybrid shadows proved in the GL (ShadowProofPass): the primary hits' shadow rays are decided per pixel
+  /// before the ray pass, which traces only the open ones (the Renderer drops it for a frame whose maps the
+  /// ray pass would not use: motion blur).
+  bool glShadowProofs = false;
   bool rasterShadows = false;    // shadow maps for the primary points
   bool probeReflections = false; // cube-map probes stand in for reflection rays
   bool probeRefraction = false;  // ... and for refraction rays

@@ -95,7 +95,8 @@ FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested
   const Impl::FrameClock clock = r.startFrame(stats);
   // With a frame-time budget, the settings this frame can afford; otherwise the requested ones.
   FramePlan plan = timed(stats.planMs, [&] {
-    const SceneFacts facts = sceneFacts(r.scene);
+    SceneFacts facts = sceneFacts(r.scene);
+    facts.softwareGl = r.limits.software;
     return planFrame(facts, r.budget.choose(requested.resolved(), facts));
   });
   if (!timed(stats.prepareMs, [&] { return r.prepare(plan, camera, stats); })) return r.finishFrame(clock, stats);
@@ -195,11 +196,16 @@ void Renderer::Impl::traceSample(const FramePlan& plan, const Camera& camera, Fr
     }
     return some;
   });
-  timed(sample.readbackMs, [&] { readback(plan); });
+  const bool proved = proveShadows(plan, camera, sample);
+  timed(sample.readbackMs, [&] { readback(plan, proved); });
   // Exact solids first: the ray pass starts from the hits the resolve step finds (every pixel's, since the
   // GL shades them all). Its time and rays are the rays stage's, with the ray pass's.
   double resolveMs = 0;
   const std::uint64_t resolvedRays = timed(resolveMs, [&] { return resolveExact(plan, camera); });
+  // A pixel the resolve step changed shows another hit than the one the GL proved.
+  if (!visibility.proofs.empty())
+    for (const ResolvedPixel& r : resolved)
+      visibility.proofs[static_cast<std::size_t>(r.pixel.y) * static_cast<std::size_t>(visibility.width) + r.pixel.x] = 0;
   // An adaptive round traces only the pixels it refines (the ray pass takes the others as background).
   std::span<const std::uint8_t> selection;
   if (only != nullptr && visibility.ids.size() == only->size()) selection = *only;
@@ -354,12 +360,15 @@ void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::S
     });
 }
 
-// readback: the ids channel, top row first, only for the ray pass and the resolve step.
-void Renderer::Impl::readback(const FramePlan& plan) {
+// readback: the ids channel, top row first, only for the ray pass and the resolve step; the shadow proofs
+// beside them when the GL drew them (else none: a frame's proofs never outlive its ids).
+void Renderer::Impl::readback(const FramePlan& plan, bool proved) {
+  visibility.proofs.clear();
   if (!plan.readsIds()) return;
   visibility.width = plan.settings.width;
   visibility.height = plan.settings.height;
   visibilityPass.readIds(visibility.ids);
+  if (proved) proofPass->read(visibility.proofs);
 }
 
 // rays, first: each pixel of an exact solid's proxy by its camera ray, the ids changed to what it found.
@@ -387,7 +396,7 @@ void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, Fram
     tracer->trace(scene, camera, plan.raySettings, visibility, rays, reuse, only);
     stats.rays = rays.counts;
     if (plan.raySettings.hybridShadows) {
-      stats.shadowMapsMs = tracer->lastShadowMapMs();
+      stats.shadowMapsMs += tracer->lastShadowMapMs();
       stats.shadowMapBytes = tracer->shadowMapBytes();
     }
     stats.rayWidth = rays.width;

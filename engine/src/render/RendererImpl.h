@@ -4,6 +4,7 @@
 // Internal: only those two files include it.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -21,6 +22,7 @@
 #include "gl/Program.h"
 #include "gl/RasterEffects.h"
 #include "gl/ShadePass.h"
+#include "gl/ShadowProofPass.h"
 #include "gl/VisibilityPass.h"
 #include "render/Accumulation.h"
 #include "render/FrameBudget.h"
@@ -43,6 +45,9 @@ struct Renderer::Impl {
   gl::VisibilityPass visibilityPass;
   gl::ShadePass shadePass;
   gl::OutputPass outputPass;
+  // Hybrid shadows proved in the GL (FramePlan::glShadowProofs): made on first use.
+  std::optional<gl::ShadowProofPass> proofPass;
+  bool proofFailed = false;  // its program did not build: the ray pass proves on the CPU from then on
   SceneCaches caches;  // the GL copy, the raster effects and the Embree scene, with what they miss
   RadiosityJob radiosity;  // FrameSettings::radiosity: the solution, solved from the scene as it is
   FrameBudget budget;  // FrameSettings::targetMs: what each frame is drawn with
@@ -116,7 +121,9 @@ struct Renderer::Impl {
   bool prepare(FramePlan& plan, const Camera& camera, FrameStats& stats);
   // raster: the raster effects' maps (their own stages, shadows and probes), then the visibility pass.
   void raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in, FrameStats& stats);
-  void readback(const FramePlan& plan);
+  // Before the read-back: the GL's shadow proofs (FramePlan::glShadowProofs); true when it drew them.
+  bool proveShadows(const FramePlan& plan, const Camera& camera, FrameStats& stats);
+  void readback(const FramePlan& plan, bool proved = false);
   // rays, first step: the exact solids' proxy pixels by camera rays (FramePlan::resolve); the rays traced.
   std::uint64_t resolveExact(const FramePlan& plan, const Camera& camera);
   void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats, const rt::RayReuse* reuse,

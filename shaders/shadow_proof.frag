@@ -1,0 +1,289 @@
+#version 450 core
+// Shadow proofs in the GL (docs/shadows.md, "Proofs in the GL"): per pixel and direct light, whether the
+// primary hit's shadow ray certainly reaches the light (lit), is certainly blocked (shadowed), or neither,
+// from the hybrid shadows' light-space maps (rt/ShadowCertainty.h), which the GL holds as buffer textures.
+// The CPU's ray pass reads the answers with the ids and traces only the rays left open.
+//
+// The CPU's own shadow ray starts at its exact hit offset by spawnOrigin; this pass rebuilds the hit from the
+// pixel's camera ray as the shade pass does, with another rounding, so it answers for every ray whose origin
+// lies within `e` of its own (the hit's error bound plus the offset) and that ends where the CPU's does: the
+// tests of classify() run with their margins grown by how far a point of the CPU's ray can lie from the
+// matching point of this one (E), its texel path and depth with E as well. Whatever that leaves unsure is
+// left to the ray.
+#define TD_OUT(T) out T
+#include "bindings.glsl"
+#include "shading.glsl"  // TD_MAX_LIGHTS
+
+layout(binding = TD_UNIT_POSITIONS_TEX) uniform samplerBuffer positionsBuf;
+layout(binding = TD_UNIT_INDICES_TEX) uniform usamplerBuffer indicesBuf;
+layout(binding = TD_UNIT_MESHES_TEX) uniform usamplerBuffer meshesBuf;
+layout(binding = TD_UNIT_INSTANCES_TEX) uniform samplerBuffer instancesBuf;
+layout(binding = TD_UNIT_INSTANCE_IDS_TEX) uniform usamplerBuffer instanceIdsBuf;
+layout(binding = TD_UNIT_IDS) uniform TD_SAMPLER_IDS idsTex;
+layout(binding = TD_UNIT_EXACT_HITS) uniform TD_SAMPLER_EXACT_HITS exactHitsTex;  // unread: no solid is proved
+// The maps: each texel's record (rt::ShadowCertainty::Texel, TD_PROOF_RECORD words: candidate ids, their
+// depth bounds, the rest's bound), each triangle's test (5 texels: plane, three edges, then magnitude,
+// valid, blocks), the near-light lists, and per instance its first global triangle id (~0: not proved).
+layout(binding = TD_UNIT_PROOF_TEXELS) uniform usamplerBuffer proofTexels;        // R32UI
+layout(binding = TD_UNIT_PROOF_TRIANGLES) uniform samplerBuffer proofTriangles;   // RGBA32F
+layout(binding = TD_UNIT_PROOF_NEAR) uniform usamplerBuffer proofNear;            // R32UI
+layout(binding = TD_UNIT_PROOF_INSTANCES) uniform usamplerBuffer proofInstances;  // R32UI
+
+struct ProofMap {
+  vec4 originKind;  // xyz the light (cube), w the kind: 0 none, 1 cube, 2 orthographic
+  vec4 axes[18];    // face f: S, T, A at 3f, 3f + 1, 3f + 2 (orthographic: face 0, A towards the light)
+  vec4 params;      // extent, nearZ, top, depthEps
+  vec4 params2;     // centre (orthographic), size (texels a side), -
+  vec4 toLight;     // directional: the CPU's toLight (-dirRange), exactly
+  uvec4 ranges;     // first texel record, first near-light id, near-light count, -
+};
+layout(std140, binding = TD_BLOCK_PROOF_MAPS) uniform ProofBlock {
+  ProofMap proofMaps[TD_MAX_LIGHTS];
+  vec4 proofConstants;  // kQueryMargin, kDepthRel, kRelativeMargin, kShadowRayEnd
+  ivec4 proofLights;    // x: lights
+};
+
+layout(location = TD_LOC_CAMERA_POS) uniform vec3 cameraPosW;
+layout(location = TD_LOC_CAMERA_FORWARD) uniform vec3 cameraForward;
+layout(location = TD_LOC_CAMERA_RIGHT) uniform vec3 cameraRight;
+layout(location = TD_LOC_CAMERA_UP) uniform vec3 cameraUp;
+layout(location = TD_LOC_ORTHOGRAPHIC) uniform int orthographic;
+layout(location = TD_LOC_FRAME_SIZE) uniform ivec2 frameSize;
+
+vec3 positionO(uint v) { return texelFetch(positionsBuf, int(v)).xyz; }
+const bool kUseExact = false;  // a pixel on an exact solid is left to its rays
+#include "shade_hit.glsl"
+
+layout(location = 0) out TD_OUTPUT_SHADOW_PROOFS outProof;  // bit j: lit; bit 8 + j: decided
+
+float maxAbs(vec3 v) { return max(abs(v.x), max(abs(v.y), abs(v.z))); }
+
+int cubeFace(vec3 d) {
+  vec3 a = abs(d);
+  if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0 ? 0 : 1;
+  if (a.y >= a.z) return d.y >= 0.0 ? 2 : 3;
+  return d.z >= 0.0 ? 4 : 5;
+}
+
+int texelIndex(int x, int y, int n) {
+  const int b = TD_PROOF_BLOCK;
+  return ((y / b) * (n / b) + x / b) * (b * b) + (y % b) * b + x % b;
+}
+
+uint texelWord(int record, int w) { return texelFetch(proofTexels, record * TD_PROOF_RECORD + w).x; }
+
+const int kMisses = 0, kCrosses = 1, kUnsure = 2;
+// rt::segmentVsTriangle for the segment o + t·d, t in [0, tEnd] (finite here), with `margin` to spare.
+int segmentVsTriangle(uint id, vec3 o, vec3 d, float tEnd, float margin, out bool blocks) {
+  int base = 5 * int(id);
+  vec4 extra = texelFetch(proofTriangles, base + 4);
+  blocks = extra.z > 0.5;
+  if (extra.y < 0.5) return kUnsure;
+  vec4 plane = texelFetch(proofTriangles, base);
+  vec3 n = plane.xyz;
+  float s0 = dot(n, o) - plane.w, sd = dot(n, d);
+  float sEnd = s0 + tEnd * sd;
+  if ((s0 > margin && sEnd > margin) || (s0 < -margin && sEnd < -margin)) return kMisses;
+  float t0 = 0.0, t1 = tEnd;
+  if (sd != 0.0) {
+    float ta = (-margin - s0) / sd, tb = (margin - s0) / sd;
+    t0 = max(0.0, min(ta, tb));
+    t1 = min(tEnd, max(ta, tb));
+    if (t0 > t1) return kMisses;
+  }
+  vec3 q0 = o + t0 * d, q1 = o + t1 * d;
+  bool inside = true;
+  for (int k = 0; k < 3; ++k) {
+    vec4 edge = texelFetch(proofTriangles, base + 1 + k);
+    float e0 = dot(edge.xyz, q0) - edge.w, e1 = dot(edge.xyz, q1) - edge.w;
+    if (e0 < -margin && e1 < -margin) return kMisses;
+    inside = inside && e0 > margin && e1 > margin;
+  }
+  if (inside && abs(s0) > margin && abs(sEnd) > margin && (s0 > 0.0) != (sEnd > 0.0) && abs(sd) > 2e-3)
+    return kCrosses;
+  return kUnsure;
+}
+
+// The CPU's offset origin (rt::offsetRayOrigin): the hit moved along the side's unit normal by its rounding
+// scale, each moved coordinate one ULP further.
+vec3 offsetRayOrigin(vec3 posW, vec3 n, vec3 magnitude, out float d) {
+  const float kUlp = 1.0 / 8388608.0;
+  float maxMag = max(magnitude.x, max(magnitude.y, magnitude.z));
+  d = max(kUlp * (64.0 * dot(abs(n), magnitude) + 16.0 * maxMag), 1.17549435e-38);
+  vec3 o = posW + d * n;
+  for (int i = 0; i < 3; ++i) {
+    // One ULP away from the surface, as nextFloatUp / nextFloatDown (finite inputs).
+    if (n[i] != 0.0) {
+      int bits = floatBitsToInt(o[i]);
+      bool up = n[i] > 0.0;
+      if (o[i] == 0.0) o[i] = up ? intBitsToFloat(1) : -intBitsToFloat(1);
+      else o[i] = intBitsToFloat(bits + (((o[i] > 0.0) == up) ? 1 : -1));
+    }
+  }
+  return o;
+}
+
+// What this pass knows of the CPU's hit for one light's ray: its own hit, the geometric normal and rounding
+// scale for the offset, and how far the CPU's ray may lie from its own: eStart at the origin, eEnd at the
+// far end (both rays start at their offset origins and end kShadowRayEnd of the way from their hit to the
+// light, so their ends differ by the offsets' difference and 1/4096 of the hits').
+struct ProofHit {
+  vec3 posW, ng, magnitude;
+  float eHit, dOffset;  // the hits' distance bound, the offsets' difference bound
+  uint own;
+};
+
+// rt::ShadowCertainty::classify for light j's map, for every ray the CPU's may be. 0: unknown, 1: lit,
+// 2: shadowed.
+int prove(int j, ProofHit h) {
+  int kind = int(proofMaps[j].originKind.w + 0.5);
+  if (kind == 0) return 0;
+  float extent = proofMaps[j].params.x;
+  float size = proofMaps[j].params2.z;
+  float scale = size / (2.0 * extent);
+  int face = 0;
+  vec2 u0, u1;
+  float depth, eps, E, slackTexels, tEnd;
+  vec3 dir, o;
+  if (kind == 1) {
+    vec3 L = proofMaps[j].originKind.xyz;
+    float nearZ = proofMaps[j].params.y;
+    vec3 toL = L - h.posW;
+    float dist = length(toL);
+    if (!(dist > 0.0)) return 0;
+    dir = toL / dist;
+    float side = dot(dir, h.ng);
+    // The side the CPU leaves from must be this one's.
+    if (!(abs(side) > 1e-3)) return 0;
+    float d;
+    o = offsetRayOrigin(h.posW, side >= 0.0 ? h.ng : -h.ng, h.magnitude, d);
+    tEnd = dist * proofConstants.w;
+    E = 1.01 * (h.eHit + h.dOffset + 3e-7 * maxAbs(o));
+    float eEnd = 1.01 * (h.dOffset + h.eHit / 4096.0 + 8e-7 * (dist + maxAbs(L)) + 3e-7 * maxAbs(o));
+    vec3 dv = o - L;
+    face = cubeFace(dv);
+    vec3 S = proofMaps[j].axes[3 * face].xyz, T = proofMaps[j].axes[3 * face + 1].xyz;
+    vec3 A = proofMaps[j].axes[3 * face + 2].xyz;
+    float a = dot(A, dv), along = dot(A, dir);
+    // The CPU's points nearer the light than nearZ lie within 1.8·(nearZ + E) + d + dist/4096 + E of it:
+    // inside the near-light list's 4·nearZ. Its points beyond nearZ have partners beyond reach, on the
+    // path checked below.
+    float reach = nearZ - E - eEnd;
+    if (!(E + d + dist / 4096.0 < 0.5 * nearZ) || !(a - E > nearZ) || !(along < 0.0)) return 0;
+    float tStar = min(tEnd, (reach - a) / along);
+    vec3 ePt = dv + tStar * dir;
+    float eA = dot(A, ePt);
+    if (!(eA > 0.0)) return 0;
+    u0 = (vec2(dot(S, dv), dot(T, dv)) / a + extent) * scale;
+    u1 = (vec2(dot(S, ePt), dot(T, ePt)) / eA + extent) * scale;
+    // A partner point lies within (1 − s)·E + s·eEnd at fraction s, at depth ≥ (1 − s)·a and ≥ reach; a
+    // point moved by δ at depth z moves its projection by at most √(1 + 2·extent²)·δ/z texels of `scale`.
+    slackTexels = 1.8 * scale * (E / a + eEnd / reach);
+    depth = a + E;
+    eps = proofConstants.y * depth + 4e-6 * (length(L) + depth);
+  } else {
+    // Towards a directional light both rays run along the same direction (the CPU's, exactly), so they
+    // stay E apart; this one runs to 2E past the slab's top, where the CPU's is above every triangle too.
+    vec3 A = proofMaps[j].axes[2].xyz;
+    dir = proofMaps[j].toLight.xyz;
+    float side = dot(dir, h.ng);
+    if (!(abs(side) > 1e-3)) return 0;
+    float d;
+    o = offsetRayOrigin(h.posW, side >= 0.0 ? h.ng : -h.ng, h.magnitude, d);
+    float a = dot(A, o), along = dot(A, dir);
+    if (!(along > 1e-3)) return 0;
+    float top = proofMaps[j].params.z;
+    E = 1.01 * (h.eHit + h.dOffset + 3e-7 * maxAbs(o));
+    tEnd = max(0.0, (top - a) / along) + 2.0 * E / along;
+    vec3 ePt = o + max(0.0, (top - a) / along) * dir;
+    vec2 centre = proofMaps[j].params2.xy;
+    vec3 S = proofMaps[j].axes[0].xyz, T = proofMaps[j].axes[1].xyz;
+    u0 = (vec2(dot(S, o), dot(T, o)) - centre + extent) * scale;
+    u1 = (vec2(dot(S, ePt), dot(T, ePt)) - centre + extent) * scale;
+    slackTexels = E * scale;
+    depth = top - a + E;
+    eps = proofMaps[j].params.w;
+  }
+  if (!(u0.x >= 0.0 && u0.y >= 0.0 && u0.x < size && u0.y < size)) return 0;
+  vec2 texel = floor(u0);
+  float margin = proofConstants.x - slackTexels;
+  if (!(margin > 0.0)) return 0;
+  vec2 lo = texel - margin, hi = texel + 1.0 + margin;
+  if (!(u1.x >= lo.x && u1.y >= lo.y && u1.x <= hi.x && u1.y <= hi.y)) return 0;
+  int n = int(size);
+  int record = int(proofMaps[j].ranges.x) + face * n * n + texelIndex(int(texel.x), int(texel.y), n);
+  float magnitude = max(maxAbs(o), tEnd);
+  bool missesAll = true;
+  uint nearFirst = proofMaps[j].ranges.y, nearCount = proofMaps[j].ranges.z;
+  for (uint k = 0u; k < nearCount; ++k) {
+    uint id = texelFetch(proofNear, int(nearFirst + k)).x;
+    if (id == h.own) continue;
+    bool blocks;
+    float m = proofConstants.z * max(magnitude, texelFetch(proofTriangles, 5 * int(id) + 4).x) + E;
+    int x = segmentVsTriangle(id, o, dir, tEnd, m, blocks);
+    if (x == kCrosses && blocks) return 2;
+    if (x != kMisses) missesAll = false;
+  }
+  for (int k = 0; k < TD_PROOF_CANDIDATES; ++k) {
+    uint id = texelWord(record, k);
+    if (id == 0xFFFFFFFFu) break;
+    if (uintBitsToFloat(texelWord(record, TD_PROOF_CANDIDATES + k)) > depth + eps) return missesAll ? 1 : 0;
+    if (id == h.own) continue;
+    bool blocks;
+    float m = proofConstants.z * max(magnitude, texelFetch(proofTriangles, 5 * int(id) + 4).x) + E;
+    int x = segmentVsTriangle(id, o, dir, tEnd, m, blocks);
+    if (x == kCrosses && blocks) return 2;
+    if (x != kMisses) missesAll = false;
+  }
+  if (missesAll && uintBitsToFloat(texelWord(record, 2 * TD_PROOF_CANDIDATES)) > depth + eps) return 1;
+  return 0;
+}
+
+void main() {
+  ivec2 pix = ivec2(gl_FragCoord.xy);
+  uvec2 id = texelFetch(idsTex, pix, 0).xy;
+  uint proof = 0u;
+  uint base = id.x != 0u && id.y != TD_EXACT_TRIANGLE ? texelFetch(proofInstances, int(id.x - 1u)).x : 0xFFFFFFFFu;
+  if (base != 0xFFFFFFFFu) {
+    PrimaryHit ph = primaryHit(pix, id);
+    // Where the CPU's exact hit may lie: both are the camera ray's crossing of the triangle's plane, from
+    // camera rays a few ULPs apart (the normalize, the jitter folded in another order) and their own
+    // rounding; along the plane that grows as 1/cos of the incidence. Only a hit inside the triangle by
+    // that much is proved (then neither side clamps its barycentrics).
+    vec3 b = rayBarycentrics(ph.origin, ph.dir, ph.tri);
+    vec3 e1 = ph.tri.p1 - ph.tri.p0, e2 = ph.tri.p2 - ph.tri.p0;
+    vec3 nRaw = cross(e1, e2);
+    float area2 = length(nRaw);
+    float t = length(ph.posW - ph.origin);
+    float cosI = area2 > 0.0 ? abs(dot(nRaw, ph.dir)) / area2 : 0.0;
+    float M = max(max(maxAbs(ph.origin), t), max(maxAbs(ph.tri.p0), max(maxAbs(ph.tri.p1), maxAbs(ph.tri.p2))));
+    float eHit = (2e-6 * t + 1e-6 * M) / max(cosI, 1e-30) + 1e-6 * M;
+    vec3 edgeLen = vec3(length(ph.tri.p2 - ph.tri.p1), length(ph.tri.p0 - ph.tri.p2), length(e1));
+    vec3 height = area2 / max(edgeLen, vec3(1e-30));
+    vec3 inside = b * height;
+    if (area2 > 0.0 && cosI > 1e-4 && min(inside.x, min(inside.y, inside.z)) > eHit) {
+      ProofHit h;
+      h.posW = ph.posW;
+      h.ng = nRaw / area2;
+      h.eHit = eHit;
+      h.own = base + id.y;
+      // The hit's rounding scale as resolveHit has it: its barycentrics over each vertex's |M|·|p| + |t|.
+      mat4 worldFromObject = instanceWorldFromObject(ph.instance);
+      mat3 absLinear = mat3(abs(worldFromObject[0].xyz), abs(worldFromObject[1].xyz), abs(worldFromObject[2].xyz));
+      vec3 absT = abs(worldFromObject[3].xyz);
+      vec3 m0 = absLinear * abs(positionO(ph.tri.v0)) + absT, m1 = absLinear * abs(positionO(ph.tri.v1)) + absT;
+      vec3 m2 = absLinear * abs(positionO(ph.tri.v2)) + absT;
+      h.magnitude = abs(b.x) * m0 + abs(b.y) * m1 + abs(b.z) * m2;
+      // The CPU's barycentrics differ by at most eHit over each height; its offset by that much of the
+      // magnitudes' 2^-23·(64·√3 + 16), plus its own rounding.
+      float maxMag = max(maxAbs(m0), max(maxAbs(m1), maxAbs(m2)));
+      float db = eHit / height.x + eHit / height.y + eHit / height.z;
+      h.dOffset = 1.6e-5 * (db * maxMag + 1e-5 * maxAbs(h.magnitude));
+      for (int j = 0; j < proofLights.x; ++j) {
+        int answer = prove(j, h);
+        if (answer != 0) proof |= (answer == 1 ? 0x101u : 0x100u) << uint(j);
+      }
+    }
+  }
+  outProof = proof;
+}

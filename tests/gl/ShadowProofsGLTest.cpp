@@ -1,0 +1,240 @@
+// Hybrid shadows proved in the GL (gl/ShadowProofPass.h, shaders/shadow_proof.frag; docs/shadows.md): every
+// answer the GL gives is the one Embree gives the CPU's own shadow ray, and a frame that takes them is the
+// all-rays frame to the bit. The scenes are the CPU proofs' hostile ones (thin slabs, contacts, grazing
+// light, lights at surfaces, extreme scales, far from the origin); each also checks that the GL decided most
+// rays, so none passes by deciding none.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdio>
+#include <cstring>
+
+#include "../rt/RtTestScenes.h"
+#include "GlTestUtil.h"
+#include "core/RenderSpace.h"
+#include "gl/GpuScene.h"
+#include "gl/ShadowProofPass.h"
+#include "gl/VisibilityPass.h"
+#include "render/ShadowProofs.h"
+#include "rt/ShadowCertainty.h"
+
+namespace tandem {
+namespace {
+
+using namespace rt::test;
+
+struct Outcome {
+  std::size_t decided = 0;      // (pixel, light) pairs the GL answered
+  std::size_t checked = 0;      // of them, those whose ray the CPU would trace (the others ask no ray)
+  std::size_t wrong = 0;        // answers that differ from Embree's
+  std::size_t rays = 0;         // (pixel, light) pairs whose shadow ray the CPU would trace
+  std::size_t maskDiffers = 0;  // pixels whose frame light mask differs from the all-rays frame's
+  std::uint64_t tracedWithProofs = 0, tracedAll = 0, answered = 0;
+};
+
+// The GL's proofs of `scene` at w × h, checked pixel by pixel against Embree (tracePixel of the all-rays
+// frame), then the ray pass with them against the all-rays pass.
+Outcome prove(const Scene& scene, int w, int h) {
+  Outcome o;
+  gl::GpuScene gpu;
+  gpu.upload(scene, std::nullopt);
+  auto vis = gl::VisibilityPass::create();
+  auto pass = gl::ShadowProofPass::create();
+  EXPECT_TRUE(vis.ok() && pass.ok()) << (pass.ok() ? "" : pass.error().message);
+  if (!vis.ok() || !pass.ok()) return o;
+  EXPECT_TRUE(vis->resize(w, h).ok());
+  const Camera glCamera = toRenderSpace(scene.camera, gpu.anchor());
+  vis->render(gpu, glCamera);
+  rt::VisibilityBuffer visibility;
+  visibility.width = w;
+  visibility.height = h;
+  vis->readIds(visibility.ids);
+
+  auto tracer = makeTracer(scene);
+  if (!tracer) return o;
+  FrameSettings s = settingsFor(w, h);
+  s.shadows = s.reflections = s.refraction = EffectMode::Ray;
+  s.hybridShadows = true;
+  const rt::ShadowCertainty* maps = tracer->shadowMapsFor(scene, scene.camera, s, gpu.anchor());
+  EXPECT_NE(maps, nullptr);
+  if (!maps) return o;
+  pass->upload(proofSource(*maps, scene));
+  EXPECT_TRUE(pass->prove(gpu, vis->ids(), w, h, glCamera).ok());
+  std::vector<std::uint16_t> proofs;
+  pass->read(proofs);
+  EXPECT_EQ(proofs.size(), visibility.ids.size());
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+
+  FrameSettings all = s;
+  all.hybridShadows = false;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * w + x;
+      if (visibility.ids[p].x == 0) {
+        EXPECT_EQ(proofs[p], 0u) << "the sky proved at " << x << "," << y;
+        continue;
+      }
+      const std::uint32_t decided = proofs[p] >> 8;
+      o.decided += static_cast<std::size_t>(std::popcount(decided));
+      const PixelTrace t = tracer->tracePixel(scene, scene.camera, all, visibility, x, y);
+      if (t.roots.empty()) continue;
+      for (const TraceLight& l : t.nodes[static_cast<std::size_t>(t.roots[0])].lights) {
+        if (l.visibility != LightVisibility::Unoccluded && l.visibility != LightVisibility::Occluded) continue;
+        ++o.rays;
+        if (!((decided >> l.light) & 1u)) continue;
+        ++o.checked;
+        const bool lit = (proofs[p] >> l.light) & 1u;
+        if (lit != (l.visibility == LightVisibility::Unoccluded)) {
+          ++o.wrong;
+          ADD_FAILURE() << "pixel " << x << "," << y << " light " << l.light << ": the GL says "
+                        << (lit ? "lit" : "shadowed") << ", Embree the opposite";
+        }
+      }
+    }
+
+  // The frame: the ray pass with the GL's answers gives the all-rays light mask and outputs to the bit.
+  rt::RayOutputs withProofs, allRays;
+  tracer->trace(scene, scene.camera, all, visibility, allRays);
+  visibility.proofs = proofs;
+  tracer->trace(scene, scene.camera, s, visibility, withProofs);
+  EXPECT_EQ(withProofs.lightMask.size(), allRays.lightMask.size());
+  for (std::size_t i = 0; i < std::min(withProofs.lightMask.size(), allRays.lightMask.size()); ++i)
+    o.maskDiffers += withProofs.lightMask[i] != allRays.lightMask[i];
+  EXPECT_EQ(withProofs.reflected.size(), allRays.reflected.size());
+  EXPECT_TRUE(withProofs.reflected == allRays.reflected);
+  EXPECT_TRUE(withProofs.transmitted == allRays.transmitted);
+  EXPECT_EQ(withProofs.counts.shadow + withProofs.counts.shadowByMap, allRays.counts.shadow);
+  o.tracedWithProofs = withProofs.counts.shadow;
+  o.tracedAll = allRays.counts.shadow;
+  o.answered = withProofs.counts.shadowByMap;
+  return o;
+}
+
+void expectExact(const Outcome& o, double share, const char* what) {
+  EXPECT_EQ(o.wrong, 0u) << what;
+  EXPECT_EQ(o.maskDiffers, 0u) << what;
+  ASSERT_GT(o.rays, 0u) << what;
+  EXPECT_GE(static_cast<double>(o.checked), share * static_cast<double>(o.rays))
+      << what << ": the GL answered " << o.checked << " of the " << o.rays << " primary shadow rays";
+  std::printf("%s: the GL answered %zu of %zu primary shadow rays (%zu answers in all)\n", what, o.checked, o.rays,
+              o.decided);
+}
+
+// A sphere and a box over a floor under a point light, a spot and a directional light; `scale` and `offset`
+// move the whole scene (camera and lights included).
+Scene objectsOnAFloor(float scale = 1.0f, glm::vec3 offset = glm::vec3(0.0f)) {
+  Scene scene;
+  auto place = [&](glm::vec3 p) { return p * scale + offset; };
+  glm::mat4 s = glm::scale(glm::mat4(1.0f), glm::vec3(scale));
+  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
+  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 8)), mat, translate(offset) * s);
+  addInstance(scene, addMesh(scene, makeSphere(1.0f, 48, 24)), mat, translate(place({-1.5f, 1.2f, 0.0f})) * s);
+  addInstance(scene, addMesh(scene, makeBox({1.5f, 1.0f, 1.5f})), mat, translate(place({1.5f, 0.5f, 0.5f})) * s);
+  scene.lights.push_back(pointLight(place({-2.0f, 6.0f, 3.0f})));
+  Light spot = pointLight(place({4.0f, 5.0f, 2.0f}));
+  spot.type = LightType::Spot;
+  spot.dirW = glm::normalize(glm::vec3(-4.0f, -5.0f, -2.0f));
+  spot.innerConeDeg = 20.0f;
+  spot.outerConeDeg = 35.0f;
+  scene.lights.push_back(spot);
+  scene.lights.push_back(directional({0.4f, -1.0f, -0.3f}));
+  scene.camera.posW = place({0.0f, 4.0f, 9.0f});
+  scene.camera.targetW = place({0.0f, 0.5f, 0.0f});
+  scene.camera.nearZ = 0.05f * scale;
+  return scene;
+}
+
+TEST(ShadowProofsGLTest, ObjectsOnAFloorEveryAnswerIsEmbrees) {
+  TD_REQUIRE_GL_CONTEXT();
+  Outcome o = prove(objectsOnAFloor(), 160, 90);
+  expectExact(o, 0.95, "objects on a floor");
+  EXPECT_GT(o.tracedWithProofs, 0u);  // edges and contacts stay the rays'
+  EXPECT_LT(o.tracedWithProofs * 5, o.tracedAll);
+}
+
+TEST(ShadowProofsGLTest, ExtremeScalesAndFarFromTheOrigin) {
+  TD_REQUIRE_GL_CONTEXT();
+  expectExact(prove(objectsOnAFloor(1e-4f), 120, 68), 0.95, "scale 1e-4");
+  expectExact(prove(objectsOnAFloor(1e4f), 120, 68), 0.95, "scale 1e4");
+  // Render space is camera-relative: a scene 1e6 from the origin keeps its precision.
+  expectExact(prove(objectsOnAFloor(1.0f, glm::vec3(1e6f, -2e5f, 5e5f)), 120, 68), 0.95, "1e6 from the origin");
+}
+
+// Slabs a thousandth thick, one just above the floor, and a needle thinner than a texel.
+TEST(ShadowProofsGLTest, ThinSlabsAndContacts) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene;
+  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
+  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 4)), mat, glm::mat4(1.0f));
+  addInstance(scene, addMesh(scene, makeBox({2.0f, 1e-3f, 2.0f})), mat, translate({-1.5f, 1.0f, 0.0f}));
+  addInstance(scene, addMesh(scene, makeBox({2.0f, 1e-3f, 2.0f})), mat, translate({1.5f, 1e-3f, 0.0f}));
+  addInstance(scene, addMesh(scene, makeBox({4.0f, 2e-3f, 2e-3f})), mat, translate({0.0f, 2.0f, 1.5f}));
+  scene.lights.push_back(pointLight({0.5f, 5.0f, 1.0f}));
+  scene.lights.push_back(directional({0.2f, -1.0f, 0.1f}));
+  scene.camera.posW = {0.0f, 5.0f, 7.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.5f};
+  expectExact(prove(scene, 160, 90), 0.95, "thin slabs");
+}
+
+// Light nearly parallel to a bumpy floor: rays graze every face. Few can be proved, but not none.
+TEST(ShadowProofsGLTest, GrazingLight) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene;
+  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
+  Mesh floor = makePlane({20.0f, 20.0f}, 64);
+  for (glm::vec3& p : floor.positions) p.y = 0.02f * std::sin(3.0f * p.x) * std::cos(2.0f * p.z);
+  floor.normals.clear();
+  addInstance(scene, addMesh(scene, floor), mat, glm::mat4(1.0f));
+  addInstance(scene, addMesh(scene, makeBox({1.0f, 0.3f, 1.0f})), mat, translate({0.0f, 0.15f, 0.0f}));
+  scene.lights.push_back(directional({1.0f, -0.02f, 0.3f}));
+  scene.lights.push_back(pointLight({-8.0f, 0.2f, 0.0f}));
+  scene.camera.posW = {0.0f, 3.0f, 8.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  expectExact(prove(scene, 160, 90), 0.15, "grazing light");
+}
+
+// A point light a hair above the floor, one inside a box, and a plate nearer a light than its maps begin.
+TEST(ShadowProofsGLTest, LightsAtSurfaces) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene;
+  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
+  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 4)), mat, glm::mat4(1.0f));
+  addInstance(scene, addMesh(scene, makeBox({1.0f, 1.0f, 1.0f})), mat, translate({2.0f, 0.5f, 0.0f}));
+  addInstance(scene, addMesh(scene, makeSphere(0.5f, 24, 12)), mat, translate({-1.0f, 0.5f, 0.0f}));
+  scene.lights.push_back(pointLight({0.0f, 1e-4f, 0.0f}));
+  scene.lights.push_back(pointLight({2.0f, 0.5f, 0.0f}));
+  scene.lights.push_back(pointLight({0.0f, 3.0f, 0.0f}));
+  addInstance(scene, addMesh(scene, makeBox({0.3f, 0.01f, 0.3f})), mat, translate({0.0f, 2.9f, 0.0f}));
+  scene.camera.posW = {0.0f, 4.0f, 6.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  expectExact(prove(scene, 160, 90), 0.6, "lights at surfaces");
+}
+
+// The Renderer's frame: --shadows hybrid with the GL's proofs is the --shadows ray frame to the byte, with
+// most primary shadow rays answered.
+TEST(ShadowProofsGLTest, TheFrameIsTheAllRaysFrame) {
+  TD_REQUIRE_GL_CONTEXT();
+  gltest::SceneFrame f =
+      gltest::sceneFrame(*glContext_, loadSceneFile(test::sourceDir() + "/assets/scenes/whitted.json"), 320, 180);
+  ASSERT_TRUE(f.renderer);
+  auto frame = [&](bool hybrid, ShadowProofs where, FrameStats& stats) {
+    FrameSettings s = gltest::presetFor(f, "hybrid-full");
+    s.hybridShadows = hybrid;
+    s.shadowProofs = where;
+    gltest::drawFrame(f, s, &stats);
+    return f.renderer->readLinear();
+  };
+  FrameStats all, gl, cpu;
+  const ImageF a = frame(false, ShadowProofs::Auto, all), g = frame(true, ShadowProofs::Gl, gl),
+               c = frame(true, ShadowProofs::Cpu, cpu);
+  ASSERT_EQ(a.rgb.size(), g.rgb.size());
+  ASSERT_EQ(a.rgb.size(), c.rgb.size());
+  EXPECT_EQ(std::memcmp(a.rgb.data(), g.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0);
+  EXPECT_EQ(std::memcmp(a.rgb.data(), c.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0);
+  EXPECT_EQ(gl.rays.shadow + gl.rays.shadowByMap, all.rays.shadow);
+  EXPECT_EQ(cpu.rays.shadow + cpu.rays.shadowByMap, all.rays.shadow);
+  EXPECT_LT(gl.rays.shadow * 10, all.rays.shadow);
+}
+
+}  // namespace
+}  // namespace tandem
