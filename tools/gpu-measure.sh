@@ -8,7 +8,10 @@
 # The GPU's clock is logged beside every step (nvidia-smi, read only): an H100 left idle while the CPU traces
 # drops to 345 MHz from 1980, and GL stage times follow it, so a GPU figure means little without its clock.
 # Each step has its own time limit, so a hang costs one step, not the batch; the whole batch takes ~4 min.
+# `gpu-measure.sh proofs` runs only the hybrid shadows' steps and the GL tests (~3 min): --shadows ray against
+# hybrid with the proofs in the GL (auto on a GPU) and on the CPU, the frames kept to compare byte for byte.
 set -u
+mode=${1:-all}
 out=${OUT:?run on the GPU machine, where \$OUT is set}/r
 mkdir -p "$out"
 B=build/bin
@@ -27,6 +30,23 @@ nvidia-smi -L > "$out/gpu.txt" 2>&1; nproc >> "$out/gpu.txt"
 nvidia-smi --query-gpu=timestamp,pstate,clocks.sm,clocks.mem,utilization.gpu,power.draw --format=csv -lms 200 \
   > "$out/clocks.csv" 2>&1 &
 smi=$!
+proofs() {  # proofs NAME ARGS...: Whitted 1920x1080 hybrid-full, 15 frames, its last frame and stats kept
+  local name=$1; shift
+  step "proofs-$name" 90 $B/tandem-render --size 1920x1080 --preset hybrid-full --frames 15 \
+    --stats "$out/proofs-$name.json" -o "$out/proofs-$name.png" "$@"
+}
+if [ "$mode" = proofs ]; then
+  proofs ray --shadows ray
+  proofs gl --shadows hybrid --shadow-proofs gl
+  proofs cpu --shadows hybrid --shadow-proofs cpu
+  proofs ray-again --shadows ray
+  game hybrid-fast --preset hybrid-fast
+  game hybrid-fast-proofs --preset hybrid-fast --shadows hybrid
+  step gl-tests 300 $B/tandem-gl-tests
+  kill "$smi" 2>/dev/null
+  cd "$OUT" && tar czf results.tgz r && rm -rf r
+  exit 0
+fi
 step render-raster-720 40 $B/tandem-render --size 1280x720 --preset raster --frames 200 --stats "$out/render-raster-720.json"
 step render-fast-1080 40 $B/tandem-render --size 1920x1080 --preset hybrid-fast --frames 30 --stats "$out/render-fast-1080.json"
 step render-full-1080 60 $B/tandem-render --size 1920x1080 --preset hybrid-full --frames 15 --stats "$out/render-full-1080.json"

@@ -257,9 +257,10 @@ int main(int argc, char** argv) {
       // The maps are built by the first frame (and again after a move or a light change).
       double buildMs = 0;
       for (const FrameStats& s : stats) buildMs = std::max(buildMs, s.shadowMapsMs);
-      std::printf("  hybrid shadows: %llu shadow rays answered by the light-space maps instead; maps %.1f MB, "
-                  "built in %.1f ms (first frame)\n",
+      std::printf("  hybrid shadows: %llu shadow rays answered by the light-space maps instead (the primary hits' "
+                  "proved %s); maps %.1f MB, built in %.1f ms (first frame)\n",
                   static_cast<unsigned long long>(traced->rays.shadowByMap),
+                  traced->shadowsProvedInGl ? "in the GL" : "by the ray pass",
                   static_cast<double>(traced->shadowMapBytes) / 1e6, buildMs);
     }
     if (settings.aa != AntiAlias::Off || settings.accumulate > 1) {

@@ -214,26 +214,66 @@ TEST(ShadowProofsGLTest, LightsAtSurfaces) {
 // most primary shadow rays answered.
 TEST(ShadowProofsGLTest, TheFrameIsTheAllRaysFrame) {
   TD_REQUIRE_GL_CONTEXT();
-  gltest::SceneFrame f =
-      gltest::sceneFrame(*glContext_, loadSceneFile(test::sourceDir() + "/assets/scenes/whitted.json"), 320, 180);
-  ASSERT_TRUE(f.renderer);
-  auto frame = [&](bool hybrid, ShadowProofs where, FrameStats& stats) {
-    FrameSettings s = gltest::presetFor(f, "hybrid-full");
-    s.hybridShadows = hybrid;
-    s.shadowProofs = where;
-    gltest::drawFrame(f, s, &stats);
-    return f.renderer->readLinear();
-  };
-  FrameStats all, gl, cpu;
-  const ImageF a = frame(false, ShadowProofs::Auto, all), g = frame(true, ShadowProofs::Gl, gl),
-               c = frame(true, ShadowProofs::Cpu, cpu);
-  ASSERT_EQ(a.rgb.size(), g.rgb.size());
-  ASSERT_EQ(a.rgb.size(), c.rgb.size());
-  EXPECT_EQ(std::memcmp(a.rgb.data(), g.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0);
-  EXPECT_EQ(std::memcmp(a.rgb.data(), c.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0);
-  EXPECT_EQ(gl.rays.shadow + gl.rays.shadowByMap, all.rays.shadow);
-  EXPECT_EQ(cpu.rays.shadow + cpu.rays.shadowByMap, all.rays.shadow);
-  EXPECT_LT(gl.rays.shadow * 10, all.rays.shadow);
+  // csg.json: exact solids, whose proxies' pixels the resolve step may give another hit than the GL proved.
+  for (const char* name : {"whitted.json", "csg.json"}) {
+    gltest::SceneFrame f =
+        gltest::sceneFrame(*glContext_, loadSceneFile(test::sourceDir() + "/assets/scenes/" + name), 320, 180);
+    ASSERT_TRUE(f.renderer);
+    auto frame = [&](bool hybrid, ShadowProofs where, FrameStats& stats) {
+      FrameSettings s = gltest::presetFor(f, "hybrid-full");
+      s.hybridShadows = hybrid;
+      s.shadowProofs = where;
+      gltest::drawFrame(f, s, &stats);
+      return f.renderer->readLinear();
+    };
+    FrameStats all, gl, cpu;
+    const ImageF a = frame(false, ShadowProofs::Auto, all), g = frame(true, ShadowProofs::Gl, gl),
+                 c = frame(true, ShadowProofs::Cpu, cpu);
+    ASSERT_EQ(a.rgb.size(), g.rgb.size());
+    ASSERT_EQ(a.rgb.size(), c.rgb.size());
+    EXPECT_EQ(std::memcmp(a.rgb.data(), g.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0) << name;
+    EXPECT_EQ(std::memcmp(a.rgb.data(), c.rgb.data(), a.rgb.size() * sizeof(glm::vec3)), 0) << name;
+    EXPECT_EQ(gl.rays.shadow + gl.rays.shadowByMap, all.rays.shadow) << name;
+    EXPECT_EQ(cpu.rays.shadow + cpu.rays.shadowByMap, all.rays.shadow) << name;
+    // Whitted: 24x fewer (secondary hits by the CPU's maps); csg: its solids' pixels are the rays' (their hits
+    // are the resolve step's, not the raster's triangles): 58 % still traced.
+    if (std::string(name) == "whitted.json") EXPECT_LT(gl.rays.shadow * 10, all.rays.shadow);
+    else EXPECT_LT(gl.rays.shadow * 3, all.rays.shadow * 2) << name;
+    EXPECT_TRUE(gl.shadowsProvedInGl) << name;
+    EXPECT_FALSE(cpu.shadowsProvedInGl || all.shadowsProvedInGl) << name;
+  }
+}
+
+// Something moves every frame: the maps are built anew each time and a forced GL copy follows them, and a frame
+// proved on the CPU between them reads no proof of the frame before; every frame stays the all-rays frame.
+// (Auto leaves such frames to the ray pass: FramePlan's glProofsThisFrame.)
+TEST(ShadowProofsGLTest, MovingGeometryKeepsTheAllRaysFrame) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene = objectsOnAFloor();
+  scene.instances[1].dynamic = true;  // the sphere
+  auto make = [&] { return gltest::sceneFrame(*glContext_, Result<Scene>(scene), 160, 90); };
+  gltest::SceneFrame gl = make(), all = make();
+  ASSERT_TRUE(gl.renderer && all.renderer);
+  FrameSettings s = gltest::presetFor(gl, "hybrid-full");
+  s.reuseRays = false;
+  FrameSettings g = s, a = s;
+  g.hybridShadows = true;
+  g.shadowProofs = ShadowProofs::Gl;
+  for (int frame = 0; frame < 4; ++frame) {
+    g.shadowProofs = frame == 2 ? ShadowProofs::Cpu : ShadowProofs::Gl;
+    const glm::mat4 at = translate({-1.5f + 0.4f * static_cast<float>(frame), 1.2f, 0.0f});
+    gl.renderer->setInstanceTransform(1, at);
+    all.renderer->setInstanceTransform(1, at);
+    FrameStats gs, as;
+    gltest::drawFrame(gl, g, &gs);
+    gltest::drawFrame(all, a, &as);
+    const ImageF x = gl.renderer->readLinear(), y = all.renderer->readLinear();
+    ASSERT_EQ(x.rgb.size(), y.rgb.size());
+    EXPECT_EQ(std::memcmp(x.rgb.data(), y.rgb.data(), x.rgb.size() * sizeof(glm::vec3)), 0) << "frame " << frame;
+    EXPECT_EQ(gs.shadowsProvedInGl, frame != 2) << "frame " << frame;
+    EXPECT_GT(gs.shadowMapsMs, 0.0) << "frame " << frame << ": the maps follow the sphere";
+    EXPECT_EQ(gs.rays.shadow + gs.rays.shadowByMap, as.rays.shadow);
+  }
 }
 
 }  // namespace

@@ -90,6 +90,9 @@ Resolved resolve(const Scene& scene, int threads = 2) {
   proxies->castVisibility(scene.camera, kW, kH, r.raster);
   exact->castVisibility(scene.camera, kW, kH, r.truth);
   r.ids = r.raster;
+  // Every pixel as if the GL had proved all its shadow rays: the resolve step must drop the proofs of the
+  // pixels whose hit it changes (they were the raster's hit's).
+  r.ids.proofs.assign(r.ids.ids.size(), 0xFFFFu);
   exact->resolveExact(scene, scene.camera, r.ids, r.records, r.counts);
   return r;
 }
@@ -195,6 +198,14 @@ TEST(ResolveExact, CameraWithinAProxyResolvesEveryPixel) {
     ringPixels += r.ids.ids[i].x == ring + 1 ? 1 : 0;
   }
   EXPECT_EQ(mismatched, 0u);
+  // A pixel the resolve step gave another hit keeps no shadow proof of the raster's; the others keep theirs.
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < r.ids.ids.size(); ++i) {
+    const bool moved = r.ids.ids[i] != r.raster.ids[i];
+    changed += moved ? 1 : 0;
+    EXPECT_EQ(r.ids.proofs[i], moved ? 0u : 0xFFFFu) << "pixel " << i;
+  }
+  EXPECT_GT(changed, 0u);
   // The centre looks along the diagonal at the tube, in front of the post: the raster alone showed the post.
   const std::size_t centre = static_cast<std::size_t>(kH / 2) * kW + kW / 2;
   EXPECT_EQ(r.raster.ids[centre].x, 2u) << "the raster sees the post (the set-up is as meant)";

@@ -101,6 +101,9 @@ struct FrameStats {
   /// changed; 0 on a frame that kept them), and the bytes they hold.
   double shadowMapsMs = 0;
   std::size_t shadowMapBytes = 0;
+  /// Hybrid shadows proved in the GL (FrameSettings::shadowProofs): the GL's pass answered the primary hits'
+  /// rays it could (in rays.shadowByMap with the CPU's answers) before the ray pass; its time is rasterMs'.
+  bool shadowsProvedInGl = false;
   /// Shader programs compiled during this frame: a variant first needed by a new scene, view or preset
   /// (each a stall of up to a second on a software GL). Zero in a steady game loop.
   int shaderCompiles = 0;

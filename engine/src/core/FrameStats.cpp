@@ -22,6 +22,7 @@ void FrameStats::addSample(const FrameStats& s) {
   threads = s.threads;
   shadowMapBytes = s.shadowMapBytes;
   raysReused = s.raysReused;
+  shadowsProvedInGl = s.shadowsProvedInGl;
 }
 
 }  // namespace tandem

@@ -80,4 +80,9 @@ bool sameRayInputs(const FramePlan& a, const FramePlan& b) {
   return rayPart(a) == rayPart(b);
 }
 
+bool glProofsThisFrame(const FramePlan& plan, bool mapsChanged, bool mapsChangedBefore) {
+  if (!plan.glShadowProofs) return false;
+  return plan.raySettings.shadowProofs == ShadowProofs::Gl || !(mapsChanged && mapsChangedBefore);
+}
+
 }  // namespace tandem

@@ -51,6 +51,11 @@ struct FramePlan {
 
 FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested);
 
+/// Whether a frame whose plan has glShadowProofs draws them, from whether the maps were built anew for this
+/// frame and for the one before: under Auto, maps that change every frame (something moves) would be copied
+/// to the GL every frame, which costs more than the proofs save; the ray pass proves those frames itself.
+bool glProofsThisFrame(const FramePlan& plan, bool mapsChanged, bool mapsChangedBefore);
+
 /// Whether two plans' rays are the same work: the same kind of ray pass with the same ray settings, up to
 /// the settings the ray pass does not read (tone map, exposure, debug view, probes per frame, reuse, target).
 /// Every other field counts, so a setting added later is compared until someone decides otherwise.

@@ -202,10 +202,6 @@ void Renderer::Impl::traceSample(const FramePlan& plan, const Camera& camera, Fr
   // GL shades them all). Its time and rays are the rays stage's, with the ray pass's.
   double resolveMs = 0;
   const std::uint64_t resolvedRays = timed(resolveMs, [&] { return resolveExact(plan, camera); });
-  // A pixel the resolve step changed shows another hit than the one the GL proved.
-  if (!visibility.proofs.empty())
-    for (const ResolvedPixel& r : resolved)
-      visibility.proofs[static_cast<std::size_t>(r.pixel.y) * static_cast<std::size_t>(visibility.width) + r.pixel.x] = 0;
   // An adaptive round traces only the pixels it refines (the ray pass takes the others as background).
   std::span<const std::uint8_t> selection;
   if (only != nullptr && visibility.ids.size() == only->size()) selection = *only;

@@ -48,6 +48,8 @@ struct Renderer::Impl {
   // Hybrid shadows proved in the GL (FramePlan::glShadowProofs): made on first use.
   std::optional<gl::ShadowProofPass> proofPass;
   bool proofFailed = false;  // its program did not build: the ray pass proves on the CPU from then on
+  std::uint64_t lastMapGeneration = 0;  // the maps' generation the last frame saw, and whether it was new
+  bool mapsChangedBefore = false;
   SceneCaches caches;  // the GL copy, the raster effects and the Embree scene, with what they miss
   RadiosityJob radiosity;  // FrameSettings::radiosity: the solution, solved from the scene as it is
   FrameBudget budget;  // FrameSettings::targetMs: what each frame is drawn with

@@ -64,6 +64,11 @@ bool Renderer::Impl::proveShadows(const FramePlan& plan, const Camera& camera, F
   stats.raysMs += build.ms();
   stats.shadowMapsMs += tracer->lastShadowMapMs();
   if (!maps) return false;
+  const bool changed = maps->generation() != lastMapGeneration;
+  const bool inGl = glProofsThisFrame(plan, changed, mapsChangedBefore);
+  lastMapGeneration = maps->generation();
+  mapsChangedBefore = changed;
+  if (!inGl) return false;
   Timer gl;
   if (!proofPass) {
     auto pass = gl::ShadowProofPass::create();
@@ -80,6 +85,7 @@ bool Renderer::Impl::proveShadows(const FramePlan& plan, const Camera& camera, F
   if (!drawn) logError("shadow proofs: " + drawn.error().message);
   else glFinish();
   stats.rasterMs += gl.ms();
+  stats.shadowsProvedInGl = drawn.ok();
   return drawn.ok();
 }
 

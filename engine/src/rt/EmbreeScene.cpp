@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 
@@ -79,7 +80,10 @@ void EmbreeScene::alphaMaskFilter(const RTCFilterFunctionNArguments* args) {
 
 Result<std::unique_ptr<EmbreeDevice>> EmbreeDevice::create() {
   auto d = std::unique_ptr<EmbreeDevice>(new EmbreeDevice());
-  d->device_ = newDevice(nullptr);
+  // TANDEM_EMBREE_CONFIG: Embree's own device configuration (its rtcNewDevice string, e.g. "hugepages=1" or
+  // "set_affinity=1"), for measuring its performance switches on a machine (docs/bench.md); unset: defaults.
+  const char* config = std::getenv("TANDEM_EMBREE_CONFIG");
+  d->device_ = newDevice(config);
   if (!d->device_) {
     RTCError code = rtcGetDeviceError(nullptr);
     std::string message = std::string("Embree: cannot create a device (") + errorName(code) + ")";

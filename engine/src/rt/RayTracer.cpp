@@ -588,6 +588,9 @@ void RayTracer::resolveExact(const Scene& scene, const Camera& camera, Visibilit
             }
           }
           if (!everyPixel || r.id != id) records.push_back(r);
+          // The GL's shadow proofs were of the raster's hit: a pixel given another keeps none.
+          if (r.id != id && !visibility.proofs.empty())
+            visibility.proofs[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)] = 0;
           id = r.id;
         }
       rays.fetch_add(traced, std::memory_order_relaxed);

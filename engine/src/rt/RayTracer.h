@@ -69,7 +69,7 @@ class RayTracer {
   /// Exact solids in the hybrid frame (docs/csg.md, "In the raster frame"): each pixel the raster drew with an
   /// exact solid's proxy is resolved by its camera ray, which finds the solid's exact hit, a surface behind the
   /// proxy, or nothing. `visibility` (read back from the raster) then holds what the ray found there (a hit
-  /// on a solid as (instance + 1, kExactTriangle)), and `out` one record per pixel it changed (in an order fixed for any thread count)
+  /// on a solid as (instance + 1, kExactTriangle); a pixel it changed loses its GL shadow proof), and `out` one record per pixel it changed (in an order fixed for any thread count)
   /// for the GL's visibility buffer. While the camera is within a proxy's bounds (the raster cannot see the
   /// proxy's near side there) every pixel is resolved. The rays are added to `counts.resolved`. Nothing to
   /// do, and `out` empty, in a scene without exact solids.
