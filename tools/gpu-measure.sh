@@ -10,6 +10,9 @@
 # Each step has its own time limit, so a hang costs one step, not the batch; the whole batch takes ~4 min.
 # `gpu-measure.sh proofs` runs only the hybrid shadows' steps and the GL tests (~3 min): --shadows ray against
 # hybrid with the proofs in the GL (auto on a GPU) and on the CPU, the frames kept to compare byte for byte.
+# `gpu-measure.sh switches` measures Embree's huge pages at 16 threads, twice, interleaved (~2 min): BM_RayPass
+# and BM_RetraceFloor (heavy) with the defaults and TANDEM_EMBREE_CONFIG=hugepages=1, and Whitted 1920x1080
+# with every ray and with the GL's proofs.
 set -u
 mode=${1:-all}
 out=${OUT:?run on the GPU machine, where \$OUT is set}/r
@@ -35,6 +38,22 @@ proofs() {  # proofs NAME ARGS...: Whitted 1920x1080 hybrid-full, 15 frames, its
   step "proofs-$name" 90 $B/tandem-render --size 1920x1080 --preset hybrid-full --frames 15 \
     --stats "$out/proofs-$name.json" -o "$out/proofs-$name.png" "$@"
 }
+if [ "$mode" = switches ]; then
+  for round in 1 2; do
+    for cfg in default hugepages=1; do
+      case $cfg in
+        default) env=() ;; hugepages=1) env=(TANDEM_EMBREE_CONFIG=hugepages=1) ;;
+      esac
+      step "bench-$cfg-$round" 90 env ${env[@]+"${env[@]}"} $B/tandem-bench --benchmark_filter='BM_RayPass/heavy:1|BM_RetraceFloor/heavy:1' \
+        --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+    done
+    proofs "ray-$round" --shadows ray
+    proofs "gl-$round" --shadows hybrid --shadow-proofs gl
+  done
+  kill "$smi" 2>/dev/null
+  cd "$OUT" && tar czf results.tgz r && rm -rf r
+  exit 0
+fi
 if [ "$mode" = proofs ]; then
   proofs ray --shadows ray
   proofs gl --shadows hybrid --shadow-proofs gl
