@@ -72,36 +72,17 @@ int texelIndex(int x, int y, int n) {
 
 uint texelWord(int record, int w) { return texelFetch(proofTexels, record * TD_PROOF_RECORD + w).x; }
 
-const int kMisses = 0, kCrosses = 1, kUnsure = 2;
-// rt::segmentVsTriangle for the segment o + t·d, t in [0, tEnd] (finite here), with `margin` to spare.
+#include "shadow_tests.glsl"
+const int kMisses = TD_SEGMENT_MISSES, kCrosses = TD_SEGMENT_CROSSES, kUnsure = TD_SEGMENT_UNSURE;
+// Triangle `id`'s test (its record: plane, edges, then magnitude, valid, blocks) against the segment.
 int segmentVsTriangle(uint id, vec3 o, vec3 d, float tEnd, float margin, out bool blocks) {
   int base = 5 * int(id);
   vec4 extra = texelFetch(proofTriangles, base + 4);
   blocks = extra.z > 0.5;
   if (extra.y < 0.5) return kUnsure;
-  vec4 plane = texelFetch(proofTriangles, base);
-  vec3 n = plane.xyz;
-  float s0 = dot(n, o) - plane.w, sd = dot(n, d);
-  float sEnd = s0 + tEnd * sd;
-  if ((s0 > margin && sEnd > margin) || (s0 < -margin && sEnd < -margin)) return kMisses;
-  float t0 = 0.0, t1 = tEnd;
-  if (sd != 0.0) {
-    float ta = (-margin - s0) / sd, tb = (margin - s0) / sd;
-    t0 = max(0.0, min(ta, tb));
-    t1 = min(tEnd, max(ta, tb));
-    if (t0 > t1) return kMisses;
-  }
-  vec3 q0 = o + t0 * d, q1 = o + t1 * d;
-  bool inside = true;
-  for (int k = 0; k < 3; ++k) {
-    vec4 edge = texelFetch(proofTriangles, base + 1 + k);
-    float e0 = dot(edge.xyz, q0) - edge.w, e1 = dot(edge.xyz, q1) - edge.w;
-    if (e0 < -margin && e1 < -margin) return kMisses;
-    inside = inside && e0 > margin && e1 > margin;
-  }
-  if (inside && abs(s0) > margin && abs(sEnd) > margin && (s0 > 0.0) != (sEnd > 0.0) && abs(sd) > 2e-3)
-    return kCrosses;
-  return kUnsure;
+  return tdSegmentVsTriangle(texelFetch(proofTriangles, base), texelFetch(proofTriangles, base + 1),
+                             texelFetch(proofTriangles, base + 2), texelFetch(proofTriangles, base + 3), o, d, tEnd,
+                             margin);
 }
 
 // The CPU's offset origin (rt::offsetRayOrigin): the hit moved along the side's unit normal by its rounding

@@ -73,6 +73,9 @@ MUTATIONS = [
      "        packet.time[k] = r.time;", "        packet.time[k] = 0.5f;",
      "tandem-rt-tests", "MotionBlurRays.*"),
     # Hybrid shadows proved in the GL.
+    ("segment-test-crosses-outside-the-triangle", "shaders/shadow_tests.glsl",
+     "  if (inside && abs(s0) > margin && endBeyond", "  if (abs(s0) > margin && endBeyond",
+     "tandem-rt-tests", "HybridShadows.*"),
     ("gl-proof-swaps-lit-and-shadowed", "shaders/shadow_proof.frag",
      "(answer == 1 ? 0x101u : 0x100u)", "(answer == 1 ? 0x100u : 0x101u)",
      "tandem-gl-tests", "ShadowProofsGLTest.*"),

@@ -9,6 +9,20 @@
 #include "rt/EmbreeScene.h"
 #include "rt/Parallel.h"
 
+// The segment test's one definition (shaders/shadow_tests.glsl), compiled as C++ with glm as GLSL's twin.
+namespace tandem::rt::shadowtests {
+using glm::dot;
+using glm::max;
+using glm::min;
+using glm::vec3;
+using glm::vec4;
+using std::abs;
+using std::isinf;
+#define TD_FN inline
+#include "../../../shaders/shadow_tests.glsl"
+#undef TD_FN
+}  // namespace tandem::rt::shadowtests
+
 namespace tandem::rt {
 
 namespace {
@@ -16,12 +30,9 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 // Texel arithmetic is float; a projected coordinate is off by far less than this many texels.
 constexpr float kTexelSlack = 1.0f / 64.0f;
-constexpr float kQueryMargin = ShadowCertainty::kQueryMargin;
-constexpr float kDepthRel = ShadowCertainty::kDepthRel;
 // At most this many triangles near a point light are tested against each of its rays (build()).
 constexpr std::size_t kNearLightMax = 64;
 
-constexpr float kRelativeMargin = ShadowCertainty::kRelativeMargin;
 // The rounding itself (about 16 ulps of the magnitudes): how far the vertices build() made, and the
 // geometry Embree tests in object space, may lie from each other in render space. The maps list a triangle
 // wherever it may lie.
@@ -264,45 +275,13 @@ class FaceRaster {
   ShadowCertainty::Texel* texels_;
 };
 
-enum class Crossing { Misses, Crosses, Unsure };
+enum class Crossing { Misses = TD_SEGMENT_MISSES, Crosses = TD_SEGMENT_CROSSES, Unsure = TD_SEGMENT_UNSURE };
 
-// Whether the segment o + t·d, t in [0, tEnd] (tEnd may be +inf), certainly misses the triangle, certainly
-// crosses its interior, or neither, with `margin` (a distance) to spare. Float arithmetic: its rounding
-// (a few ULPs of the magnitudes involved) is a hundredth of the margin classify() passes.
+// The ray against one triangle: shaders/shadow_tests.glsl (the GL's proof pass runs the same text).
 Crossing segmentVsTriangle(const ShadowCertainty::TriangleTest& tri, glm::vec3 o, glm::vec3 d, float tEnd, float margin) {
   if (!tri.valid) return Crossing::Unsure;
-  const glm::vec3 n(tri.plane);
-  // Signed distance of the segment's points from the plane: s(t) = s0 + t·sd, affine, so a segment
-  // whose two ends lie on one side beyond the margin lies there whole (the common case: no division).
-  const float s0 = glm::dot(n, o) - tri.plane.w, sd = glm::dot(n, d);
-  const float sEnd = std::isfinite(tEnd) ? s0 + tEnd * sd : (sd == 0.0f ? s0 : (sd > 0.0f ? kInf : -kInf));
-  if ((s0 > margin && sEnd > margin) || (s0 < -margin && sEnd < -margin)) return Crossing::Misses;
-  // The part of the segment within `margin` of the plane, [t0, t1]: outside it the segment cannot meet
-  // the triangle, which lies in the plane.
-  float t0 = 0.0f, t1 = tEnd;
-  if (sd != 0.0f) {
-    float ta = (-margin - s0) / sd, tb = (margin - s0) / sd;
-    t0 = std::max(0.0f, std::min(ta, tb));
-    t1 = std::min(tEnd, std::max(ta, tb));
-    if (t0 > t1) return Crossing::Misses;  // never within margin of the plane
-  }
-  if (!std::isfinite(t1)) return Crossing::Unsure;
-  const glm::vec3 q0 = o + t0 * d, q1 = o + t1 * d;
-  bool inside = true;
-  for (const glm::vec4& edge : tri.edges) {
-    const glm::vec3 in(edge);  // unit, into the triangle
-    const float e0 = glm::dot(in, q0) - edge.w, e1 = glm::dot(in, q1) - edge.w;
-    // Both ends of the near-plane part outside one edge: the convex triangle is missed.
-    if (e0 < -margin && e1 < -margin) return Crossing::Misses;
-    inside = inside && e0 > margin && e1 > margin;
-  }
-  // A crossing: the segment's ends lie on both sides of the plane beyond the margin, not grazing it
-  // (d is unit: Whitted's toLight), and the whole near-plane part (which holds the crossing point) inside
-  // the triangle by the margin.
-  if (inside && std::abs(s0) > margin && std::abs(sEnd) > margin && (s0 > 0.0f) != (sEnd > 0.0f) &&
-      std::abs(sd) > 1e-3f)
-    return Crossing::Crosses;
-  return Crossing::Unsure;
+  return static_cast<Crossing>(
+      shadowtests::tdSegmentVsTriangle(tri.plane, tri.edges[0], tri.edges[1], tri.edges[2], o, d, tEnd, margin));
 }
 
 ShadowCertainty::TriangleTest makeTest(const glm::vec3 v[3]) {
