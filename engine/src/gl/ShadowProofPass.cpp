@@ -86,8 +86,6 @@ void ShadowProofPass::upload(const ProofSource& source) {
   nearTex_ = createBufferTexture("shadow proofs: near-light ids", TD_FORMAT_PROOF_WORDS, near_);
   instancesTex_ = createBufferTexture("shadow proofs: instance bases", TD_FORMAT_PROOF_WORDS, instances_);
   glNamedBufferSubData(block_.id(), 0, sizeof(block), &block);
-  mapBytes_ = words * sizeof(std::uint32_t) + source.triangles.size() * sizeof(glm::vec4) +
-              nearIds.size() * sizeof(std::uint32_t) + source.instanceBase.size() * sizeof(std::uint32_t);
   generation_ = source.generation;
 }
 
@@ -104,7 +102,6 @@ void ShadowProofPass::release() {
   target_.reset();
   width_ = height_ = 0;
   generation_ = 0;
-  mapBytes_ = 0;
 }
 
 Result<void> ShadowProofPass::prove(const GpuScene& scene, const Texture& ids, int width, int height,

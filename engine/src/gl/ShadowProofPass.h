@@ -58,8 +58,6 @@ class ShadowProofPass {
   Result<void> prove(const GpuScene& scene, const Texture& ids, int width, int height, const Camera& camera);
   /// The proofs, row 0 = top (the ray pass's convention): bit j lit, bit 8 + j decided.
   void read(std::vector<std::uint16_t>& out) const;
-  /// GL memory held: the maps' copy and the target.
-  std::size_t bytes() const { return mapBytes_ + static_cast<std::size_t>(width_) * height_ * 2; }
 
  private:
   Program program_;
@@ -70,7 +68,6 @@ class ShadowProofPass {
   Framebuffer fbo_;
   int width_ = 0, height_ = 0;
   std::uint64_t generation_ = 0;
-  std::size_t mapBytes_ = 0;
 };
 
 }  // namespace tandem::gl

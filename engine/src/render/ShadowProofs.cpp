@@ -58,7 +58,11 @@ gl::ProofSource proofSource(const rt::ShadowCertainty& maps, const Scene& scene)
 // when the geometry or a light changed: the rays' time), copied to the GL when they are new, and the pass
 // over the visibility buffer that decides each primary hit's shadow rays where it can (the raster's time).
 bool Renderer::Impl::proveShadows(const FramePlan& plan, const Camera& camera, FrameStats& stats) {
-  if (!plan.glShadowProofs || proofFailed) return false;
+  if (!plan.glShadowProofs || proofFailed) {
+    // A frame without them frees the GL's copy of the maps (~82 MB per point light), made again when asked.
+    if (proofPass && proofPass->generation() != 0) proofPass->release();
+    return false;
+  }
   Timer build;
   const rt::ShadowCertainty* maps = tracer->shadowMapsFor(scene, camera, plan.raySettings, caches.gpu().anchor());
   stats.raysMs += build.ms();
