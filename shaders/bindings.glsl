@@ -70,6 +70,17 @@
 #define TD_UNIT_PROOF_TRIANGLES 28  // RGBA32F: 5 per triangle (plane, edges, magnitude / valid / blocks)
 #define TD_UNIT_PROOF_NEAR 29       // R32UI: the point lights' near-light triangle ids
 #define TD_UNIT_PROOF_INSTANCES 30  // R32UI: per instance, its first global triangle id (~0: not proved)
+#define TD_UNIT_PROOF_FLAGS 31      // R32UI: per instance, this frame's TD_PROOF_PLAIN / TD_PROOF_FLAT
+// Instance flags: its material spawns no ray (no kr, no kt, not BLEND) and its shading normal is the geometric
+// or the interpolated vertex normal (no normal map, no bump); its model is flat (lights are tested on Ng).
+#define TD_PROOF_PLAIN 1u
+#define TD_PROOF_FLAT 2u
+// A proof word: bits 0-7 the answers, 8-15 the lights whose shadow ray is decided, 16-23 those whose ray the
+// ray pass would trace (the light reaches the point); TD_PROOF_COMPLETE: every light decided and the hit
+// spawns nothing, so bits 0-7 are the pixel's light mask and the ray pass need not resolve the hit at all.
+#define TD_PROOF_DECIDED_SHIFT 8
+#define TD_PROOF_NEEDED_SHIFT 16
+#define TD_PROOF_COMPLETE 0x80000000u
 // rt::ShadowCertainty's texel records: candidates per texel, words per record (ids, depths, rest), block side.
 // Their buffer textures' formats (C++ only): 32-bit words, and the triangles' vec4s.
 #define TD_FORMAT_PROOF_WORDS GL_R32UI
@@ -135,7 +146,7 @@
 #define TD_CHANNEL_SHADOW_MASK GL_RGBA16, GL_RGBA, GL_UNSIGNED_SHORT  // ray grid, 2 layers: raster shadows' visibility per light
 #define TD_SAMPLER_SHADOW_MASK sampler2DArray
 #define TD_OUTPUT_SHADOW_MASK vec4                                 // its second layer (the first: the pass's outColor)
-#define TD_CHANNEL_SHADOW_PROOFS GL_R16UI, GL_RED_INTEGER, GL_UNSIGNED_SHORT  // full res: bit j lit, 8 + j decided
+#define TD_CHANNEL_SHADOW_PROOFS GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT  // full res: a proof word (above)
 #define TD_OUTPUT_SHADOW_PROOFS uint
 #define TD_CHANNEL_LINEAR GL_RGBA32F, GL_RGBA, GL_FLOAT          // linear radiance, full res
 #define TD_SAMPLER_LINEAR sampler2D

@@ -12,7 +12,8 @@
 // left to the ray.
 #define TD_OUT(T) out T
 #include "bindings.glsl"
-#include "shading.glsl"  // TD_MAX_LIGHTS
+#include "shading.glsl"  // TD_MAX_LIGHTS, GpuLight, tdLightIncident
+#include "scene.glsl"    // TD_MESH_HAS_NORMALS
 
 layout(binding = TD_UNIT_POSITIONS_TEX) uniform samplerBuffer positionsBuf;
 layout(binding = TD_UNIT_INDICES_TEX) uniform usamplerBuffer indicesBuf;
@@ -28,6 +29,9 @@ layout(binding = TD_UNIT_PROOF_TEXELS) uniform usamplerBuffer proofTexels;      
 layout(binding = TD_UNIT_PROOF_TRIANGLES) uniform samplerBuffer proofTriangles;   // RGBA32F
 layout(binding = TD_UNIT_PROOF_NEAR) uniform usamplerBuffer proofNear;            // R32UI
 layout(binding = TD_UNIT_PROOF_INSTANCES) uniform usamplerBuffer proofInstances;  // R32UI
+layout(binding = TD_UNIT_PROOF_FLAGS) uniform usamplerBuffer proofFlags;          // R32UI, this frame's
+layout(binding = TD_UNIT_NORMALS_TEX) uniform samplerBuffer normalsBuf;           // RGB32F, object space
+layout(std140, binding = TD_BLOCK_LIGHTS) uniform LightBlock { GpuLight lights[TD_MAX_LIGHTS]; };
 
 struct ProofMap {
   vec4 originKind;  // xyz the light (cube), w the kind: 0 none, 1 cube, 2 orthographic
@@ -51,10 +55,11 @@ layout(location = TD_LOC_ORTHOGRAPHIC) uniform int orthographic;
 layout(location = TD_LOC_FRAME_SIZE) uniform ivec2 frameSize;
 
 vec3 positionO(uint v) { return texelFetch(positionsBuf, int(v)).xyz; }
+vec3 objectNormal(uint v) { return texelFetch(normalsBuf, int(v)).xyz; }
 const bool kUseExact = false;  // a pixel on an exact solid is left to its rays
 #include "shade_hit.glsl"
 
-layout(location = 0) out TD_OUTPUT_SHADOW_PROOFS outProof;  // bit j: lit; bit 8 + j: decided
+layout(location = 0) out TD_OUTPUT_SHADOW_PROOFS outProof;  // a proof word (bindings.glsl)
 
 float maxAbs(vec3 v) { return max(abs(v.x), max(abs(v.y), abs(v.z))); }
 
@@ -260,10 +265,72 @@ void main() {
       float maxMag = max(maxAbs(m0), max(maxAbs(m1), maxAbs(m2)));
       float db = eHit / height.x + eHit / height.y + eHit / height.z;
       h.dOffset = 1.6e-5 * (db * maxMag + 1e-5 * maxAbs(h.magnitude));
+      // The whole light mask, where the hit spawns nothing and every light is decided: the ray pass then
+      // need not resolve the hit (TD_PROOF_COMPLETE). The CPU's rules per light (Whitted::shadowRayUnanswered):
+      // no shadows, or a light that cannot reach the point (tdLightReaches on the model's normal): bit set,
+      // no ray; else the ray's answer. Each only where it is clear of the two hits' rounding.
+      uint flags = texelFetch(proofFlags, int(ph.instance)).x;
+      bool complete = (flags & TD_PROOF_PLAIN) != 0u;
+      vec3 toEye = -ph.dir;
+      bool back = dot(h.ng, toEye) < 0.0;
+      vec3 N = h.ng;
+      if ((flags & TD_PROOF_FLAT) == 0u && (ph.tri.flags & TD_MESH_HAS_NORMALS) != 0u) {
+        vec3 n = ph.tri.normalFromObject * (b.x * objectNormal(ph.tri.v0) + b.y * objectNormal(ph.tri.v1) +
+                                             b.z * objectNormal(ph.tri.v2));
+        float len = length(n);
+        if (len > 1e-6) N = n / len;
+        else complete = false;
+      }
+      if (back) N = -N;
+      uint lit = 0u, decided = 0u, needed = 0u, mask = 0u;
       for (int j = 0; j < proofLights.x; ++j) {
         int answer = prove(j, h);
-        if (answer != 0) proof |= (answer == 1 ? 0x101u : 0x100u) << uint(j);
+        uint bit = 1u << uint(j);
+        if (answer != 0) decided |= bit;
+        if (answer == 1) lit |= bit;
+        if (!complete) continue;
+        GpuLight L = lights[j];
+        int type = int(L.posType.w + 0.5);
+        if (tdIsAreaLight(type)) {
+          complete = false;
+          continue;
+        }
+        if (!(L.radiance.w > 0.5)) {
+          mask |= bit;  // casts no shadows: visible, no ray
+          continue;
+        }
+        vec3 toLight;
+        float dist;
+        vec3 E = tdLightIncident(L, h.posW, toLight, dist);
+        float nl = dot(N, toLight);
+        // Both hits' directions to the light differ by about eHit / dist, their normals by rounding.
+        bool directional = type == TD_LIGHT_DIRECTIONAL;
+        float angle = directional ? 0.0 : 4.0 * h.eHit / max(dist, 1e-30);
+        float nlMargin = 1e-4 + angle, coneMargin = 1e-5 + angle;
+        bool bright = L.radiance.x > 0.0 || L.radiance.y > 0.0 || L.radiance.z > 0.0;
+        // E > 0 unless beyond the range or outside a spot's outer cone (tdLightIncident): clear of both edges.
+        bool ranged = !directional && L.dirRange.w > 0.0;
+        bool inRange = !ranged || dist < L.dirRange.w * (1.0 - 1e-5);
+        bool outOfRange = ranged && dist > L.dirRange.w * (1.0 + 1e-5);
+        bool inCone = true, outOfCone = false;
+        if (type == TD_LIGHT_SPOT) {
+          float cosAngle = dot(-toLight, vec3(L.dirRange));
+          inCone = cosAngle > L.cone.y + coneMargin;
+          outOfCone = cosAngle < L.cone.y - coneMargin;
+        }
+        bool reaches = inRange && inCone && max(E.x, max(E.y, E.z)) > 1e-30 && nl > nlMargin;
+        bool cannot = !bright || outOfRange || outOfCone || nl < -nlMargin;
+        if (cannot) {
+          mask |= bit;  // no ray; the CPU leaves the bit set
+        } else if (reaches && answer != 0) {
+          needed |= bit;
+          if (answer == 1) mask |= bit;
+        } else {
+          complete = false;
+        }
       }
+      proof = complete ? mask | (decided << TD_PROOF_DECIDED_SHIFT) | (needed << TD_PROOF_NEEDED_SHIFT) | TD_PROOF_COMPLETE
+                       : lit | (decided << TD_PROOF_DECIDED_SHIFT);
     }
   }
   outProof = proof;

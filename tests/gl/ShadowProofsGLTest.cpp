@@ -8,6 +8,7 @@
 #include <bit>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 
 #include "../rt/RtTestScenes.h"
 #include "GlTestUtil.h"
@@ -28,13 +29,15 @@ struct Outcome {
   std::size_t checked = 0;      // of them, those whose ray the CPU would trace (the others ask no ray)
   std::size_t wrong = 0;        // answers that differ from Embree's
   std::size_t rays = 0;         // (pixel, light) pairs whose shadow ray the CPU would trace
+  std::size_t geometry = 0;     // pixels on geometry
+  std::size_t complete = 0;     // of them, those whose whole light mask the GL gave (TD_PROOF_COMPLETE)
   std::size_t maskDiffers = 0;  // pixels whose frame light mask differs from the all-rays frame's
   std::uint64_t tracedWithProofs = 0, tracedAll = 0, answered = 0;
 };
 
 // The GL's proofs of `scene` at w × h, checked pixel by pixel against Embree (tracePixel of the all-rays
 // frame), then the ray pass with them against the all-rays pass.
-Outcome prove(const Scene& scene, int w, int h) {
+Outcome prove(const Scene& scene, int w, int h, std::optional<ShadingModel> shading = std::nullopt) {
   Outcome o;
   gl::GpuScene gpu;
   gpu.upload(scene, std::nullopt);
@@ -55,12 +58,14 @@ Outcome prove(const Scene& scene, int w, int h) {
   FrameSettings s = settingsFor(w, h);
   s.shadows = s.reflections = s.refraction = EffectMode::Ray;
   s.hybridShadows = true;
+  s.shadingOverride = shading;
   const rt::ShadowCertainty* maps = tracer->shadowMapsFor(scene, scene.camera, s, gpu.anchor());
   EXPECT_NE(maps, nullptr);
   if (!maps) return o;
   pass->upload(proofSource(*maps, scene));
+  pass->setInstanceFlags(proofInstanceFlags(scene, s));
   EXPECT_TRUE(pass->prove(gpu, vis->ids(), w, h, glCamera).ok());
-  std::vector<std::uint16_t> proofs;
+  std::vector<std::uint32_t> proofs;
   pass->read(proofs);
   EXPECT_EQ(proofs.size(), visibility.ids.size());
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
@@ -74,7 +79,9 @@ Outcome prove(const Scene& scene, int w, int h) {
         EXPECT_EQ(proofs[p], 0u) << "the sky proved at " << x << "," << y;
         continue;
       }
-      const std::uint32_t decided = proofs[p] >> 8;
+      const std::uint32_t decided = (proofs[p] >> 8) & 0xFFu;
+      o.complete += (proofs[p] & 0x80000000u) != 0 ? 1 : 0;
+      ++o.geometry;
       o.decided += static_cast<std::size_t>(std::popcount(decided));
       const PixelTrace t = tracer->tracePixel(scene, scene.camera, all, visibility, x, y);
       if (t.roots.empty()) continue;
@@ -116,8 +123,8 @@ void expectExact(const Outcome& o, double share, const char* what) {
   ASSERT_GT(o.rays, 0u) << what;
   EXPECT_GE(static_cast<double>(o.checked), share * static_cast<double>(o.rays))
       << what << ": the GL answered " << o.checked << " of the " << o.rays << " primary shadow rays";
-  std::printf("%s: the GL answered %zu of %zu primary shadow rays (%zu answers in all)\n", what, o.checked, o.rays,
-              o.decided);
+  std::printf("%s: the GL answered %zu of %zu primary shadow rays (%zu answers in all); %zu of %zu pixels complete\n",
+              what, o.checked, o.rays, o.decided, o.complete, o.geometry);
 }
 
 // A sphere and a box over a floor under a point light, a spot and a directional light; `scale` and `offset`
@@ -148,6 +155,14 @@ TEST(ShadowProofsGLTest, ObjectsOnAFloorEveryAnswerIsEmbrees) {
   TD_REQUIRE_GL_CONTEXT();
   Outcome o = prove(objectsOnAFloor(), 160, 90);
   expectExact(o, 0.95, "objects on a floor");
+  // Every surface is plain diffuse: most pixels need no resolve on the CPU at all.
+  EXPECT_GT(o.complete * 10, o.geometry * 8) << o.complete << " of " << o.geometry << " pixels complete";
+  // Flat and Gouraud shading test the lights on the geometric normal and the vertex normals' as Phong does.
+  for (ShadingModel model : {ShadingModel::Flat, ShadingModel::Gouraud}) {
+    const Outcome m = prove(objectsOnAFloor(), 160, 90, model);
+    expectExact(m, 0.95, model == ShadingModel::Flat ? "flat" : "gouraud");
+    EXPECT_GT(m.complete * 10, m.geometry * 8);
+  }
   EXPECT_GT(o.tracedWithProofs, 0u);  // edges and contacts stay the rays'
   EXPECT_LT(o.tracedWithProofs * 5, o.tracedAll);
 }

@@ -28,7 +28,8 @@ inline constexpr GLuint kUnitRadiosityTableTex = TD_UNIT_RADIOSITY_TABLE_TEX, kU
 inline constexpr GLuint kUnitExactHits = TD_UNIT_EXACT_HITS;
 inline constexpr GLuint kUnitShadowMask = TD_UNIT_SHADOW_MASK;
 inline constexpr GLuint kUnitProofTexels = TD_UNIT_PROOF_TEXELS, kUnitProofTriangles = TD_UNIT_PROOF_TRIANGLES,
-                        kUnitProofNear = TD_UNIT_PROOF_NEAR, kUnitProofInstances = TD_UNIT_PROOF_INSTANCES;
+                        kUnitProofNear = TD_UNIT_PROOF_NEAR, kUnitProofInstances = TD_UNIT_PROOF_INSTANCES,
+                        kUnitProofFlags = TD_UNIT_PROOF_FLAGS;
 inline constexpr GLuint kBlockProofMaps = TD_BLOCK_PROOF_MAPS;
 
 /// A frame channel's GL internal format, and the pixel format and type of its CPU copies (docs/gbuffer.md).

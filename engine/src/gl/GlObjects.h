@@ -85,7 +85,6 @@ constexpr std::size_t texelBytes(GLenum internalFormat) {
     case GL_RGBA32F: return 16;
     case GL_RG32UI: case GL_RGBA16F: return 8;
     case GL_RGBA8: case GL_R32UI: case GL_DEPTH_COMPONENT32F: return 4;
-    case GL_R16UI: return 2;
     case GL_R8UI: return 1;
     default: return 0;  // not a format of the frame's targets
   }

@@ -89,6 +89,16 @@ void ShadowProofPass::upload(const ProofSource& source) {
   generation_ = source.generation;
 }
 
+void ShadowProofPass::setInstanceFlags(std::span<const std::uint32_t> flags) {
+  if (!flags_ || flags.size() != flagCount_) {
+    flags_ = createBuffer("shadow proofs: instance flags", flags.size() * sizeof(std::uint32_t), flags.data());
+    flagsTex_ = createBufferTexture("shadow proofs: instance flags", TD_FORMAT_PROOF_WORDS, flags_);
+    flagCount_ = flags.size();
+  } else if (!flags.empty()) {
+    glNamedBufferSubData(flags_.id(), 0, static_cast<GLsizeiptr>(flags.size() * sizeof(std::uint32_t)), flags.data());
+  }
+}
+
 void ShadowProofPass::release() {
   texels_.reset();
   triangles_.reset();
@@ -98,6 +108,9 @@ void ShadowProofPass::release() {
   trianglesTex_.reset();
   nearTex_.reset();
   instancesTex_.reset();
+  flags_.reset();
+  flagsTex_.reset();
+  flagCount_ = 0;
   fbo_.reset();
   target_.reset();
   width_ = height_ = 0;
@@ -106,7 +119,7 @@ void ShadowProofPass::release() {
 
 Result<void> ShadowProofPass::prove(const GpuScene& scene, const Texture& ids, int width, int height,
                                     const Camera& camera) {
-  assert(texelsTex_ && "ShadowProofPass::prove: upload the maps first");
+  assert(texelsTex_ && flagsTex_ && "ShadowProofPass::prove: upload the maps and the instance flags first");
   if (width != width_ || height != height_) {
     fbo_.reset();
     target_.reset();
@@ -130,6 +143,7 @@ Result<void> ShadowProofPass::prove(const GpuScene& scene, const Texture& ids, i
   glBindTextureUnit(kUnitProofTriangles, trianglesTex_.id());
   glBindTextureUnit(kUnitProofNear, nearTex_.id());
   glBindTextureUnit(kUnitProofInstances, instancesTex_.id());
+  glBindTextureUnit(kUnitProofFlags, flagsTex_.id());
   glBindBufferBase(GL_UNIFORM_BUFFER, kBlockProofMaps, block_.id());
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glViewport(0, 0, width, height);
@@ -143,11 +157,11 @@ Result<void> ShadowProofPass::prove(const GpuScene& scene, const Texture& ids, i
   return {};
 }
 
-void ShadowProofPass::read(std::vector<std::uint16_t>& out) const {
+void ShadowProofPass::read(std::vector<std::uint32_t>& out) const {
   const std::size_t row = static_cast<std::size_t>(width_);
   out.resize(row * static_cast<std::size_t>(height_));
   glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_.id());
-  glPixelStorei(GL_PACK_ALIGNMENT, 2);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glReadPixels(0, 0, width_, height_, kChannelShadowProofs.transfer, kChannelShadowProofs.type, out.data());
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
   // GL rows run bottom-up; the ray pass wants row 0 at the top.

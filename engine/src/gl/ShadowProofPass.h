@@ -49,6 +49,9 @@ class ShadowProofPass {
   /// Copies the maps. A light whose records would not fit in one buffer texture (GL_MAX_TEXTURE_BUFFER_SIZE)
   /// gets no map: its rays stay open.
   void upload(const ProofSource& source);
+  /// This frame's per-instance TD_PROOF_PLAIN / TD_PROOF_FLAT (they follow the materials and the shading
+  /// override, not the maps).
+  void setInstanceFlags(std::span<const std::uint32_t> flags);
   /// Drops the copy and the target.
   void release();
 
@@ -56,14 +59,15 @@ class ShadowProofPass {
   /// in render space, the GL copy's (the maps' render space must be the same). An error names what the GL
   /// refused (the target's storage).
   Result<void> prove(const GpuScene& scene, const Texture& ids, int width, int height, const Camera& camera);
-  /// The proofs, row 0 = top (the ray pass's convention): bit j lit, bit 8 + j decided.
-  void read(std::vector<std::uint16_t>& out) const;
+  /// The proof words (bindings.glsl, TD_PROOF_*), row 0 = top (the ray pass's convention).
+  void read(std::vector<std::uint32_t>& out) const;
 
  private:
   Program program_;
   VertexArray emptyVao_;
-  Buffer texels_, triangles_, near_, instances_, block_;
-  Texture texelsTex_, trianglesTex_, nearTex_, instancesTex_;
+  Buffer texels_, triangles_, near_, instances_, flags_, block_;
+  Texture texelsTex_, trianglesTex_, nearTex_, instancesTex_, flagsTex_;
+  std::size_t flagCount_ = 0;
   Texture target_;
   Framebuffer fbo_;
   int width_ = 0, height_ = 0;

@@ -13,6 +13,23 @@ static_assert(rt::ShadowCertainty::kCandidates == TD_PROOF_CANDIDATES &&
                   sizeof(rt::ShadowCertainty::Texel) == TD_PROOF_RECORD * sizeof(std::uint32_t) &&
                   rt::ShadowCertainty::kBlock == TD_PROOF_BLOCK,
               "shadow_proof.frag reads ShadowCertainty's texel records as bindings.glsl's TD_PROOF_* say");
+static_assert(rt::kProofDecidedShift == TD_PROOF_DECIDED_SHIFT && rt::kProofNeededShift == TD_PROOF_NEEDED_SHIFT &&
+                  rt::kProofComplete == TD_PROOF_COMPLETE,
+              "the ray pass reads the proof words as shadow_proof.frag writes them");
+
+std::vector<std::uint32_t> proofInstanceFlags(const Scene& scene, const FrameSettings& settings) {
+  std::vector<std::uint32_t> flags(scene.instances.size(), 0u);
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    if (inst.material >= scene.materials.size()) continue;
+    const Material& m = scene.materials[inst.material];
+    const bool bump = m.procedural.type != Pattern::None && m.procedural.bump > 0.0f;
+    if (m.kr == 0.0f && m.kt == 0.0f && m.alphaMode != AlphaMode::Blend && m.normalTexture < 0 && !bump)
+      flags[i] |= TD_PROOF_PLAIN;
+    if (settings.shadingOverride.value_or(m.shading) == ShadingModel::Flat) flags[i] |= TD_PROOF_FLAT;
+  }
+  return flags;
+}
 
 gl::ProofSource proofSource(const rt::ShadowCertainty& maps, const Scene& scene) {
   using Map = rt::ShadowCertainty::Map;
@@ -84,6 +101,7 @@ bool Renderer::Impl::proveShadows(const FramePlan& plan, const Camera& camera, F
     proofPass = std::move(*pass);
   }
   if (proofPass->generation() != maps->generation()) proofPass->upload(proofSource(*maps, scene));
+  proofPass->setInstanceFlags(proofInstanceFlags(scene, plan.raySettings));
   const Camera glCamera = toRenderSpace(camera, caches.gpu().anchor());
   auto drawn = proofPass->prove(caches.gpu(), visibilityPass.ids(), plan.settings.width, plan.settings.height, glCamera);
   if (!drawn) logError("shadow proofs: " + drawn.error().message);

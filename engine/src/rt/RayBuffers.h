@@ -18,9 +18,15 @@ struct VisibilityBuffer {
   int height = 0;
   std::vector<glm::uvec2> ids;
   /// The GL's shadow proofs (gl/ShadowProofPass.h) of each pixel's primary hit, beside its id: bit 8 + j set
-  /// where light j's shadow ray is decided, bit j its answer (lit). Empty: none (every ray is the pass's).
-  std::vector<std::uint16_t> proofs;
+  /// where light j's shadow ray is decided, bit j its answer (lit); kProofComplete: bits 0-7 are the pixel's
+  /// whole light mask, bits 16-23 the lights whose ray it answers, and the hit spawns no ray (shaders/
+  /// bindings.glsl, TD_PROOF_*). Empty: none (every ray is the pass's).
+  std::vector<std::uint32_t> proofs;
 };
+
+/// VisibilityBuffer::proofs: the word's layout (bindings.glsl's TD_PROOF_*, checked where the GL reads them).
+inline constexpr int kProofDecidedShift = 8, kProofNeededShift = 16;
+inline constexpr std::uint32_t kProofComplete = 0x80000000u;
 
 /// Bit j: direct light j visible. Eight bits are enough: a scene has at most kMaxLights (8) lights, and
 /// the GL channel is 8 bits too (bindings.glsl), a quarter of the bytes a 32-bit mask would upload.

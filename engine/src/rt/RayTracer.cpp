@@ -222,7 +222,7 @@ struct HybridTiles {
         if (batched) {
           out.lightMask[g] = static_cast<LightMask>(
               shadows.add(whitted, frame.lights.size(), hit, g, capture, samePoint ? &keep : nullptr, area, plane,
-                          visibility.proofs.empty() ? std::uint16_t{0} : visibility.proofs[pixel]));
+                          visibility.proofs.empty() ? 0u : visibility.proofs[pixel]));
         } else {
           AreaSampleBits bits{};
           out.lightMask[g] = static_cast<LightMask>(whitted.lightMask(hit, counts, capture.recorder(), &bits));
@@ -250,12 +250,20 @@ struct HybridTiles {
         assert(embree.hasPrimary(instance, id.y) && "trace: visibility id not in the scene");
         if (!embree.hasPrimary(instance, id.y)) continue;
         Ray ray = cameraRays.through(glm::vec2(p) + 0.5f);
+        ++counts.primary;
+        if constexpr (Capture::kRecords) capture.rasterPrimary(ray.origin, ray.dir);
+        // The GL proved every light's bit and the hit spawns no ray (TD_PROOF_COMPLETE): the light mask is the
+        // proof's, and there is nothing to resolve.
+        if (modes.primaryShadowRays && !visibility.proofs.empty() && (visibility.proofs[pixel] & kProofComplete) != 0) {
+          const std::uint32_t proof = visibility.proofs[pixel];
+          out.lightMask[g] = static_cast<LightMask>(proof & 0xFFu);
+          counts.shadowByMap += static_cast<std::uint64_t>(std::popcount((proof >> kProofNeededShift) & 0xFFu));
+          continue;
+        }
         // The rasterizer drew the instance where the frame's shutter time puts it (Camera::timeU).
         SurfaceHit hit = resolvePrimary(scene, embree.transformAt(instance, cameraRays.time()), camera, id, ray);
         hit.time = cameraRays.time();
         hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);  // the shade pass draws this pixel's light samples too
-        ++counts.primary;
-        if constexpr (Capture::kRecords) capture.rasterPrimary(ray.origin, ray.dir);
         if (!keeping) {
           queue(g, pixel, hit, false);
           continue;

@@ -26,7 +26,7 @@ void ShadowBatch::clear() {
 template <class Capture>
 std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot,
                                Capture& capture, const ShadowKeep* keep, std::uint32_t* area, std::size_t areaStride,
-                               std::uint16_t proof) {
+                               std::uint32_t proof) {
   std::uint32_t visible = 0;
   SpawnOrigins origins;
   const FrameShading& frame = whitted.frame();
@@ -68,7 +68,7 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
       ++kept_;
       continue;
     }
-    if (s.needed && ((proof >> (8 + j)) & 1u)) {
+    if (s.needed && ((proof >> (kProofDecidedShift + j)) & 1u)) {
       // The GL proved this ray's answer (shaders/shadow_proof.frag): the ray is not traced.
       visible |= ((proof >> j) & 1u) << j;
       ++byMap_;
@@ -329,9 +329,9 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
 
 // The frame's instantiation and the bench's; no others.
 template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, NoCapture&,
-                                        const ShadowKeep*, std::uint32_t*, std::size_t, std::uint16_t);
+                                        const ShadowKeep*, std::uint32_t*, std::size_t, std::uint32_t);
 template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, TileCapture&,
-                                        const ShadowKeep*, std::uint32_t*, std::size_t, std::uint16_t);
+                                        const ShadowKeep*, std::uint32_t*, std::size_t, std::uint32_t);
 template void ShadowBatch::trace(RTCScene, LightMask*, RayCounts&, NoCapture&);
 template void ShadowBatch::trace(RTCScene, LightMask*, RayCounts&, TileCapture&);
 template void Wavefront::addPrimary(const SurfaceHit&, std::size_t, RayCounts&, NoCapture&);

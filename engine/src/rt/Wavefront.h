@@ -45,7 +45,7 @@ class ShadowBatch {
   template <class Capture>
   std::uint32_t add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot,
                     Capture& capture, const ShadowKeep* keep = nullptr, std::uint32_t* area = nullptr,
-                    std::size_t areaStride = 1, std::uint16_t proof = 0);
+                    std::size_t areaStride = 1, std::uint32_t proof = 0);
   /// Traces the queued rays and ORs the bit of every unoccluded one into masks[its slot].
   template <class Capture>
   void trace(RTCScene scene, LightMask* masks, RayCounts& counts, Capture& capture);
