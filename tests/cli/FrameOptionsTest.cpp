@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <initializer_list>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "CliCommon.h"
@@ -64,6 +65,7 @@ TEST(FrameOptions, OutOfRangeValuesAreErrorsNamingTheFlagAndValue) {
       {{"--size", "0x0"}, "--size: expected WxH"},
       {{"--preset", ""}, "--preset: unknown preset ''"},
       {{"--shadows", ""}, "--shadows: expected off, raster, ray or hybrid, got ''"},
+      {{"--shadow-proofs", "gpu"}, "--shadow-proofs: expected auto, gl or cpu, got 'gpu'"},
       {{"--tonemap", "filmic"}, "--tonemap: expected none, reinhard or aces, got 'filmic'"},
       {{"--debug-view", "albedo"}, "--debug-view: unknown view 'albedo'"},
   };
@@ -125,6 +127,19 @@ TEST(FrameOptions, TargetFpsSetsTheFrameBudget) {
   auto none = resolveArgs({"--preset", "hybrid-full"});
   ASSERT_TRUE(none) << none.error().message;
   EXPECT_EQ(none->targetMs, 0.0f);
+}
+
+TEST(FrameOptions, ShadowProofsSayWhereHybridShadowsAreProved) {
+  for (const auto& [name, where] : {std::pair{"auto", ShadowProofs::Auto}, std::pair{"gl", ShadowProofs::Gl},
+                                    std::pair{"cpu", ShadowProofs::Cpu}}) {
+    auto r = resolveArgs({"--shadows", "hybrid", "--shadow-proofs", name});
+    ASSERT_TRUE(r) << r.error().message;
+    EXPECT_TRUE(r->hybridShadows);
+    EXPECT_EQ(r->shadowProofs, where) << name;
+  }
+  auto none = resolveArgs({"--shadows", "hybrid"});
+  ASSERT_TRUE(none) << none.error().message;
+  EXPECT_EQ(none->shadowProofs, ShadowProofs::Auto);
 }
 
 TEST(FrameOptions, ValidValuesAtTheEdgesAreTaken) {
