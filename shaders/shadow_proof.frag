@@ -116,6 +116,7 @@ vec3 offsetRayOrigin(vec3 posW, vec3 n, vec3 magnitude, out float d) {
 struct ProofHit {
   vec3 posW, ng, magnitude;
   float eHit, dOffset;  // the hits' distance bound, the offsets' difference bound
+  float nErr;           // how far the CPU's geometric normal (made in double) may point from this one's
   uint own;
 };
 
@@ -129,7 +130,7 @@ int prove(int j, ProofHit h) {
   float scale = size / (2.0 * extent);
   int face = 0;
   vec2 u0, u1;
-  float depth, eps, E, slackTexels, tEnd;
+  float depth, eps, E, eEnd, slackTexels, tEnd;
   vec3 dir, o;
   if (kind == 1) {
     vec3 L = proofMaps[j].originKind.xyz;
@@ -140,12 +141,13 @@ int prove(int j, ProofHit h) {
     dir = toL / dist;
     float side = dot(dir, h.ng);
     // The side the CPU leaves from must be this one's.
-    if (!(abs(side) > 1e-3)) return 0;
+    if (!(abs(side) > 1e-3 + h.nErr)) return 0;
     float d;
     o = offsetRayOrigin(h.posW, side >= 0.0 ? h.ng : -h.ng, h.magnitude, d);
     tEnd = dist * proofConstants.w;
-    E = 1.01 * (h.eHit + h.dOffset + 3e-7 * maxAbs(o));
-    float eEnd = 1.01 * (h.dOffset + h.eHit / 4096.0 + 8e-7 * (dist + maxAbs(L)) + 3e-7 * maxAbs(o));
+    // The offsets differ by dOffset in length and by d·nErr in direction.
+    E = 1.01 * (h.eHit + h.dOffset + d * h.nErr + 3e-7 * maxAbs(o));
+    eEnd = 1.01 * (h.dOffset + d * h.nErr + h.eHit / 4096.0 + 8e-7 * (dist + maxAbs(L)) + 3e-7 * maxAbs(o));
     vec3 dv = o - L;
     face = cubeFace(dv);
     vec3 S = proofMaps[j].axes[3 * face].xyz, T = proofMaps[j].axes[3 * face + 1].xyz;
@@ -173,13 +175,14 @@ int prove(int j, ProofHit h) {
     vec3 A = proofMaps[j].axes[2].xyz;
     dir = proofMaps[j].toLight.xyz;
     float side = dot(dir, h.ng);
-    if (!(abs(side) > 1e-3)) return 0;
+    if (!(abs(side) > 1e-3 + h.nErr)) return 0;
     float d;
     o = offsetRayOrigin(h.posW, side >= 0.0 ? h.ng : -h.ng, h.magnitude, d);
     float a = dot(A, o), along = dot(A, dir);
     if (!(along > 1e-3)) return 0;
     float top = proofMaps[j].params.z;
-    E = 1.01 * (h.eHit + h.dOffset + 3e-7 * maxAbs(o));
+    E = 1.01 * (h.eHit + h.dOffset + d * h.nErr + 3e-7 * maxAbs(o));
+    eEnd = E;
     tEnd = max(0.0, (top - a) / along) + 2.0 * E / along;
     vec3 ePt = o + max(0.0, (top - a) / along) * dir;
     vec2 centre = proofMaps[j].params2.xy;
@@ -205,7 +208,7 @@ int prove(int j, ProofHit h) {
     uint id = texelFetch(proofNear, int(nearFirst + k)).x;
     if (id == h.own) continue;
     bool blocks;
-    float m = proofConstants.z * max(magnitude, texelFetch(proofTriangles, 5 * int(id) + 4).x) + E;
+    float m = proofConstants.z * max(magnitude, texelFetch(proofTriangles, 5 * int(id) + 4).x) + max(E, eEnd);
     int x = segmentVsTriangle(id, o, dir, tEnd, m, blocks);
     if (x == kCrosses && blocks) return 2;
     if (x != kMisses) missesAll = false;
@@ -216,7 +219,7 @@ int prove(int j, ProofHit h) {
     if (uintBitsToFloat(texelWord(record, TD_PROOF_CANDIDATES + k)) > depth + eps) return missesAll ? 1 : 0;
     if (id == h.own) continue;
     bool blocks;
-    float m = proofConstants.z * max(magnitude, texelFetch(proofTriangles, 5 * int(id) + 4).x) + E;
+    float m = proofConstants.z * max(magnitude, texelFetch(proofTriangles, 5 * int(id) + 4).x) + max(E, eEnd);
     int x = segmentVsTriangle(id, o, dir, tEnd, m, blocks);
     if (x == kCrosses && blocks) return 2;
     if (x != kMisses) missesAll = false;
@@ -242,27 +245,37 @@ void main() {
     float area2 = length(nRaw);
     float t = length(ph.posW - ph.origin);
     float cosI = area2 > 0.0 ? abs(dot(nRaw, ph.dir)) / area2 : 0.0;
-    float M = max(max(maxAbs(ph.origin), t), max(maxAbs(ph.tri.p0), max(maxAbs(ph.tri.p1), maxAbs(ph.tri.p2))));
+    // Each vertex's rounding scale as resolveHit has it (|M|·|p| + |t|): the two sides' transforms of the
+    // vertices differ by a few ULPs of it, which can be far more than the world coordinates when a
+    // translation cancels large object-space ones.
+    mat4 worldFromObject = instanceWorldFromObject(ph.instance);
+    mat3 absLinear = mat3(abs(worldFromObject[0].xyz), abs(worldFromObject[1].xyz), abs(worldFromObject[2].xyz));
+    vec3 absT = abs(worldFromObject[3].xyz);
+    vec3 m0 = absLinear * abs(positionO(ph.tri.v0)) + absT, m1 = absLinear * abs(positionO(ph.tri.v1)) + absT;
+    vec3 m2 = absLinear * abs(positionO(ph.tri.v2)) + absT;
+    float maxMag = max(maxAbs(m0), max(maxAbs(m1), maxAbs(m2)));
+    // The camera ray's origin's scale: an orthographic camera's moves over the image by up to |right| + |up|
+    // (lengths there; a perspective camera's are directions, whose rounding the 2e-6·t term covers).
+    float cameraMag = maxAbs(cameraPosW) + (orthographic != 0 ? maxAbs(cameraRight) + maxAbs(cameraUp) : 0.0);
+    float M = max(max(maxAbs(ph.origin), t), max(max(maxAbs(ph.tri.p0), max(maxAbs(ph.tri.p1), maxAbs(ph.tri.p2))),
+                                                  max(maxMag, cameraMag)));
     float eHit = (2e-6 * t + 1e-6 * M) / max(cosI, 1e-30) + 1e-6 * M;
     vec3 edgeLen = vec3(length(ph.tri.p2 - ph.tri.p1), length(ph.tri.p0 - ph.tri.p2), length(e1));
     vec3 height = area2 / max(edgeLen, vec3(1e-30));
     vec3 inside = b * height;
-    if (area2 > 0.0 && cosI > 1e-4 && min(inside.x, min(inside.y, inside.z)) > eHit) {
+    // The geometric normal from float edges whose ends lie a few ULPs of M apart on the two sides: off by
+    // about that over the triangle's smallest height (the CPU's is made in double from its own vertices).
+    float nErr = 2e-6 * M / max(min(height.x, min(height.y, height.z)), 1e-30);
+    if (area2 > 0.0 && cosI > 1e-4 + nErr && min(inside.x, min(inside.y, inside.z)) > eHit) {
       ProofHit h;
       h.posW = ph.posW;
       h.ng = nRaw / area2;
       h.eHit = eHit;
+      h.nErr = nErr;
       h.own = base + id.y;
-      // The hit's rounding scale as resolveHit has it: its barycentrics over each vertex's |M|·|p| + |t|.
-      mat4 worldFromObject = instanceWorldFromObject(ph.instance);
-      mat3 absLinear = mat3(abs(worldFromObject[0].xyz), abs(worldFromObject[1].xyz), abs(worldFromObject[2].xyz));
-      vec3 absT = abs(worldFromObject[3].xyz);
-      vec3 m0 = absLinear * abs(positionO(ph.tri.v0)) + absT, m1 = absLinear * abs(positionO(ph.tri.v1)) + absT;
-      vec3 m2 = absLinear * abs(positionO(ph.tri.v2)) + absT;
       h.magnitude = abs(b.x) * m0 + abs(b.y) * m1 + abs(b.z) * m2;
       // The CPU's barycentrics differ by at most eHit over each height; its offset by that much of the
       // magnitudes' 2^-23·(64·√3 + 16), plus its own rounding.
-      float maxMag = max(maxAbs(m0), max(maxAbs(m1), maxAbs(m2)));
       float db = eHit / height.x + eHit / height.y + eHit / height.z;
       h.dOffset = 1.6e-5 * (db * maxMag + 1e-5 * maxAbs(h.magnitude));
       // The whole light mask, where the hit spawns nothing and every light is decided: the ray pass then
@@ -274,12 +287,21 @@ void main() {
       vec3 toEye = -ph.dir;
       bool back = dot(h.ng, toEye) < 0.0;
       vec3 N = h.ng;
+      float nSpread = nErr;  // how far the CPU's shading normal may point from N
       if ((flags & TD_PROOF_FLAT) == 0u && (ph.tri.flags & TD_MESH_HAS_NORMALS) != 0u) {
-        vec3 n = ph.tri.normalFromObject * (b.x * objectNormal(ph.tri.v0) + b.y * objectNormal(ph.tri.v1) +
-                                             b.z * objectNormal(ph.tri.v2));
+        vec3 n0 = ph.tri.normalFromObject * objectNormal(ph.tri.v0);
+        vec3 n1 = ph.tri.normalFromObject * objectNormal(ph.tri.v1);
+        vec3 n2 = ph.tri.normalFromObject * objectNormal(ph.tri.v2);
+        vec3 n = b.x * n0 + b.y * n1 + b.z * n2;
         float len = length(n);
-        if (len > 1e-6) N = n / len;
-        else complete = false;
+        // The CPU interpolates with its own barycentrics, up to db apart from these.
+        float spread = max(length(n0 - n1), max(length(n1 - n2), length(n2 - n0)));
+        if (len > 1e-6) {
+          N = n / len;
+          nSpread = 2.0 * db * spread / len + 1e-6;
+        } else {
+          complete = false;
+        }
       }
       if (back) N = -N;
       uint lit = 0u, decided = 0u, needed = 0u, mask = 0u;
@@ -306,7 +328,7 @@ void main() {
         // Both hits' directions to the light differ by about eHit / dist, their normals by rounding.
         bool directional = type == TD_LIGHT_DIRECTIONAL;
         float angle = directional ? 0.0 : 4.0 * h.eHit / max(dist, 1e-30);
-        float nlMargin = 1e-4 + angle, coneMargin = 1e-5 + angle;
+        float nlMargin = 1e-4 + nSpread + angle, coneMargin = 1e-5 + angle;
         bool bright = L.radiance.x > 0.0 || L.radiance.y > 0.0 || L.radiance.z > 0.0;
         // E > 0 unless beyond the range or outside a spot's outer cone (tdLightIncident): clear of both edges.
         bool ranged = !directional && L.dirRange.w > 0.0;

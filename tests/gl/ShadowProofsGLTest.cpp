@@ -175,6 +175,36 @@ TEST(ShadowProofsGLTest, ExtremeScalesAndFarFromTheOrigin) {
   expectExact(prove(objectsOnAFloor(1.0f, glm::vec3(1e6f, -2e5f, 5e5f)), 120, 68), 0.95, "1e6 from the origin");
 }
 
+// What the two hits' rounding depends on beyond the world coordinates: object-space coordinates of 1e4 and
+// 1e5 cancelled by their instances' translations (the vertices' transforms round at that scale), an
+// orthographic camera 50 units wide (its rays' origins round at that scale), and a coarse sphere with smooth
+// normals (the two sides' barycentrics interpolate vertex normals that differ a lot).
+TEST(ShadowProofsGLTest, LargeObjectSpaceOrthographicAndCoarseSmoothNormals) {
+  TD_REQUIRE_GL_CONTEXT();
+  for (float magnitude : {1e4f, 1e5f}) {
+    Scene scene = objectsOnAFloor();
+    const glm::vec3 offset(magnitude, -0.5f * magnitude, 0.75f * magnitude);
+    for (Instance& inst : scene.instances) {
+      for (glm::vec3& p : scene.meshes[inst.mesh].positions) p += offset;
+      inst.worldFromObject = inst.worldFromObject * translate(-offset);
+    }
+    // The two sides' vertices lie a few ULPs of 1e4 apart (~1e-3, a tenth of the floor's texels at the
+    // directional map's 1024²): the margins outgrow the texels and the GL proves nothing here — which it must
+    // do without a wrong answer (the CPU's maps, which test Embree's own ray, still prove these).
+    const Outcome o = prove(scene, 120, 68);
+    expectExact(o, 0.0, magnitude < 5e4f ? "object space at 1e4" : "object space at 1e5");
+  }
+  Scene ortho = objectsOnAFloor();
+  ortho.camera.orthographic = true;
+  ortho.camera.orthoHeight = 28.0f;
+  expectExact(prove(ortho, 160, 90), 0.9, "orthographic 28 high");
+  Scene coarse = objectsOnAFloor();
+  coarse.meshes[coarse.instances[1].mesh] = makeSphere(1.0f, 8, 4);  // smooth normals on 64 faces
+  const Outcome c = prove(coarse, 160, 90);
+  expectExact(c, 0.9, "coarse smooth sphere");
+  EXPECT_GT(c.complete * 10, c.geometry * 8);
+}
+
 // Slabs a thousandth thick, one just above the floor, and a needle thinner than a texel.
 TEST(ShadowProofsGLTest, ThinSlabsAndContacts) {
   TD_REQUIRE_GL_CONTEXT();
