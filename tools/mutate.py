@@ -86,7 +86,7 @@ MUTATIONS = [
      "          counts.shadowByMap += static_cast<std::uint64_t>(std::popcount((proof >> kProofNeededShift) & 0xFFu));",
      "", "tandem-gl-tests", "ShadowProofsGLTest.*"),
     ("gl-proof-swaps-lit-and-shadowed", "shaders/shadow_proof.frag",
-     "(answer == 1 ? 0x101u : 0x100u)", "(answer == 1 ? 0x100u : 0x101u)",
+     "        if (answer == 1) lit |= bit;", "        if (answer == 2) lit |= bit;",
      "tandem-gl-tests", "ShadowProofsGLTest.*"),
     ("gl-proof-lit-despite-an-unsure-candidate", "shaders/shadow_proof.frag",
      "> depth + eps) return missesAll ? 1 : 0;", "> depth + eps) return 1;",
