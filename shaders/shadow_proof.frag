@@ -53,6 +53,7 @@ layout(location = TD_LOC_CAMERA_RIGHT) uniform vec3 cameraRight;
 layout(location = TD_LOC_CAMERA_UP) uniform vec3 cameraUp;
 layout(location = TD_LOC_ORTHOGRAPHIC) uniform int orthographic;
 layout(location = TD_LOC_FRAME_SIZE) uniform ivec2 frameSize;
+layout(location = TD_LOC_RAY_SCALE) uniform int rayScale;  // the ray pass reads only its grid's stand-in pixels
 
 vec3 positionO(uint v) { return texelFetch(positionsBuf, int(v)).xyz; }
 vec3 objectNormal(uint v) { return texelFetch(normalsBuf, int(v)).xyz; }
@@ -230,6 +231,13 @@ int prove(int j, ProofHit h) {
 
 void main() {
   ivec2 pix = ivec2(gl_FragCoord.xy);
+  // A ray grid coarser than the frame (rayScale > 1): the ray pass reads each grid pixel's stand-in only
+  // (rt::fullPixelOfGridPixel, rows from the top), so the others are not proved.
+  ivec2 pTop = ivec2(pix.x, frameSize.y - 1 - pix.y);
+  if (pTop != min((pTop / rayScale) * rayScale + rayScale / 2, frameSize - 1)) {
+    outProof = 0u;
+    return;
+  }
   uvec2 id = texelFetch(idsTex, pix, 0).xy;
   uint proof = 0u;
   uint base = id.x != 0u && id.y != TD_EXACT_TRIANGLE ? texelFetch(proofInstances, int(id.x - 1u)).x : 0xFFFFFFFFu;

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <optional>
+#include <utility>
 
 #include "../rt/RtTestScenes.h"
 #include "GlTestUtil.h"
@@ -17,6 +18,7 @@
 #include "gl/ShadowProofPass.h"
 #include "gl/VisibilityPass.h"
 #include "render/ShadowProofs.h"
+#include "rt/RayMath.h"
 #include "rt/ShadowCertainty.h"
 
 namespace tandem {
@@ -205,6 +207,54 @@ TEST(ShadowProofsGLTest, LargeObjectSpaceOrthographicAndCoarseSmoothNormals) {
   EXPECT_GT(c.complete * 10, c.geometry * 8);
 }
 
+// A ray grid of half the frame's size: the pass proves each grid pixel's stand-in (rt::fullPixelOfGridPixel)
+// and nothing else.
+TEST(ShadowProofsGLTest, ACoarseRayGridIsProvedAtItsStandIns) {
+  TD_REQUIRE_GL_CONTEXT();
+  const Scene scene = objectsOnAFloor();
+  const int w = 161, h = 91, scale = 2;  // odd sizes: the last grid row and column clamp to the frame
+  gl::GpuScene gpu;
+  gpu.upload(scene, std::nullopt);
+  auto vis = gl::VisibilityPass::create();
+  auto pass = gl::ShadowProofPass::create();
+  ASSERT_TRUE(vis.ok() && pass.ok());
+  ASSERT_TRUE(vis->resize(w, h).ok());
+  const Camera glCamera = toRenderSpace(scene.camera, gpu.anchor());
+  vis->render(gpu, glCamera);
+  std::vector<glm::uvec2> ids;
+  vis->readIds(ids);
+  auto tracer = makeTracer(scene);
+  ASSERT_TRUE(tracer);
+  FrameSettings s = settingsFor(w, h);
+  s.hybridShadows = true;
+  const rt::ShadowCertainty* maps = tracer->shadowMapsFor(scene, scene.camera, s, gpu.anchor());
+  ASSERT_NE(maps, nullptr);
+  pass->upload(proofSource(*maps, scene));
+  pass->setInstanceFlags(proofInstanceFlags(scene, s));
+  ASSERT_TRUE(pass->prove(gpu, vis->ids(), w, h, glCamera, scale).ok());
+  std::vector<std::uint32_t> proofs;
+  pass->read(proofs);
+  ASSERT_EQ(proofs.size(), ids.size());
+  std::vector<std::uint8_t> standIn(ids.size(), 0);
+  for (int gy = 0; gy < rt::gridSize(h, scale); ++gy)
+    for (int gx = 0; gx < rt::gridSize(w, scale); ++gx) {
+      const glm::ivec2 p = rt::fullPixelOfGridPixel(gx, gy, scale, w, h);
+      standIn[static_cast<std::size_t>(p.y) * w + p.x] = 1;
+    }
+  std::size_t onGeometry = 0, proved = 0, elsewhere = 0;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    if (!standIn[i]) {
+      elsewhere += proofs[i] != 0 ? 1 : 0;
+      continue;
+    }
+    if (ids[i].x == 0) continue;
+    ++onGeometry;
+    proved += (proofs[i] >> 8) != 0 ? 1 : 0;
+  }
+  EXPECT_EQ(elsewhere, 0u) << "pixels no grid pixel stands for were proved";
+  EXPECT_GT(proved * 10, onGeometry * 9) << proved << " of " << onGeometry << " stand-ins proved";
+}
+
 // Slabs a thousandth thick, one just above the floor, and a needle thinner than a texel.
 TEST(ShadowProofsGLTest, ThinSlabsAndContacts) {
   TD_REQUIRE_GL_CONTEXT();
@@ -260,12 +310,14 @@ TEST(ShadowProofsGLTest, LightsAtSurfaces) {
 TEST(ShadowProofsGLTest, TheFrameIsTheAllRaysFrame) {
   TD_REQUIRE_GL_CONTEXT();
   // csg.json: exact solids, whose proxies' pixels the resolve step may give another hit than the GL proved.
-  for (const char* name : {"whitted.json", "csg.json"}) {
+  // hybrid-fast: a ray grid of half the frame's size, whose stand-in pixels alone are proved.
+  for (const auto& [name, preset] : {std::pair{"whitted.json", "hybrid-full"}, std::pair{"csg.json", "hybrid-full"},
+                                     std::pair{"whitted.json", "hybrid-fast"}}) {
     gltest::SceneFrame f =
         gltest::sceneFrame(*glContext_, loadSceneFile(test::sourceDir() + "/assets/scenes/" + name), 320, 180);
     ASSERT_TRUE(f.renderer);
     auto frame = [&](bool hybrid, ShadowProofs where, FrameStats& stats) {
-      FrameSettings s = gltest::presetFor(f, "hybrid-full");
+      FrameSettings s = gltest::presetFor(f, preset);
       s.hybridShadows = hybrid;
       s.shadowProofs = where;
       gltest::drawFrame(f, s, &stats);
@@ -282,7 +334,7 @@ TEST(ShadowProofsGLTest, TheFrameIsTheAllRaysFrame) {
     EXPECT_EQ(cpu.rays.shadow + cpu.rays.shadowByMap, all.rays.shadow) << name;
     // Whitted: 24x fewer (secondary hits by the CPU's maps); csg: its solids' pixels are the rays' (their hits
     // are the resolve step's, not the raster's triangles): 58 % still traced.
-    if (std::string(name) == "whitted.json") EXPECT_LT(gl.rays.shadow * 10, all.rays.shadow);
+    if (std::string(name) == "whitted.json") EXPECT_LT(gl.rays.shadow * 10, all.rays.shadow) << preset;
     else EXPECT_LT(gl.rays.shadow * 3, all.rays.shadow * 2) << name;
     EXPECT_TRUE(gl.shadowsProvedInGl) << name;
     EXPECT_FALSE(cpu.shadowsProvedInGl || all.shadowsProvedInGl) << name;

@@ -118,7 +118,7 @@ void ShadowProofPass::release() {
 }
 
 Result<void> ShadowProofPass::prove(const GpuScene& scene, const Texture& ids, int width, int height,
-                                    const Camera& camera) {
+                                    const Camera& camera, int rayScale) {
   assert(texelsTex_ && flagsTex_ && "ShadowProofPass::prove: upload the maps and the instance flags first");
   if (width != width_ || height != height_) {
     fbo_.reset();
@@ -136,6 +136,7 @@ Result<void> ShadowProofPass::prove(const GpuScene& scene, const Texture& ids, i
   }
   const GLuint p = program_.id();
   setCameraUniforms(p, width, height, camera);
+  glProgramUniform1i(p, TD_LOC_RAY_SCALE, std::max(rayScale, 1));
   scene.bindShading();
   glBindTextureUnit(kUnitIds, ids.id());
   glBindTextureUnit(kUnitExactHits, 0);

@@ -55,10 +55,12 @@ class ShadowProofPass {
   /// Drops the copy and the target.
   void release();
 
-  /// Proves every pixel of `ids` (the visibility buffer, width × height) into the proofs target; `camera`
-  /// in render space, the GL copy's (the maps' render space must be the same). An error names what the GL
-  /// refused (the target's storage).
-  Result<void> prove(const GpuScene& scene, const Texture& ids, int width, int height, const Camera& camera);
+  /// Proves the pixels of `ids` (the visibility buffer, width × height) the ray pass reads into the proofs
+  /// target: every one, or with `rayScale` > 1 each ray-grid pixel's stand-in (the rest 0); `camera` in render
+  /// space, the GL copy's (the maps' render space must be the same). An error names what the GL refused (the
+  /// target's storage).
+  Result<void> prove(const GpuScene& scene, const Texture& ids, int width, int height, const Camera& camera,
+                     int rayScale = 1);
   /// The proof words (bindings.glsl, TD_PROOF_*), row 0 = top (the ray pass's convention).
   void read(std::vector<std::uint32_t>& out) const;
 

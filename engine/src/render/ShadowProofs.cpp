@@ -103,7 +103,8 @@ bool Renderer::Impl::proveShadows(const FramePlan& plan, const Camera& camera, F
   if (proofPass->generation() != maps->generation()) proofPass->upload(proofSource(*maps, scene));
   proofPass->setInstanceFlags(proofInstanceFlags(scene, plan.raySettings));
   const Camera glCamera = toRenderSpace(camera, caches.gpu().anchor());
-  auto drawn = proofPass->prove(caches.gpu(), visibilityPass.ids(), plan.settings.width, plan.settings.height, glCamera);
+  auto drawn = proofPass->prove(caches.gpu(), visibilityPass.ids(), plan.settings.width, plan.settings.height, glCamera,
+                                plan.raySettings.rayScale);
   if (!drawn) logError("shadow proofs: " + drawn.error().message);
   else glFinish();
   stats.rasterMs += gl.ms();
