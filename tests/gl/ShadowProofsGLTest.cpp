@@ -8,10 +8,11 @@
 #include <bit>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <utility>
 
-#include "../rt/RtTestScenes.h"
+#include "../rt/ShadowScenes.h"
 #include "GlTestUtil.h"
 #include "core/RenderSpace.h"
 #include "gl/GpuScene.h"
@@ -37,40 +38,57 @@ struct Outcome {
   std::uint64_t tracedWithProofs = 0, tracedAll = 0, answered = 0;
 };
 
-// The GL's proofs of `scene` at w × h, checked pixel by pixel against Embree (tracePixel of the all-rays
-// frame), then the ray pass with them against the all-rays pass.
-Outcome prove(const Scene& scene, int w, int h, std::optional<ShadingModel> shading = std::nullopt) {
-  Outcome o;
+// The GL's proofs of `scene` at w × h (every pixel, or with `rayScale` > 1 each grid pixel's stand-in), with
+// the ids they were drawn for and the tracer whose maps they copy; no tracer where a step failed.
+struct Drawn {
+  rt::VisibilityBuffer visibility;  // ids and proofs
+  std::unique_ptr<rt::RayTracer> tracer;
+};
+Drawn drawProofs(const Scene& scene, const FrameSettings& s, int rayScale = 1) {
+  Drawn d;
+  const int w = s.width, h = s.height;
   gl::GpuScene gpu;
   gpu.upload(scene, std::nullopt);
   auto vis = gl::VisibilityPass::create();
   auto pass = gl::ShadowProofPass::create();
   EXPECT_TRUE(vis.ok() && pass.ok()) << (pass.ok() ? "" : pass.error().message);
-  if (!vis.ok() || !pass.ok()) return o;
-  EXPECT_TRUE(vis->resize(w, h).ok());
+  if (!vis.ok() || !pass.ok() || !vis->resize(w, h).ok()) return d;
   const Camera glCamera = toRenderSpace(scene.camera, gpu.anchor());
   vis->render(gpu, glCamera);
-  rt::VisibilityBuffer visibility;
-  visibility.width = w;
-  visibility.height = h;
-  vis->readIds(visibility.ids);
-
+  d.visibility.width = w;
+  d.visibility.height = h;
+  vis->readIds(d.visibility.ids);
   auto tracer = makeTracer(scene);
-  if (!tracer) return o;
+  if (!tracer) return d;
+  const rt::ShadowCertainty* maps = tracer->shadowMapsFor(scene, scene.camera, s, gpu.anchor());
+  EXPECT_NE(maps, nullptr);
+  if (!maps) return d;
+  pass->upload(proofSource(*maps, scene));
+  pass->setInstanceFlags(proofInstanceFlags(scene, s));
+  EXPECT_TRUE(pass->prove(gpu, vis->ids(), w, h, glCamera, rayScale).ok());
+  pass->read(d.visibility.proofs);
+  EXPECT_EQ(d.visibility.proofs.size(), d.visibility.ids.size());
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  if (d.visibility.proofs.size() == d.visibility.ids.size()) d.tracer = std::move(tracer);
+  return d;
+}
+
+// The GL's proofs of `scene` at w × h, checked pixel by pixel against Embree (tracePixel of the all-rays
+// frame), then the ray pass with them against the all-rays pass.
+Outcome prove(const Scene& scene, int w, int h, std::optional<ShadingModel> shading = std::nullopt) {
+  Outcome o;
   FrameSettings s = settingsFor(w, h);
   s.shadows = s.reflections = s.refraction = EffectMode::Ray;
   s.hybridShadows = true;
   s.shadingOverride = shading;
-  const rt::ShadowCertainty* maps = tracer->shadowMapsFor(scene, scene.camera, s, gpu.anchor());
-  EXPECT_NE(maps, nullptr);
-  if (!maps) return o;
-  pass->upload(proofSource(*maps, scene));
-  pass->setInstanceFlags(proofInstanceFlags(scene, s));
-  EXPECT_TRUE(pass->prove(gpu, vis->ids(), w, h, glCamera).ok());
-  std::vector<std::uint32_t> proofs;
-  pass->read(proofs);
-  EXPECT_EQ(proofs.size(), visibility.ids.size());
-  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  Drawn d = drawProofs(scene, s);
+  if (!d.tracer) return o;
+  rt::VisibilityBuffer visibility;  // the ids alone: the all-rays frame's
+  visibility.width = w;
+  visibility.height = h;
+  visibility.ids = d.visibility.ids;
+  const std::vector<std::uint32_t>& proofs = d.visibility.proofs;
+  auto& tracer = d.tracer;
 
   FrameSettings all = s;
   all.hybridShadows = false;
@@ -127,30 +145,6 @@ void expectExact(const Outcome& o, double share, const char* what) {
       << what << ": the GL answered " << o.checked << " of the " << o.rays << " primary shadow rays";
   std::printf("%s: the GL answered %zu of %zu primary shadow rays (%zu answers in all); %zu of %zu pixels complete\n",
               what, o.checked, o.rays, o.decided, o.complete, o.geometry);
-}
-
-// A sphere and a box over a floor under a point light, a spot and a directional light; `scale` and `offset`
-// move the whole scene (camera and lights included).
-Scene objectsOnAFloor(float scale = 1.0f, glm::vec3 offset = glm::vec3(0.0f)) {
-  Scene scene;
-  auto place = [&](glm::vec3 p) { return p * scale + offset; };
-  glm::mat4 s = glm::scale(glm::mat4(1.0f), glm::vec3(scale));
-  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
-  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 8)), mat, translate(offset) * s);
-  addInstance(scene, addMesh(scene, makeSphere(1.0f, 48, 24)), mat, translate(place({-1.5f, 1.2f, 0.0f})) * s);
-  addInstance(scene, addMesh(scene, makeBox({1.5f, 1.0f, 1.5f})), mat, translate(place({1.5f, 0.5f, 0.5f})) * s);
-  scene.lights.push_back(pointLight(place({-2.0f, 6.0f, 3.0f})));
-  Light spot = pointLight(place({4.0f, 5.0f, 2.0f}));
-  spot.type = LightType::Spot;
-  spot.dirW = glm::normalize(glm::vec3(-4.0f, -5.0f, -2.0f));
-  spot.innerConeDeg = 20.0f;
-  spot.outerConeDeg = 35.0f;
-  scene.lights.push_back(spot);
-  scene.lights.push_back(directional({0.4f, -1.0f, -0.3f}));
-  scene.camera.posW = place({0.0f, 4.0f, 9.0f});
-  scene.camera.targetW = place({0.0f, 0.5f, 0.0f});
-  scene.camera.nearZ = 0.05f * scale;
-  return scene;
 }
 
 TEST(ShadowProofsGLTest, ObjectsOnAFloorEveryAnswerIsEmbrees) {
@@ -213,28 +207,12 @@ TEST(ShadowProofsGLTest, ACoarseRayGridIsProvedAtItsStandIns) {
   TD_REQUIRE_GL_CONTEXT();
   const Scene scene = objectsOnAFloor();
   const int w = 161, h = 91, scale = 2;  // odd sizes: the last grid row and column clamp to the frame
-  gl::GpuScene gpu;
-  gpu.upload(scene, std::nullopt);
-  auto vis = gl::VisibilityPass::create();
-  auto pass = gl::ShadowProofPass::create();
-  ASSERT_TRUE(vis.ok() && pass.ok());
-  ASSERT_TRUE(vis->resize(w, h).ok());
-  const Camera glCamera = toRenderSpace(scene.camera, gpu.anchor());
-  vis->render(gpu, glCamera);
-  std::vector<glm::uvec2> ids;
-  vis->readIds(ids);
-  auto tracer = makeTracer(scene);
-  ASSERT_TRUE(tracer);
   FrameSettings s = settingsFor(w, h);
   s.hybridShadows = true;
-  const rt::ShadowCertainty* maps = tracer->shadowMapsFor(scene, scene.camera, s, gpu.anchor());
-  ASSERT_NE(maps, nullptr);
-  pass->upload(proofSource(*maps, scene));
-  pass->setInstanceFlags(proofInstanceFlags(scene, s));
-  ASSERT_TRUE(pass->prove(gpu, vis->ids(), w, h, glCamera, scale).ok());
-  std::vector<std::uint32_t> proofs;
-  pass->read(proofs);
-  ASSERT_EQ(proofs.size(), ids.size());
+  const Drawn d = drawProofs(scene, s, scale);
+  ASSERT_TRUE(d.tracer);
+  const std::vector<glm::uvec2>& ids = d.visibility.ids;
+  const std::vector<std::uint32_t>& proofs = d.visibility.proofs;
   std::vector<std::uint8_t> standIn(ids.size(), 0);
   for (int gy = 0; gy < rt::gridSize(h, scale); ++gy)
     for (int gx = 0; gx < rt::gridSize(w, scale); ++gx) {
@@ -258,50 +236,21 @@ TEST(ShadowProofsGLTest, ACoarseRayGridIsProvedAtItsStandIns) {
 // Slabs a thousandth thick, one just above the floor, and a needle thinner than a texel.
 TEST(ShadowProofsGLTest, ThinSlabsAndContacts) {
   TD_REQUIRE_GL_CONTEXT();
-  Scene scene;
-  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
-  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 4)), mat, glm::mat4(1.0f));
-  addInstance(scene, addMesh(scene, makeBox({2.0f, 1e-3f, 2.0f})), mat, translate({-1.5f, 1.0f, 0.0f}));
-  addInstance(scene, addMesh(scene, makeBox({2.0f, 1e-3f, 2.0f})), mat, translate({1.5f, 1e-3f, 0.0f}));
-  addInstance(scene, addMesh(scene, makeBox({4.0f, 2e-3f, 2e-3f})), mat, translate({0.0f, 2.0f, 1.5f}));
-  scene.lights.push_back(pointLight({0.5f, 5.0f, 1.0f}));
-  scene.lights.push_back(directional({0.2f, -1.0f, 0.1f}));
-  scene.camera.posW = {0.0f, 5.0f, 7.0f};
-  scene.camera.targetW = {0.0f, 0.0f, 0.5f};
+  const Scene scene = thinSlabsAndContacts();
   expectExact(prove(scene, 160, 90), 0.95, "thin slabs");
 }
 
 // Light nearly parallel to a bumpy floor: rays graze every face. Few can be proved, but not none.
 TEST(ShadowProofsGLTest, GrazingLight) {
   TD_REQUIRE_GL_CONTEXT();
-  Scene scene;
-  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
-  Mesh floor = makePlane({20.0f, 20.0f}, 64);
-  for (glm::vec3& p : floor.positions) p.y = 0.02f * std::sin(3.0f * p.x) * std::cos(2.0f * p.z);
-  floor.normals.clear();
-  addInstance(scene, addMesh(scene, floor), mat, glm::mat4(1.0f));
-  addInstance(scene, addMesh(scene, makeBox({1.0f, 0.3f, 1.0f})), mat, translate({0.0f, 0.15f, 0.0f}));
-  scene.lights.push_back(directional({1.0f, -0.02f, 0.3f}));
-  scene.lights.push_back(pointLight({-8.0f, 0.2f, 0.0f}));
-  scene.camera.posW = {0.0f, 3.0f, 8.0f};
-  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  const Scene scene = grazingLight();
   expectExact(prove(scene, 160, 90), 0.15, "grazing light");
 }
 
 // A point light a hair above the floor, one inside a box, and a plate nearer a light than its maps begin.
 TEST(ShadowProofsGLTest, LightsAtSurfaces) {
   TD_REQUIRE_GL_CONTEXT();
-  Scene scene;
-  std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
-  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 4)), mat, glm::mat4(1.0f));
-  addInstance(scene, addMesh(scene, makeBox({1.0f, 1.0f, 1.0f})), mat, translate({2.0f, 0.5f, 0.0f}));
-  addInstance(scene, addMesh(scene, makeSphere(0.5f, 24, 12)), mat, translate({-1.0f, 0.5f, 0.0f}));
-  scene.lights.push_back(pointLight({0.0f, 1e-4f, 0.0f}));
-  scene.lights.push_back(pointLight({2.0f, 0.5f, 0.0f}));
-  scene.lights.push_back(pointLight({0.0f, 3.0f, 0.0f}));
-  addInstance(scene, addMesh(scene, makeBox({0.3f, 0.01f, 0.3f})), mat, translate({0.0f, 2.9f, 0.0f}));
-  scene.camera.posW = {0.0f, 4.0f, 6.0f};
-  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  const Scene scene = lightsAtSurfaces();
   expectExact(prove(scene, 160, 90), 0.6, "lights at surfaces");
 }
 
