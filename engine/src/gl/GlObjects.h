@@ -2,10 +2,12 @@
 // Move-only owners of GL objects. This file and GlObjects.cpp are the only place GL objects are created
 // (glCreate*) or deleted; everything else holds one of these. Every object gets a label, so debuggers
 // (apitrace, RenderDoc) and KHR_debug messages name it.
+#include <algorithm>
 #include <cstddef>
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "gl/Bindings.h"
 #include "gl/Gl.h"
@@ -132,6 +134,15 @@ Framebuffer createFramebuffer(std::string_view label);
 VertexArray createVertexArray(std::string_view label);
 Shader createShader(std::string_view label, GLenum stage);
 Program createProgram(std::string_view label);
+
+/// Reverses the order of the `height` rows of `pixels` (`width` each) in place: GL reads rows bottom-up, the
+/// ray pass wants row 0 at the top.
+template <class T>
+void flipRows(std::vector<T>& pixels, int width, int height) {
+  const auto row = static_cast<std::ptrdiff_t>(width);
+  for (std::ptrdiff_t y = 0; y < height / 2; ++y)
+    std::swap_ranges(pixels.begin() + y * row, pixels.begin() + (y + 1) * row, pixels.begin() + (height - 1 - y) * row);
+}
 
 /// Nearest or linear sampling with clamp-to-edge, set on the texture itself (no sampler objects).
 void setSampling(const Texture& texture, GLenum minFilter, GLenum magFilter);

@@ -165,11 +165,7 @@ void ShadowProofPass::read(std::vector<std::uint32_t>& out) const {
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glReadPixels(0, 0, width_, height_, kChannelShadowProofs.transfer, kChannelShadowProofs.type, out.data());
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  // GL rows run bottom-up; the ray pass wants row 0 at the top.
-  for (int y = 0; y < height_ / 2; ++y)
-    std::swap_ranges(out.begin() + static_cast<std::ptrdiff_t>(y * row),
-                     out.begin() + static_cast<std::ptrdiff_t>((y + 1) * row),
-                     out.begin() + static_cast<std::ptrdiff_t>((height_ - 1 - y) * row));
+  flipRows(out, width_, height_);
 }
 
 }  // namespace tandem::gl

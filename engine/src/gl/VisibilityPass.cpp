@@ -171,11 +171,7 @@ void VisibilityPass::readIds(std::vector<glm::uvec2>& ids) const {
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glReadPixels(0, 0, width_, height_, kChannelIds.transfer, kChannelIds.type, ids.data());
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  // GL rows run bottom-up; the ray pass wants row 0 at the top.
-  for (int y = 0; y < height_ / 2; ++y)
-    std::swap_ranges(ids.begin() + static_cast<std::ptrdiff_t>(y * rowLength),
-                     ids.begin() + static_cast<std::ptrdiff_t>((y + 1) * rowLength),
-                     ids.begin() + static_cast<std::ptrdiff_t>((height_ - 1 - y) * rowLength));
+  flipRows(ids, width_, height_);
 }
 
 }  // namespace tandem::gl
