@@ -260,8 +260,10 @@ TEST(ShadowProofsGLTest, TheFrameIsTheAllRaysFrame) {
   TD_REQUIRE_GL_CONTEXT();
   // csg.json: exact solids, whose proxies' pixels the resolve step may give another hit than the GL proved.
   // hybrid-fast: a ray grid of half the frame's size, whose stand-in pixels alone are proved.
-  for (const auto& [name, preset] : {std::pair{"whitted.json", "hybrid-full"}, std::pair{"csg.json", "hybrid-full"},
-                                     std::pair{"whitted.json", "hybrid-fast"}}) {
+  for (const auto& [name, presetName] : {std::pair{"whitted.json", "hybrid-full"},
+                                         std::pair{"csg.json", "hybrid-full"},
+                                         std::pair{"whitted.json", "hybrid-fast"}}) {
+    const char* preset = presetName;  // a lambda may not capture a structured binding before C++20
     gltest::SceneFrame f =
         gltest::sceneFrame(*glContext_, loadSceneFile(test::sourceDir() + "/assets/scenes/" + name), 320, 180);
     ASSERT_TRUE(f.renderer);
