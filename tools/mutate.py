@@ -310,6 +310,15 @@ MUTATIONS = [
     ("game-clock-runs-after-a-win", "samples/game/logic/Game.cpp",
      "const double t = outcome_ == Outcome::Playing ? time_ : endTime_;", "const double t = time_;",
      "tandem-game-unit-tests", "GamePhysics.*:Game.*"),
+    ("lean-primary-point-not-facing-the-viewer", "engine/src/rt/SurfaceShading.cpp",
+     "  faceTheViewer(p, -ray.dir);\n  return p;", "  return p;",
+     "tandem-rt-tests", "PrimaryPointTest.*"),
+    ("lean-primary-point-for-mirrors", "engine/src/rt/SurfaceShading.cpp",
+     "secondaryRays && (krKt.x > 0.0f || ", "secondaryRays && (",
+     "tandem-rt-tests", "PrimaryPointTest.*:RayPassTest.*"),
+    ("lean-primary-point-despite-a-normal-map", "engine/src/rt/SurfaceShading.cpp",
+     "return mesh.exact || spawns || normalMapped || bumped;", "return mesh.exact || spawns || bumped;",
+     "tandem-rt-tests", "PrimaryPointTest.*"),
 ]
 
 

@@ -192,6 +192,7 @@ struct HybridTiles {
   bool batched;
   const ReuseGate& reuse;  // active only when batched
   std::span<const std::uint8_t> only;  // full-resolution pixels to trace (empty: all)
+  std::span<const std::uint8_t> wholeHit;  // per instance: primaryNeedsWholeHit
 
   void run(int x0, int y0, int x1, int y1, Capture& capture, RayCounts& counts) const {
     const TraceModes& modes = whitted.modes();
@@ -199,12 +200,13 @@ struct HybridTiles {
     // Per-thread scratch, kept from tile to tile so a tile allocates nothing once warm.
     thread_local ShadowBatch shadows;  // the tile's primary shadow rays, in packets per light
     thread_local Wavefront::Buffers wavefrontBuffers;
-    // With reuse, the tile's primary hits are all resolved before any ray is queued: the moved bounds its
-    // kept shadow rays can meet are chosen once for the tile from where its hits lie (ReuseTile). Without,
-    // each hit's rays are queued as it is resolved. The queues get the same hits in the same order.
+    // With reuse, the tile's primary hits are all resolved before any shadow ray is queued: the moved bounds
+    // its kept shadow rays can meet are chosen once for the tile from where its hits lie (ReuseTile).
+    // Without, each hit's shadow rays are queued as it is resolved. The queues get the same hits in the same
+    // order; reflection and refraction rays are queued as each hit is resolved either way.
     struct Primary {
       std::size_t g, pixel;
-      SurfaceHit hit;
+      ShadowPoint point;
       bool samePoint;
     };
     thread_local std::vector<Primary> primaries;
@@ -213,7 +215,7 @@ struct HybridTiles {
     primaries.clear();
     Wavefront wavefront(whitted, wavefrontBuffers);
     const bool keeping = reuse.active() && batched && modes.primaryShadowRays;
-    auto queue = [&](std::size_t g, std::size_t pixel, const SurfaceHit& hit, bool samePoint) {
+    auto queueShadows = [&](std::size_t g, std::size_t pixel, const ShadowPoint& hit, bool samePoint) {
       if (modes.primaryShadowRays) {
         ShadowKeep keep;
         if (samePoint) keep = {&reuse, &keptTile, reuse.keepableLights(), reuse.keptMask(g), g};
@@ -229,7 +231,6 @@ struct HybridTiles {
           for (int a = 0; a < out.areaLights; ++a) area[static_cast<std::size_t>(a) * plane] = bits[static_cast<std::size_t>(a)];
         }
       }
-      wavefront.addPrimary(hit, g, counts, capture);
     };
     glm::dvec3 keptLo(std::numeric_limits<double>::infinity()), keptHi(-std::numeric_limits<double>::infinity());
     double keptOffsetScale = 0.0;  // the largest magnitude behind the kept hits' offset origins
@@ -260,26 +261,38 @@ struct HybridTiles {
           counts.shadowByMap += static_cast<std::uint64_t>(std::popcount((proof >> kProofNeededShift) & 0xFFu));
           continue;
         }
-        // The rasterizer drew the instance where the frame's shutter time puts it (Camera::timeU).
-        SurfaceHit hit = resolvePrimary(scene, embree.transformAt(instance, cameraRays.time()), camera, id, ray);
-        hit.time = cameraRays.time();
-        hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);  // the shade pass draws this pixel's light samples too
+        // The rasterizer drew the instance where the frame's shutter time puts it (Camera::timeU). Most hits
+        // spawn no reflection or refraction ray: their shadow rays need only the point (ShadowPoint), not
+        // the whole record with its texture coordinates, tints and eye vectors.
+        const InstanceTransform& transform = embree.transformAt(instance, cameraRays.time());
+        ShadowPoint point;
+        if (wholeHit[instance]) {
+          SurfaceHit hit = resolvePrimary(scene, transform, camera, id, ray);
+          hit.time = cameraRays.time();
+          hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);  // the shade pass draws this pixel's light samples too
+          wavefront.addPrimary(hit, g, counts, capture);
+          point = hit;
+        } else {
+          point = resolvePrimaryPoint(scene, transform, id, ray);
+          point.time = cameraRays.time();
+          point.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);
+        }
         if (!keeping) {
-          queue(g, pixel, hit, false);
+          queueShadows(g, pixel, point, false);
           continue;
         }
         const bool samePoint = reuse.samePoint(pixel, id);
         if (samePoint) {
-          keptLo = glm::min(keptLo, glm::dvec3(hit.posW));
-          keptHi = glm::max(keptHi, glm::dvec3(hit.posW));
-          keptOffsetScale = std::max({keptOffsetScale, static_cast<double>(hit.posMagnitude.x),
-                                      static_cast<double>(hit.posMagnitude.y), static_cast<double>(hit.posMagnitude.z)});
+          keptLo = glm::min(keptLo, glm::dvec3(point.posW));
+          keptHi = glm::max(keptHi, glm::dvec3(point.posW));
+          keptOffsetScale = std::max({keptOffsetScale, static_cast<double>(point.posMagnitude.x),
+                                      static_cast<double>(point.posMagnitude.y), static_cast<double>(point.posMagnitude.z)});
         }
-        primaries.push_back({g, pixel, hit, samePoint});
+        primaries.push_back({g, pixel, point, samePoint});
       }
     if (keeping) {
       reuse.selectForTile(keptLo, keptHi, keptOffsetScale, keptTile);
-      for (const Primary& pr : primaries) queue(pr.g, pr.pixel, pr.hit, pr.samePoint);
+      for (const Primary& pr : primaries) queueShadows(pr.g, pr.pixel, pr.point, pr.samePoint);
     }
     shadows.trace(embree.top(), out.lightMask.data(), counts, capture);
     wavefront.run(counts, out.reflected.data(), out.transmitted.data(), capture);
@@ -325,8 +338,12 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
                              ? ReuseGate(*reuse, scene, embree, impl_->meshBounds, frame.lights,
                                          visibility.ids.size(), out.lightMask.size())
                              : ReuseGate();
-  const HybridTiles<Capture> tiles{scene, embree, frame, whitted, cam, cameraRays, visibility,
-                                   out,   std::max(1, settings.rayScale), batchedShadowRays, gate, only};
+  std::vector<std::uint8_t> wholeHit(scene.instances.size());
+  for (std::size_t i = 0; i < wholeHit.size(); ++i)
+    wholeHit[i] = primaryNeedsWholeHit(scene, frame, static_cast<std::uint32_t>(i),
+                                      modes.maxDepth > 0 && (modes.reflections || modes.refraction));
+  const HybridTiles<Capture> tiles{scene,     embree, frame, whitted, cam, cameraRays, visibility, out,
+                                   std::max(1, settings.rayScale), batchedShadowRays, gate, only, wholeHit};
   AtomicCounts total;
   resetCapture(capture, out.width, out.height, false);
   TileProgress progress(impl_->progress, out.width, out.height);

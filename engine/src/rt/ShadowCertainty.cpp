@@ -499,7 +499,7 @@ void ShadowCertainty::build(const Scene& scene, const EmbreeScene& embree, const
   });
 }
 
-ShadowAnswer ShadowCertainty::classify(std::size_t light, const SurfaceHit& hit, glm::vec3 originW, glm::vec3 dirW,
+ShadowAnswer ShadowCertainty::classify(std::size_t light, const ShadowPoint& hit, glm::vec3 originW, glm::vec3 dirW,
                                       float tFar) const {
   if (light >= maps_.size()) return ShadowAnswer::Unknown;
   const Map& m = maps_[light];

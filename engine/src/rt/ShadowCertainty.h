@@ -63,7 +63,7 @@ class ShadowCertainty {
 
   /// The answer for the shadow ray from `hit` towards light `light`: Embree's ray from originW along dirW
   /// over [0, tFar] (Whitted::shadowRay's).
-  ShadowAnswer classify(std::size_t light, const SurfaceHit& hit, glm::vec3 originW, glm::vec3 dirW, float tFar) const;
+  ShadowAnswer classify(std::size_t light, const ShadowPoint& hit, glm::vec3 originW, glm::vec3 dirW, float tFar) const;
 
   std::size_t bytes() const;
   bool empty() const { return maps_.empty(); }

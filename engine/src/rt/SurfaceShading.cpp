@@ -235,51 +235,102 @@ bool resolveExact(const Scene& scene, const InstanceTransform& transform, std::u
 
 }  // namespace
 
+namespace {
+
+// The triangle's part of a hit, shared by resolveHit and resolvePrimaryPoint so that both give a point to the
+// bit: the vertices in world space, the ray's barycentrics, the position and its error scale, the plane's
+// normal and the interpolated vertex normal (as the mesh has it: no normal map, not yet facing the viewer).
+void resolveTriangle(const Mesh& mesh, const InstanceTransform& transform, std::uint32_t triangle, const Ray& ray,
+                     std::uint32_t (&vertex)[3], glm::vec3 (&vertexW)[3], glm::vec3& bary, ShadowPoint& p) {
+  assert(triangle < mesh.triangleCount());
+  for (int i = 0; i < 3; ++i) {
+    vertex[i] = mesh.indices[3 * static_cast<std::size_t>(triangle) + static_cast<std::size_t>(i)];
+    vertexW[i] = glm::vec3(transform.worldFromObject * glm::vec4(mesh.positions[vertex[i]], 1.0f));
+  }
+  bary = triangleBarycentrics(ray.origin, ray.dir, vertexW[0], vertexW[1], vertexW[2]);
+  p.posW = bary.x * vertexW[0] + bary.y * vertexW[1] + bary.z * vertexW[2];
+  // Error scale of posW: the interpolation's terms and, before them, the transform's (|M|·|p| + |t|,
+  // larger than |vertexW| when the transform cancels a large object-space coordinate).
+  glm::vec3 mag[3];
+  for (int i = 0; i < 3; ++i)
+    mag[i] = transform.absLinear * glm::abs(mesh.positions[vertex[i]]) + transform.absTranslation;
+  p.posMagnitude = interpolationMagnitude(bary, mag[0], mag[1], mag[2]);
+
+  // The plane's normal in double: a needle triangle's edge vectors are nearly parallel and their float
+  // cross product can point anywhere, sending offsets and the inside/outside test the wrong way.
+  glm::dvec3 ngD = glm::cross(glm::dvec3(vertexW[1]) - glm::dvec3(vertexW[0]),
+                              glm::dvec3(vertexW[2]) - glm::dvec3(vertexW[0]));
+  double ngLen = glm::length(ngD);
+  // A zero-area triangle has no plane: face the ray so shading and offsets stay finite.
+  p.geomNormalW = ngLen > 0.0 && std::isfinite(ngLen) ? glm::vec3(ngD / ngLen) : -ray.dir;
+  p.normalW = p.geomNormalW;
+  if (!mesh.normals.empty()) {
+    const glm::vec3 nO =
+        bary.x * mesh.normals[vertex[0]] + bary.y * mesh.normals[vertex[1]] + bary.z * mesh.normals[vertex[2]];
+    glm::vec3 n = transform.normalWorldFromObject * nO;
+    float len = glm::length(n);
+    if (len > 0.0f && std::isfinite(len)) p.normalW = n / len;
+  }
+}
+
+// Two-sided lighting: a point seen from behind its counter-clockwise front is lit like a front. True when
+// the normals were flipped.
+bool faceTheViewer(ShadowPoint& p, glm::vec3 toEyeW) {
+  if (!(glm::dot(p.geomNormalW, toEyeW) < 0.0f)) return false;
+  p.geomNormalW = -p.geomNormalW;
+  p.normalW = -p.normalW;
+  return true;
+}
+
+}  // namespace
+
+bool primaryNeedsWholeHit(const Scene& scene, const FrameShading& frame, std::uint32_t instance, bool secondaryRays) {
+  const Instance& inst = scene.instances[instance];
+  const Mesh& mesh = scene.meshes[inst.mesh];
+  const Material& m = scene.materials[inst.material];
+  // Wavefront::spawn's test for a hit that spawns nothing (coverage is 1 unless BLEND).
+  const glm::vec4& krKt = frame.materials[inst.material].krKtIorModel;
+  const bool spawns = secondaryRays && (krKt.x > 0.0f || krKt.y > 0.0f || m.alphaMode == AlphaMode::Blend);
+  const bool normalMapped = m.normalTexture >= 0 && !mesh.tangents.empty() && !mesh.uvs.empty();
+  const bool bumped = m.procedural.type != Pattern::None && m.procedural.bump > 0.0f;
+  return mesh.exact || spawns || normalMapped || bumped;
+}
+
+ShadowPoint resolvePrimaryPoint(const Scene& scene, const InstanceTransform& transform, glm::uvec2 id, const Ray& ray) {
+  ShadowPoint p;
+  p.instance = id.x - 1;
+  p.triangle = id.y;
+  assert(p.instance < scene.instances.size());
+  const Instance& inst = scene.instances[p.instance];
+  p.material = inst.material;
+  std::uint32_t vertex[3];
+  glm::vec3 vertexW[3], bary;
+  resolveTriangle(scene.meshes[inst.mesh], transform, p.triangle, ray, vertex, vertexW, bary, p);
+  faceTheViewer(p, -ray.dir);
+  return p;
+}
+
 SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, std::uint32_t instance,
                       std::uint32_t triangle, const Ray& ray, float tNear) {
   assert(instance < scene.instances.size());
   const Instance& inst = scene.instances[instance];
   const Mesh& mesh = scene.meshes[inst.mesh];
+  // One named result on every path, so it is built in the caller's slot (a second named one would make
+  // the return a copy of the ~200-byte record per hit).
+  SurfaceHit h;
   if (mesh.exact) {
-    SurfaceHit exact;
-    if (resolveExact(scene, transform, instance, ray, tNear, exact)) return exact;
+    if (resolveExact(scene, transform, instance, ray, tNear, h)) return h;
+    h = SurfaceHit{};  // whatever the solid's test wrote
     // Past the solid (Embree and this disagree only on a grazing ray): the proxy's triangle, as before; a
     // hit named as the solid's (kExactTriangle) takes the proxy's first.
     if (triangle == kExactTriangle) triangle = 0;
   }
-  assert(triangle < mesh.triangleCount());
-  SurfaceHit h;
   h.instance = instance;
   h.triangle = triangle;
   h.material = inst.material;
-  for (int i = 0; i < 3; ++i) {
-    h.vertex[i] = mesh.indices[3 * static_cast<std::size_t>(triangle) + static_cast<std::size_t>(i)];
-    h.vertexW[i] = glm::vec3(transform.worldFromObject * glm::vec4(mesh.positions[h.vertex[i]], 1.0f));
-  }
-  h.bary = triangleBarycentrics(ray.origin, ray.dir, h.vertexW[0], h.vertexW[1], h.vertexW[2]);
-  h.posW = h.bary.x * h.vertexW[0] + h.bary.y * h.vertexW[1] + h.bary.z * h.vertexW[2];
-  // Error scale of posW: the interpolation's terms and, before them, the transform's (|M|·|p| + |t|,
-  // larger than |vertexW| when the transform cancels a large object-space coordinate).
-  glm::vec3 mag[3];
-  for (int i = 0; i < 3; ++i)
-    mag[i] = transform.absLinear * glm::abs(mesh.positions[h.vertex[i]]) + transform.absTranslation;
-  h.posMagnitude = interpolationMagnitude(h.bary, mag[0], mag[1], mag[2]);
+  resolveTriangle(mesh, transform, triangle, ray, h.vertex, h.vertexW, h.bary, h);
   h.eyeW = ray.origin;
   h.toEyeW = -ray.dir;
-
-  // The plane's normal in double: a needle triangle's edge vectors are nearly parallel and their float
-  // cross product can point anywhere, sending offsets and the inside/outside test the wrong way.
-  glm::dvec3 ngD = glm::cross(glm::dvec3(h.vertexW[1]) - glm::dvec3(h.vertexW[0]),
-                              glm::dvec3(h.vertexW[2]) - glm::dvec3(h.vertexW[0]));
-  double ngLen = glm::length(ngD);
-  // A zero-area triangle has no plane: face the ray so shading and offsets stay finite.
-  h.geomNormalW = ngLen > 0.0 && std::isfinite(ngLen) ? glm::vec3(ngD / ngLen) : h.toEyeW;
-  h.normalW = h.geomNormalW;
-  if (!mesh.normals.empty()) {
-    glm::vec3 n = transform.normalWorldFromObject * interpolate(mesh.normals, h);
-    float len = glm::length(n);
-    if (len > 0.0f && std::isfinite(len)) h.normalW = n / len;
-  }
   if (!mesh.uvs.empty()) {
     glm::vec2 uv = interpolate(mesh.uvs, h);
     const Material& m = scene.materials[h.material];
@@ -296,12 +347,7 @@ SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, st
     if (isFinite(n)) h.normalW = n;
   }
   if (m.procedural.type != Pattern::None) applyProcedural(m, transform, interpolate(mesh.positions, h), h);
-  // Two-sided lighting: back faces are lit like fronts.
-  if (glm::dot(h.geomNormalW, h.toEyeW) < 0.0f) {
-    h.backFace = true;
-    h.geomNormalW = -h.geomNormalW;
-    h.normalW = -h.normalW;
-  }
+  h.backFace = faceTheViewer(h, h.toEyeW);
   float texA = 1.0f;
   if (m.kdTexture >= 0) {
     glm::vec4 kd = sampleBilinear(scene.textures[static_cast<std::size_t>(m.kdTexture)], h.uv);

@@ -193,17 +193,30 @@ inline constexpr int kGlossReflectStream = 16, kGlossRefractStream = 17;
 /// set where sample k of that light is unoccluded.
 using AreaSampleBits = std::array<std::uint32_t, kMaxLights>;
 
-/// A surface point, from docs/shading.md "Inputs at a hit".
-struct SurfaceHit {
+/// What a point's shadow rays read (Whitted's shadow rays, SpawnOrigins, the hybrid shadows' classify): the
+/// leading part of every SurfaceHit, and all the ray pass keeps of a primary hit that spawns no reflection or
+/// refraction ray (resolvePrimaryPoint), so most pixels never fill a whole SurfaceHit.
+struct ShadowPoint {
   std::uint32_t instance = 0;
   std::uint32_t triangle = 0;
-  std::uint32_t vertex[3] = {0, 0, 0};
-  glm::vec3 bary{1.0f, 0.0f, 0.0f};  // b0, b1, b2
-  glm::vec3 vertexW[3];              // p0, p1, p2 in world space
+  std::uint32_t material = 0;
+  /// Seed of the point's area-light samples (tdLightSampleU): resolveHit makes it from the point itself
+  /// (secondary hits); a primary hit gets its pixel's (tdPixelSeed), which the shade pass can make too.
+  std::uint32_t lightSeed = 0;
+  /// When within the shutter the ray that found it ran (Camera::timeU; 0.5 without motion blur): the rays
+  /// it spawns run then too, and a moving instance is where that time puts it (EmbreeScene::transformAt).
+  float time = 0.5f;
   glm::vec3 posW{0.0f};              // b0·p0 + b1·p1 + b2·p2
   glm::vec3 posMagnitude{0.0f};      // bound of the magnitudes behind posW (offsetRayOrigin's error scale)
   glm::vec3 geomNormalW{0.0f, 1.0f, 0.0f};  // Ng, unit, flipped towards the viewer (two-sided lighting)
   glm::vec3 normalW{0.0f, 1.0f, 0.0f};      // N, unit, flipped with Ng
+};
+
+/// A surface point, from docs/shading.md "Inputs at a hit".
+struct SurfaceHit : ShadowPoint {
+  std::uint32_t vertex[3] = {0, 0, 0};
+  glm::vec3 bary{1.0f, 0.0f, 0.0f};  // b0, b1, b2
+  glm::vec3 vertexW[3];              // p0, p1, p2 in world space
   bool backFace = false;             // the ray arrived against the counter-clockwise front (Ng was flipped)
   glm::vec3 toEyeW{0.0f, 0.0f, 1.0f};       // V: unit, towards the ray origin
   glm::vec3 eyeW{0.0f};              // the ray origin (Gouraud's per-vertex V)
@@ -212,13 +225,6 @@ struct SurfaceHit {
   glm::vec3 tint{1.0f};              // texture × vertex colour
   glm::vec3 emissionTint{1.0f};      // emissive texture (sRGB-decoded), multiplies the emission
   float coverage = 1.0f;             // BLEND: tdCoverage of the kd texture's alpha; 1 otherwise
-  std::uint32_t material = 0;
-  /// Seed of the point's area-light samples (tdLightSampleU): resolveHit makes it from the point itself
-  /// (secondary hits); a primary hit gets its pixel's (tdPixelSeed), which the shade pass can make too.
-  std::uint32_t lightSeed = 0;
-  /// When within the shutter the ray that found it ran (Camera::timeU; 0.5 without motion blur): the rays
-  /// it spawns run then too, and a moving instance is where that time puts it (EmbreeScene::transformAt).
-  float time = 0.5f;
 };
 
 /// Sample k of area light `light` seen from `posW` for a point with `seed`: tdAreaLightSample at the frame's
@@ -247,9 +253,19 @@ inline SurfaceHit resolvePrimary(const Scene& scene, const InstanceTransform& tr
   return resolveHit(scene, transform, instance, id.y, ray, tNear);
 }
 
+/// Whether a primary hit on `instance` needs its whole SurfaceHit in the ray pass: its material may spawn
+/// reflection or refraction rays (with `secondaryRays`: kr, kt > 0 in the frame's materials, or BLEND, whose
+/// coverage may be below 1), or its normal or point comes from more than the triangle (an exact solid, a
+/// normal map, a procedural bump). Otherwise resolvePrimaryPoint gives all the pass reads of it.
+bool primaryNeedsWholeHit(const Scene& scene, const FrameShading& frame, std::uint32_t instance, bool secondaryRays);
+
+/// The ShadowPoint of resolvePrimary's hit, to the bit, for an instance primaryNeedsWholeHit says false of:
+/// the same vertices, barycentrics, position, error scale and normals, without the rest of the record.
+ShadowPoint resolvePrimaryPoint(const Scene& scene, const InstanceTransform& transform, glm::uvec2 id, const Ray& ray);
+
 /// The origin of a ray leaving `hit` towards the side of unit normal `side` (±geomNormalW): offset by the
 /// hit's own rounding error (RayMath.h, the scale-aware offsetRayOrigin).
-inline glm::vec3 spawnOrigin(const SurfaceHit& hit, glm::vec3 side) {
+inline glm::vec3 spawnOrigin(const ShadowPoint& hit, glm::vec3 side) {
   return offsetRayOrigin(hit.posW, side, hit.posMagnitude);
 }
 

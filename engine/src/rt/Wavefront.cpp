@@ -24,7 +24,7 @@ void ShadowBatch::clear() {
 }
 
 template <class Capture>
-std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot,
+std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const ShadowPoint& hit, std::size_t slot,
                                Capture& capture, const ShadowKeep* keep, std::uint32_t* area, std::size_t areaStride,
                                std::uint32_t proof) {
   std::uint32_t visible = 0;
@@ -310,7 +310,7 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
   }
 }
 
-std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot) {
+std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const ShadowPoint& hit, std::size_t slot) {
   NoCapture none;
   return add(whitted, lights, hit, slot, none);
 }
@@ -328,9 +328,9 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
 }
 
 // The frame's instantiation and the bench's; no others.
-template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, NoCapture&,
+template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const ShadowPoint&, std::size_t, NoCapture&,
                                         const ShadowKeep*, std::uint32_t*, std::size_t, std::uint32_t);
-template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const SurfaceHit&, std::size_t, TileCapture&,
+template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const ShadowPoint&, std::size_t, TileCapture&,
                                         const ShadowKeep*, std::uint32_t*, std::size_t, std::uint32_t);
 template void ShadowBatch::trace(RTCScene, LightMask*, RayCounts&, NoCapture&);
 template void ShadowBatch::trace(RTCScene, LightMask*, RayCounts&, TileCapture&);

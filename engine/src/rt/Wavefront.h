@@ -43,14 +43,14 @@ class ShadowBatch {
   /// `proof`: the GL's shadow proofs of this (primary) hit (VisibilityBuffer::proofs): where bit 8 + j is
   /// set, light j's ray is answered by bit j without being traced (counted in shadowByMap).
   template <class Capture>
-  std::uint32_t add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot,
+  std::uint32_t add(const Whitted& whitted, std::size_t lights, const ShadowPoint& hit, std::size_t slot,
                     Capture& capture, const ShadowKeep* keep = nullptr, std::uint32_t* area = nullptr,
                     std::size_t areaStride = 1, std::uint32_t proof = 0);
   /// Traces the queued rays and ORs the bit of every unoccluded one into masks[its slot].
   template <class Capture>
   void trace(RTCScene scene, LightMask* masks, RayCounts& counts, Capture& capture);
   // The same with nothing recorded (the frame's policy, rt/TileCapture.h).
-  std::uint32_t add(const Whitted& whitted, std::size_t lights, const SurfaceHit& hit, std::size_t slot);
+  std::uint32_t add(const Whitted& whitted, std::size_t lights, const ShadowPoint& hit, std::size_t slot);
   void trace(RTCScene scene, LightMask* masks, RayCounts& counts);
 
  private:

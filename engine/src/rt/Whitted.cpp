@@ -61,14 +61,14 @@ void setPacketLane(RTCRay8& packet, int k, const RTCRay& ray) {
 }
 
 template <class Recorder>
-ShadowRay Whitted::shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins, Recorder rec) const {
+ShadowRay Whitted::shadowRay(const ShadowPoint& hit, std::size_t light, SpawnOrigins& origins, Recorder rec) const {
   ShadowRay r = shadowRayUnanswered(hit, light, origins, rec);
   if (r.needed && shadowMaps_) answerByMap(hit, light, r, rec);
   return r;
 }
 
 template <class Recorder>
-ShadowRay Whitted::shadowRayUnanswered(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins,
+ShadowRay Whitted::shadowRayUnanswered(const ShadowPoint& hit, std::size_t light, SpawnOrigins& origins,
                                        Recorder rec) const {
   if (!frame_.castsShadows(light)) return noShadowRay(light, NoShadowRay::CastsNoShadows, rec);
   glm::vec3 toLight;
@@ -78,7 +78,7 @@ ShadowRay Whitted::shadowRayUnanswered(const SurfaceHit& hit, std::size_t light,
 }
 
 template <class Recorder>
-ShadowRay Whitted::areaShadowRay(const SurfaceHit& hit, std::size_t light, int k, SpawnOrigins& origins,
+ShadowRay Whitted::areaShadowRay(const ShadowPoint& hit, std::size_t light, int k, SpawnOrigins& origins,
                                  Recorder rec) const {
   if (!frame_.castsShadows(light)) return noShadowRay(light, NoShadowRay::CastsNoShadows, rec);
   glm::vec3 toLight;
@@ -96,7 +96,7 @@ ShadowRay Whitted::noShadowRay(std::size_t light, NoShadowRay why, Recorder rec)
 }
 
 template <class Recorder>
-ShadowRay Whitted::rayTowards(const SurfaceHit& hit, std::size_t light, glm::vec3 e, glm::vec3 toLight, float dist,
+ShadowRay Whitted::rayTowards(const ShadowPoint& hit, std::size_t light, glm::vec3 e, glm::vec3 toLight, float dist,
                               SpawnOrigins& origins, Recorder rec) const {
   const GpuMaterial& m = frame_.materials[hit.material];
   bool flat = static_cast<int>(m.krKtIorModel.w + 0.5f) == TD_MODEL_FLAT;
@@ -120,7 +120,7 @@ ShadowRay Whitted::rayTowards(const SurfaceHit& hit, std::size_t light, glm::vec
 }
 
 template <class Recorder>
-void Whitted::answerByMap(const SurfaceHit& hit, std::size_t light, ShadowRay& r, Recorder rec) const {
+void Whitted::answerByMap(const ShadowPoint& hit, std::size_t light, ShadowRay& r, Recorder rec) const {
   if (!shadowMaps_) return;
   // Hybrid shadows: an answer the map proves is the ray's own (rt/ShadowCertainty.h).
   ShadowAnswer answer = shadowMaps_->classify(light, hit, r.originW, r.dirW, r.tFar);
@@ -132,7 +132,7 @@ void Whitted::answerByMap(const SurfaceHit& hit, std::size_t light, ShadowRay& r
 }
 
 template <class Recorder>
-std::uint32_t Whitted::lightMask(const SurfaceHit& hit, RayCounts& counts, Recorder rec, AreaSampleBits* area) const {
+std::uint32_t Whitted::lightMask(const ShadowPoint& hit, RayCounts& counts, Recorder rec, AreaSampleBits* area) const {
   std::uint32_t mask = 0;
   SpawnOrigins origins;
   auto occluded = [&](const ShadowRay& s) {
@@ -312,16 +312,16 @@ glm::vec3 Whitted::radiance(glm::vec3 originW, glm::vec3 dirW, float time, int d
 }
 
 // The passes' instantiation (no recorder) and PixelTrace's (through RayRecorder); no others.
-template ShadowRay Whitted::shadowRay(const SurfaceHit&, std::size_t, SpawnOrigins&, NoRecorder) const;
-template ShadowRay Whitted::shadowRay(const SurfaceHit&, std::size_t, SpawnOrigins&, Recording) const;
-template ShadowRay Whitted::shadowRayUnanswered(const SurfaceHit&, std::size_t, SpawnOrigins&, NoRecorder) const;
-template ShadowRay Whitted::shadowRayUnanswered(const SurfaceHit&, std::size_t, SpawnOrigins&, Recording) const;
-template void Whitted::answerByMap(const SurfaceHit&, std::size_t, ShadowRay&, NoRecorder) const;
-template void Whitted::answerByMap(const SurfaceHit&, std::size_t, ShadowRay&, Recording) const;
-template std::uint32_t Whitted::lightMask(const SurfaceHit&, RayCounts&, NoRecorder, AreaSampleBits*) const;
-template std::uint32_t Whitted::lightMask(const SurfaceHit&, RayCounts&, Recording, AreaSampleBits*) const;
-template ShadowRay Whitted::areaShadowRay(const SurfaceHit&, std::size_t, int, SpawnOrigins&, NoRecorder) const;
-template ShadowRay Whitted::areaShadowRay(const SurfaceHit&, std::size_t, int, SpawnOrigins&, Recording) const;
+template ShadowRay Whitted::shadowRay(const ShadowPoint&, std::size_t, SpawnOrigins&, NoRecorder) const;
+template ShadowRay Whitted::shadowRay(const ShadowPoint&, std::size_t, SpawnOrigins&, Recording) const;
+template ShadowRay Whitted::shadowRayUnanswered(const ShadowPoint&, std::size_t, SpawnOrigins&, NoRecorder) const;
+template ShadowRay Whitted::shadowRayUnanswered(const ShadowPoint&, std::size_t, SpawnOrigins&, Recording) const;
+template void Whitted::answerByMap(const ShadowPoint&, std::size_t, ShadowRay&, NoRecorder) const;
+template void Whitted::answerByMap(const ShadowPoint&, std::size_t, ShadowRay&, Recording) const;
+template std::uint32_t Whitted::lightMask(const ShadowPoint&, RayCounts&, NoRecorder, AreaSampleBits*) const;
+template std::uint32_t Whitted::lightMask(const ShadowPoint&, RayCounts&, Recording, AreaSampleBits*) const;
+template ShadowRay Whitted::areaShadowRay(const ShadowPoint&, std::size_t, int, SpawnOrigins&, NoRecorder) const;
+template ShadowRay Whitted::areaShadowRay(const ShadowPoint&, std::size_t, int, SpawnOrigins&, Recording) const;
 template void Whitted::secondary(const SurfaceHit&, int, float, glm::vec3&, glm::vec3&, bool&, bool&, RayCounts&,
                                  NoRecorder) const;
 template void Whitted::secondary(const SurfaceHit&, int, float, glm::vec3&, glm::vec3&, bool&, bool&, RayCounts&,

@@ -89,7 +89,7 @@ struct ShadowRay {
 /// computed the first time a ray needs it: a hit's shadow rays mostly leave from the same side.
 class SpawnOrigins {
  public:
-  glm::vec3 towards(const SurfaceHit& hit, bool front) {
+  glm::vec3 towards(const ShadowPoint& hit, bool front) {
     int i = front ? 0 : 1;
     if (!made_[i]) {
       origin_[i] = spawnOrigin(hit, front ? hit.geomNormalW : -hit.geomNormalW);
@@ -201,18 +201,18 @@ class Whitted {
 
   /// The shadow ray from hit towards direct light j (or why none is needed); `origins` is shared by the
   /// calls for one hit, so its lights reuse the offset origins.
-  ShadowRay shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins) const {
+  ShadowRay shadowRay(const ShadowPoint& hit, std::size_t light, SpawnOrigins& origins) const {
     return shadowRay(hit, light, origins, NoRecorder{});
   }
   /// All direct lights' visibility bits at hit, one rtcOccluded1 per needed ray. An area light's bit is set
   /// where any of its samples is visible; `area` (when given) gets each area light's sample bits.
-  std::uint32_t lightMask(const SurfaceHit& hit, RayCounts& counts, AreaSampleBits* area = nullptr) const {
+  std::uint32_t lightMask(const ShadowPoint& hit, RayCounts& counts, AreaSampleBits* area = nullptr) const {
     return lightMask(hit, counts, NoRecorder{}, area);
   }
   /// The shadow ray from hit towards sample k of area light j (areaLightSample), or why none is needed.
   /// No map answers it: a shadow map from the light's centre proves nothing about its other points.
   template <class Recorder>
-  ShadowRay areaShadowRay(const SurfaceHit& hit, std::size_t light, int k, SpawnOrigins& origins, Recorder rec) const;
+  ShadowRay areaShadowRay(const ShadowPoint& hit, std::size_t light, int k, SpawnOrigins& origins, Recorder rec) const;
   WhittedWeights weights(const SurfaceHit& hit) const;
   /// S and T of the Whitted sum at `hit` (depth = bounces so far, throughput = product of weights so
   /// far), already multiplied by wR and wT; zero where the ray is not traced.
@@ -237,16 +237,16 @@ class Whitted {
 
   // The same, reporting to a recorder; instantiated for NoRecorder and Recording only.
   template <class Recorder>
-  ShadowRay shadowRay(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins, Recorder rec) const;
+  ShadowRay shadowRay(const ShadowPoint& hit, std::size_t light, SpawnOrigins& origins, Recorder rec) const;
   /// shadowRay in two steps, for a caller that may know the answer already (a ray kept from the last frame,
   /// rt/RayReuse.h): the ray or why none is needed, without asking the hybrid shadows' maps; then the maps'
   /// answer, when they have one (r.needed becomes false).
   template <class Recorder>
-  ShadowRay shadowRayUnanswered(const SurfaceHit& hit, std::size_t light, SpawnOrigins& origins, Recorder rec) const;
+  ShadowRay shadowRayUnanswered(const ShadowPoint& hit, std::size_t light, SpawnOrigins& origins, Recorder rec) const;
   template <class Recorder>
-  void answerByMap(const SurfaceHit& hit, std::size_t light, ShadowRay& r, Recorder rec) const;
+  void answerByMap(const ShadowPoint& hit, std::size_t light, ShadowRay& r, Recorder rec) const;
   template <class Recorder>
-  std::uint32_t lightMask(const SurfaceHit& hit, RayCounts& counts, Recorder rec, AreaSampleBits* area = nullptr) const;
+  std::uint32_t lightMask(const ShadowPoint& hit, RayCounts& counts, Recorder rec, AreaSampleBits* area = nullptr) const;
   template <class Recorder>
   void secondary(const SurfaceHit& hit, int depth, float throughput, glm::vec3& reflected, glm::vec3& transmitted,
                  bool& tracedReflection, bool& tracedRefraction, RayCounts& counts, Recorder rec) const;
@@ -282,7 +282,7 @@ class Whitted {
   /// The shadow ray towards a light (or an area light's sample) whose radiance, direction and distance at
   /// the hit are e, toLight and dist (dist < 0: directional), or why none is needed.
   template <class Recorder>
-  ShadowRay rayTowards(const SurfaceHit& hit, std::size_t light, glm::vec3 e, glm::vec3 toLight, float dist,
+  ShadowRay rayTowards(const ShadowPoint& hit, std::size_t light, glm::vec3 e, glm::vec3 toLight, float dist,
                        SpawnOrigins& origins, Recorder rec) const;
   template <class Recorder>
   ShadowRay noShadowRay(std::size_t light, NoShadowRay why, Recorder rec) const;
