@@ -144,6 +144,18 @@ void flipRows(std::vector<T>& pixels, int width, int height) {
     std::swap_ranges(pixels.begin() + y * row, pixels.begin() + (y + 1) * row, pixels.begin() + (height - 1 - y) * row);
 }
 
+/// Reads the `width` × `height` colour target of `fbo` as `channel` gives it (one T per texel, tightly
+/// packed) into `pixels`, row 0 at the top: the ray pass's read-backs of the ids and the shadow proofs.
+template <class T>
+void readTopDown(const Framebuffer& fbo, const ChannelFormat& channel, int width, int height, std::vector<T>& pixels) {
+  pixels.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo.id());
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glReadPixels(0, 0, width, height, channel.transfer, channel.type, pixels.data());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  flipRows(pixels, width, height);
+}
+
 /// Nearest or linear sampling with clamp-to-edge, set on the texture itself (no sampler objects).
 void setSampling(const Texture& texture, GLenum minFilter, GLenum magFilter);
 

@@ -159,13 +159,7 @@ Result<void> ShadowProofPass::prove(const GpuScene& scene, const Texture& ids, i
 }
 
 void ShadowProofPass::read(std::vector<std::uint32_t>& out) const {
-  const std::size_t row = static_cast<std::size_t>(width_);
-  out.resize(row * static_cast<std::size_t>(height_));
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_.id());
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(0, 0, width_, height_, kChannelShadowProofs.transfer, kChannelShadowProofs.type, out.data());
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  flipRows(out, width_, height_);
+  readTopDown(fbo_, kChannelShadowProofs, width_, height_, out);
 }
 
 }  // namespace tandem::gl

@@ -165,13 +165,7 @@ static_assert(kChannelIds.transfer == GL_RG_INTEGER && kChannelIds.type == GL_UN
               "ids travel as one glm::uvec2 per pixel (rt::VisibilityBuffer)");
 
 void VisibilityPass::readIds(std::vector<glm::uvec2>& ids) const {
-  std::size_t rowLength = static_cast<std::size_t>(width_);
-  ids.resize(rowLength * static_cast<std::size_t>(height_));
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_.id());
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(0, 0, width_, height_, kChannelIds.transfer, kChannelIds.type, ids.data());
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  flipRows(ids, width_, height_);
+  readTopDown(fbo_, kChannelIds, width_, height_, ids);
 }
 
 }  // namespace tandem::gl
