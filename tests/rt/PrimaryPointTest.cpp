@@ -12,6 +12,7 @@
 #include "rt/RtTestScenes.h"
 #include "rt/ShadowScenes.h"
 #include "rt/SurfaceShading.h"
+#include "rt/Whitted.h"
 #include "support/TestSupport.h"
 #include "tandem/Primitives.h"
 #include "tandem/SceneFile.h"
@@ -109,6 +110,101 @@ TEST(PrimaryPointTest, ZeroAreaTriangleFacesTheRay) {
   EXPECT_TRUE(sameBits(lean.geomNormalW, whole.geomNormalW));
   EXPECT_TRUE(sameBits(lean.geomNormalW, -ray.dir));  // no plane: faces the ray
   EXPECT_TRUE(sameBits(lean.normalW, whole.normalW));
+}
+
+// The pass's light masks against the whole hit's: each pixel's mask and area-light sample bits from
+// Whitted::lightMask on resolvePrimary's SurfaceHit (one ray at a time, no lean point), and the same number of
+// shadow rays. Scenes with every kind of primary hit: plain (lean), mirror, glass, BLEND, a procedural bump, a
+// normal map, exact solids (csg.json), and an area light.
+TEST(PrimaryPointTest, ThePassMasksAreTheWholeHitsMasks) {
+  Scene mixed = objectsOnAFloor();
+  Texture wavy;
+  wavy.width = wavy.height = 2;
+  wavy.srgb = false;
+  wavy.rgba8 = {200, 128, 230, 255, 60, 128, 230, 255, 128, 200, 230, 255, 128, 60, 230, 255};
+  mixed.textures.push_back(wavy);
+  Material bumped = diffuse(glm::vec3(0.7f));
+  bumped.procedural.type = Pattern::Noise;
+  bumped.procedural.scale = 4.0f;
+  bumped.procedural.bump = 0.8f;
+  Material mapped = diffuse(glm::vec3(0.6f));
+  mapped.normalTexture = 0;
+  Material mirror = diffuse(glm::vec3(0.2f));
+  mirror.kr = 0.7f;
+  Material blend = diffuse(glm::vec3(0.5f));
+  blend.alphaMode = AlphaMode::Blend;
+  Mesh box = makeBox({1.0f, 1.0f, 1.0f});
+  box.tangents.assign(box.positions.size(), glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
+  mixed.instances[1].material = addMaterial(mixed, bumped);  // the sphere
+  mixed.instances[2].material = addMaterial(mixed, mapped);  // the box, with tangents
+  mixed.instances[2].mesh = addMesh(mixed, box);
+  addInstance(mixed, addMesh(mixed, makeSphere(0.6f, 32, 16)), addMaterial(mixed, mirror), translate({0.0f, 0.6f, 2.0f}));
+  addInstance(mixed, addMesh(mixed, makeBox({0.8f, 0.8f, 0.8f})), addMaterial(mixed, blend), translate({-0.5f, 0.4f, 3.0f}));
+  Light lamp = pointLight({1.0f, 4.0f, 2.0f});
+  lamp.type = LightType::Sphere;
+  lamp.radius = 0.4f;
+  mixed.lights.push_back(lamp);
+  struct Case {
+    std::string name;
+    Scene scene;
+  };
+  std::vector<Case> cases;
+  for (const char* file : {"whitted.json", "csg.json"}) {
+    auto loaded = loadSceneFile(tandem::test::sourceDir() + "/assets/scenes/" + file);
+    ASSERT_TRUE(loaded.ok()) << file;
+    cases.push_back({file, std::move(*loaded)});
+  }
+  cases.push_back({"every kind of primary hit", mixed});
+  const int w = 96, h = 54;
+  for (const Case& c : cases) {
+    const Scene& scene = c.scene;
+    auto tracer = makeTracer(scene, 2);
+    ASSERT_TRUE(tracer) << c.name;
+    auto embree = EmbreeScene::build(sharedTestDevice(), scene);
+    ASSERT_TRUE(embree.ok()) << c.name;
+    // With secondary rays (mirrors, glass and BLEND take the whole hit) and without (they too take the lean
+    // point; the pass's shadow rays are then the primary hits' alone, and counted as the whole hits' are).
+    for (const int depth : {FrameSettings{}.maxDepth, 0}) {
+      FrameSettings s = settingsFor(w, h);
+      s.shadows = s.reflections = s.refraction = EffectMode::Ray;
+      s.lightSamples = 4;
+      s.maxDepth = depth;
+      VisibilityBuffer vis;
+      tracer->castVisibility(scene.camera, w, h, vis);
+      RayOutputs out;
+      tracer->trace(scene, scene.camera, s, vis, out);
+      const FrameShading frame = FrameShading::forFrame(scene, s, scene.camera.sampleIndex, (*embree)->anchor(), nullptr);
+      const Whitted whitted(scene, **embree, frame, TraceModes::hybrid(s));
+      const Camera cam = toRenderSpace(scene.camera, (*embree)->anchor());
+      const CameraRays rays(cam, {w, h});
+      RayCounts counts;
+      int differing = 0, lean = 0;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+          const glm::uvec2 id = vis.ids[i];
+          if (id.x == 0) continue;
+          lean += primaryNeedsWholeHit(scene, frame, id.x - 1, depth > 0) ? 0 : 1;
+          SurfaceHit hit =
+              resolvePrimary(scene, (*embree)->transform(id.x - 1), cam, id, rays.through(glm::vec2(x, y) + 0.5f));
+          hit.time = rays.time();
+          hit.lightSeed = shading::tdPixelSeed(x, y, 0u);
+          AreaSampleBits area{};
+          const std::uint32_t mask = whitted.lightMask(hit, counts, &area);
+          bool same = mask == out.lightMask[i];
+          for (int a = 0; a < out.areaLights; ++a)
+            same = same && area[static_cast<std::size_t>(a)] ==
+                               out.areaSamples[static_cast<std::size_t>(a) * out.lightMask.size() + i];
+          if (!same && ++differing <= 3)
+            ADD_FAILURE() << c.name << " depth " << depth << ": pixel (" << x << ", " << y << ") differs";
+        }
+      EXPECT_EQ(differing, 0) << c.name << " depth " << depth;
+      if (depth == 0) {
+        EXPECT_EQ(counts.shadow, out.counts.shadow) << c.name;
+      }
+      EXPECT_GT(lean, 500) << c.name << " depth " << depth << ": the lean path was not taken";
+    }
+  }
 }
 
 // Which primary hits get the whole record: those that spawn rays (when the frame traces any), and those whose

@@ -3,6 +3,7 @@
 // (glCreate*) or deleted; everything else holds one of these. Every object gets a label, so debuggers
 // (apitrace, RenderDoc) and KHR_debug messages name it.
 #include <algorithm>
+#include <cassert>
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -148,6 +149,7 @@ void flipRows(std::vector<T>& pixels, int width, int height) {
 /// packed) into `pixels`, row 0 at the top: the ray pass's read-backs of the ids and the shadow proofs.
 template <class T>
 void readTopDown(const Framebuffer& fbo, const ChannelFormat& channel, int width, int height, std::vector<T>& pixels) {
+  assert(sizeof(T) == texelBytes(channel.internal) && "readTopDown: one T per texel of the channel");
   pixels.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
   glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo.id());
   glPixelStorei(GL_PACK_ALIGNMENT, 4);

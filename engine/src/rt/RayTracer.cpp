@@ -265,17 +265,18 @@ struct HybridTiles {
         // spawn no reflection or refraction ray: their shadow rays need only the point (ShadowPoint), not
         // the whole record with its texture coordinates, tints and eye vectors.
         const InstanceTransform& transform = embree.transformAt(instance, cameraRays.time());
+        const std::uint32_t seed = shading::tdPixelSeed(p.x, p.y, 0u);  // the shade pass draws these samples too
         ShadowPoint point;
         if (wholeHit[instance]) {
           SurfaceHit hit = resolvePrimary(scene, transform, camera, id, ray);
           hit.time = cameraRays.time();
-          hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);  // the shade pass draws this pixel's light samples too
+          hit.lightSeed = seed;
           wavefront.addPrimary(hit, g, counts, capture);
           point = hit;
         } else {
           point = resolvePrimaryPoint(scene, transform, id, ray);
           point.time = cameraRays.time();
-          point.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);
+          point.lightSeed = seed;
         }
         if (!keeping) {
           queueShadows(g, pixel, point, false);
@@ -340,8 +341,7 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
                              : ReuseGate();
   std::vector<std::uint8_t> wholeHit(scene.instances.size());
   for (std::size_t i = 0; i < wholeHit.size(); ++i)
-    wholeHit[i] = primaryNeedsWholeHit(scene, frame, static_cast<std::uint32_t>(i),
-                                      modes.maxDepth > 0 && (modes.reflections || modes.refraction));
+    wholeHit[i] = primaryNeedsWholeHit(scene, frame, static_cast<std::uint32_t>(i), modes.spawnsAt(0));
   const HybridTiles<Capture> tiles{scene,     embree, frame, whitted, cam, cameraRays, visibility, out,
                                    std::max(1, settings.rayScale), batchedShadowRays, gate, only, wholeHit};
   AtomicCounts total;

@@ -288,9 +288,9 @@ bool primaryNeedsWholeHit(const Scene& scene, const FrameShading& frame, std::ui
   const Instance& inst = scene.instances[instance];
   const Mesh& mesh = scene.meshes[inst.mesh];
   const Material& m = scene.materials[inst.material];
-  // Wavefront::spawn's test for a hit that spawns nothing (coverage is 1 unless BLEND).
-  const glm::vec4& krKt = frame.materials[inst.material].krKtIorModel;
-  const bool spawns = secondaryRays && (krKt.x > 0.0f || krKt.y > 0.0f || m.alphaMode == AlphaMode::Blend);
+  // Wavefront::spawn's test; coverage is 1 unless BLEND, where it is the texture's at the point.
+  const bool spawns = secondaryRays && (m.alphaMode == AlphaMode::Blend ||
+                                        !spawnsNoRay(frame.materials[inst.material].krKtIorModel, 1.0f));
   const bool normalMapped = m.normalTexture >= 0 && !mesh.tangents.empty() && !mesh.uvs.empty();
   const bool bumped = m.procedural.type != Pattern::None && m.procedural.bump > 0.0f;
   return mesh.exact || spawns || normalMapped || bumped;

@@ -253,6 +253,13 @@ inline SurfaceHit resolvePrimary(const Scene& scene, const InstanceTransform& tr
   return resolveHit(scene, transform, instance, id.y, ray, tNear);
 }
 
+/// A surface that neither reflects nor transmits (kr, kt <= 0 in its GpuMaterial's krKtIorModel) and is fully
+/// covered has zero Whitted weights (whittedSum; tdTransmitWeight with a = 1): it spawns no reflection or
+/// refraction ray. Wavefront::spawn skips such hits, and primaryNeedsWholeHit gives them the lean point.
+inline bool spawnsNoRay(const glm::vec4& krKtIorModel, float coverage) {
+  return !(krKtIorModel.x > 0.0f) && !(krKtIorModel.y > 0.0f) && coverage >= 1.0f;
+}
+
 /// Whether a primary hit on `instance` needs its whole SurfaceHit in the ray pass: its material may spawn
 /// reflection or refraction rays (with `secondaryRays`: kr, kt > 0 in the frame's materials, or BLEND, whose
 /// coverage may be below 1), or its normal or point comes from more than the triangle (an exact solid, a

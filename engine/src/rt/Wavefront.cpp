@@ -167,13 +167,10 @@ template <class Capture>
 void Wavefront::spawn(const SurfaceHit& hit, int depth, float throughput, std::int64_t parent, std::size_t pixel,
                       RayCounts& counts, Capture& capture) {
   const TraceModes& modes = whitted_.modes();
-  if (depth >= modes.maxDepth || (!modes.reflections && !modes.refraction)) return;
+  if (!modes.spawnsAt(depth)) return;
   const std::size_t first = b_.nodes.size();
-  // A surface that neither reflects nor transmits (kr, kt <= 0) and is fully covered has zero weights
-  // (whittedSum; tdTransmitWeight with a = 1): it spawns no ray, and the weights are not worked out. Most
-  // primary hits are such surfaces.
-  const glm::vec4& krKt = whitted_.frame().materials[hit.material].krKtIorModel;
-  if (!(krKt.x > 0.0f) && !(krKt.y > 0.0f) && hit.coverage >= 1.0f) {
+  // A surface that spawns no ray: its weights are not worked out.
+  if (spawnsNoRay(whitted_.frame().materials[hit.material].krKtIorModel, hit.coverage)) {
     if (parent >= 0) {  // a leaf of the path tree
       b_.nodes[static_cast<std::size_t>(parent)].firstChild = first;
       b_.nodes[static_cast<std::size_t>(parent)].children = 0;

@@ -35,6 +35,8 @@ struct TraceModes {
   float minContribution = 0.0f;
   FresnelMode fresnel = FresnelMode::Exact;
   bool fresnelWeighted = true;
+  /// Whether a hit at `depth` (bounces so far) may spawn reflection or refraction rays (Wavefront::spawn).
+  bool spawnsAt(int depth) const { return depth < maxDepth && (reflections || refraction); }
   static TraceModes hybrid(const FrameSettings& s);
   static TraceModes reference(const FrameSettings& s);  // raster-made effects become rays
   static TraceModes from(const RayEffects& effects, const FrameSettings& s);
