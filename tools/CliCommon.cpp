@@ -33,7 +33,7 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
                  "the same image) (default: the preset's)");
   app.add_option("--shadow-proofs", o.shadowProofs,
                  "With --shadows hybrid: where the primary hits' shadow rays are proved, auto (the GL on a GPU, "
-                 "else the CPU) | gl | cpu; the same image (default " + std::string(toString(d.shadowProofs)) + ")");
+                 "else the CPU) | gl | cpu | shafts (tile shafts alone, no light-space maps); the same image (default " + std::string(toString(d.shadowProofs)) + ")");
   app.add_option("--reflections", o.reflections, "off | raster | ray (default: the preset's)");
   app.add_option("--refraction", o.refraction, "off | raster | ray (default: the preset's)");
   app.add_option("--depth", o.depth,
@@ -132,7 +132,7 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
     return Error{"--shadows: expected off, raster, ray or hybrid, got " + inQuotes(*o.shadows)};
   if (o.shadowProofs) {
     auto p = parseShadowProofs(*o.shadowProofs);
-    if (!p) return Error{"--shadow-proofs: expected auto, gl or cpu, got " + inQuotes(*o.shadowProofs)};
+    if (!p) return Error{"--shadow-proofs: expected auto, gl, cpu or shafts, got " + inQuotes(*o.shadowProofs)};
     s.shadowProofs = *p;
   }
   if (auto r = effect("--reflections", o.reflections, s.reflections); !r) return r.error();

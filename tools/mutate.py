@@ -320,6 +320,24 @@ MUTATIONS = [
     ("lean-primary-point-despite-a-normal-map", "engine/src/rt/SurfaceShading.cpp",
      "return mesh.exact || spawns || normalMapped || bumped;", "return mesh.exact || spawns || bumped;",
      "tandem-rt-tests", "PrimaryPointTest.*"),
+    # Tile shafts: only a mesh in one axis plane may be passed over as its points' own; the shaft's planes
+    # bound the hull of both boxes; the other instances' bounds are at the pass's time.
+    ("shaft-own-instance-any-mesh", "engine/src/rt/TileShafts.cpp",
+     "    if (planes[mesh] >= 0) {", "    if (true) {",
+     "tandem-rt-tests", "TileShafts.*"),
+    ("shaft-plane-through-the-wrong-corner", "engine/src/rt/TileShafts.cpp",
+     "        p.d = ni * ai + nj * aj;", "        p.d = ni * bi + nj * aj;",
+     "tandem-rt-tests", "TileShafts.*"),
+    ("shaft-answers-other-lights", "engine/src/rt/Wavefront.cpp",
+     "    if (((shaftLit >> j) & 1u) != 0) {", "    if (shaftLit != 0) {",
+     "tandem-rt-tests", "TileShafts.*"),
+    ("shaft-plane-normal-flipped", "engine/src/rt/TileShafts.cpp",
+     "        if (ni < 0.0) ni = -ni, nj = -nj;", "        if (ni > 0.0) ni = -ni, nj = -nj;",
+     "tandem-rt-tests", "TileShafts.*"),
+    ("shaft-directional-rays-end-at-their-origins", "engine/src/rt/Wavefront.cpp",
+     "        const glm::dvec3 along = shafts_->beyondScene(from) * toLight;",
+     "        const glm::dvec3 along = 1e-3 * toLight;",
+     "tandem-rt-tests", "TileShafts.*"),
 ]
 
 

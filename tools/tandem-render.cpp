@@ -257,8 +257,9 @@ int main(int argc, char** argv) {
       // The maps are built by the first frame (and again after a move or a light change).
       double buildMs = 0;
       for (const FrameStats& s : stats) buildMs = std::max(buildMs, s.shadowMapsMs);
-      std::printf("  hybrid shadows: %llu shadow rays answered by the light-space maps instead (the primary hits' "
-                  "proved %s); maps %.1f MB, built in %.1f ms (first frame)\n",
+      std::printf("  hybrid shadows: %llu shadow rays answered by tile shafts and %llu by the light-space maps instead "
+                  "(the primary hits' proved %s); maps %.1f MB, built in %.1f ms (first frame)\n",
+                  static_cast<unsigned long long>(traced->rays.shadowByShaft),
                   static_cast<unsigned long long>(traced->rays.shadowByMap),
                   traced->shadowsProvedInGl ? "in the GL" : "by the ray pass",
                   static_cast<double>(traced->shadowMapBytes) / 1e6, buildMs);
@@ -319,6 +320,7 @@ int main(int argc, char** argv) {
                  {"reflection", traced->rays.reflection},
                  {"refraction", traced->rays.refraction},
                  {"shadow_by_map", traced->rays.shadowByMap},
+                 {"shadow_by_shaft", traced->rays.shadowByShaft},
                  {"resolved", traced->rays.resolved}};
     if (settings.hybridShadows && settings.shadows == EffectMode::Ray) {
       double buildMs = 0;

@@ -65,7 +65,7 @@ TEST(FrameOptions, OutOfRangeValuesAreErrorsNamingTheFlagAndValue) {
       {{"--size", "0x0"}, "--size: expected WxH"},
       {{"--preset", ""}, "--preset: unknown preset ''"},
       {{"--shadows", ""}, "--shadows: expected off, raster, ray or hybrid, got ''"},
-      {{"--shadow-proofs", "gpu"}, "--shadow-proofs: expected auto, gl or cpu, got 'gpu'"},
+      {{"--shadow-proofs", "gpu"}, "--shadow-proofs: expected auto, gl, cpu or shafts, got 'gpu'"},
       {{"--tonemap", "filmic"}, "--tonemap: expected none, reinhard or aces, got 'filmic'"},
       {{"--debug-view", "albedo"}, "--debug-view: unknown view 'albedo'"},
   };
@@ -131,7 +131,7 @@ TEST(FrameOptions, TargetFpsSetsTheFrameBudget) {
 
 TEST(FrameOptions, ShadowProofsSayWhereHybridShadowsAreProved) {
   for (const auto& [name, where] : {std::pair{"auto", ShadowProofs::Auto}, std::pair{"gl", ShadowProofs::Gl},
-                                    std::pair{"cpu", ShadowProofs::Cpu}}) {
+                                    std::pair{"cpu", ShadowProofs::Cpu}, std::pair{"shafts", ShadowProofs::Shafts}}) {
     auto r = resolveArgs({"--shadows", "hybrid", "--shadow-proofs", name});
     ASSERT_TRUE(r) << r.error().message;
     EXPECT_TRUE(r->hybridShadows);

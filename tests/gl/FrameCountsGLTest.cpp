@@ -155,9 +155,17 @@ TEST(FrameCountsGL, EveryPresetAndEffectCountsExactly) {
   expectCounts(f, s, {quarter.hits, 2 * quarter.hits, quarter.mirror, 0}, "hybrid-full, 1/4 grid");
   s = preset("hybrid-full");
   s.hybridShadows = true;
+  s.shadowProofs = ShadowProofs::Cpu;
   FrameStats st;
   gltest::drawFrame(f, s, &st);
   EXPECT_EQ(st.rays.shadow + st.rays.shadowByMap, 2 * full.hits) << "hybrid shadows: every answer a ray or a map's";
+  // With the tile shafts first (auto), a shaft also answers points that would need no ray (a secondary hit
+  // facing away from the light): at least every ray is answered, and fewer are traced or mapped.
+  s.shadowProofs = ShadowProofs::Auto;
+  gltest::drawFrame(f, s, &st);
+  EXPECT_GT(st.rays.shadowByShaft, 0u);
+  EXPECT_LT(st.rays.shadow + st.rays.shadowByMap, 2 * full.hits);
+  EXPECT_GE(st.rays.shadow + st.rays.shadowByMap + st.rays.shadowByShaft, 2 * full.hits);
 }
 
 TEST(FrameCountsGL, AreaLightsTraceOneRayPerSample) {

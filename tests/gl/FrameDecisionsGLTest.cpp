@@ -365,9 +365,9 @@ TEST(FrameDecisions, MovingThingsKeepOnlyTheShadowAnswersTheyCannotChange) {
       if (frame == 0) {
         EXPECT_EQ(got.rays.shadowKept, 0u) << "nothing to keep on the first frame";
       }
-      // Every answer is a traced ray, a map's, or a kept one, and the kept ones are what tracing gives.
-      EXPECT_EQ(got.rays.shadow + got.rays.shadowByMap + got.rays.shadowKept,
-                want.rays.shadow + want.rays.shadowByMap);
+      // Every answer is a traced ray, a map's, a shaft's or a kept one, and the kept ones are what tracing gives.
+      EXPECT_EQ(got.rays.shadow + got.rays.shadowByMap + got.rays.shadowByShaft + got.rays.shadowKept,
+                want.rays.shadow + want.rays.shadowByMap + want.rays.shadowByShaft);
       EXPECT_EQ(got.rays.primary, want.rays.primary);
       EXPECT_EQ(got.rays.reflection, want.rays.reflection) << "reflections are traced again";
       EXPECT_EQ(got.rays.refraction, want.rays.refraction);
@@ -376,7 +376,7 @@ TEST(FrameDecisions, MovingThingsKeepOnlyTheShadowAnswersTheyCannotChange) {
         EXPECT_GT(got.rays.shadowKept, 0u);
       }
       kept += got.rays.shadowKept;
-      answers += want.rays.shadow + want.rays.shadowByMap;
+      answers += want.rays.shadow + want.rays.shadowByMap + want.rays.shadowByShaft;
     }
     // The moving box is small next to the frame: most primary shadow answers outlive its moves (measured
     // 45 % of all answers in hybrid-full, whose reflections' shadow rays are never kept; 76 % otherwise).

@@ -121,14 +121,17 @@ void BM_RayPass(benchmark::State& state) {
   state.counters["shadow_rays"] = static_cast<double>(out.counts.shadow);
 }
 
-// The same pass with hybrid shadows (hybrid-full, --shadows hybrid; docs/shadows.md): the maps are built
-// by the first iteration and kept, so this is the per-frame cost of a scene where nothing moves.
+// The same pass with hybrid shadows (hybrid-full, --shadows hybrid; docs/shadows.md): proofs 0, the maps
+// alone (--shadow-proofs cpu), built by the first iteration and kept, so this is the per-frame cost of a
+// scene where nothing moves; proofs 1, the tile shafts alone (--shadow-proofs shafts: nothing to build);
+// proofs 2, the shafts first, then the maps (--shadow-proofs auto without a GPU).
 void BM_RayPassHybridShadows(benchmark::State& state) {
   RtFrame& f = rtFrame(state.range(0));
   if (!f.tracer) return state.SkipWithError(f.error.c_str());
   rt::RayOutputs out;
   FrameSettings settings = f.settings;
   settings.hybridShadows = true;
+  settings.shadowProofs = state.range(1) == 0 ? ShadowProofs::Cpu : state.range(1) == 1 ? ShadowProofs::Shafts : ShadowProofs::Auto;
   std::vector<double> ms;
   for (auto _ : state) {
     Timer t;
@@ -137,6 +140,7 @@ void BM_RayPassHybridShadows(benchmark::State& state) {
   }
   state.counters["shadow_rays"] = static_cast<double>(out.counts.shadow);
   state.counters["shadow_by_map"] = static_cast<double>(out.counts.shadowByMap);
+  state.counters["shadow_by_shaft"] = static_cast<double>(out.counts.shadowByShaft);
   state.counters["pass_ms"] = summarize(ms).median;
   state.counters["map_MB"] = static_cast<double>(f.tracer->shadowMapBytes()) / 1e6;
 }
@@ -355,7 +359,11 @@ void BM_VisibilityCastRays(benchmark::State& state) {
 void registerMicroBenchmarks() {
   auto scenes = [](benchmark::internal::Benchmark* b) { b->ArgName("heavy")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond); };
   scenes(benchmark::RegisterBenchmark("BM_RayPass", BM_RayPass)->MinTime(2.0));
-  scenes(benchmark::RegisterBenchmark("BM_RayPassHybridShadows", BM_RayPassHybridShadows)->MinTime(2.0));
+  benchmark::RegisterBenchmark("BM_RayPassHybridShadows", BM_RayPassHybridShadows)
+      ->ArgNames({"heavy", "proofs"})
+      ->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1})->Args({0, 2})->Args({1, 2})
+      ->Unit(benchmark::kMillisecond)
+      ->MinTime(2.0);
   benchmark::RegisterBenchmark("BM_RayPassKeptShadows", BM_RayPassKeptShadows)
       ->ArgNames({"keep", "fast"})
       ->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1})

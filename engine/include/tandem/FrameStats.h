@@ -18,13 +18,18 @@ struct RayCounts {
   /// Reuse across frames (FrameSettings::reuseRays): shadow rays whose answer was kept from the frame
   /// before, the camera still and nothing that moved near them (not traced, not in total()).
   std::uint64_t shadowKept = 0;
+  /// Hybrid shadows' tile shafts (docs/shadows.md "Tile shafts"): shadow tests (a point and a light)
+  /// answered lit together with the rest of their tile's towards the light, nothing else able to meet any
+  /// of them: not traced, not even set up, so a point whose light could not reach it (which needs no ray)
+  /// counts here too.
+  std::uint64_t shadowByShaft = 0;
   /// Exact solids (docs/csg.md): camera rays traced for the pixels the raster drew with an exact solid's
   /// proxy (the resolved pixels), each finding the solid's exact hit or what lies behind it.
   std::uint64_t resolved = 0;
   std::uint64_t total() const { return primary + shadow + reflection + refraction + resolved; }
   RayCounts& operator+=(const RayCounts& o) {
     primary += o.primary, shadow += o.shadow, reflection += o.reflection, refraction += o.refraction;
-    shadowByMap += o.shadowByMap, shadowKept += o.shadowKept, resolved += o.resolved;
+    shadowByMap += o.shadowByMap, shadowKept += o.shadowKept, shadowByShaft += o.shadowByShaft, resolved += o.resolved;
     return *this;
   }
 };

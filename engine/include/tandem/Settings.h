@@ -14,9 +14,10 @@ namespace tandem {
 /// How an effect is produced: not at all, by rasterization tricks, or by Embree rays.
 enum class EffectMode : std::uint8_t { Off = 0, Raster = 1, Ray = 2 };
 enum class FresnelMode : std::uint8_t { Exact = 0, Schlick = 1 };
-/// Where hybrid shadows prove the primary hits' shadow rays (FrameSettings::shadowProofs): in the GL when it
-/// is a GPU (Auto), always in the GL, or on the CPU in the ray pass.
-enum class ShadowProofs : std::uint8_t { Auto = 0, Gl = 1, Cpu = 2 };
+/// How hybrid shadows prove shadow rays (FrameSettings::shadowProofs): tile shafts first, then the maps, the
+/// primary hits' in the GL where it is a GPU (Auto); the maps alone, the primary hits' in the GL (Gl) or in
+/// the ray pass (Cpu); the tile shafts alone, no maps (Shafts).
+enum class ShadowProofs : std::uint8_t { Auto = 0, Gl = 1, Cpu = 2, Shafts = 3 };
 enum class ToneMap : std::uint8_t { None = 0, Reinhard = 1, Aces = 2 };
 /// Anti-aliasing of the frame (FrameSettings::aa, docs/antialiasing.md).
 enum class AntiAlias : std::uint8_t { Off = 0, Ssaa = 1, Adaptive = 2 };
@@ -49,11 +50,13 @@ struct FrameSettings {
   /// Hybrid shadows (with shadows = Ray; `--shadows hybrid`): light-space maps answer the shadow rays they
   /// can prove, the rest are traced; the light mask is the all-rays one, bit for bit (docs/shadows.md).
   bool hybridShadows = false;
-  /// With hybridShadows, where the primary hits' shadow rays are proved (`--shadow-proofs auto|gl|cpu`): Gl,
-  /// from a copy of the maps in the GL, the ray pass reading the answers with the ids and tracing only the
-  /// rays left open (docs/shadows.md, "Proofs in the GL"); Cpu, by the ray pass itself; Auto, in the GL
-  /// where it is a GPU and on the CPU where the GL rasterizes on the CPU too (llvmpipe: there the GL's pass
-  /// costs more than the ray pass's proofs). The image is the same either way.
+  /// With hybridShadows, how shadow rays are proved (`--shadow-proofs auto|gl|cpu|shafts`): Gl, the maps, the
+  /// primary hits' from a copy of the maps in the GL, the ray pass reading the answers with the ids and
+  /// tracing only the rays left open (docs/shadows.md, "Proofs in the GL"); Cpu, the maps in the ray pass
+  /// itself; Shafts, the tile shafts alone (a tile's rays towards a light answered together where nothing can
+  /// meet them; docs/shadows.md, "Tile shafts"), no maps; Auto, the tile shafts first, then the maps, in the
+  /// GL where it is a GPU and on the CPU where the GL rasterizes on the CPU too (llvmpipe: there the GL's pass
+  /// costs more than the ray pass's proofs). The image is the same every way.
   ShadowProofs shadowProofs = ShadowProofs::Auto;
   int maxDepth = 5;               // reflection/refraction bounces after the primary hit, [0, 64]
   float minContribution = 0.01f;  // stop a path when the product of its weights falls under this, [0, 1]

@@ -176,12 +176,13 @@ std::string_view toString(ShadowProofs p) {
     case ShadowProofs::Auto: return "auto";
     case ShadowProofs::Gl: return "gl";
     case ShadowProofs::Cpu: return "cpu";
+    case ShadowProofs::Shafts: return "shafts";
   }
   return "?";
 }
 
 std::optional<ShadowProofs> parseShadowProofs(std::string_view s) {
-  for (ShadowProofs p : {ShadowProofs::Auto, ShadowProofs::Gl, ShadowProofs::Cpu})
+  for (ShadowProofs p : {ShadowProofs::Auto, ShadowProofs::Gl, ShadowProofs::Cpu, ShadowProofs::Shafts})
     if (s == toString(p)) return p;
   return std::nullopt;
 }

@@ -27,7 +27,8 @@ namespace tandem::rt {
 namespace {
 
 struct AtomicCounts {
-  std::atomic<std::uint64_t> primary{0}, shadow{0}, reflection{0}, refraction{0}, shadowByMap{0}, shadowKept{0};
+  std::atomic<std::uint64_t> primary{0}, shadow{0}, reflection{0}, refraction{0}, shadowByMap{0}, shadowKept{0},
+      shadowByShaft{0};
   void add(const RayCounts& c) {
     primary += c.primary;
     shadow += c.shadow;
@@ -35,9 +36,11 @@ struct AtomicCounts {
     refraction += c.refraction;
     shadowByMap += c.shadowByMap;
     shadowKept += c.shadowKept;
+    shadowByShaft += c.shadowByShaft;
   }
   RayCounts get() const {
-    return {primary.load(), shadow.load(), reflection.load(), refraction.load(), shadowByMap.load(), shadowKept.load()};
+    return {primary.load(),     shadow.load(),     reflection.load(),   refraction.load(),
+            shadowByMap.load(), shadowKept.load(), shadowByShaft.load()};
   }
 };
 
@@ -100,6 +103,8 @@ Result<void> RayTracer::setScene(const Scene& scene, float shutter) {
   }
   impl_->scene = std::move(*built);
   impl_->meshBounds = reuseMeshBounds(scene);
+  impl_->planes.clear();
+  for (const Mesh& mesh : scene.meshes) impl_->planes.push_back(axisPlane(mesh));
   impl_->shadowMaps.clear();  // of the old geometry
   impl_->shadowMapsStale = true;
   return {};
@@ -200,8 +205,9 @@ struct HybridTiles {
     // Per-thread scratch, kept from tile to tile so a tile allocates nothing once warm.
     thread_local ShadowBatch shadows;  // the tile's primary shadow rays, in packets per light
     thread_local Wavefront::Buffers wavefrontBuffers;
-    // With reuse, the tile's primary hits are all resolved before any shadow ray is queued: the moved bounds
-    // its kept shadow rays can meet are chosen once for the tile from where its hits lie (ReuseTile).
+    // With reuse or tile shafts, the tile's primary hits are all resolved before any shadow ray is queued:
+    // the moved bounds its kept shadow rays can meet are chosen once for the tile from where its hits lie
+    // (ReuseTile), and the shafts are tested once for the box of its points (ShadowBatch::prepareShafts).
     // Without, each hit's shadow rays are queued as it is resolved. The queues get the same hits in the same
     // order; reflection and refraction rays are queued as each hit is resolved either way.
     struct Primary {
@@ -215,6 +221,7 @@ struct HybridTiles {
     primaries.clear();
     Wavefront wavefront(whitted, wavefrontBuffers);
     const bool keeping = reuse.active() && batched && modes.primaryShadowRays;
+    const bool gathering = keeping || (batched && modes.primaryShadowRays && whitted.shafts() != nullptr);
     auto queueShadows = [&](std::size_t g, std::size_t pixel, const ShadowPoint& hit, bool samePoint) {
       if (modes.primaryShadowRays) {
         ShadowKeep keep;
@@ -278,11 +285,11 @@ struct HybridTiles {
           point.time = cameraRays.time();
           point.lightSeed = seed;
         }
-        if (!keeping) {
+        if (!gathering) {
           queueShadows(g, pixel, point, false);
           continue;
         }
-        const bool samePoint = reuse.samePoint(pixel, id);
+        const bool samePoint = keeping && reuse.samePoint(pixel, id);
         if (samePoint) {
           keptLo = glm::min(keptLo, glm::dvec3(point.posW));
           keptHi = glm::max(keptHi, glm::dvec3(point.posW));
@@ -291,8 +298,9 @@ struct HybridTiles {
         }
         primaries.push_back({g, pixel, point, samePoint});
       }
-    if (keeping) {
-      reuse.selectForTile(keptLo, keptHi, keptOffsetScale, keptTile);
+    if (gathering) {
+      if (keeping) reuse.selectForTile(keptLo, keptHi, keptOffsetScale, keptTile);
+      shadows.prepareShafts(whitted, primaries.size(), [&](std::size_t i) -> const ShadowPoint& { return primaries[i].point; });
       for (const Primary& pr : primaries) queueShadows(pr.g, pr.pixel, pr.point, pr.samePoint);
     }
     shadows.trace(embree.top(), out.lightMask.data(), counts, capture);
@@ -330,11 +338,18 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   const TraceModes modes = TraceModes::hybrid(settings);
   const ShadowCertainty* shadowMaps =
       // The maps see the scene at one time: with motion blur every shadow ray runs at its own (docs/motion-blur.md).
-      settings.hybridShadows && !embree.hasMotion() && (modes.primaryShadowRays || modes.secondaryShadowRays)
+      settings.hybridShadows && settings.shadowProofs != ShadowProofs::Shafts && !embree.hasMotion() &&
+              (modes.primaryShadowRays || modes.secondaryShadowRays)
           ? &updateShadowMaps(scene, frame)
           : nullptr;
-  Whitted whitted(scene, embree, frame, modes, shadowMaps);
   const CameraRays cameraRays(cam, {visibility.width, visibility.height});
+  // Hybrid shadows answer a tile's rays towards a light together where nothing can meet any of them (auto
+  // and shafts; cpu and gl are the maps alone).
+  TileShafts shafts;
+  if (settings.hybridShadows && batchedShadowRays && (modes.primaryShadowRays || modes.secondaryShadowRays) &&
+      (settings.shadowProofs == ShadowProofs::Auto || settings.shadowProofs == ShadowProofs::Shafts))
+    shafts.build(scene, embree, impl_->meshBounds, impl_->planes, cameraRays.time());
+  Whitted whitted(scene, embree, frame, modes, shadowMaps, shafts.active() ? &shafts : nullptr);
   const ReuseGate gate = reuse && batchedShadowRays && modes.primaryShadowRays
                              ? ReuseGate(*reuse, scene, embree, impl_->meshBounds, frame.lights,
                                          visibility.ids.size(), out.lightMask.size())
@@ -361,7 +376,7 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   // points' only: with raster shadows, the shadow rays of secondary hits leave it to the shadow maps.
   // Kept answers count as the rays they stand for: the mask is cleared exactly when a frame without reuse
   // would clear it.
-  if (out.counts.shadow + out.counts.shadowByMap + out.counts.shadowKept == 0 || !whitted.modes().primaryShadowRays) {
+  if (out.counts.shadow + out.counts.shadowByMap + out.counts.shadowKept + out.counts.shadowByShaft == 0 || !whitted.modes().primaryShadowRays) {
     out.lightMask.clear();
     out.areaSamples.clear();
     out.areaLights = 0;

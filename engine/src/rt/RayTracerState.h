@@ -9,6 +9,7 @@
 #include "rt/EmbreeScene.h"
 #include "rt/RayReuse.h"
 #include "rt/ShadowCertainty.h"
+#include "rt/TileShafts.h"
 #include "tandem/Progress.h"
 
 namespace tandem::rt {
@@ -21,6 +22,7 @@ struct RayTracerState {
   RayPassProgressCallback progress;  // setProgressCallback
   std::shared_ptr<const RadiosityField> radiosity;  // setRadiosity
   std::vector<ReuseBox> meshBounds;  // object space, per mesh of the scene (reuse across frames)
+  std::vector<int> planes;  // per mesh of the scene: axisPlane (hybrid shadows' tile shafts)
   // Hybrid shadows' light-space maps: built by the first pass that needs them after the geometry
   // (setScene, updateTransforms) or a light changed.
   ShadowCertainty shadowMaps;

@@ -12,7 +12,9 @@
 namespace tandem::rt {
 
 void ShadowBatch::clear() {
-  byMap_ = kept_ = 0;
+  byMap_ = kept_ = byShaft_ = 0;
+  groups_.clear();
+  shafts_ = nullptr;
   for (auto& rays : byLight_) rays.clear();
   for (auto& captured : capturedByLight_) captured.clear();
   areaRays_.clear();
@@ -29,6 +31,8 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
                                std::uint32_t proof) {
   std::uint32_t visible = 0;
   SpawnOrigins origins;
+  // The lights towards which the point's tile shaft is clear (prepareShafts; none without shafts).
+  const std::uint32_t shaftLit = groups_.empty() ? 0u : litByShaft(hit);
   const FrameShading& frame = whitted.frame();
   for (std::size_t j = 0; j < lights; ++j) {
     if (frame.isArea(j)) {
@@ -57,6 +61,13 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
           areaCaptured_.push_back(capture.deferred(RayKind::Shadow, s.originW, s.dirW, 0.0f, s.tFar, static_cast<std::uint8_t>(j)));
       }
       if (word != 0) visible |= 1u << j;
+      continue;
+    }
+    // The tile's shaft towards the light is clear (prepareShafts): the ray, if the point needs one, reaches
+    // it, and a point that needs none is lit too (Whitted::noShadowRay), so nothing is set up.
+    if (((shaftLit >> j) & 1u) != 0) {
+      visible |= 1u << j;
+      ++byShaft_;
       continue;
     }
     // Whitted::shadowRay in its two steps, with the kept frame's answer between them: it costs a box test
@@ -89,11 +100,72 @@ std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const
   return visible;
 }
 
+void ShadowBatch::decideShafts(const Whitted& whitted) {
+  const FrameShading& frame = whitted.frame();
+  for (ShaftGroup& g : groups_) {
+    const double lift = static_cast<double>(g.lift) + 1e-30;
+    for (std::size_t j = 0; j < frame.lights.size() && j < static_cast<std::size_t>(kMaxLights); ++j) {
+      if (frame.isArea(j) || !frame.castsShadows(j)) continue;
+      const shading::GpuLight& light = frame.lights[j];
+      ShaftBox from, to;
+      from.lo = glm::dvec3(g.lo) - lift;
+      from.hi = glm::dvec3(g.hi) + lift;
+      double magnitude = std::max({std::abs(from.lo.x), std::abs(from.lo.y), std::abs(from.lo.z), std::abs(from.hi.x),
+                                   std::abs(from.hi.y), std::abs(from.hi.z)});
+      // The sine at which the rays leave the plane, bounded for the whole group (TileShafts::kMinRise; with a
+      // hundredth to spare for the hits' float normals).
+      const glm::dvec3 normal = shafts_->planeNormal(g.instance);
+      double rise = 0.0;
+      if (static_cast<int>(light.posType.w + 0.5f) == TD_LIGHT_DIRECTIONAL) {
+        // Every ray has the light's direction (tdLightIncident's -dirRange, exactly): past the scene, its rays
+        // are in `from` moved along it.
+        const glm::dvec3 toLight = -glm::dvec3(glm::vec3(light.dirRange));
+        rise = std::abs(glm::dot(normal, toLight)) / glm::length(toLight);
+        const glm::dvec3 along = shafts_->beyondScene(from) * toLight;
+        to.lo = from.lo + along;
+        to.hi = from.hi + along;
+      } else {
+        // A ray from p ends short of the light on the segment from p to it, up to its offset and the rounding
+        // of its direction and length (a millionth of the distance, grown fourfold).
+        const glm::dvec3 at(glm::vec3(light.posType));
+        const double reach = glm::length(glm::max(glm::abs(at - from.lo), glm::abs(at - from.hi)));
+        const double slack = 4e-6 * reach;
+        from.lo -= slack;
+        from.hi += slack;
+        to.lo = at - (lift + slack);
+        to.hi = at + (lift + slack);
+        magnitude = std::max(magnitude, reach);
+        // From any point of the plane the sine is the light's height over it by the distance to it.
+        rise = std::abs(glm::dot(normal, at) - shafts_->planeOffset(g.instance)) / reach;
+      }
+      if (rise >= 1.01 * TileShafts::kMinRise && shafts_->clearOfOthers(g.instance, from, to, magnitude)) g.lit |= 1u << j;
+    }
+  }
+}
+
+std::uint32_t ShadowBatch::litByShaft(const ShadowPoint& hit) {
+  if (lastGroup_ >= groups_.size() || groups_[lastGroup_].instance != hit.instance) {
+    lastGroup_ = 0;
+    while (lastGroup_ < groups_.size() && groups_[lastGroup_].instance != hit.instance) ++lastGroup_;
+    if (lastGroup_ == groups_.size()) return 0u;  // not a plane's point
+  }
+  const ShaftGroup& g = groups_[lastGroup_];
+  if (g.lit == 0) return 0u;
+  // Only a point the group holds (prepareShafts saw it: in its box, its offset within its lift).
+  const glm::vec3 a = glm::max(glm::abs(hit.posW), hit.posMagnitude);
+  const bool held = hit.triangle != kExactTriangle && hit.time == shafts_->time() &&
+                    glm::all(glm::greaterThanEqual(hit.posW, g.lo)) && glm::all(glm::lessThanEqual(hit.posW, g.hi)) &&
+                    2e-5f * std::max({a.x, a.y, a.z}) <= g.lift;
+  return held ? g.lit : 0u;
+}
+
 template <class Capture>
 void ShadowBatch::trace(RTCScene scene, LightMask* masks, RayCounts& counts, Capture& capture) {
   counts.shadowByMap += byMap_;
   counts.shadowKept += kept_;
   byMap_ = kept_ = 0;
+  counts.shadowByShaft += byShaft_;
+  byShaft_ = 0;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   // Packets of rays towards one light, neighbouring hits first: such rays start close together and
@@ -271,6 +343,7 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
     b_.masks.assign(b_.hits.size(), static_cast<LightMask>(~0u));  // all lights visible
     if (modes.secondaryShadowRays) {
       b_.shadows.clear();
+      b_.shadows.prepareShafts(whitted_, b_.hits.size(), [&](std::size_t h) -> const ShadowPoint& { return b_.hits[h]; });
       b_.area.resize(b_.hits.size());  // add() writes every area word it reads
       for (std::size_t h = 0; h < b_.hits.size(); ++h)
         b_.masks[h] = static_cast<LightMask>(b_.shadows.add(whitted_, lights, b_.hits[h], h, capture, nullptr, b_.area[h].data()));

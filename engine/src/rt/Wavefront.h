@@ -2,9 +2,11 @@
 // The batched forms of the Whitted pass that the frame runs: a tile's shadow rays in one Embree call, and
 // its reflection and refraction rays breadth first, one call per depth. Both take the capture policy of
 // rt/TileCapture.h as a template parameter (instantiated for NoCapture and TileCapture only).
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <embree3/rtcore.h>
@@ -12,6 +14,7 @@
 
 #include "rt/RayBuffers.h"
 #include "rt/SurfaceShading.h"
+#include "rt/TileShafts.h"
 #include "rt/Whitted.h"
 #include "tandem/FrameStats.h"
 
@@ -52,6 +55,11 @@ class ShadowBatch {
   // The same with nothing recorded (the frame's policy, rt/TileCapture.h).
   std::uint32_t add(const Whitted& whitted, std::size_t lights, const ShadowPoint& hit, std::size_t slot);
   void trace(RTCScene scene, LightMask* masks, RayCounts& counts);
+  /// Hybrid shadows' tile shafts (rt/TileShafts.h, Whitted::shafts()): before the points `at(0 .. count)`
+  /// are added, their shafts towards each light are tested once; add() then answers lit, untraced, the
+  /// needed rays whose shaft nothing else can meet. Without it (or without shafts) every ray is traced.
+  template <class At>
+  void prepareShafts(const Whitted& whitted, std::size_t count, At at);
 
  private:
   // A point, spot or directional light's shadow ray as its packet lane will hold it: written once by
@@ -64,6 +72,22 @@ class ShadowBatch {
     float time;
     std::uint32_t slot;
   };
+  // Tile shafts (rt/TileShafts.h): per instance of the points given to prepareShafts, the box of those
+  // points and the lights towards which nothing else can meet a ray from any of them.
+  struct ShaftGroup {
+    std::uint32_t instance = 0;
+    glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+    float lift = 0.0f;         // bound of the offset origins' distance from their points
+    std::uint32_t lit = 0;     // bit j: light j's rays from these points are answered lit
+  };
+  // The lights each group's shaft is clear towards (prepareShafts' second half).
+  void decideShafts(const Whitted& whitted);
+  // The lights whose shadow tests of `hit` its group's shaft answers (bit j: light j).
+  std::uint32_t litByShaft(const ShadowPoint& hit);
+  const TileShafts* shafts_ = nullptr;  // Whitted::shafts() of the last prepareShafts
+  std::vector<ShaftGroup> groups_;
+  std::size_t lastGroup_ = 0;  // consecutive points mostly share their instance
+  std::uint64_t byShaft_ = 0;  // rays the shafts answered since the last trace()
   std::array<std::vector<LaneRay>, kMaxLights> byLight_;
   std::array<std::vector<std::size_t>, kMaxLights> capturedByLight_;  // under a recording Capture: capture indices
   // Area lights' rays, traced one by one (trace() says why).
@@ -76,6 +100,31 @@ class ShadowBatch {
   std::uint64_t byMap_ = 0;            // rays the hybrid shadows' maps answered since the last trace()
   std::uint64_t kept_ = 0;             // rays answered by the frame before since the last trace()
 };
+
+template <class At>
+void ShadowBatch::prepareShafts(const Whitted& whitted, std::size_t count, At at) {
+  groups_.clear();
+  lastGroup_ = 0;
+  shafts_ = whitted.shafts();
+  if (!shafts_) return;
+  // The points by instance: their box, and how far their offset origins may lie from them (offsetRayOrigin
+  // moves a point by at most 127 ulps of its error scale, then a ulp per coordinate: 2e-5 is ~170 ulps).
+  for (std::size_t i = 0; i < count; ++i) {
+    const ShadowPoint& p = at(i);
+    if (!shafts_->joins(p.instance) || p.triangle == kExactTriangle || p.time != shafts_->time()) continue;
+    if (lastGroup_ >= groups_.size() || groups_[lastGroup_].instance != p.instance) {
+      lastGroup_ = 0;
+      while (lastGroup_ < groups_.size() && groups_[lastGroup_].instance != p.instance) ++lastGroup_;
+      if (lastGroup_ == groups_.size()) groups_.push_back({p.instance});
+    }
+    ShaftGroup& g = groups_[lastGroup_];
+    g.lo = glm::min(g.lo, p.posW);
+    g.hi = glm::max(g.hi, p.posW);
+    const glm::vec3 a = glm::max(glm::abs(p.posW), p.posMagnitude);
+    g.lift = std::max(g.lift, 2e-5f * std::max({a.x, a.y, a.z}));
+  }
+  decideShafts(whitted);
+}
 
 /// The reflection and refraction rays of a tile's primary hits, traced breadth first (a wavefront):
 /// every ray of one depth goes to Embree in one rtcIntersect1M call (measured about 1.8× faster than

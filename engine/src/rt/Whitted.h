@@ -106,6 +106,7 @@ class SpawnOrigins {
 };
 
 class Whitted;
+class TileShafts;
 
 /// What the Whitted recursion reports as it runs, in order, so that a recorder can rebuild the ray tree
 /// of one pixel (rt/PixelTrace.h) or record every ray it traces (the bench's capture, rt/TileCapture.h).
@@ -198,8 +199,8 @@ class Whitted {
  public:
   /// `shadowMaps` (hybrid shadows): answers the shadow rays it can prove, at every hit; null: all traced.
   Whitted(const Scene& scene, const EmbreeScene& embree, const FrameShading& frame, TraceModes modes,
-          const ShadowCertainty* shadowMaps = nullptr)
-      : scene_(scene), embree_(embree), frame_(frame), modes_(modes), shadowMaps_(shadowMaps) {}
+          const ShadowCertainty* shadowMaps = nullptr, const TileShafts* shafts = nullptr)
+      : scene_(scene), embree_(embree), frame_(frame), modes_(modes), shadowMaps_(shadowMaps), shafts_(shafts) {}
 
   /// The shadow ray from hit towards direct light j (or why none is needed); `origins` is shared by the
   /// calls for one hit, so its lights reuse the offset origins.
@@ -266,6 +267,8 @@ class Whitted {
   const EmbreeScene& embree() const { return embree_; }
   const FrameShading& frame() const { return frame_; }
   const ShadowCertainty* shadowMaps() const { return shadowMaps_; }
+  /// Hybrid shadows' tile shafts for the batched passes (rt/TileShafts.h; ShadowBatch): null when off.
+  const TileShafts* shafts() const { return shafts_; }
   /// Ray k of a hit's glossy reflection or refraction (stream kGlossReflectStream / kGlossRefractStream)
   /// around `axis`, on the side `side` of the facet: the frame's sample glossBase + k of the hit's seed;
   /// `axis` itself at roughness 0.
@@ -294,6 +297,7 @@ class Whitted {
   const FrameShading& frame_;
   TraceModes modes_;
   const ShadowCertainty* shadowMaps_;
+  const TileShafts* shafts_;
 };
 
 /// Fills an Embree ray; false (and nothing to trace) when any component is NaN or infinite, which

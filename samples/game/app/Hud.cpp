@@ -97,9 +97,10 @@ void Hud::draw(const HudInfo& info) {
       ImGui::Text("rays/frame %.1fk: primary %.1fk", k(st.rays.total()), k(st.rays.primary));
       ImGui::Text("  shadow %.1fk  reflect %.1fk  refract %.1fk", k(st.rays.shadow), k(st.rays.reflection),
                   k(st.rays.refraction));
-      // Shadow answers not traced: the hybrid shadows' maps, and those kept from the frame before.
-      if (st.rays.shadowByMap + st.rays.shadowKept > 0)
-        ImGui::Text("  shadow answers: by map %.1fk  kept %.1fk", k(st.rays.shadowByMap), k(st.rays.shadowKept));
+      // Shadow answers not traced: the hybrid shadows' tile shafts and maps, and those kept from the frame before.
+      if (st.rays.shadowByShaft + st.rays.shadowByMap + st.rays.shadowKept > 0)
+        ImGui::Text("  shadow answers: by shaft %.1fk  by map %.1fk  kept %.1fk", k(st.rays.shadowByShaft),
+                    k(st.rays.shadowByMap), k(st.rays.shadowKept));
       ImGui::Separator();
       ImGui::Text("preset      %s", view.preset.c_str());
       ImGui::Text("shadows     %s  [1]", std::string(tandem::shadowModeName(s)).c_str());

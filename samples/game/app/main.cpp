@@ -322,16 +322,18 @@ void printTimes(const std::vector<tandem::FrameStats>& frames, const std::vector
     if (frames[i].totalMs > frames[worst].totalMs) worst = i;
     compiles += frames[i].shaderCompiles;
   }
-  // Over the run: the shadow rays traced and (hybrid shadows) those the light-space maps answered.
-  unsigned long long shadowRays = 0, shadowByMap = 0, shadowKept = 0;
+  // Over the run: the shadow rays traced and (hybrid shadows) those the light-space maps and the tile
+  // shafts answered.
+  unsigned long long shadowRays = 0, shadowByMap = 0, shadowKept = 0, shadowByShaft = 0;
   for (const auto& f : frames)
-    shadowRays += f.rays.shadow, shadowByMap += f.rays.shadowByMap, shadowKept += f.rays.shadowKept;
+    shadowRays += f.rays.shadow, shadowByMap += f.rays.shadowByMap, shadowKept += f.rays.shadowKept,
+        shadowByShaft += f.rays.shadowByShaft;
   std::printf("times: size=%dx%d frames=%zu median_ms total=%.2f raster=%.2f rays=%.2f composite=%.2f loop=%.2f "
               "rays_per_frame=%llu worst_after_first_ms=%.2f worst_frame=%zu compiles_after_first=%d "
-              "shadow_rays=%llu shadow_by_map=%llu shadow_kept=%llu\n",
+              "shadow_rays=%llu shadow_by_map=%llu shadow_kept=%llu shadow_by_shaft=%llu\n",
               w, h, frames.size(), median(total), median(raster), median(rays), median(composite), median(loopMs),
               static_cast<unsigned long long>(last.rays.total()), frames[worst].totalMs, worst, compiles, shadowRays,
-              shadowByMap, shadowKept);
+              shadowByMap, shadowKept, shadowByShaft);
   // Every stage's median (they add up to the frame but for `untimed`), and the GPU's time of the GL ones.
   std::printf("stages: median_ms");
   for (const tandem::FrameStage& stage : tandem::kFrameStages) {
