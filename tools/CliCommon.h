@@ -20,7 +20,7 @@ struct FrameOptions {
   std::optional<std::string> preset;
   std::optional<std::string> shading;  // flat | gouraud | phong | toon
   std::optional<std::string> shadows;  // off | raster | ray | hybrid
-  std::optional<std::string> shadowProofs;  // auto | gl | cpu
+  std::optional<std::string> shadowProofs;  // auto | gl | cpu | shafts
   std::optional<std::string> reflections;
   std::optional<std::string> refraction;
   std::optional<std::string> debugView;

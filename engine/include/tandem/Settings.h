@@ -166,7 +166,7 @@ std::string_view toString(GlobalIllumination g);
 std::string_view toString(AntiAlias a);
 std::string_view toString(EffectMode m);
 std::string_view toString(ShadowProofs p);
-std::optional<ShadowProofs> parseShadowProofs(std::string_view s);  // auto | gl | cpu
+std::optional<ShadowProofs> parseShadowProofs(std::string_view s);  // auto | gl | cpu | shafts
 std::string_view toString(ToneMap m);
 std::string_view toString(ShadingModel m);
 std::string_view toString(DebugView v);
