@@ -90,6 +90,40 @@ TEST(TileShafts, OnlyExactAxisPlanesAreOwnPlanes) {
   EXPECT_EQ(axisPlane(Mesh{}), -1);
 }
 
+// The plane a joining instance lies in, in render space, from its object-space axis plane and its transform;
+// and the instances that may not join.
+TEST(TileShafts, PlanesFollowTheirTransformsAndIllConditionedOnesDoNotJoin) {
+  Scene scene;
+  const std::uint32_t mat = addMaterial(scene, diffuse(glm::vec3(0.8f)));
+  const glm::mat4 placed = translate({3.0f, -2.0f, 5.0f}) *
+                           glm::rotate(glm::mat4(1.0f), glm::radians(40.0f), glm::normalize(glm::vec3(1.0f, 0.5f, -0.2f))) *
+                           glm::scale(glm::mat4(1.0f), glm::vec3(2.0f, 2.0f, 2.0f));
+  Mesh floor = makePlane({4.0f, 4.0f}, 2);
+  for (glm::vec3& p : floor.positions) p.y = 0.75f;  // the plane y = 0.75 of object space
+  addInstance(scene, addMesh(scene, floor), mat, placed);
+  addInstance(scene, addMesh(scene, makePlane({4.0f, 4.0f}, 2)), mat,
+              glm::scale(glm::mat4(1.0f), glm::vec3(40.0f, 1.0f, 0.5f)));  // condition ~80: does not join
+  addInstance(scene, addMesh(scene, makeSphere(1.0f, 8, 4)), mat, translate({0.0f, 3.0f, 0.0f}));
+  auto built = EmbreeScene::build(sharedTestDevice(), scene);
+  ASSERT_TRUE(built.ok());
+  std::vector<int> planes;
+  for (const Mesh& m : scene.meshes) planes.push_back(axisPlane(m));
+  TileShafts shafts;
+  shafts.build(scene, **built, reuseMeshBounds(scene), planes, 0.5f);
+  ASSERT_TRUE(shafts.active());
+  EXPECT_TRUE(shafts.joins(0));
+  EXPECT_FALSE(shafts.joins(1));
+  EXPECT_FALSE(shafts.joins(2));
+  // Render space is world space less the anchor (the camera's position at build).
+  const glm::dvec3 anchor((*built)->anchor());
+  const glm::dvec3 normal = glm::normalize(glm::dvec3(glm::transpose(glm::inverse(glm::mat3(placed))) * glm::vec3(0, 1, 0)));
+  EXPECT_NEAR(std::abs(glm::dot(shafts.planeNormal(0), normal)), 1.0, 1e-6);
+  for (const glm::vec3& p : floor.positions) {
+    const glm::dvec3 onPlane = glm::dvec3(placed * glm::vec4(p, 1.0f)) - anchor;
+    EXPECT_NEAR(glm::dot(shafts.planeNormal(0), onPlane), shafts.planeOffset(0), 1e-5);
+  }
+}
+
 // ---- the pass, against every ray traced ----
 
 template <class T>
@@ -196,6 +230,28 @@ TEST(TileShafts, TiltedStretchedAndFarPlanes) {
     }
     expectAnswered(renderBoth(scene, 240, 135), 0.3);
   }
+}
+
+// Rays that would leave their plane at a grazing angle, and a plane under a transform too ill-conditioned to
+// trust its sign, are left to Embree: the shafts answer none of them.
+TEST(TileShafts, GrazingLightsAndShearedPlanesAreLeftToEmbree) {
+  Scene low;
+  const std::uint32_t mat = addMaterial(low, diffuse(glm::vec3(0.8f)));
+  addInstance(low, addMesh(low, makePlane({20.0f, 20.0f}, 4)), mat, glm::mat4(1.0f));
+  addInstance(low, addMesh(low, makeBox({1.0f, 1.0f, 1.0f})), mat, translate({0.0f, 0.5f, -6.0f}));
+  low.lights.push_back(pointLight({100.0f, 0.45f, 0.0f}));  // a sine under 0.005 everywhere on the floor
+  low.lights.push_back(directional({1.0f, -0.004f, 0.0f}));
+  low.camera.posW = {0.0f, 4.0f, 9.0f};
+  low.camera.targetW = {0.0f, 0.0f, 0.0f};
+  Both b = renderBoth(low, 160, 90);
+  EXPECT_EQ(b.shafts.counts.shadowByShaft, 0u);
+  EXPECT_GT(b.rays.counts.shadow, 10000u);
+  Scene sheared = objectsOnAFloor();
+  glm::mat4 shear(1.0f);
+  shear[1][0] = 40.0f;  // x += 40 y: the floor (y = 0) stays put, its transform's condition ~1600
+  sheared.instances[0].worldFromObject = shear;
+  b = renderBoth(sheared, 160, 90);
+  EXPECT_EQ(b.shafts.counts.shadowByShaft, 0u);
 }
 
 // A concave mesh shadows itself: only a mesh in one plane may be passed over as its points' own. Here an

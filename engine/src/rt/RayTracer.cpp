@@ -375,8 +375,10 @@ void RayTracer::hybridPassWith(const Scene& scene, const Camera& camera, const F
   // Cost follows the scene: an effect that traced no ray leaves its channel empty. The mask is the primary
   // points' only: with raster shadows, the shadow rays of secondary hits leave it to the shadow maps.
   // Kept answers count as the rays they stand for: the mask is cleared exactly when a frame without reuse
-  // would clear it.
-  if (out.counts.shadow + out.counts.shadowByMap + out.counts.shadowKept + out.counts.shadowByShaft == 0 || !whitted.modes().primaryShadowRays) {
+  // would clear it. A tile shaft's answers may include tests that needed no ray: a frame whose every light
+  // is out of reach keeps an all-lit mask here where tracing clears it, which shades the same.
+  if (out.counts.shadow + out.counts.shadowByMap + out.counts.shadowKept + out.counts.shadowByShaft == 0 ||
+      !whitted.modes().primaryShadowRays) {
     out.lightMask.clear();
     out.areaSamples.clear();
     out.areaLights = 0;

@@ -105,14 +105,15 @@ void TileShafts::build(const Scene& scene, const EmbreeScene& embree, const std:
     all.add(box.hi);
     if (planes[mesh] >= 0) {
       // Its condition number (Frobenius norms bound the 2-norm one): a ray kMinRise off the plane keeps the
-      // sign of its component along the axis through Embree's transform, whose rounding it scales.
+      // sign of its component along the axis through Embree's transform, whose rounding it scales, and a
+      // shear stays far from moving an offset origin across the plane (rigid or uniformly scaled: 3).
       const glm::dmat3 linear{glm::dmat4(m)};
       const double det = glm::determinant(linear);
       if (!(std::abs(det) > 0.0)) continue;
       const glm::dmat3 inverse = glm::inverse(linear);
       double f = 0.0, g = 0.0;
       for (int c = 0; c < 3; ++c) f += glm::dot(linear[c], linear[c]), g += glm::dot(inverse[c], inverse[c]);
-      if (!(std::sqrt(f * g) <= 300.0)) continue;
+      if (!(std::sqrt(f * g) <= kMaxCondition)) continue;
       // The plane x[axis] = c of object space in render space: normal along the inverse transpose's column.
       const int axis = planes[mesh];
       const Mesh& m3 = scene.meshes[mesh];
@@ -144,10 +145,11 @@ bool TileShafts::clearOfOthers(std::uint32_t own, const ShaftBox& from, const Sh
   return true;
 }
 
-double TileShafts::beyondScene(const ShaftBox& from) const {
-  // The farthest point of `from` from the scene's centre, plus the scene's radius: past that, outside it.
+double TileShafts::beyondScene(const ShaftBox& from, double rayMagnitude) const {
+  // The farthest point of `from` from the scene's centre, plus the scene's radius and the bounds' growth:
+  // past that, outside every grown box.
   const glm::dvec3 far = glm::max(glm::abs(from.lo - sceneCentre_), glm::abs(from.hi - sceneCentre_));
-  return glm::length(far) + sceneRadius_ * (1.0 + 1e-3) + 1.0;
+  return glm::length(far) + sceneRadius_ * (1.0 + 1e-3) + 2.0 * kRelativeMargin * rayMagnitude + 1.0;
 }
 
 }  // namespace tandem::rt

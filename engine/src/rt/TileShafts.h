@@ -75,6 +75,8 @@ class TileShafts {
   /// The least sine between a ray and its point's plane for the plane's other triangles to be passed over
   /// as the point's own is (grazing rays are left to Embree).
   static constexpr double kMinRise = 1e-2;
+  /// The largest condition number (Frobenius norms) of a joining instance's transform.
+  static constexpr double kMaxCondition = 30.0;
   /// A joining instance's plane in render space: unit normal n and offset d (n·x = d on it).
   glm::dvec3 planeNormal(std::uint32_t instance) const { return planes_[instance].normal; }
   double planeOffset(std::uint32_t instance) const { return planes_[instance].offset; }
@@ -82,9 +84,9 @@ class TileShafts {
   /// points `to`, each instance's bounds grown by the margin for rays of magnitude up to `rayMagnitude`
   /// (their origins' coordinates and their lengths).
   bool clearOfOthers(std::uint32_t own, const ShaftBox& from, const ShaftBox& to, double rayMagnitude) const;
-  /// A directional light's rays run on past the scene: a length beyond which a ray from anywhere in `from`
-  /// has left every instance's bounds.
-  double beyondScene(const ShaftBox& from) const;
+  /// A directional light's rays run on past the scene: a distance beyond which a ray from anywhere in
+  /// `from` has left every instance's bounds, grown as clearOfOthers grows them for `rayMagnitude`.
+  double beyondScene(const ShaftBox& from, double rayMagnitude) const;
 
   /// The margin, relative to the magnitudes involved (the maps' exact tests use a tenth of it).
   static constexpr double kRelativeMargin = 1e-4;

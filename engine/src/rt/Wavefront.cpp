@@ -121,7 +121,7 @@ void ShadowBatch::decideShafts(const Whitted& whitted) {
         // are in `from` moved along it.
         const glm::dvec3 toLight = -glm::dvec3(glm::vec3(light.dirRange));
         rise = std::abs(glm::dot(normal, toLight)) / glm::length(toLight);
-        const glm::dvec3 along = shafts_->beyondScene(from) * toLight;
+        const glm::dvec3 along = shafts_->beyondScene(from, magnitude) / glm::length(toLight) * toLight;
         to.lo = from.lo + along;
         to.hi = from.hi + along;
       } else {
@@ -136,7 +136,8 @@ void ShadowBatch::decideShafts(const Whitted& whitted) {
         to.hi = at + (lift + slack);
         magnitude = std::max(magnitude, reach);
         // From any point of the plane the sine is the light's height over it by the distance to it.
-        rise = std::abs(glm::dot(normal, at) - shafts_->planeOffset(g.instance)) / reach;
+        // (Less the points' own distance from the exact plane, which their lift bounds.)
+        rise = (std::abs(glm::dot(normal, at) - shafts_->planeOffset(g.instance)) - lift) / reach;
       }
       if (rise >= 1.01 * TileShafts::kMinRise && shafts_->clearOfOthers(g.instance, from, to, magnitude)) g.lit |= 1u << j;
     }
