@@ -344,7 +344,7 @@ MUTATIONS = [
      "        if (ni < 0.0) ni = -ni, nj = -nj;", "        if (ni > 0.0) ni = -ni, nj = -nj;",
      "tandem-rt-tests", "TileShafts.*"),
     ("shaft-directional-rays-end-at-their-origins", "engine/src/rt/Wavefront.cpp",
-     "        const glm::dvec3 along = shafts_->beyondScene(from) * toLight;",
+     "        const glm::dvec3 along = shafts_->beyondScene(from, magnitude) / glm::length(toLight) * toLight;",
      "        const glm::dvec3 along = 1e-3 * toLight;",
      "tandem-rt-tests", "TileShafts.*"),
 ]
