@@ -257,7 +257,7 @@ int main(int argc, char** argv) {
       // The maps are built by the first frame (and again after a move or a light change).
       double buildMs = 0;
       for (const FrameStats& s : stats) buildMs = std::max(buildMs, s.shadowMapsMs);
-      std::printf("  hybrid shadows: %llu shadow rays answered by tile shafts and %llu by the light-space maps instead "
+      std::printf("  hybrid shadows: %llu shadow tests answered by tile shafts and %llu rays by the light-space maps instead "
                   "(the primary hits' proved %s); maps %.1f MB, built in %.1f ms (first frame)\n",
                   static_cast<unsigned long long>(traced->rays.shadowByShaft),
                   static_cast<unsigned long long>(traced->rays.shadowByMap),
