@@ -254,6 +254,34 @@ TEST(TileShafts, GrazingLightsAndShearedPlanesAreLeftToEmbree) {
   EXPECT_EQ(b.shafts.counts.shadowByShaft, 0u);
 }
 
+// Motion blur: the sphere crosses the floor's shafts while the shutter is open. The bounds are where Embree
+// puts each instance at the pass's time (an early and a late sample), not where it stands mid-shutter.
+TEST(TileShafts, BoundsAreAtThePassesShutterTime) {
+  Scene scene = objectsOnAFloor();
+  scene.instances[1].velocity = glm::vec3(6.0f, 0.0f, 0.0f);  // 3 across the 0.5 s shutter
+  scene.camera.shutter = 0.5f;
+  for (float timeU : {0.05f, 0.95f}) {
+    SCOPED_TRACE(timeU);
+    scene.camera.timeU = timeU;
+    auto all = RayTracer::create(2), shafted = RayTracer::create(2);
+    ASSERT_TRUE(all.ok() && shafted.ok());
+    ASSERT_TRUE((*all)->setScene(scene, scene.camera.shutter).ok());
+    ASSERT_TRUE((*shafted)->setScene(scene, scene.camera.shutter).ok());
+    FrameSettings s = settingsFor(240, 135);
+    s.shadows = s.reflections = s.refraction = EffectMode::Ray;
+    VisibilityBuffer vis;
+    (*all)->castVisibility(scene.camera, s.width, s.height, vis);
+    RayOutputs rays, shafts;
+    (*all)->trace(scene, scene.camera, s, vis, rays);
+    s.hybridShadows = true;
+    s.shadowProofs = ShadowProofs::Shafts;
+    (*shafted)->trace(scene, scene.camera, s, vis, shafts);
+    EXPECT_TRUE(sameBits(rays.lightMask, shafts.lightMask));
+    EXPECT_GT(shafts.counts.shadowByShaft, 10000u);
+    EXPECT_LT(shafts.counts.shadow, rays.counts.shadow);
+  }
+}
+
 // A concave mesh shadows itself: only a mesh in one plane may be passed over as its points' own. Here an
 // L-shaped step (one mesh) under a light that makes its riser shade its tread.
 TEST(TileShafts, ConcaveMeshesAreNotTheirOwnPlane) {
