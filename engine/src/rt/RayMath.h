@@ -17,6 +17,16 @@ namespace tandem::rt {
 
 inline bool isFinite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+/// The largest magnitude of the coordinates (the scale the rounding of bounds and margins follows).
+inline double maxAbs(glm::dvec3 v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
+
+/// How far offsetRayOrigin may move a point at `posW` with error scale `magnitude`: at most ~130 ulps of the
+/// scale, then a ulp per coordinate; 2e-5 is ~170 ulps of the larger of the two.
+inline float offsetLift(glm::vec3 posW, glm::vec3 magnitude) {
+  const glm::vec3 a = glm::max(glm::abs(posW), magnitude);
+  return 2e-5f * std::max({a.x, a.y, a.z});
+}
+
 /// std::nextafter(x, +inf) by integer arithmetic on the bits: the same result for every input (zeros,
 /// infinities and NaN included), without the libm call, which showed in the ray pass's profile (every
 /// spawned ray rounds three components).

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "rt/EmbreeScene.h"
+#include "rt/RayMath.h"
 
 namespace tandem::rt {
 
@@ -14,8 +15,6 @@ namespace {
 // differs from the exact one by a few float roundings of those coordinates (~1e-7 relative). A thousand
 // times that costs a few rays traced that could have been kept, never a bit kept that could differ.
 constexpr double kMargin = 1e-4;
-
-double maxAbs(glm::dvec3 v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
 
 }  // namespace
 

@@ -5,12 +5,11 @@
 #include <cmath>
 
 #include "rt/EmbreeScene.h"
+#include "rt/RayMath.h"
 
 namespace tandem::rt {
 
 namespace {
-
-double maxAbs(glm::dvec3 v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
 
 // One plane of a shaft: points x with n·x <= d are inside.
 struct ShaftPlane {

@@ -110,8 +110,7 @@ void ShadowBatch::decideShafts(const Whitted& whitted) {
       ShaftBox from, to;
       from.lo = glm::dvec3(g.lo) - lift;
       from.hi = glm::dvec3(g.hi) + lift;
-      double magnitude = std::max({std::abs(from.lo.x), std::abs(from.lo.y), std::abs(from.lo.z), std::abs(from.hi.x),
-                                   std::abs(from.hi.y), std::abs(from.hi.z)});
+      double magnitude = std::max(maxAbs(from.lo), maxAbs(from.hi));
       // The sine at which the rays leave the plane, bounded for the whole group (TileShafts::kMinRise; with a
       // hundredth to spare for the hits' float normals).
       const glm::dvec3 normal = shafts_->planeNormal(g.instance);
@@ -144,19 +143,21 @@ void ShadowBatch::decideShafts(const Whitted& whitted) {
   }
 }
 
+std::size_t ShadowBatch::findGroup(std::uint32_t instance) {
+  if (lastGroup_ < groups_.size() && groups_[lastGroup_].instance == instance) return lastGroup_;
+  lastGroup_ = 0;
+  while (lastGroup_ < groups_.size() && groups_[lastGroup_].instance != instance) ++lastGroup_;
+  return lastGroup_;
+}
+
 std::uint32_t ShadowBatch::litByShaft(const ShadowPoint& hit) {
-  if (lastGroup_ >= groups_.size() || groups_[lastGroup_].instance != hit.instance) {
-    lastGroup_ = 0;
-    while (lastGroup_ < groups_.size() && groups_[lastGroup_].instance != hit.instance) ++lastGroup_;
-    if (lastGroup_ == groups_.size()) return 0u;  // not a plane's point
-  }
+  if (findGroup(hit.instance) == groups_.size()) return 0u;  // not a plane's point
   const ShaftGroup& g = groups_[lastGroup_];
   if (g.lit == 0) return 0u;
   // Only a point the group holds (prepareShafts saw it: in its box, its offset within its lift).
-  const glm::vec3 a = glm::max(glm::abs(hit.posW), hit.posMagnitude);
   const bool held = hit.triangle != kExactTriangle && hit.time == shafts_->time() &&
                     glm::all(glm::greaterThanEqual(hit.posW, g.lo)) && glm::all(glm::lessThanEqual(hit.posW, g.hi)) &&
-                    2e-5f * std::max({a.x, a.y, a.z}) <= g.lift;
+                    offsetLift(hit.posW, hit.posMagnitude) <= g.lift;
   return held ? g.lit : 0u;
 }
 

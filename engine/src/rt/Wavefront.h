@@ -56,8 +56,9 @@ class ShadowBatch {
   std::uint32_t add(const Whitted& whitted, std::size_t lights, const ShadowPoint& hit, std::size_t slot);
   void trace(RTCScene scene, LightMask* masks, RayCounts& counts);
   /// Hybrid shadows' tile shafts (rt/TileShafts.h, Whitted::shafts()): before the points `at(0 .. count)`
-  /// are added, their shafts towards each light are tested once; add() then answers lit, untraced, the
-  /// needed rays whose shaft nothing else can meet. Without it (or without shafts) every ray is traced.
+  /// are added, their shafts towards each light are tested once; add() then answers lit, without setting a
+  /// ray up, each point's test towards a light its shaft is clear to. Without it (or without shafts) every
+  /// needed ray is traced (or answered by the maps).
   template <class At>
   void prepareShafts(const Whitted& whitted, std::size_t count, At at);
 
@@ -82,12 +83,14 @@ class ShadowBatch {
   };
   // The lights each group's shaft is clear towards (prepareShafts' second half).
   void decideShafts(const Whitted& whitted);
+  // The group of `instance` (lastGroup_ set to it), or groups_.size() when it has none.
+  std::size_t findGroup(std::uint32_t instance);
   // The lights whose shadow tests of `hit` its group's shaft answers (bit j: light j).
   std::uint32_t litByShaft(const ShadowPoint& hit);
   const TileShafts* shafts_ = nullptr;  // Whitted::shafts() of the last prepareShafts
   std::vector<ShaftGroup> groups_;
   std::size_t lastGroup_ = 0;  // consecutive points mostly share their instance
-  std::uint64_t byShaft_ = 0;  // rays the shafts answered since the last trace()
+  std::uint64_t byShaft_ = 0;  // shadow tests the shafts answered since the last trace()
   std::array<std::vector<LaneRay>, kMaxLights> byLight_;
   std::array<std::vector<std::size_t>, kMaxLights> capturedByLight_;  // under a recording Capture: capture indices
   // Area lights' rays, traced one by one (trace() says why).
@@ -107,21 +110,15 @@ void ShadowBatch::prepareShafts(const Whitted& whitted, std::size_t count, At at
   lastGroup_ = 0;
   shafts_ = whitted.shafts();
   if (!shafts_) return;
-  // The points by instance: their box, and how far their offset origins may lie from them (offsetRayOrigin
-  // moves a point by at most 127 ulps of its error scale, then a ulp per coordinate: 2e-5 is ~170 ulps).
+  // The points by instance: their box, and how far their offset origins may lie from them.
   for (std::size_t i = 0; i < count; ++i) {
     const ShadowPoint& p = at(i);
     if (!shafts_->joins(p.instance) || p.triangle == kExactTriangle || p.time != shafts_->time()) continue;
-    if (lastGroup_ >= groups_.size() || groups_[lastGroup_].instance != p.instance) {
-      lastGroup_ = 0;
-      while (lastGroup_ < groups_.size() && groups_[lastGroup_].instance != p.instance) ++lastGroup_;
-      if (lastGroup_ == groups_.size()) groups_.push_back({p.instance});
-    }
+    if (findGroup(p.instance) == groups_.size()) groups_.push_back({p.instance});
     ShaftGroup& g = groups_[lastGroup_];
     g.lo = glm::min(g.lo, p.posW);
     g.hi = glm::max(g.hi, p.posW);
-    const glm::vec3 a = glm::max(glm::abs(p.posW), p.posMagnitude);
-    g.lift = std::max(g.lift, 2e-5f * std::max({a.x, a.y, a.z}));
+    g.lift = std::max(g.lift, offsetLift(p.posW, p.posMagnitude));
   }
   decideShafts(whitted);
 }
