@@ -73,6 +73,7 @@ int main(int argc, char** argv) {
   std::optional<std::string> tracePixel;
   double progressAfter = 2.0;
   std::string reuse = "off";
+  std::string pipeline = "off";
   cli::FrameOptions frameOptions;
   app.add_option("scene", scenePath, "Scene: .json, .gltf or .glb (default: the embedded Whitted scene)");
   app.add_option("-o,--output", outPath, "Output image: .png, or .jpg / .jpeg for JPEG")->capture_default_str();
@@ -87,6 +88,12 @@ int main(int argc, char** argv) {
                  "on | off: with on, a frame whose camera, scene and ray settings equal the last frame's reuses its "
                  "rays (FrameSettings::reuseRays; the renderer's and the game's default). Off here by default: "
                  "--frames times every frame's full cost with the camera standing still")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
+  app.add_option("--pipeline", pipeline,
+                 "on | off: throughput mode (FrameSettings::pipelined, docs/pipeline.md): each frame's rays trace "
+                 "while the next frame is rasterized, one frame of latency; the same images. Off (latency mode) "
+                 "by default here: the summary then times each frame alone")
       ->check(CLI::IsMember({"on", "off"}))
       ->capture_default_str();
   app.add_option("--progress-after", progressAfter,
@@ -149,6 +156,7 @@ int main(int argc, char** argv) {
   if (!resolved) return fail(resolved.error().message);
   FrameSettings settings = resolved->settings;
   settings.reuseRays = reuse == "on";
+  settings.pipelined = pipeline == "on";
   // Checked against the frame before anything renders, like every other value.
   std::optional<glm::ivec2> tracedPixel;
   if (tracePixel) {
@@ -187,12 +195,23 @@ int main(int argc, char** argv) {
 
   // --accumulate N: the written image is the converged one, N frames' samples.
   if (settings.accumulate > 1) frames = std::max(frames, settings.accumulate);
+  // Throughput mode: a call shows the frame before its own (none the first time), and finish() the last.
   std::vector<FrameStats> stats;
+  std::vector<double> intervals;  // between render() calls, the first left out (it has no call before it)
+  int drained = 0;
+  auto shown = [&](const FrameStats& st) {
+    if (!st.error.empty()) return false;
+    if (!st.pipelineFilling) stats.push_back(st);
+    drained += st.pipelineDrained ? 1 : 0;
+    return true;
+  };
   for (int i = 0; i < frames; ++i) {
     if (progress) progress->beginFrame(i);
-    stats.push_back((*renderer)->render(camera, settings));
-    if (!stats.back().error.empty()) return fail(stats.back().error);
+    const FrameStats st = (*renderer)->render(camera, settings);
+    if (!shown(st)) return fail(st.error);
+    if (i > 0) intervals.push_back(st.intervalMs);
   }
+  if (std::optional<FrameStats> done = (*renderer)->finish(); done && !shown(*done)) return fail(done->error);
   if (progress) progress->finish();
   Image image = (*renderer)->readImage();
   if (auto r = writeImage(outPath, image); !r) return fail(r.error().message);
@@ -286,6 +305,15 @@ int main(int argc, char** argv) {
                   static_cast<double>(last.radiosity.residual), last.radiosity.solveMs);
     if (reused > 0)
       std::printf("  %d of %d frame(s) reused the frame before's rays (--reuse on: nothing moved)\n", reused, frames);
+    if (!intervals.empty())
+      std::printf("  interval between frames: median %.2f ms (%.1f fps)%s\n", median(intervals),
+                  1000.0 / std::max(median(intervals), 1e-3),
+                  settings.pipelined ? "; throughput mode: total is each frame's latency, a frame's stages overlap "
+                                       "the next one's raster"
+                                     : "");
+    if (drained > 0)
+      std::printf("  %d frame(s) completed before the next was drawn (the scene, the settings or the size changed)\n",
+                  drained);
     if (last.budget.active) {
       int changes = 0;
       for (std::size_t i = 1; i < stats.size(); ++i) changes += stats[i].budget.step != stats[i - 1].budget.step;
@@ -346,6 +374,16 @@ int main(int argc, char** argv) {
                         {"shot_cap", settings.radiosityShots},
                         {"refine", settings.radiosityRefine}};
     j["reuse"] = settings.reuseRays;
+    j["pipelined"] = settings.pipelined;
+    if (!intervals.empty())
+      j["interval_ms"] = {{"median", median(intervals)},
+                          {"min", *std::min_element(intervals.begin(), intervals.end())},
+                          {"max", *std::max_element(intervals.begin(), intervals.end())}};
+    if (settings.pipelined) {
+      std::vector<double> waits;
+      for (const FrameStats& s : stats) waits.push_back(s.raysWaitMs);
+      j["pipeline"] = {{"drained_frames", drained}, {"rays_wait_ms_median", median(waits)}};
+    }
     j["frames_reusing_rays"] = reused;
     if (last.budget.active) {
       nlohmann::json steps = nlohmann::json::array();

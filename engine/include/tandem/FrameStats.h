@@ -125,6 +125,24 @@ struct FrameStats {
   /// FrameSettings::targetMs: the choice this frame was drawn with.
   BudgetStats budget;
   RadiosityStats radiosity;
+  /// Throughput mode (FrameSettings::pipelined, docs/pipeline.md). `pipelined`: the call ran in it and these
+  /// stats are those of the frame it showed (drawn partly by the call before: its plan, raster and read-back
+  /// there, its rays on their own threads in between, its upload and composite here); totalMs is then its
+  /// latency, from the start of the call that began it to its composite here, which also holds the next
+  /// frame's raster and the application's time between the calls, so untimedMs() is not the frame's own.
+  /// `pipelineFilling`: the call began a frame and had none to show (the pipeline's first frame, or the first
+  /// after a latency-mode frame): every stage is zero and readImage() holds what it held. `pipelineDrained`:
+  /// the call had to complete the frame in flight before drawing its own (a new scene, other settings, proofs in
+  /// the GL), so nothing of the two overlapped. `raysWaitMs`: how long the call waited for the shown frame's
+  /// rays after its own GL work (0: the rays had finished first).
+  bool pipelined = false;
+  bool pipelineFilling = false;
+  bool pipelineDrained = false;
+  double raysWaitMs = 0;
+  /// Milliseconds from the return of the previous render() call to the return of this one: the frame
+  /// interval the application sees, in both modes (0 on a renderer's first call).
+  double intervalMs = 0;
+
   /// Empty when the frame was drawn. Otherwise why it was not: the GL could not hold this frame size
   /// (a limit it exceeds, or an allocation the driver refused, named as Renderer::resize names them).
   /// readImage() is then empty when the frame's own targets failed, else it keeps the last frame drawn.

@@ -13,6 +13,7 @@
 // Not thread-safe: call it from the thread whose GL context is current. The ray pass uses its own
 // worker threads internally.
 #include <memory>
+#include <optional>
 
 #include "tandem/Context.h"
 #include "tandem/FrameStats.h"
@@ -68,13 +69,20 @@ class Renderer {
   /// The targets are then released. render() resizes by itself when the size changes; call this where the
   /// size comes from outside (a window resize, a command-line flag) and before the first frame.
   Result<void> resize(int width, int height);
-  /// Renders one frame into the renderer's offscreen target. With settings.targetMs > 0 the frame is drawn
+  /// Renders one frame into the renderer's offscreen target (in throughput mode, FrameSettings::pipelined:
+  /// begins this frame and shows the one before; FrameStats are then the shown frame's). With settings.targetMs > 0 the frame is drawn
   /// with the settings or a cheaper choice that fits the target (FrameStats::budget says which;
   /// docs/budget.md). Bad settings are clamped; the one failure
   /// is a frame size the GL cannot hold: nothing is drawn and FrameStats::error says why (the same
   /// message resize() gives; a size that failed is not tried again by render() until resize() is called
   /// or another size is rendered).
   FrameStats render(const Camera& camera, const FrameSettings& settings);
+  /// Throughput mode (FrameSettings::pipelined): completes the frame still in flight (waits for its rays,
+  /// composites and presents it) and returns its stats; nullopt when none is. Call it before capturing the
+  /// last frame of a sequence, or where the application needs the frame it last asked for on screen. render()
+  /// in latency mode, resize() and tracePixel() do it themselves. The scene's mutators and setScene() may be
+  /// called while a frame is in flight: its rays see the scene as it was when it was drawn.
+  std::optional<FrameStats> finish();
   /// The ray tree of pixel (x, y) of the last frame (row 0 at the top, as readImage): the frame's ray
   /// pass re-run for that one pixel, with its camera, settings and visibility, recording every ray, hit,
   /// light, weight and the sum that makes the pixel (tandem/PixelTrace.h; toText prints it). For a
@@ -86,11 +94,15 @@ class Renderer {
   Result<PixelTrace> tracePixel(int x, int y);
   /// Draws the last frame into the default framebuffer (windows), size in pixels.
   void present(int framebufferWidth, int framebufferHeight);
-  /// The last frame (or its debug view), 8-bit sRGB, top row first.
+  /// The last frame shown (or its debug view), 8-bit sRGB, top row first: in throughput mode
+  /// (FrameSettings::pipelined) the frame before the last one render() was asked for, until finish().
   Image readImage();
-  /// The last frame in linear radiance before the tone map.
+  /// The last frame shown in linear radiance before the tone map.
   ImageF readLinear();
   ResourceStats resources() const;
+  /// Whether the GL rasterizes on a GPU (false for a software rasterizer such as llvmpipe, whose raster and
+  /// composite share the CPU with the ray pass): where throughput mode (FrameSettings::pipelined) pays.
+  bool hardwareGl() const;
 
   struct Impl;
 

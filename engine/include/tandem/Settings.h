@@ -138,6 +138,19 @@ struct FrameSettings {
   /// ambient estimate (a game: FrameStats::radiosity says how far it is).
   bool radiosityBackground = false;
 
+  /// Throughput mode (docs/pipeline.md): render() rasterizes and reads back this frame, shows the frame
+  /// before it (its rays finished, uploaded and composited) and leaves this frame's ray pass running on its
+  /// own thread while the caller goes on; the next render() call rasterizes its frame while those rays run,
+  /// then shows this one. One frame of latency: readImage(), readLinear() and present() give the frame the
+  /// last call showed, FrameStats describes it, and Renderer::finish() shows the frame still in flight. Each
+  /// frame is the image latency mode (off, the default) draws for the same camera, scene and settings, to the
+  /// bit. The camera, instances and lights may change between calls (the rays in flight see their own copy
+  /// of the scene); a new scene, other settings or proofs in the GL complete the frame in flight first
+  /// (FrameStats::pipelineDrained). Drawn in latency mode, the frame in flight completed first: frames of
+  /// several samples (aa, and accumulation going on at rest; its first frame is pipelined), the reference,
+  /// raster-only frames, an open shutter, radiosity and a new frame size.
+  bool pipelined = false;
+
   /// Clamps ranges and applies dependencies (e.g. rayScale rounded to 1, 2 or 4).
   FrameSettings resolved() const;
   /// Every field compared; sameRayInputs (render/FramePlan.h) compares only what the ray pass reads.

@@ -203,6 +203,8 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
 // One draw command per instance, baseInstance = instance index.
 void GpuScene::uploadInstances(const Scene& scene, const std::vector<glm::uvec4>& meshes) {
   instanceCount_ = static_cast<int>(scene.instances.size());
+  otherSlot_ = {};
+  slot_ = 0;
   instances_ = bufferOf("instances", packInstances(scene, anchor_));
   // Two views of one record: the matrices as floats, meshMaterial as integers (reading integer bits
   // through a float view would meet llvmpipe's denormal flushing).
@@ -305,6 +307,23 @@ void GpuScene::updateInstances(const Scene& scene, float shutter, float u) {
   std::vector<GpuInstance> packed = packInstances(scene, anchor_, shutter, u);
   glNamedBufferSubData(instances_.id(), 0, static_cast<GLsizeiptr>(packed.size() * sizeof(GpuInstance)),
                        packed.data());
+}
+
+void GpuScene::setInstanceSlot(int slot) {
+  assert((slot == 0 || slot == 1) && "setInstanceSlot: two slots");
+  if (slot == slot_) return;
+  if (!otherSlot_.records) {
+    const std::size_t bytes = static_cast<std::size_t>(instanceCount_) * sizeof(GpuInstance);
+    otherSlot_.records = createBuffer("instances (second slot)", bytes, nullptr);
+    if (bytes > 0)
+      glCopyNamedBufferSubData(instances_.id(), otherSlot_.records.id(), 0, 0, static_cast<GLsizeiptr>(bytes));
+    otherSlot_.view = createBufferTexture("instances view (second slot)", GL_RGBA32F, otherSlot_.records);
+    otherSlot_.idsView = createBufferTexture("instance ids view (second slot)", GL_RGBA32UI, otherSlot_.records);
+  }
+  std::swap(instances_, otherSlot_.records);
+  std::swap(instancesTex_, otherSlot_.view);
+  std::swap(instanceIdsTex_, otherSlot_.idsView);
+  slot_ = slot;
 }
 
 void GpuScene::updateLights(const Scene& scene) {

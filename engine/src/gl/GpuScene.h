@@ -58,6 +58,12 @@ class GpuScene {
   /// shutter (Camera::shutter), instances that move while it is open are drawn where time u ∈ [0, 1] of it
   /// puts them (core/Motion.h motionAt, the transform the ray scene gives rays of that time).
   void updateInstances(const Scene& scene, float shutter = 0.0f, float u = 0.5f);
+  /// Throughput mode (docs/pipeline.md): two sets of instance records, so that the frame in flight is shaded
+  /// with the transforms it was drawn with while the next frame is drawn with its own. The slot (0 or 1)
+  /// selects the set bind(), bindShading() and updateInstances() use; slot 1 is made on first use as a copy
+  /// of slot 0's records, and upload() drops it.
+  int instanceSlot() const { return slot_; }
+  void setInstanceSlot(int slot);
   void updateLights(const Scene& scene);
   /// Re-packs materials when the shading override changes.
   void updateMaterials(const Scene& scene, std::optional<ShadingModel> shadingOverride);
@@ -117,6 +123,13 @@ class GpuScene {
   Texture radiosityTableTex_, radiosityValuesTex_;
   std::uint64_t radiosityVersion_ = 0;  // RadiosityField::version held; 0: none
   glm::uvec2 radiosityBytes_{0u};       // the two buffers' sizes
+  // The instance records of the slot not in use (instances_ and its two views are the slot in use).
+  struct InstanceSet {
+    Buffer records;
+    Texture view, idsView;
+  };
+  InstanceSet otherSlot_;
+  int slot_ = 0;
   int instanceCount_ = 0;
   int lightCount_ = 0;
   std::optional<ShadingModel> override_;

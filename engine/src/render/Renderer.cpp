@@ -88,25 +88,281 @@ gl::RayGrid rayGridData(const rt::RayOutputs& rays) {
 }  // namespace
 
 // The frame, top to bottom: plan → prepare (targets, caches) → raster → readback → rays → upload →
-// shade (composite and output) → present. Each stage is one call below, timed into FrameStats.
+// shade (composite and output) → present. Each stage is one call below, timed into FrameStats. In throughput
+// mode (FrameSettings::pipelined) the same stages run across two calls: renderPipelined.
 FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested) {
   Impl& r = *impl_;
+  FrameStats stats = r.renderFrame(camera, requested);
+  stats.intervalMs = r.sinceLastCall ? r.sinceLastCall->ms() : 0.0;
+  r.sinceLastCall.emplace();
+  return stats;
+}
+
+FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings& requested) {
   FrameStats stats;
-  const Impl::FrameClock clock = r.startFrame(stats);
+  const SceneChanges pending = changes;  // applied by startFrame
+  FrameClock clock = startFrame(stats);
   // With a frame-time budget, the settings this frame can afford; otherwise the requested ones.
   FramePlan plan = timed(stats.planMs, [&] {
-    SceneFacts facts = sceneFacts(r.scene);
-    facts.softwareGl = r.limits.software;
-    return planFrame(facts, r.budget.choose(requested.resolved(), facts));
+    SceneFacts facts = sceneFacts(scene);
+    facts.softwareGl = limits.software;
+    return planFrame(facts, budget.choose(requested.resolved(), facts));
   });
-  if (!timed(stats.prepareMs, [&] { return r.prepare(plan, camera, stats); })) return r.finishFrame(clock, stats);
   const FrameSettings& s = plan.settings;
   const bool sampled = s.aa != AntiAlias::Off || s.accumulate > 1;
-  if (!sampled && r.accum.active()) timed(stats.accumulateMs, [&] { r.accum.release(); });  // cost follows the settings
-  const bool drawn = sampled ? r.drawSampled(plan, camera, stats, clock.lastDrawn)
-                             : r.drawSample(plan, camera, stats, clock.lastDrawn, nullptr);
-  if (drawn) timed(stats.presentMs, [&] { r.present(); });
-  return r.finishFrame(clock, stats);
+  // Throughput mode takes frames of one sample whose GL copy holds still while their rays run (no open
+  // shutter, no radiosity solution to upload) and that trace something. A new size is drawn in latency mode:
+  // the targets the frame in flight would be shown in are made again at the new size.
+  const bool resized = inFlight && (inFlight->plan.settings.width != s.width || inFlight->plan.settings.height != s.height);
+  if (s.pipelined && !plan.reference && plan.rayPass && !(camera.shutter > 0.0f) && !s.radiosity && !resized) {
+    if (!sampled) return renderPipelined(clock, plan, camera, stats, pending, false);
+    // Accumulation (without anti-aliasing) starting again, as it does every frame while things move: its one
+    // sample is shown as drawn (drawSampled's single sample), a plain frame from the sample's camera. The
+    // frames that go on adding samples are drawn in latency mode, the first of them reading this one's
+    // linear frame once it is shown.
+    if (s.aa == AntiAlias::Off &&
+        accum.step(camera, s, {clock.lastDrawn, last.sceneChanged, caches.probesCurrent()}) == Accumulation::Step::Restart) {
+      timed(stats.accumulateMs, [&] { accum.restart(camera, s); });
+      const Camera sampleCamera = accum.nextSample(camera);
+      FramePlan samplePlan = accum.samplePlan(plan, caches.probesCurrent());
+      accum.firstUnread = true;
+      accum.frameDone();
+      stats.accumulated = 1;
+      return renderPipelined(clock, samplePlan, sampleCamera, stats, pending, true);
+    }
+  }
+  // Latency mode: the frame in flight first (shown, then drawn over), so that nothing below races its rays.
+  if (std::optional<FrameStats> done = drain(); done && !done->error.empty()) clock.lastDrawn = false;
+  if (!timed(stats.prepareMs, [&] { return prepare(plan, camera, stats, true, true); })) return finishFrame(clock, stats);
+  if (rayHeld) releaseRayScene();  // throughput mode's copy: cost follows the settings
+  if (!sampled && accum.active()) timed(stats.accumulateMs, [&] { accum.release(); });  // cost follows the settings
+  if (spareVisibility) spareVisibility.reset();  // throughput mode's second visibility buffer: likewise
+  const bool drawn = sampled ? drawSampled(plan, camera, stats, clock.lastDrawn)
+                             : drawSample(plan, camera, stats, clock.lastDrawn, nullptr);
+  if (drawn) timed(stats.presentMs, [&] { present(); });
+  return finishFrame(clock, stats);
+}
+
+// Throughput mode (docs/pipeline.md): the same stages as a latency frame's, in this order across two calls.
+//   call N:   plan N → instances N → raster N → read-back N   (N−1's rays running meanwhile)
+//             → land N−1 (wait for its rays, upload) → launch N's rays → composite + present N−1
+//             → lights, raster effects N (shadow maps, probes) → return N−1's stats
+//   call N+1: ... raster N+1 while N's rays run ... composite N ...
+// The frame in flight is composited with the GL state it was drawn with: its own visibility buffer (the
+// next frame draws into the spare one), its instance records (the GL copy's other slot), the lights and
+// raster effects as they were (the next frame's are made after the composite). Its ray pass owns what it
+// reads and writes until it lands: rayScene (the scene as the frame saw it), the tracer, visibility, rays, the
+// kept answers and resolved; the next frame's GL work touches none of them (its ids go to stagedVisibility)
+// and the scene's mutators write `scene`. A new scene, other settings or proofs in the GL complete the frame
+// in flight first (a drain).
+FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& plan, const Camera& camera,
+                                           FrameStats& stats, const SceneChanges& changed, bool accumulating) {
+  const FrameSettings& s = plan.settings;
+  bool lastDrawn = clock.lastDrawn;
+  std::optional<FrameStats> shown;
+  if (!accumulating && accum.active()) timed(stats.accumulateMs, [&] { accum.release(); });  // cost follows the settings
+  // This frame's camera as its one sample draws it (drawSample: a thin lens's point by the sample index).
+  const Camera sampleCamera = camera.lensPinhole({s.width, s.height});
+  // Overlap unless the GL copy is made again (a new scene), the settings differ (the size, the GL copy's
+  // variant, the raster effects asked for), the shutter time differs, or the proofs are the GL's (their maps
+  // are the tracer's, busy with the rays in flight).
+  bool overlap = inFlight && !changed.replaced && inFlight->plan.settings == s &&
+                 inFlight->camera.timeU == sampleCamera.timeU && !plan.glShadowProofs;
+  if (overlap && !spareVisibility) {
+    if (auto made = gl::VisibilityPass::create()) spareVisibility = std::move(*made);
+    else overlap = false;
+  }
+  if (overlap && (spareVisibility->width() != s.width || spareVisibility->height() != s.height) &&
+      !spareVisibility->resize(s.width, s.height)) {
+    spareVisibility.reset();  // the GL could not hold a second one: this frame drains
+    overlap = false;
+  }
+  if (inFlight && !overlap) {
+    shown = completeInFlight(visibilityPass);
+    shown->pipelineDrained = true;
+    if (!shown->error.empty()) lastDrawn = false;
+  }
+  // Without a frame in flight the GL copy is brought up to date here, as in latency mode; with one, only its
+  // instance records now (into the slot the frame in flight does not use), the rest after its composite.
+  if (!timed(stats.prepareMs, [&] { return prepare(plan, camera, stats, !inFlight, false); })) {
+    if (inFlight) shown = completeInFlight(visibilityPass);  // not reached (the same size cannot fail)
+    return finishFrame(clock, stats);
+  }
+  if (inFlight) timed(stats.prepareMs, [&] { caches.syncGpuInstances(scene, 1 - inFlight->slot); });
+  if (overlap) std::swap(visibilityPass, *spareVisibility);  // the frame in flight's buffer is the spare now
+
+  // This frame's raster (drawSample's GL part, the raster effects left for later).
+  FrameStats sample;
+  const Camera glCamera = toRenderSpace(sampleCamera, caches.gpu().anchor());
+  gl::ShadeInputs in;
+  in.lightSamples = s.lightSamples;
+  in.sampleBase = sampleCamera.sampleIndex * static_cast<std::uint32_t>(s.lightSamples);
+  localInputs(plan, in);
+  rasterVisibility(plan, glCamera, sample);
+  // Whether it reuses the last frame's rays whole is known now (the last frame was remembered by the call
+  // before); read its ids back while the rays in flight run.
+  bool reuse = last.reusesRays(plan, sampleCamera, lastDrawn, false);
+  bool readBack = false;
+  if (!reuse && !plan.glShadowProofs) {
+    timed(sample.readbackMs, [&] { readback(plan, false, stagedVisibility); });
+    readBack = true;
+  }
+  // The frame in flight lands (rays waited for, uploaded); it is composited once this frame's rays run.
+  std::optional<Landed> landed;
+  if (inFlight) {
+    landed = landInFlight(*spareVisibility);
+    if (!landed->uploaded) lastDrawn = false;
+  }
+  // The frame before could not be drawn after all (its upload failed): its rays are no longer on show.
+  if (reuse && !lastDrawn) reuse = false;
+  if (!reuse && !readBack) {
+    // The proofs' maps are made from the Embree scene, which must be this frame's first (no rays in flight
+    // now: a frame with proofs in the GL drains, and the one before has landed).
+    const bool proved = timed(sample.raysMs, [&] { return syncRayScene(camera); }) &&
+                        proveShadows(plan, sampleCamera, sample);
+    timed(sample.readbackMs, [&] { readback(plan, proved, stagedVisibility); });
+  }
+
+  // Launch: the ray pass's scene and Embree brought to this frame, the answers it keeps, its ids in place,
+  // its rays on their own thread.
+  inFlight.emplace();
+  InFlight& f = *inFlight;
+  f.since = clock.total;
+  f.camera = sampleCamera;
+  f.glCamera = glCamera;
+  f.slot = caches.gpu().instanceSlot();
+  bool traces = !reuse;
+  if (traces && !timed(sample.raysMs, [&] { return syncRayScene(camera); })) {
+    plan.withoutRays();  // Embree refused the scene: this frame is drawn without rays, as prepare would
+    traces = false;
+  }
+  f.plan = plan;
+  f.reused = reuse;
+  if (reuse) {
+    reuseRays(plan, sample);
+  } else if (traces) {
+    f.keeps = keepAnswers(plan, sampleCamera, sample, lastDrawn, false, f.kept, rayScene);
+    std::swap(visibility, stagedVisibility);
+  }
+  f.sample = sample;
+  if (traces)
+    f.rays = std::thread([this] {
+      InFlight& job = *inFlight;
+      traceVisible(job.plan, job.camera, job.sample, job.keeps ? &job.kept : nullptr, {}, rayScene);
+    });
+
+  // The frame before, composited with its own instance records and presented while this one's rays run.
+  if (landed) {
+    caches.gpu().setInstanceSlot(landed->slot);
+    shown = showLanded(*landed, *spareVisibility);
+    caches.gpu().setInstanceSlot(f.slot);
+  }
+  // This frame's GL copy (lights, materials) and raster effects, now that nothing shown needs the old ones.
+  FrameStats effects;
+  timed(effects.prepareMs, [&] { caches.syncGpu(scene, s.shadingOverride, sampleCamera.shutter, sampleCamera.timeU); });
+  caches.syncRasterEffects(scene, plan, visibilityPass, shadePass, in, effects, &gpuTimers);
+  viewInputs(plan, in);
+  f.in = in;
+  timed(effects.bookkeepingMs, [&] { remember(plan, sampleCamera, in); });
+
+  // The call's result: the frame it showed, or none (the pipeline filling).
+  FrameStats result;
+  if (shown) {
+    result = *shown;
+  } else {
+    result.pipelined = true;
+    result.pipelineFilling = true;
+    result.samples = 0;
+  }
+  Timer book;
+  glFinish();  // the timestamp queries of this call's GL work (as finishFrame)
+  result.gpu = gpuTimers.endFrame();
+  result.shaderCompiles = static_cast<int>(gl::programsBuilt() - clock.compiledBefore);
+  // This frame's budget choice goes with it; the budget learns from the frame shown, by its own stages (the
+  // latency in its totalMs also holds the next frame's raster and the application's time).
+  stats.budget = budget.stats();
+  if (shown) {
+    FrameStats own = result;
+    own.totalMs = own.stagesMs();
+    budget.observe(own);
+  }
+  stats.prepareMs += effects.prepareMs;
+  stats.shadowsMs += effects.shadowsMs;
+  stats.probesMs += effects.probesMs;
+  stats.bookkeepingMs += effects.bookkeepingMs + book.ms();
+  f.stats = stats;
+  return result;
+}
+
+// The ray pass's own copy of the scene brought to this frame's (a whole copy after a new scene or a latency
+// frame, else the instances and lights that changed), then Embree from it. False when Embree refused it.
+bool Renderer::Impl::syncRayScene(const Camera& camera) {
+  if (!rayHeld || rayPending.replaced) {
+    rayScene = scene;
+  } else {
+    if (rayPending.instancesMoved()) rayScene.instances = scene.instances;
+    if (rayPending.lights) rayScene.lights = scene.lights;
+  }
+  rayHeld = true;
+  rayPending = {};
+  return caches.syncRays(rayScene, camera.shutter, *tracer);
+}
+
+// The frame in flight, landed: its rays waited for and uploaded (with its exact solids' pixels into its
+// visibility buffer, `pass`); from then on nothing of it is the ray pass's, and the next frame's rays may run
+// while it is composited (showLanded).
+Renderer::Impl::Landed Renderer::Impl::landInFlight(gl::VisibilityPass& pass) {
+  assert(inFlight && "landInFlight: no frame in flight");
+  InFlight& f = *inFlight;
+  Timer wait;
+  waitRays();
+  Landed l;
+  l.waitedMs = wait.ms();
+  l.uploaded = timed(f.sample.uploadMs, [&] {
+    gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Upload);
+    return upload(f.plan, f.in, f.sample, f.reused, pass);
+  });
+  // `last` is this frame until the next one is launched: one that could not be drawn is not on show.
+  if (!l.uploaded) last.drawn = false;
+  l.plan = std::move(f.plan);
+  l.slot = f.slot;
+  l.glCamera = f.glCamera;
+  l.in = f.in;
+  l.stats = f.stats;
+  l.sample = f.sample;
+  l.since = f.since;
+  inFlight.reset();
+  return l;
+}
+
+// The landed frame composited with its visibility buffer and presented, as drawSample does for a latency
+// frame: its stats (pipelined; its latency in totalMs).
+FrameStats Renderer::Impl::showLanded(Landed& l, const gl::VisibilityPass& pass) {
+  if (l.uploaded)
+    timed(l.sample.compositeMs, [&] {
+      gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Composite);
+      shade(l.plan, l.glCamera, l.in, pass);
+    });
+  FrameStats out = l.stats;
+  out.addSample(l.sample);
+  if (l.uploaded) timed(out.presentMs, [&] { present(); });
+  else out.error = l.sample.error;
+  out.pipelined = true;
+  out.raysWaitMs = l.waitedMs;
+  out.totalMs = l.since.ms();
+  return out;
+}
+
+FrameStats Renderer::Impl::completeInFlight(gl::VisibilityPass& pass) {
+  Landed l = landInFlight(pass);
+  return showLanded(l, pass);
+}
+
+std::optional<FrameStats> Renderer::Impl::drain() {
+  if (!inFlight) return std::nullopt;
+  FrameStats done = completeInFlight(visibilityPass);
+  glFinish();
+  return done;
 }
 
 Renderer::Impl::FrameClock Renderer::Impl::startFrame(FrameStats& stats) {
@@ -157,12 +413,12 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
   else traceSample(plan, camera, sample, lastDrawn, only);
   const bool uploaded = timed(sample.uploadMs, [&] {
     gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Upload);
-    return upload(plan, in, sample, reuse);
+    return upload(plan, in, sample, reuse, visibilityPass);
   });
   if (uploaded)
     timed(sample.compositeMs, [&] {
       gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Composite);
-      shade(plan, glCamera, in);
+      shade(plan, glCamera, in, visibilityPass);
     });
   if (uploaded) timed(sample.bookkeepingMs, [&] { remember(plan, camera, in); });
   stats.addSample(sample);
@@ -179,12 +435,23 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
 // round, tracing only the pixels it refines.
 void Renderer::Impl::traceSample(const FramePlan& plan, const Camera& camera, FrameStats& sample, bool lastDrawn,
                                  const std::vector<std::uint8_t>* only) {
-  // The camera still but something moved: the rays clear of it keep their answers (the history's part of the
-  // frame: bookkeeping).
   rt::RayReuse kept;
-  const bool keeps = timed(sample.bookkeepingMs, [&] {
+  const bool keeps = keepAnswers(plan, camera, sample, lastDrawn, only != nullptr, kept, scene);
+  const bool proved = proveShadows(plan, camera, sample);
+  timed(sample.readbackMs, [&] { readback(plan, proved, visibility); });
+  // An adaptive round traces only the pixels it refines (the ray pass takes the others as background).
+  std::span<const std::uint8_t> selection;
+  if (only != nullptr && visibility.ids.size() == only->size()) selection = *only;
+  traceVisible(plan, camera, sample, keeps ? &kept : nullptr, selection, scene);
+}
+
+// The camera still but something moved: the rays clear of it keep their answers (the history's part of the
+// frame: bookkeeping).
+bool Renderer::Impl::keepAnswers(const FramePlan& plan, const Camera& camera, FrameStats& sample, bool lastDrawn,
+                                 bool partial, rt::RayReuse& kept, const Scene& seen) {
+  return timed(sample.bookkeepingMs, [&] {
     FrameHistory::Changes since;
-    const bool some = only == nullptr && last.keepsSome(plan, camera, scene, lastDrawn, !rays.lightMask.empty(), since);
+    const bool some = !partial && last.keepsSome(plan, camera, seen, lastDrawn, !rays.lightMask.empty(), since);
     kept.moved = std::move(since.moved);
     kept.changedLights = since.changedLights;
     if (!plan.settings.reuseRays && !keptVisibility.ids.empty()) releaseKept();
@@ -196,16 +463,15 @@ void Renderer::Impl::traceSample(const FramePlan& plan, const Camera& camera, Fr
     }
     return some;
   });
-  const bool proved = proveShadows(plan, camera, sample);
-  timed(sample.readbackMs, [&] { readback(plan, proved); });
-  // Exact solids first: the ray pass starts from the hits the resolve step finds (every pixel's, since the
-  // GL shades them all). Its time and rays are the rays stage's, with the ray pass's.
+}
+
+// Exact solids first: the ray pass starts from the hits the resolve step finds (every pixel's, since the GL
+// shades them all). Its time and rays are the rays stage's, with the ray pass's.
+void Renderer::Impl::traceVisible(const FramePlan& plan, const Camera& camera, FrameStats& sample,
+                                  const rt::RayReuse* kept, std::span<const std::uint8_t> only, const Scene& seen) {
   double resolveMs = 0;
-  const std::uint64_t resolvedRays = timed(resolveMs, [&] { return resolveExact(plan, camera); });
-  // An adaptive round traces only the pixels it refines (the ray pass takes the others as background).
-  std::span<const std::uint8_t> selection;
-  if (only != nullptr && visibility.ids.size() == only->size()) selection = *only;
-  timed(sample.raysMs, [&] { traceRays(plan, camera, sample, keeps ? &kept : nullptr, selection); });
+  const std::uint64_t resolvedRays = timed(resolveMs, [&] { return resolveExact(plan, camera, seen); });
+  timed(sample.raysMs, [&] { traceRays(plan, camera, sample, kept, only, seen); });
   sample.raysMs += resolveMs;
   sample.rays.resolved = resolvedRays;
 }
@@ -299,7 +565,7 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
 
 // prepare: the frame's GL targets, the GL copy, and (when rays run) the Embree scene — the only place
 // Embree commits. Without an Embree scene the plan loses its rays.
-bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& stats) {
+bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& stats, bool syncGl, bool syncEmbree) {
   const FrameSettings& s = plan.settings;
   // A size the GL cannot hold: nothing to draw into. Reported, not drawn black.
   if (auto targets = allocateFrame(s.width, s.height); !targets) {
@@ -307,8 +573,8 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
     return false;
   }
   // The GL copy's time is each sample's (drawSample): here only the shutter, leaving the time as it is.
-  caches.syncGpu(scene, s.shadingOverride, camera.shutter, caches.gpuTime());
-  if (plan.needsRayScene() && !caches.syncRays(scene, camera.shutter, *tracer)) plan.withoutRays();
+  if (syncGl) caches.syncGpu(scene, s.shadingOverride, camera.shutter, caches.gpuTime());
+  if (syncEmbree && plan.needsRayScene() && !caches.syncRays(scene, camera.shutter, *tracer)) plan.withoutRays();
   // The radiosity solution (docs/radiosity.md): solved here, or the background solve's latest. A new one
   // changes every point the frame shades: nothing of the last frame's rays or samples is kept.
   if (s.radiosity) {
@@ -333,6 +599,15 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
 // raster: the raster effects' maps when the scene changed (shadow maps, then the probes, which are shaded
 // with them), then the visibility G-buffer (instance + 1, triangle) over reversed-Z depth.
 void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in, FrameStats& stats) {
+  localInputs(plan, in);
+  // The probes are shaded from these inputs as they stand: the final view of local shading.
+  caches.syncRasterEffects(scene, plan, visibilityPass, shadePass, in, stats, &gpuTimers);
+  viewInputs(plan, in);
+  rasterVisibility(plan, glCamera, stats);
+}
+
+// The shade pass's inputs of local shading, from the scene and the settings.
+void Renderer::Impl::localInputs(const FramePlan& plan, gl::ShadeInputs& in) const {
   const FrameSettings& s = plan.settings;
   in.background = scene.background;
   // The radiosity solution replaces the ambient term where it covers a surface.
@@ -344,10 +619,15 @@ void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::S
   }
   in.fresnel = s.fresnel;
   in.fresnelWeighted = s.fresnelWeighted;
-  // The probes are shaded from these inputs as they stand: the final view of local shading.
-  caches.syncRasterEffects(scene, plan, visibilityPass, shadePass, in, stats, &gpuTimers);
-  in.debugView = s.debugView;
-  in.rayScale = s.rayScale;
+}
+
+// What the frame's view adds to them (not the probes': they show local shading).
+void Renderer::Impl::viewInputs(const FramePlan& plan, gl::ShadeInputs& in) {
+  in.debugView = plan.settings.debugView;
+  in.rayScale = plan.settings.rayScale;
+}
+
+void Renderer::Impl::rasterVisibility(const FramePlan& plan, const Camera& glCamera, FrameStats& stats) {
   if (!plan.reference)
     timed(stats.rasterMs, [&] {
       gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Raster);
@@ -358,27 +638,27 @@ void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::S
 
 // readback: the ids channel, top row first, only for the ray pass and the resolve step; the shadow proofs
 // beside them when the GL drew them (else none: a frame's proofs never outlive its ids).
-void Renderer::Impl::readback(const FramePlan& plan, bool proved) {
-  visibility.proofs.clear();
+void Renderer::Impl::readback(const FramePlan& plan, bool proved, rt::VisibilityBuffer& into) {
+  into.proofs.clear();
   if (!plan.readsIds()) return;
-  visibility.width = plan.settings.width;
-  visibility.height = plan.settings.height;
-  visibilityPass.readIds(visibility.ids);
-  if (proved) proofPass->read(visibility.proofs);
+  into.width = plan.settings.width;
+  into.height = plan.settings.height;
+  visibilityPass.readIds(into.ids);
+  if (proved) proofPass->read(into.proofs);
 }
 
 // rays, first: each pixel of an exact solid's proxy by its camera ray, the ids changed to what it found.
-std::uint64_t Renderer::Impl::resolveExact(const FramePlan& plan, const Camera& camera) {
+std::uint64_t Renderer::Impl::resolveExact(const FramePlan& plan, const Camera& camera, const Scene& seen) {
   resolved.clear();
   if (!plan.resolve) return 0;
   RayCounts counts;
-  tracer->resolveExact(scene, camera, visibility, resolved, counts);
+  tracer->resolveExact(seen, camera, visibility, resolved, counts);
   return counts.resolved;
 }
 
 // rays: the hybrid ray pass on the ray grid, or the whole reference frame.
 void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats,
-                               const rt::RayReuse* reuse, std::span<const std::uint8_t> only) {
+                               const rt::RayReuse* reuse, std::span<const std::uint8_t> only, const Scene& seen) {
   rays.lightMask.clear();
   rays.areaSamples.clear();
   rays.areaLights = 0;
@@ -389,7 +669,7 @@ void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, Fram
   rays.transmittedTiles.clear();
   rays.counts = {};
   if (plan.rayPass) {
-    tracer->trace(scene, camera, plan.raySettings, visibility, rays, reuse, only);
+    tracer->trace(seen, camera, plan.raySettings, visibility, rays, reuse, only);
     stats.rays = rays.counts;
     if (plan.raySettings.hybridShadows) {
       stats.shadowMapsMs += tracer->lastShadowMapMs();
@@ -398,7 +678,7 @@ void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, Fram
     stats.rayWidth = rays.width;
     stats.rayHeight = rays.height;
   } else if (plan.reference) {
-    tracer->renderReference(scene, camera, plan.settings, reference, stats.rays);
+    tracer->renderReference(seen, camera, plan.settings, reference, stats.rays);
     stats.rayWidth = reference.width;
     stats.rayHeight = reference.height;
   }
@@ -415,10 +695,11 @@ void Renderer::Impl::reuseRays(const FramePlan& plan, FrameStats& stats) const {
 
 // upload: only the ray results that exist this frame. Reused results are in the ray textures already (only
 // this stage writes them), so they are named as inputs without being sent again.
-bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats, bool reused) {
+bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats, bool reused,
+                            gl::VisibilityPass& pass) {
   // The resolved pixels into the visibility buffer the raster just drew (again, when the rays are reused).
   if (plan.resolve)
-    if (auto patched = visibilityPass.patch(resolved); !patched) {
+    if (auto patched = pass.patch(resolved); !patched) {
       stats.error = frameError(plan.settings, patched.error().message);
       return false;
     }
@@ -448,7 +729,8 @@ bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameSta
 }
 
 // shade: the visibility buffer shaded with the ray results added, then exposure + tone map + sRGB once.
-void Renderer::Impl::shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in) {
+void Renderer::Impl::shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in,
+                           const gl::VisibilityPass& pass) {
   const FrameSettings& s = plan.settings;
   if (plan.reference) {
     outputPass.output(s.exposure, s.toneMap, s.debugView);  // the reference's linear frame was uploaded
@@ -458,7 +740,7 @@ void Renderer::Impl::shade(const FramePlan& plan, const Camera& glCamera, const 
     fused.fusedOutput = true;
     fused.exposure = s.exposure;
     fused.toneMap = s.toneMap;
-    shadePass.shade(outputPass.fusedFramebuffer(), caches.gpu(), visibilityPass, glCamera, fused);
+    shadePass.shade(outputPass.fusedFramebuffer(), caches.gpu(), pass, glCamera, fused);
   }
   glFinish();
 }

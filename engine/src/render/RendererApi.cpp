@@ -99,11 +99,13 @@ Result<void> Renderer::resize(int width, int height) {
   if (width < 1 || height < 1)
     return Error{"frame size " + std::to_string(width) + "x" + std::to_string(height) + ": must be at least 1x1"};
   r.failedWidth = r.failedHeight = 0;  // asked again: try again (memory may have been freed since)
+  r.drain();  // the frame in flight is composited at the size it was drawn
   return r.allocateFrame(width, height);
 }
 
 Result<PixelTrace> Renderer::tracePixel(int x, int y) {
   Impl& r = *impl_;
+  r.drain();  // throughput mode: the frame in flight is the last frame, shown first
   r.applyChanges();
   const FrameHistory& f = r.last;
   if (!f.drawn) return Error{"tracePixel: no frame to trace (none rendered yet, or the last one was not drawn)"};
@@ -168,6 +170,17 @@ Result<PixelTrace> Renderer::tracePixel(int x, int y) {
   return trace;
 }
 
+std::optional<FrameStats> Renderer::finish() {
+  Impl& r = *impl_;
+  std::optional<FrameStats> done = r.drain();
+  if (done) {
+    done->gpu = r.gpuTimers.endFrame();
+    done->intervalMs = r.sinceLastCall ? r.sinceLastCall->ms() : 0.0;
+    r.sinceLastCall.emplace();
+  }
+  return done;
+}
+
 void Renderer::present(int framebufferWidth, int framebufferHeight) {
   impl_->outputPass.present(framebufferWidth, framebufferHeight);
 }
@@ -175,6 +188,8 @@ void Renderer::present(int framebufferWidth, int framebufferHeight) {
 Image Renderer::readImage() { return impl_->outputPass.readImage(); }
 
 ImageF Renderer::readLinear() { return impl_->outputPass.readLinear(); }
+
+bool Renderer::hardwareGl() const { return !impl_->limits.software; }
 
 ResourceStats Renderer::resources() const {
   ResourceStats r;

@@ -7,6 +7,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/RenderSpace.h"
@@ -84,6 +85,7 @@ struct Renderer::Impl {
   SceneChanges changes;
   void applyChanges() {
     if (!changes.any()) return;
+    rayPending |= changes;
     caches.apply(changes);
     radiosity.apply(changes);
     last.apply(changes);
@@ -94,6 +96,74 @@ struct Renderer::Impl {
     changes = {};
   }
 
+  // Throughput mode (FrameSettings::pipelined, docs/pipeline.md): the frame whose ray pass runs on its own
+  // thread while render() returns, and what the next call needs to complete it. Everything the ray pass reads
+  // or writes (rayScene, tracer, visibility, rays, kept*, resolved) is the job's until waitRays(); the GL
+  // state it is composited with (its visibility buffer, instance slot, lights, raster effects) stays as it
+  // was drawn.
+  struct InFlight {
+    FramePlan plan;
+    Camera camera;
+    Camera glCamera;
+    gl::ShadeInputs in;
+    FrameStats stats;   // the frame's plan and prepare; `sample` holds the rest
+    FrameStats sample;  // its raster and read-back (the call that began it), its rays (the job), upload and composite
+    rt::RayReuse kept;  // the answers it keeps from the frame before (keepsSome), read by the job
+    bool keeps = false;
+    bool reused = false;  // the last frame's rays whole: no job
+    int slot = 0;         // the GL copy's instance records it was drawn with (GpuScene::instanceSlot)
+    Timer since;          // from the start of the call that began it
+    std::thread rays;     // joinable while the ray pass runs
+  };
+  std::optional<InFlight> inFlight;
+  // What the ray pass of a frame in flight reads for the scene: a copy made at each launch (the instances and
+  // lights that changed since, the whole scene after a new one), so that the scene's mutators can change
+  // `scene` for the next frame while it runs. Held only in throughput mode (rayHeld).
+  Scene rayScene;
+  bool rayHeld = false;
+  SceneChanges rayPending;  // changes since rayScene was last brought up to date
+  bool syncRayScene(const Camera& camera);
+  void releaseRayScene() {
+    rayScene = Scene{};
+    rayHeld = false;
+    rayPending = {};
+  }
+  // The frame in flight's visibility buffer while the next frame is rasterized (swapped with visibilityPass),
+  // and the next frame's ids read back while the one in flight traces. Made by the first frame that overlaps.
+  std::optional<gl::VisibilityPass> spareVisibility;
+  rt::VisibilityBuffer stagedVisibility;
+  // FrameStats::intervalMs: when the last render() call returned.
+  std::optional<Timer> sinceLastCall;
+
+  // The ray pass of the frame in flight finished (joined): what landing it and the destructor wait for. No-op
+  // without one.
+  void waitRays() {
+    if (inFlight && inFlight->rays.joinable()) inFlight->rays.join();
+  }
+  // The frame in flight completed: its rays waited for, uploaded and composited with its own visibility buffer
+  // (`pass`), presented. Its stats (pipelined, latency in totalMs); error set when it could not be drawn.
+  // In two halves, so that the next frame's rays can run while it is composited: landInFlight (wait, upload;
+  // the frame leaves `inFlight`) and showLanded (composite, present, stats).
+  struct Landed {
+    FramePlan plan;
+    Camera glCamera;
+    gl::ShadeInputs in;
+    FrameStats stats, sample;
+    int slot = 0;
+    bool uploaded = false;
+    double waitedMs = 0;
+    Timer since;
+  };
+  Landed landInFlight(gl::VisibilityPass& pass);
+  FrameStats showLanded(Landed& landed, const gl::VisibilityPass& pass);
+  FrameStats completeInFlight(gl::VisibilityPass& pass);
+  // The frame in flight completed before anything else is drawn (a latency frame, resize, tracePixel,
+  // finish): its stats, or nullopt when none was in flight.
+  std::optional<FrameStats> drain();
+  ~Impl() { waitRays(); }
+
+  // Renderer::render but for its interval: the frame in latency mode, or its part in throughput mode.
+  FrameStats renderFrame(const Camera& camera, const FrameSettings& requested);
   Result<void> allocateFrame(int width, int height);
   // One sample of the frame: raster → readback → rays → upload → shade with `camera` (jittered by the
   // caller when anti-aliasing), its times and rays added to `stats`. `only`: the pixels whose rays are
@@ -103,6 +173,14 @@ struct Renderer::Impl {
   // readback → rays of one sample that does not reuse the last frame's rays whole.
   void traceSample(const FramePlan& plan, const Camera& camera, FrameStats& sample, bool lastDrawn,
                    const std::vector<std::uint8_t>* only);
+  // Before a sample's ray pass: whether it keeps some of the last frame's shadow answers (then `visibility`
+  // and `rays` are swapped into keptVisibility and keptRays, and `kept` points at them).
+  // `seen`: the scene the rays see (`scene`, or rayScene in throughput mode).
+  bool keepAnswers(const FramePlan& plan, const Camera& camera, FrameStats& sample, bool lastDrawn, bool partial,
+                   rt::RayReuse& kept, const Scene& seen);
+  // The ray pass proper, from the ids in `visibility`: the exact solids' resolve step, then the rays.
+  void traceVisible(const FramePlan& plan, const Camera& camera, FrameStats& sample, const rt::RayReuse* kept,
+                    std::span<const std::uint8_t> only, const Scene& seen);
   // The frame as a mean of samples (aa or accumulate): draws this frame's samples into `accum` and shows
   // their mean. False when a sample could not be drawn.
   bool drawSampled(const FramePlan& plan, const Camera& camera, FrameStats& stats, bool lastDrawn);
@@ -117,27 +195,41 @@ struct Renderer::Impl {
   };
   FrameClock startFrame(FrameStats& stats);
   FrameStats finishFrame(const FrameClock& clock, FrameStats& stats);
+  // render() in throughput mode for a frame the pipeline takes (FrameSettings::pipelined's conditions).
+  // `changed`: what the scene's mutators changed since the last call; `accumulating`: the frame is an
+  // accumulation's first sample (`camera` already the sample's).
+  FrameStats renderPipelined(const FrameClock& clock, FramePlan& plan, const Camera& camera, FrameStats& stats,
+                             const SceneChanges& changed, bool accumulating);
 
   // The frame's stages (Renderer::render calls them in order). A stage that cannot go on sets
   // stats.error and returns false: the frame is then not drawn.
-  bool prepare(FramePlan& plan, const Camera& camera, FrameStats& stats);
+  // `syncGl`, `syncEmbree`: whether it brings the GL copy and the Embree scene up to date (throughput mode
+  // does either at another point of the frame).
+  bool prepare(FramePlan& plan, const Camera& camera, FrameStats& stats, bool syncGl, bool syncEmbree);
   // raster: the raster effects' maps (their own stages, shadows and probes), then the visibility pass.
   void raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in, FrameStats& stats);
+  // Its parts, which throughput mode runs apart: the shade inputs of local shading, those of the view (not
+  // the probes'), the visibility pass.
+  void localInputs(const FramePlan& plan, gl::ShadeInputs& in) const;
+  static void viewInputs(const FramePlan& plan, gl::ShadeInputs& in);
+  void rasterVisibility(const FramePlan& plan, const Camera& glCamera, FrameStats& stats);
   // Before the read-back: the GL's shadow proofs (FramePlan::glShadowProofs); true when it drew them.
   bool proveShadows(const FramePlan& plan, const Camera& camera, FrameStats& stats);
-  void readback(const FramePlan& plan, bool proved = false);
+  void readback(const FramePlan& plan, bool proved, rt::VisibilityBuffer& into);
   // rays, first step: the exact solids' proxy pixels by camera rays (FramePlan::resolve); the rays traced.
-  std::uint64_t resolveExact(const FramePlan& plan, const Camera& camera);
+  std::uint64_t resolveExact(const FramePlan& plan, const Camera& camera, const Scene& seen);
   void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats, const rt::RayReuse* reuse,
-                 std::span<const std::uint8_t> only);
+                 std::span<const std::uint8_t> only, const Scene& seen);
   void reuseRays(const FramePlan& plan, FrameStats& stats) const;
   // Cost follows the settings: the second copy goes when reuse is off or the scene is replaced.
   void releaseKept() {
     keptVisibility = {};
     keptRays = {};
   }
-  bool upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats, bool reused);
-  void shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in);
+  // `pass`: the visibility buffer the frame was rasterized into (visibilityPass, or in throughput mode the
+  // spare one while the next frame's is drawn).
+  bool upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats, bool reused, gl::VisibilityPass& pass);
+  void shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in, const gl::VisibilityPass& pass);
   void present();
   void remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in);
 };

@@ -1,6 +1,7 @@
 #include "render/SceneCaches.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include "core/Motion.h"
@@ -59,6 +60,15 @@ void SceneCaches::syncGpu(const Scene& scene, std::optional<ShadingModel> shadin
   if (gpu_.shadingOverride() != shadingOverride)
     gpu_.updateMaterials(scene, shadingOverride), ++gpuVersion_, ++gpuLayoutVersion_;
   gpuInstancesStale_ = gpuLightsStale_ = false;
+}
+
+void SceneCaches::syncGpuInstances(const Scene& scene, int slot) {
+  assert(!gpuStale_ && gpuShutter_ == 0.0f && "syncGpuInstances: a new scene or a shutter is syncGpu's");
+  if (!gpuInstancesStale_) return;
+  gpu_.setInstanceSlot(slot);
+  gpu_.updateInstances(scene, gpuShutter_, gpuTime_);
+  ++gpuVersion_;
+  gpuInstancesStale_ = false;
 }
 
 bool SceneCaches::syncRays(const Scene& scene, float shutter, rt::RayTracer& tracer) {

@@ -32,6 +32,10 @@ class SceneCaches {
   /// raster effects made from it following each new time.
   void syncGpu(const Scene& scene, std::optional<ShadingModel> shadingOverride, float shutter = 0.0f,
                float timeU = 0.5f);
+  /// Throughput mode (docs/pipeline.md), with a frame in flight: only the GL copy's instance records, and only
+  /// when instances moved, written into instance slot `slot` (the other keeps the frame in flight's); syncGpu
+  /// does the rest once that frame is composited. Not for a new scene (syncGpu uploads it) nor an open shutter.
+  void syncGpuInstances(const Scene& scene, int slot);
   /// The Embree scene (the only place it is built or committed), with motion for `shutter`. False when
   /// Embree refused the scene: logged once; the frames of this scene then run without rays.
   bool syncRays(const Scene& scene, float shutter, rt::RayTracer& tracer);

@@ -87,6 +87,10 @@ void Hud::draw(const HudInfo& info) {
       ImGui::Text("rays: %dx%d on %d thr%s", st.rayWidth, st.rayHeight, st.threads,
                   st.raysReused ? "  reused: nothing moved" : "");
       ImGui::Text("window present %5.2f ms", info.presentMs);
+      // Throughput mode: the frame shown is a frame old; its total above is its latency.
+      if (st.pipelined)
+        ImGui::Text("pipelined: 1 frame latency, rays waited %.2f ms%s", st.raysWaitMs,
+                    st.pipelineDrained ? "  (drained: settings changed)" : "");
       // At rest the frame adds samples until it has FrameSettings::accumulate frames of them, then costs nothing.
       ImGui::Text("samples   %d this frame, %d per pixel shown", st.samples, st.accumulated);
       // A frame that compiled a shader stalled on it: worth seeing when it happens mid-game.

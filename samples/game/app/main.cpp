@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -53,6 +54,7 @@ struct Options {
   int threads = 0;
   int probesPerFrame = 2;
   std::string reuse = "on";
+  std::string pipeline = "auto";
   float targetFps = 0.0f;
   std::vector<std::string> aa{"off"};
   int accumulate = 16;
@@ -273,7 +275,7 @@ class Session {
       << " budget=" << (view_.targetFps > 0.0f ? fpsText(view_.targetFps) : std::string("off"))
       << " aa=" << tandem::toString(s.aa) << (s.aa != tandem::AntiAlias::Off ? std::to_string(s.aaSamples) : std::string())
       << " accumulate=" << s.accumulate << " light-samples=" << s.lightSamples
-      << " radiosity=" << (s.radiosity ? "on" : "off");
+      << " radiosity=" << (s.radiosity ? "on" : "off") << " pipeline=" << (s.pipelined ? "on" : "off");
     return o.str();
   }
 
@@ -389,11 +391,33 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
   // and without it, and the shadow answers kept.
   std::size_t checked = 0, identical = 0, differing = 0, budgetFrames = 0;
   unsigned long long raysWith = 0, raysWithout = 0, shadowWith = 0, shadowWithout = 0, kept = 0, still = 0;
+  // One frame-log line: the frame shown (in throughput mode the one before the frame drawn), its stages.
+  auto logFrame = [&](int f, const tandem::FrameStats& st, double gameMs, double loop, const std::string& flip) {
+    log << f << "," << st.totalMs;
+    for (const tandem::FrameStage& stage : tandem::kFrameStages) log << "," << st.*stage.cpu;
+    log << "," << st.untimedMs();
+    for (const tandem::FrameStage& stage : tandem::kFrameStages)
+      if (stage.gpu != nullptr) {
+        log << ",";
+        if (st.gpu.valid) log << st.gpu.*stage.gpu;
+      }
+    log << "," << (st.gpu.valid ? std::to_string(st.gpu.framesAgo) : std::string()) << "," << gameMs << "," << loop
+        << "," << st.rays.total() << "," << (st.raysReused ? 1 : 0) << "," << st.shaderCompiles << ","
+        << st.budget.targetMs << "," << st.budget.step << "," << st.budget.steps << ",\""
+        << tandem::describeBudget(st.budget) << "\"," << st.budget.predictedMs << "," << st.budget.expectedError << ","
+        << flip << "\n";
+  };
   for (int f = 0; f < o.frames && !s.quit_; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
     s.step();
     const double gameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    stats.push_back(s.render(w, h));
+    const tandem::FrameStats drawn = s.render(w, h);
+    if (drawn.pipelineFilling) {
+      // Throughput mode's first call: its frame is shown by the next one (nothing to log or compare yet).
+      loopMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      continue;
+    }
+    stats.push_back(drawn);
     double errorMs = 0.0;  // the second renderer's time, left out of the loop's
     if (o.checkReuse) {
       const tandem::FrameStats& st = stats.back();
@@ -427,22 +451,9 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
         std::snprintf(buf, sizeof buf, "%.6f", *e);
         flip = buf;
       }
-      const tandem::FrameStats& st = stats.back();
-      log << f << "," << st.totalMs;
-      for (const tandem::FrameStage& stage : tandem::kFrameStages) log << "," << st.*stage.cpu;
-      log << "," << st.untimedMs();
-      for (const tandem::FrameStage& stage : tandem::kFrameStages)
-        if (stage.gpu != nullptr) {
-          log << ",";
-          if (st.gpu.valid) log << st.gpu.*stage.gpu;
-        }
       const double loop =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - errorMs;
-      log << "," << (st.gpu.valid ? std::to_string(st.gpu.framesAgo) : std::string()) << "," << gameMs << "," << loop
-          << "," << st.rays.total() << "," << (st.raysReused ? 1 : 0) << "," << st.shaderCompiles << ","
-          << st.budget.targetMs << "," << st.budget.step << "," << st.budget.steps << ",\""
-          << tandem::describeBudget(st.budget) << "\"," << st.budget.predictedMs << "," << st.budget.expectedError << ","
-          << flip << "\n";
+      logFrame(f, stats.back(), gameMs, loop, flip);
     }
     if (s.wantShot_) {  // a scripted P: same files as in a window, minus the HUD copy
       s.wantShot_ = false;
@@ -452,6 +463,13 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
     }
     loopMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() -
                      errorMs);
+  }
+  // Throughput mode: the frame still in flight, shown (and logged) before the capture.
+  if (const auto t0 = std::chrono::steady_clock::now(); std::optional<tandem::FrameStats> done = s.renderer_->finish()) {
+    if (!done->error.empty()) return fail(done->error);
+    stats.push_back(*done);
+    const double loop = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (log.is_open()) logFrame(o.frames, *done, 0.0, loop, "");
   }
   if (log.is_open() && !log.flush()) return fail("--frame-log: cannot write '" + o.frameLog + "'");
   if (!o.capture.empty())
@@ -612,7 +630,8 @@ int runWindow(Session& s, const Options& o) {
     }
     const int w = std::max(1, fbW * s.view_.renderScalePct / 100);
     const int h = std::max(1, fbH * s.view_.renderScalePct / 100);
-    stats = s.render(w, h);
+    // Throughput mode's first call shows no frame: the HUD keeps the stats it had.
+    if (tandem::FrameStats drawn = s.render(w, h); !drawn.pipelineFilling) stats = std::move(drawn);
     const auto p0 = std::chrono::steady_clock::now();
     s.renderer_->present(fbW, fbH);
     const double presentMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - p0).count();
@@ -687,6 +706,12 @@ int run(int argc, char** argv) {
                  "on | off: a frame where nothing moved reuses the last frame's rays (FrameSettings::reuseRays)")
       ->check(CLI::IsMember({"on", "off"}))
       ->capture_default_str();
+  app.add_option("--pipeline", o.pipeline,
+                 "on | off | auto: throughput mode (FrameSettings::pipelined, docs/pipeline.md), each frame's rays traced "
+                 "while the next frame is rasterized, one frame of latency; auto: on where the GL is a GPU (on a "
+                 "software GL both sides share the CPU and it gains nothing)")
+      ->check(CLI::IsMember({"on", "off", "auto"}))
+      ->capture_default_str();
   app.add_option("--target-fps", o.targetFps,
                  "Frame-time budget in frames per second, 0.1..1000 (FrameSettings::targetMs; key B cycles it)")
       ->check(CLI::Range(0.1, 1000.0));
@@ -738,6 +763,12 @@ int run(int argc, char** argv) {
   if (o.checkReuse && o.targetFps > 0.0f)
     return fail("--check-reuse: not with --target-fps (the twin's budget would choose on its own clock)");
   if (o.checkReuse && o.reuse == "off") return fail("--check-reuse: needs reuse on");
+  // Both compare the frame shown with the same instant drawn by a second renderer: in throughput mode the
+  // frame shown is the one before.
+  if (o.pipeline == "on" && (o.checkReuse || o.errorEvery > 0))
+    return fail(std::string(o.checkReuse ? "--check-reuse" : "--error-every") +
+                ": not with --pipeline on (it compares the frame shown with the instant just drawn, a frame later "
+                "in throughput mode)");
 
   ViewState view;
   if (!view.applyPreset(o.preset))
@@ -827,6 +858,8 @@ int run(int argc, char** argv) {
   rdesc.threads = o.threads;
   auto renderer = tandem::Renderer::create(**ctx, rdesc);
   if (!renderer) return fail(renderer.error().message);
+  view.settings.pipelined =
+      o.pipeline == "on" || (o.pipeline == "auto" && (*renderer)->hardwareGl() && !o.checkReuse && o.errorEvery == 0);
 
   Session session(**ctx, std::move(*renderer), view, o.dt, std::move(events), o.shotDir);
   if (auto r = session.init(); !r) return fail(r.error().message);
