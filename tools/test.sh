@@ -4,7 +4,8 @@
 #   tools/test.sh --all           everything, long and mutation tests included (-L long or -L mutation: one of them)
 #   tools/test.sh --asan          the suite under AddressSanitizer + UBSan, built with clang (build-asan), with
 #                                 the libFuzzer smoke run of the glTF loader
-#   tools/test.sh --tsan          the ray pass (rt + numerics tests) under ThreadSanitizer (build-tsan)
+#   tools/test.sh --tsan          the ray pass (rt + numerics tests) and the pipelined frame's tests (Pipeline.*)
+#                                 under ThreadSanitizer (build-tsan)
 #   tools/test.sh --fuzz          the timed fuzz runs of the glTF and scene-file harnesses (build-asan, label fuzz)
 # Other arguments go to ctest (e.g. -R Scene, -L rt).
 set -euo pipefail
@@ -66,9 +67,11 @@ case "$mode" in
   tsan)
     cmake -S "$root" -B "$root/build-tsan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTANDEM_SANITIZE=thread \
       -DTANDEM_BUILD_BENCH=OFF -DTANDEM_BUILD_SAMPLES=OFF >/dev/null
-    cmake --build "$root/build-tsan" -j "$jobs" --target tandem-rt-tests tandem-numerics-tests
+    cmake --build "$root/build-tsan" -j "$jobs" --target tandem-rt-tests tandem-numerics-tests tandem-pipeline-tests
     export TSAN_OPTIONS="halt_on_error=1:suppressions=$root/tools/tsan.supp"
+    # The ray pass, and the pipelined frame: its ray pass on a thread of its own beside the GL (docs/pipeline.md).
     cd "$root/build-tsan" && ctest -j "$jobs" --output-on-failure -L 'rt|numerics' "${args[@]}"
+    ctest -j "$jobs" --output-on-failure -R '^Pipeline\.' "${args[@]}"
     ;;
   *)
     tandem_build

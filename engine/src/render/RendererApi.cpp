@@ -94,6 +94,42 @@ void Renderer::setLight(std::uint32_t light, const Light& value) {
   r.changes.lights = true;
 }
 
+// The frame's GL targets at width × height (resize, and the prepare stage of a frame of another size).
+Result<void> Renderer::Impl::allocateFrame(int width, int height) {
+  if (width == targetWidth && height == targetHeight) return {};
+  if (width == failedWidth && height == failedHeight) return Error{failure};
+  targetWidth = targetHeight = 0;
+  accum.release();  // its samples and its shown mean were in the targets replaced here
+  auto fail = [&](std::string why) -> Result<void> {
+    outputPass.release();
+    shadePass.releaseFrame();
+    visibilityPass.release();
+    failedWidth = width;
+    failedHeight = height;
+    failure = why;
+    return Error{std::move(why)};
+  };
+  // The driver's limits first: they are what the hardware can do, and cost no allocation to check.
+  if (auto within = gl::checkFrameLimits(width, height, limits); !within) return fail(within.error().message);
+  if (width > kMaxFrameSide || height > kMaxFrameSide)
+    return fail((width > kMaxFrameSide ? "width " + std::to_string(width) : "height " + std::to_string(height)) +
+                " exceeds kMaxFrameSide = " + std::to_string(kMaxFrameSide));
+  const std::string needs = "the frame's GL targets need " +
+                            gl::formatBytes(gl::OutputPass::targetBytes(width, height) +
+                                            gl::VisibilityPass::targetBytes(width, height)) +
+                            "; ";
+  // The composite pass first: its RGBA32F radiance is the largest texture, so a driver that cannot hold
+  // the size refuses it before anything else is allocated.
+  shadePass.releaseFrame();  // its depth copy is made again at the new size by the first frame that needs it
+  if (auto made = outputPass.resize(width, height); !made) return fail(needs + made.error().message);
+  if (auto made = visibilityPass.resize(width, height); !made) return fail(needs + made.error().message);
+  targetWidth = width;
+  targetHeight = height;
+  failedWidth = failedHeight = 0;
+  failure.clear();
+  return {};
+}
+
 Result<void> Renderer::resize(int width, int height) {
   Impl& r = *impl_;
   if (width < 1 || height < 1)

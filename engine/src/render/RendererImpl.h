@@ -1,7 +1,7 @@
 #pragma once
 // The Renderer's state (Renderer::Impl), shared by the frame (Renderer.cpp: render and its stages, top to
-// bottom) and the rest of the API (RendererApi.cpp: creation, the scene's mutators, tracePixel, output).
-// Internal: only those two files include it.
+// bottom; PipelinedFrame.cpp: the same stages in throughput mode) and the rest of the API (RendererApi.cpp:
+// creation, the frame's targets, the scene's mutators, tracePixel, output). Internal: only those files include it.
 #include <cstdint>
 #include <memory>
 #include <optional>

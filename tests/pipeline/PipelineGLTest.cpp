@@ -6,7 +6,7 @@
 #include <optional>
 #include <vector>
 
-#include "GlTestUtil.h"
+#include "gl/GlTestUtil.h"
 
 using namespace tandem;
 
