@@ -69,9 +69,14 @@ case "$mode" in
       -DTANDEM_BUILD_BENCH=OFF -DTANDEM_BUILD_SAMPLES=OFF >/dev/null
     cmake --build "$root/build-tsan" -j "$jobs" --target tandem-rt-tests tandem-numerics-tests tandem-pipeline-tests
     export TSAN_OPTIONS="halt_on_error=1:suppressions=$root/tools/tsan.supp"
-    # The ray pass, and the pipelined frame: its ray pass on a thread of its own beside the GL (docs/pipeline.md).
     cd "$root/build-tsan" && ctest -j "$jobs" --output-on-failure -L 'rt|numerics' "${args[@]}"
-    ctest -j "$jobs" --output-on-failure -R '^Pipeline\.' "${args[@]}"
+    # The pipelined frame: its ray pass on a thread of its own beside the GL's calls (docs/pipeline.md). Mesa's
+    # driver stays loaded (its suppression needs it), and TSan's deadlock detector is off: it overflows on
+    # the locks LLVM's JIT holds at once while llvmpipe compiles a shader. The variants' test (the same paths
+    # in six presets, 50 s under TSan) is left to the other builds.
+    dri="$(ls /usr/lib/*/dri/swrast_dri.so 2>/dev/null | head -n 1 || true)"
+    TSAN_OPTIONS="$TSAN_OPTIONS:detect_deadlocks=0" LD_PRELOAD="${dri}" \
+      ctest -j "$jobs" --output-on-failure -R '^Pipeline\.' -E 'ThroughputFramesEqualLatencyFrames' "${args[@]}"
     ;;
   *)
     tandem_build

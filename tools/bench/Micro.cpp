@@ -345,6 +345,37 @@ void BM_VisibilityRaster(benchmark::State& state) {
   state.counters["readback_ms"] = g.readbackMs;
 }
 
+// The frame interval in latency and in throughput mode (FrameSettings::pipelined, docs/pipeline.md): hybrid-full,
+// every frame traced, the camera stepping each frame as a game's does; each iteration's time is the interval
+// between render() calls (FrameStats::intervalMs), with the frame's latency and its wait for its rays beside.
+void BM_FrameInterval(benchmark::State& state) {
+  GlFrame& g = glFrame(state.range(0));
+  if (!g.renderer) return state.SkipWithError(g.error.c_str());
+  FrameSettings base;
+  base.width = kWidth;
+  base.height = kHeight;
+  FrameSettings s = *presetSettings("hybrid-full", base);
+  s.reuseRays = false;
+  s.pipelined = state.range(1) != 0;
+  Camera camera = g.camera;
+  int frame = 0;
+  auto next = [&] {
+    camera.posW.x = g.camera.posW.x + 0.01f * static_cast<float>(frame++ % 8);
+    return g.renderer->render(camera, s);
+  };
+  for (int i = 0; i < 2; ++i) (void)next();  // the shader variants, and the pipeline filled
+  std::vector<double> latency, wait;
+  for (auto _ : state) {
+    const FrameStats st = next();
+    state.SetIterationTime(st.intervalMs * 1e-3);
+    latency.push_back(st.totalMs);
+    wait.push_back(st.raysWaitMs);
+  }
+  (void)g.renderer->finish();
+  state.counters["latency_ms"] = summarize(latency).median;
+  state.counters["rays_wait_ms"] = summarize(wait).median;
+}
+
 void BM_VisibilityCastRays(benchmark::State& state) {
   RtFrame& f = rtFrame(state.range(0));
   if (!f.tracer) return state.SkipWithError(f.error.c_str());
@@ -376,6 +407,12 @@ void registerMicroBenchmarks() {
   benchmark::RegisterBenchmark("BM_Flip1280x720", BM_Flip1280x720)->Unit(benchmark::kMillisecond);
   scenes(benchmark::RegisterBenchmark("BM_VisibilityRaster", BM_VisibilityRaster)->UseManualTime());
   scenes(benchmark::RegisterBenchmark("BM_VisibilityCastRays", BM_VisibilityCastRays));
+  benchmark::RegisterBenchmark("BM_FrameInterval", BM_FrameInterval)
+      ->ArgNames({"heavy", "pipelined"})
+      ->Args({0, 0})->Args({0, 1})
+      ->UseManualTime()
+      ->MinTime(3.0)
+      ->Unit(benchmark::kMillisecond);
 }
 
 }  // namespace tandem::bench
