@@ -142,8 +142,8 @@ std::vector<Step> movingSteps(Scene& scene, FrameSettings& s, Camera& camera) {
       {"two samples", {}, [&] { s.aa = AntiAlias::Ssaa, s.aaSamples = 2; }, false, true},
       {"one sample again", {}, [&] { s.aa = AntiAlias::Off; }, false},
       {"camera moves once more", {}, [&] { camera.posW.z -= 0.2f; }, false},
-      {"size", {}, [&] { s.width -= 16; }, false, true},
       {"the scene set again", [&](Renderer& r) { ASSERT_TRUE(r.setScene(scene).ok()); }, {}, true},
+      {"size", {}, [&] { s.width -= 16; }, false, true},
       {"camera moves at the end", {}, [&] { camera.posW.y -= 0.1f; }, false},
   };
 }
