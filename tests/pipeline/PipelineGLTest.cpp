@@ -44,7 +44,7 @@ void checkSequence(GlContext& ctx, const Scene& scene, FrameSettings& s, Camera&
   EXPECT_FALSE(throughput->finish().has_value()) << "nothing in flight yet";
   std::vector<Shown> want;             // latency mode, frame i
   std::optional<std::size_t> pending;  // the throughput renderer's frame in flight
-  int overlapped = 0, drained = 0;
+  int overlapped = 0, drained = 0, keeping = 0;
   auto compare = [&](std::size_t frame, const Shown& got) {
     SCOPED_TRACE(std::string("frame of step ") + steps[frame].what);
     const Shown& w = want[frame];
@@ -57,6 +57,7 @@ void checkSequence(GlContext& ctx, const Scene& scene, FrameSettings& s, Camera&
     EXPECT_EQ(got.stats.rays.shadowByShaft, w.stats.rays.shadowByShaft);
     EXPECT_EQ(got.stats.rays.resolved, w.stats.rays.resolved);
     EXPECT_EQ(got.stats.raysReused, w.stats.raysReused);
+    keeping += got.stats.rays.shadowKept > 0 ? 1 : 0;
   };
   for (std::size_t i = 0; i < steps.size(); ++i) {
     SCOPED_TRACE(std::string("step ") + steps[i].what);
@@ -104,6 +105,8 @@ void checkSequence(GlContext& ctx, const Scene& scene, FrameSettings& s, Camera&
   EXPECT_FALSE(throughput->finish().has_value()) << "finish() left nothing in flight";
   EXPECT_GT(overlapped, 0) << "the sequence never overlapped a frame's rays with the next raster";
   if (strict) EXPECT_GT(drained, 0) << "the sequence never drained";
+  if (s.reuseRays && s.shadows == EffectMode::Ray)
+    EXPECT_GT(keeping, 0) << "no frame kept shadow answers (the camera still while an instance moved)";
 }
 
 // The steps every sequence runs: the camera moving, standing still (reuse), the scene changing under it (a
@@ -142,6 +145,12 @@ std::vector<Step> movingSteps(Scene& scene, FrameSettings& s, Camera& camera) {
       {"two samples", {}, [&] { s.aa = AntiAlias::Ssaa, s.aaSamples = 2; }, false, true},
       {"one sample again", {}, [&] { s.aa = AntiAlias::Off; }, false},
       {"camera moves once more", {}, [&] { camera.posW.z -= 0.2f; }, false},
+      {"an instance moves back, the camera still (the frame keeps answers)",
+       [&, lastInstance](Renderer& r) {
+         r.setInstanceTransform(lastInstance, scene.instances[lastInstance].worldFromObject);
+       },
+       {}, false},
+      // Replaced while that frame's rays, reading the answers it keeps, are in flight.
       {"the scene set again", [&](Renderer& r) { ASSERT_TRUE(r.setScene(scene).ok()); }, {}, true},
       {"size", {}, [&] { s.width -= 16; }, false, true},
       {"camera moves at the end", {}, [&] { camera.posW.y -= 0.1f; }, false},

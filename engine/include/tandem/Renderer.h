@@ -35,7 +35,8 @@ struct ResourceStats {
 
 struct RendererDesc {
   int threads = 0;  // ray-pass worker threads; 0 = all hardware threads
-  /// Optional: told as each tile of a frame's ray pass finishes (Progress.h says from which threads).
+  /// Optional: told as each tile of a frame's ray pass finishes (Progress.h says from which threads; in
+  /// throughput mode, FrameSettings::pipelined, also after render() has returned).
   /// Frames without a ray pass (every effect raster or off) make no calls, nor do frames that reuse the
   /// last frame's rays (FrameSettings::reuseRays).
   RayPassProgressCallback progress = {};

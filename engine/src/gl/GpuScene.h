@@ -64,6 +64,11 @@ class GpuScene {
   /// of slot 0's records, and upload() drops it.
   int instanceSlot() const { return slot_; }
   void setInstanceSlot(int slot);
+  /// Frees the slot not in use; the one in use becomes slot 0.
+  void dropOtherInstanceSlot() {
+    otherSlot_ = {};
+    slot_ = 0;
+  }
   void updateLights(const Scene& scene);
   /// Re-packs materials when the shading override changes.
   void updateMaterials(const Scene& scene, std::optional<ShadingModel> shadingOverride);

@@ -29,6 +29,8 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   if (!accumulating && accum.active()) timed(stats.accumulateMs, [&] { accum.release(); });  // cost follows the settings
   // This frame's camera as its one sample draws it (drawSample: a thin lens's point by the sample index).
   const Camera sampleCamera = camera.lensPinhole({s.width, s.height});
+  // The GL's copy of the proofs' maps goes when the frame has no proofs in the GL (as proveShadows does).
+  if (!plan.glShadowProofs) (void)proveShadows(plan, sampleCamera, stats);
   // Overlap unless the GL copy is made again (a new scene), the settings differ (the size, the GL copy's
   // variant, the raster effects asked for), the shutter time differs, or the proofs are the GL's (their maps
   // are the tracer's, busy with the rays in flight).
@@ -93,29 +95,38 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   // its rays on their own thread.
   inFlight.emplace();
   InFlight& f = *inFlight;
-  f.since = clock.total;
-  f.camera = sampleCamera;
-  f.glCamera = glCamera;
-  f.slot = caches.gpu().instanceSlot();
-  bool traces = !reuse;
-  if (traces && !timed(sample.raysMs, [&] { return syncRayScene(camera); })) {
-    plan.withoutRays();  // Embree refused the scene: this frame is drawn without rays, as prepare would
-    traces = false;
+  try {
+    f.since = clock.total;
+    f.camera = sampleCamera;
+    f.glCamera = glCamera;
+    f.slot = caches.gpu().instanceSlot();
+    bool traces = !reuse;
+    if (traces && !timed(sample.raysMs, [&] { return syncRayScene(camera); })) {
+      plan.withoutRays();  // Embree refused the scene: this frame is drawn without rays, as prepare would
+      traces = false;
+    }
+    f.plan = plan;
+    f.reused = reuse;
+    if (reuse) {
+      reuseRays(plan, sample);
+    } else if (traces) {
+      f.keeps = keepAnswers(plan, sampleCamera, sample, lastDrawn, false, f.kept, rayScene);
+      std::swap(visibility, stagedVisibility);
+    }
+    f.sample = sample;
+    if (traces)
+      f.rays = std::thread([this] {
+        InFlight& job = *inFlight;
+        try {
+          traceVisible(job.plan, job.camera, job.sample, job.keeps ? &job.kept : nullptr, {}, rayScene);
+        } catch (...) {
+          job.failure = std::current_exception();
+        }
+      });
+  } catch (...) {
+    inFlight.reset();  // nothing was launched: no frame is in flight (the one that landed is not shown)
+    throw;
   }
-  f.plan = plan;
-  f.reused = reuse;
-  if (reuse) {
-    reuseRays(plan, sample);
-  } else if (traces) {
-    f.keeps = keepAnswers(plan, sampleCamera, sample, lastDrawn, false, f.kept, rayScene);
-    std::swap(visibility, stagedVisibility);
-  }
-  f.sample = sample;
-  if (traces)
-    f.rays = std::thread([this] {
-      InFlight& job = *inFlight;
-      traceVisible(job.plan, job.camera, job.sample, job.keeps ? &job.kept : nullptr, {}, rayScene);
-    });
 
   // The frame before, composited with its own instance records and presented while this one's rays run.
   if (landed) {
@@ -182,6 +193,12 @@ Renderer::Impl::Landed Renderer::Impl::landInFlight(gl::VisibilityPass& pass) {
   InFlight& f = *inFlight;
   Timer wait;
   waitRays();
+  if (f.failure) {
+    // What latency mode would have thrown from render(), thrown from the call that lands the frame.
+    const std::exception_ptr failure = f.failure;
+    inFlight.reset();
+    std::rethrow_exception(failure);
+  }
   Landed l;
   l.waitedMs = wait.ms();
   l.uploaded = timed(f.sample.uploadMs, [&] {

@@ -85,9 +85,8 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
   // Latency mode: the frame in flight first (shown, then drawn over), so that nothing below races its rays.
   if (std::optional<FrameStats> done = drain(); done && !done->error.empty()) clock.lastDrawn = false;
   if (!timed(stats.prepareMs, [&] { return prepare(plan, camera, stats, true, true); })) return finishFrame(clock, stats);
-  if (rayHeld) releaseRayScene();  // throughput mode's copy: cost follows the settings
+  if (!s.pipelined && (rayHeld || spareVisibility)) releasePipeline();  // cost follows the settings
   if (!sampled && accum.active()) timed(stats.accumulateMs, [&] { accum.release(); });  // cost follows the settings
-  if (spareVisibility) spareVisibility.reset();  // throughput mode's second visibility buffer: likewise
   const bool drawn = sampled ? drawSampled(plan, camera, stats, clock.lastDrawn)
                              : drawSample(plan, camera, stats, clock.lastDrawn, nullptr);
   if (drawn) timed(stats.presentMs, [&] { present(); });

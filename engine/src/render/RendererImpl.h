@@ -2,7 +2,9 @@
 // The Renderer's state (Renderer::Impl), shared by the frame (Renderer.cpp: render and its stages, top to
 // bottom; PipelinedFrame.cpp: the same stages in throughput mode) and the rest of the API (RendererApi.cpp:
 // creation, the frame's targets, the scene's mutators, tracePixel, output). Internal: only those files include it.
+#include <cassert>
 #include <cstdint>
+#include <exception>
 #include <memory>
 #include <optional>
 #include <span>
@@ -39,6 +41,35 @@
 #include "tandem/Renderer.h"
 
 namespace tandem {
+
+// Throughput mode (FrameSettings::pipelined, docs/pipeline.md): the frame in flight (Renderer::Impl::inFlight) and
+// the frame landed (its rays done and uploaded, to be composited): defined out of Impl so that std::optional
+// can construct them while Impl is still being defined.
+struct InFlightFrame {
+  FramePlan plan;
+  Camera camera;
+  Camera glCamera;
+  gl::ShadeInputs in;
+  FrameStats stats;   // the frame's plan and prepare; `sample` holds the rest
+  FrameStats sample;  // its raster and read-back (the call that began it), its rays (the job), upload and composite
+  rt::RayReuse kept;  // the answers it keeps from the frame before (keepsSome), read by the job
+  bool keeps = false;
+  bool reused = false;  // the last frame's rays whole: no job
+  int slot = 0;         // the GL copy's instance records it was drawn with (GpuScene::instanceSlot)
+  Timer since;          // from the start of the call that began it
+  std::thread rays;     // joinable while the ray pass runs
+  std::exception_ptr failure;  // what the ray pass threw (bad_alloc): rethrown when the frame lands
+};
+struct LandedFrame {
+  FramePlan plan;
+  Camera glCamera;
+  gl::ShadeInputs in;
+  FrameStats stats, sample;
+  int slot = 0;
+  bool uploaded = false;
+  double waitedMs = 0;
+  Timer since;
+};
 
 struct Renderer::Impl {
   GlContext* context = nullptr;
@@ -90,6 +121,7 @@ struct Renderer::Impl {
     radiosity.apply(changes);
     last.apply(changes);
     if (changes.replaced) {
+      waitRays();      // a frame in flight may be reading the kept answers released here
       releaseKept();   // the second copy is the old scene's
       budget.reset();  // what the old scene cost says nothing of the new one
     }
@@ -101,20 +133,7 @@ struct Renderer::Impl {
   // or writes (rayScene, tracer, visibility, rays, kept*, resolved) is the job's until waitRays(); the GL
   // state it is composited with (its visibility buffer, instance slot, lights, raster effects) stays as it
   // was drawn.
-  struct InFlight {
-    FramePlan plan;
-    Camera camera;
-    Camera glCamera;
-    gl::ShadeInputs in;
-    FrameStats stats;   // the frame's plan and prepare; `sample` holds the rest
-    FrameStats sample;  // its raster and read-back (the call that began it), its rays (the job), upload and composite
-    rt::RayReuse kept;  // the answers it keeps from the frame before (keepsSome), read by the job
-    bool keeps = false;
-    bool reused = false;  // the last frame's rays whole: no job
-    int slot = 0;         // the GL copy's instance records it was drawn with (GpuScene::instanceSlot)
-    Timer since;          // from the start of the call that began it
-    std::thread rays;     // joinable while the ray pass runs
-  };
+  using InFlight = InFlightFrame;
   std::optional<InFlight> inFlight;
   // What the ray pass of a frame in flight reads for the scene: a copy made at each launch (the instances and
   // lights that changed since, the whole scene after a new one), so that the scene's mutators can change
@@ -123,10 +142,18 @@ struct Renderer::Impl {
   bool rayHeld = false;
   SceneChanges rayPending;  // changes since rayScene was last brought up to date
   bool syncRayScene(const Camera& camera);
-  void releaseRayScene() {
+  // Throughput mode's own memory (cost follows the settings: a frame whose settings do not ask for it frees
+  // it; latency-mode frames drawn while they do keep it, so that the next pipelined frame has nothing to make
+  // again): the ray pass's scene copy, the second visibility buffer and id read-back, the GL copy's second
+  // instance slot. Only with no frame in flight.
+  void releasePipeline() {
+    assert(!inFlight && "releasePipeline: a frame is in flight");
     rayScene = Scene{};
     rayHeld = false;
     rayPending = {};
+    spareVisibility.reset();
+    stagedVisibility = {};
+    caches.gpu().dropOtherInstanceSlot();
   }
   // The frame in flight's visibility buffer while the next frame is rasterized (swapped with visibilityPass),
   // and the next frame's ids read back while the one in flight traces. Made by the first frame that overlaps.
@@ -144,16 +171,7 @@ struct Renderer::Impl {
   // (`pass`), presented. Its stats (pipelined, latency in totalMs); error set when it could not be drawn.
   // In two halves, so that the next frame's rays can run while it is composited: landInFlight (wait, upload;
   // the frame leaves `inFlight`) and showLanded (composite, present, stats).
-  struct Landed {
-    FramePlan plan;
-    Camera glCamera;
-    gl::ShadeInputs in;
-    FrameStats stats, sample;
-    int slot = 0;
-    bool uploaded = false;
-    double waitedMs = 0;
-    Timer since;
-  };
+  using Landed = LandedFrame;
   Landed landInFlight(gl::VisibilityPass& pass);
   FrameStats showLanded(Landed& landed, const gl::VisibilityPass& pass);
   FrameStats completeInFlight(gl::VisibilityPass& pass);
