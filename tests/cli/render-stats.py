@@ -8,7 +8,8 @@
 - hybrid-full's primary rays equal the pixels the frame shows a surface at (the instance-id view's non-black
   pixels, decoded here), at --scale 2 the grid pixels whose stand-in pixel shows one; the reference's are
   width x height x spp^2; the raster preset traces nothing; without shadows no shadow ray, with depth 0 no
-  reflection or refraction ray.
+  reflection or refraction ray;
+- --pipeline on gives the image and rays of --pipeline off, and both report the interval between frames.
 """
 import json
 import math
@@ -149,6 +150,26 @@ if noshadow and full and (noshadow["rays"]["shadow"] != 0 or noshadow["rays"]["p
 _, flat, _ = run("depth0", "--preset", "hybrid-full", "--depth", "0")
 if flat and full and (flat["rays"]["reflection"] or flat["rays"]["refraction"] or flat["rays"]["shadow"] > full["rays"]["shadow"]):
     fail.append(f"--depth 0: {flat['rays']}")
+
+# Throughput mode: the same image and rays as latency mode over --frames 3 (each call shows the frame before;
+# the last is shown by finish()), every frame's stats, the interval between frames, no drain (nothing changed).
+png_off, off, _ = run("latency", "--preset", "hybrid-full", "--frames", "3")
+png_on, on, summary_on = run("throughput", "--preset", "hybrid-full", "--frames", "3", "--pipeline", "on")
+if off and on:
+    if open(png_off, "rb").read() != open(png_on, "rb").read():
+        fail.append("--pipeline on: the image differs from --pipeline off's")
+    if on["rays"] != off["rays"]:
+        fail.append(f"--pipeline on: rays {on['rays']} against {off['rays']}")
+    if on.get("pipelined") is not True or off.get("pipelined") is not False:
+        fail.append(f"--stats pipelined: {on.get('pipelined')} / {off.get('pipelined')}")
+    for name, j in (("latency", off), ("throughput", on)):
+        iv = j.get("interval_ms", {})
+        if not (0 < iv.get("min", 0) <= iv.get("median", 0) <= iv.get("max", 0)):
+            fail.append(f"{name}: interval_ms {iv}")
+    if on.get("pipeline", {}).get("drained_frames") != 0:
+        fail.append(f"--pipeline on: {on.get('pipeline')} (nothing changed: no frame should drain)")
+    if "throughput mode" not in summary_on:
+        fail.append("--pipeline on: the summary does not say the total is each frame's latency")
 
 for f in fail:
     print(f)
