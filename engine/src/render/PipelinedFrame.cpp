@@ -29,8 +29,7 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   if (!accumulating && accum.active()) timed(stats.accumulateMs, [&] { accum.release(); });  // cost follows the settings
   // This frame's camera as its one sample draws it (drawSample: a thin lens's point by the sample index).
   const Camera sampleCamera = camera.lensPinhole({s.width, s.height});
-  // The GL's copy of the proofs' maps goes when the frame has no proofs in the GL (as proveShadows does).
-  if (!plan.glShadowProofs) (void)proveShadows(plan, sampleCamera, stats);
+  if (!plan.glShadowProofs) releaseGlProofs();  // as proveShadows does for a latency frame without them
   // Overlap unless the GL copy is made again (a new scene), the settings differ (the size, the GL copy's
   // variant, the raster effects asked for), the shutter time differs, or the proofs are the GL's (their maps
   // are the tracer's, busy with the rays in flight).

@@ -233,6 +233,10 @@ struct Renderer::Impl {
   void rasterVisibility(const FramePlan& plan, const Camera& glCamera, FrameStats& stats);
   // Before the read-back: the GL's shadow proofs (FramePlan::glShadowProofs); true when it drew them.
   bool proveShadows(const FramePlan& plan, const Camera& camera, FrameStats& stats);
+  // A frame without them frees the GL's copy of the maps (~82 MB per point light), made again when asked.
+  void releaseGlProofs() {
+    if (proofPass && proofPass->generation() != 0) proofPass->release();
+  }
   void readback(const FramePlan& plan, bool proved, rt::VisibilityBuffer& into);
   // rays, first step: the exact solids' proxy pixels by camera rays (FramePlan::resolve); the rays traced.
   std::uint64_t resolveExact(const FramePlan& plan, const Camera& camera, const Scene& seen);

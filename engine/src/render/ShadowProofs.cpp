@@ -76,8 +76,7 @@ gl::ProofSource proofSource(const rt::ShadowCertainty& maps, const Scene& scene)
 // over the visibility buffer that decides each primary hit's shadow rays where it can (the raster's time).
 bool Renderer::Impl::proveShadows(const FramePlan& plan, const Camera& camera, FrameStats& stats) {
   if (!plan.glShadowProofs || proofFailed) {
-    // A frame without them frees the GL's copy of the maps (~82 MB per point light), made again when asked.
-    if (proofPass && proofPass->generation() != 0) proofPass->release();
+    releaseGlProofs();
     return false;
   }
   Timer build;
