@@ -22,6 +22,25 @@ struct Shown {
 
 Shown capture(Renderer& r, const FrameStats& st) { return {r.readLinear(), r.readImage(), st}; }
 
+// Where two linear frames differ: how many pixels, their bounds and the largest difference (a failure's report).
+std::string describeDifference(const ImageF& a, const ImageF& b) {
+  if (a.width != b.width || a.height != b.height) return "sizes differ";
+  int count = 0, x0 = a.width, y0 = a.height, x1 = -1, y1 = -1;
+  float largest = 0.0f;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const glm::vec3 d = glm::abs(a.at(x, y) - b.at(x, y));
+      const float m = std::max(d.x, std::max(d.y, d.z));
+      if (!(a.at(x, y) == b.at(x, y))) {
+        ++count;
+        x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+        largest = std::max(largest, m);
+      }
+    }
+  return std::to_string(count) + " pixels in x " + std::to_string(x0) + ".." + std::to_string(x1) + ", y " +
+         std::to_string(y0) + ".." + std::to_string(y1) + ", largest difference " + std::to_string(largest);
+}
+
 // Scene, camera and settings changes applied to both renderers before a frame (the same calls).
 struct Step {
   const char* what;
@@ -49,8 +68,12 @@ void checkSequence(GlContext& ctx, const Scene& scene, FrameSettings& s, Camera&
   auto compare = [&](std::size_t frame, const Shown& got) {
     SCOPED_TRACE(std::string("frame of step ") + steps[frame].what);
     const Shown& w = want[frame];
-    EXPECT_TRUE(got.linear.rgb == w.linear.rgb) << "linear frame differs";
+    EXPECT_TRUE(got.linear.rgb == w.linear.rgb) << "linear frame differs: " << describeDifference(got.linear, w.linear);
     EXPECT_TRUE(got.display.rgba == w.display.rgba) << "display frame differs";
+    if (got.display.rgba != w.display.rgba) {
+      gltest::savePng(std::string("pipeline-differs-") + std::to_string(frame) + "-throughput.png", got.display);
+      gltest::savePng(std::string("pipeline-differs-") + std::to_string(frame) + "-latency.png", w.display);
+    }
     EXPECT_EQ(got.stats.rays.total(), w.stats.rays.total());
     EXPECT_EQ(got.stats.rays.shadow, w.stats.rays.shadow);
     EXPECT_EQ(got.stats.rays.shadowKept, w.stats.rays.shadowKept);

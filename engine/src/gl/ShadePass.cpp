@@ -8,6 +8,7 @@
 
 #include "core/Shading.h"
 #include "gl/FeedbackLoop.h"
+#include "gl/FrameLimits.h"
 #include "tandem/Log.h"
 
 namespace tandem::gl {
@@ -73,6 +74,7 @@ Result<ShadePass> ShadePass::create() {
   if (!shade) return shade.error();
   ShadePass pass;
   pass.emptyVao_ = createVertexArray("full-screen triangle (shade)");
+  pass.depthSkipsSky_ = queryFrameLimits().software;
   return pass;
 }
 
@@ -318,10 +320,13 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
 void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& scene, const Texture& ids,
                      const Texture& depth, const Texture* sampledDepth, const Camera& camera, const ShadeInputs& in,
                      Role role) {
-  // Background pixels never run the shader: the visibility depth is attached (read-only) and the
-  // full-screen triangle at depth 0 passes only where something was drawn (reversed-Z: cleared = 0), so
-  // llvmpipe's early depth test skips whole sky blocks; the clear gives them their colour. Attached
-  // every call: a resized visibility pass may get its old texture name back for a new texture.
+  // On a software GL background pixels never run the shader: the visibility depth is attached (read-only)
+  // and the full-screen triangle at depth 0 passes only where something was drawn (reversed-Z: cleared =
+  // 0), so llvmpipe's early depth test skips whole sky blocks; the clear gives them their colour. Attached
+  // every call: a resized visibility pass may get its old texture name back for a new texture. A GPU runs
+  // the shader everywhere (its id-0 branch writes what the clear would): NVIDIA's driver (580, H200) once
+  // failed that test on every pixel of a throughput-mode frame whose depth texture alternates with the
+  // spare visibility pass's, the values read back intact, and an early-out per pixel costs a GPU little.
   glNamedFramebufferTexture(framebuffer, GL_DEPTH_ATTACHMENT, depth.id(), 0);
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);  // fullscreen.vert's z = 0 must land on depth 0
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
@@ -335,7 +340,8 @@ void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& 
                             1.0f);
     glClearNamedFramebufferfv(framebuffer, GL_COLOR, 1, glm::value_ptr(display));
   }
-  glEnable(GL_DEPTH_TEST);
+  if (depthSkipsSky_) glEnable(GL_DEPTH_TEST);
+  else glDisable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_FALSE);
   glDisable(GL_BLEND);

@@ -132,6 +132,7 @@ class ShadePass {
                       int gridWidth, int gridHeight);
 
   std::map<ShadeVariant, Program> variants_;
+  bool depthSkipsSky_ = true;  // the early depth test keeps the shader off background pixels (a software GL)
   VertexArray emptyVao_;  // core profile draws need a VAO even with no attributes
   // The ray grid's channels, kRayChannels order.
   struct GridTexture {
