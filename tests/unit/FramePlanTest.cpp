@@ -141,6 +141,25 @@ TEST(FramePlan, GlProofsSkipMapsThatChangeEveryFrame) {
   EXPECT_FALSE(glProofsThisFrame(planFrame(everything(), s), false, false));
 }
 
+// The route's history: maps built anew two frames running go to the CPU; a frame that reused its rays whole
+// between two changes breaks the run (it changed nothing), as a traced still frame does.
+TEST(FramePlan, ProofRouteCountsAStillFrameAsNoChange) {
+  FrameSettings s = *presetSettings("hybrid-full");
+  s.hybridShadows = true;
+  const FramePlan plan = planFrame(everything(), s);
+  ASSERT_TRUE(plan.glShadowProofs);
+  ProofRoute traced, reused;
+  for (ProofRoute* r : {&traced, &reused}) {
+    EXPECT_TRUE(r->inGl(plan, 1)) << "the first maps";
+    EXPECT_FALSE(r->inGl(plan, 2)) << "anew two frames running";
+  }
+  EXPECT_TRUE(traced.inGl(plan, 2)) << "a still frame traced: the same maps";
+  reused.still();
+  EXPECT_TRUE(traced.inGl(plan, 3)) << "a light moved after the still frame";
+  EXPECT_TRUE(reused.inGl(plan, 3)) << "a light moved after a reused frame: the same route";
+  EXPECT_FALSE(reused.inGl(plan, 4));
+}
+
 TEST(FramePlan, WithoutRaysDropsThePassAndTheReference) {
   FramePlan p = planFrame(everything(), *presetSettings("reference"));
   ASSERT_TRUE(p.needsRayScene());

@@ -3,6 +3,8 @@
 // and the requested settings (no GL, no Embree), so every decision is a one-line unit test
 // (tests/unit/FramePlanTest.cpp). The Renderer executes a plan; it decides nothing itself, except to drop
 // the rays when Embree refused the scene (FramePlan::withoutRays).
+#include <cstdint>
+
 #include "core/FrameRules.h"
 #include "tandem/Scene.h"
 #include "tandem/Settings.h"
@@ -55,6 +57,24 @@ FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested);
 /// frame and for the one before: under Auto, maps that change every frame (something moves) would be copied
 /// to the GL every frame, which costs more than the proofs save; the ray pass proves those frames itself.
 bool glProofsThisFrame(const FramePlan& plan, bool mapsChanged, bool mapsChangedBefore);
+
+/// The history glProofsThisFrame reads, frame by frame: the maps' generation the last frame saw and whether
+/// it was new. A frame that reuses the last one's rays whole changed nothing, so its maps did not change
+/// either (still()): without it a reused frame between two changes would count as a change, and the frame
+/// after it would take the other route than a renderer that traced the still frame (same image, other counts).
+struct ProofRoute {
+  std::uint64_t lastGeneration = 0;
+  bool changedBefore = false;
+  /// Whether the GL proves this frame, whose maps are of `generation`; remembers them.
+  bool inGl(const FramePlan& plan, std::uint64_t generation) {
+    const bool changed = generation != lastGeneration;
+    const bool gl = glProofsThisFrame(plan, changed, changedBefore);
+    lastGeneration = generation;
+    changedBefore = changed;
+    return gl;
+  }
+  void still() { changedBefore = false; }
+};
 
 /// Whether two plans' rays are the same work: the same kind of ray pass with the same ray settings, up to
 /// the settings the ray pass does not read (tone map, exposure, debug view, probes per frame, reuse, target).

@@ -414,8 +414,9 @@ void Renderer::Impl::traceRays(const FramePlan& plan, const Camera& camera, Fram
 }
 
 // rays, again: the last frame's results, kept as they were (the frame traces nothing).
-void Renderer::Impl::reuseRays(const FramePlan& plan, FrameStats& stats) const {
+void Renderer::Impl::reuseRays(const FramePlan& plan, FrameStats& stats) {
   stats.raysReused = true;
+  proofRoute.still();
   stats.rayWidth = plan.reference ? reference.width : rays.width;
   stats.rayHeight = plan.reference ? reference.height : rays.height;
   stats.threads = tracer->threads();

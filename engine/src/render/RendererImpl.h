@@ -80,8 +80,7 @@ struct Renderer::Impl {
   // Hybrid shadows proved in the GL (FramePlan::glShadowProofs): made on first use.
   std::optional<gl::ShadowProofPass> proofPass;
   bool proofFailed = false;  // its program did not build: the ray pass proves on the CPU from then on
-  std::uint64_t lastMapGeneration = 0;  // the maps' generation the last frame saw, and whether it was new
-  bool mapsChangedBefore = false;
+  ProofRoute proofRoute;  // the GL proofs' route under Auto: the maps' history (FramePlan.h)
   SceneCaches caches;  // the GL copy, the raster effects and the Embree scene, with what they miss
   RadiosityJob radiosity;  // FrameSettings::radiosity: the solution, solved from the scene as it is
   FrameBudget budget;  // FrameSettings::targetMs: what each frame is drawn with
@@ -242,7 +241,7 @@ struct Renderer::Impl {
   std::uint64_t resolveExact(const FramePlan& plan, const Camera& camera, const Scene& seen);
   void traceRays(const FramePlan& plan, const Camera& camera, FrameStats& stats, const rt::RayReuse* reuse,
                  std::span<const std::uint8_t> only, const Scene& seen);
-  void reuseRays(const FramePlan& plan, FrameStats& stats) const;
+  void reuseRays(const FramePlan& plan, FrameStats& stats);
   // Cost follows the settings: the second copy goes when reuse is off or the scene is replaced.
   void releaseKept() {
     keptVisibility = {};

@@ -84,11 +84,7 @@ bool Renderer::Impl::proveShadows(const FramePlan& plan, const Camera& camera, F
   stats.raysMs += build.ms();
   stats.shadowMapsMs += tracer->lastShadowMapMs();
   if (!maps) return false;
-  const bool changed = maps->generation() != lastMapGeneration;
-  const bool inGl = glProofsThisFrame(plan, changed, mapsChangedBefore);
-  lastMapGeneration = maps->generation();
-  mapsChangedBefore = changed;
-  if (!inGl) return false;
+  if (!proofRoute.inGl(plan, maps->generation())) return false;
   Timer gl;
   if (!proofPass) {
     auto pass = gl::ShadowProofPass::create();
