@@ -68,6 +68,7 @@ void copyViewPart(const FrameSettings& from, FrameSettings& to) {
   to.probesPerFrame = from.probesPerFrame;
   to.probeSize = from.probeSize;
   to.targetMs = from.targetMs;
+  to.pipelined = from.pipelined;
 }
 
 FrameSettings viewPart(const FrameSettings& s) {
@@ -201,7 +202,10 @@ double FrameBudget::predictMs(int i) const {
   if (!haveRho_) return kUnknown;
   const double pixels = static_cast<double>((width_ + c.rayScale - 1) / c.rayScale) *
                         static_cast<double>((height_ + c.rayScale - 1) / c.rayScale);
-  return fixed + std::exp(logRho_ + c.work) * pixels;
+  const double rays = std::exp(logRho_ + c.work) * pixels;
+  // Throughput mode: the ray pass runs beside the GL's stages of the frames around it, so a frame costs the
+  // slower of the two sides, not their sum (the read-back and upload counted with the rays: on the safe side).
+  return pipelined_ ? std::max(fixed, rays) : fixed + rays;
 }
 
 int FrameBudget::pick(double meanMs) {
@@ -276,6 +280,7 @@ FrameSettings FrameBudget::choose(const FrameSettings& requested, const SceneFac
   width_ = requested.width;
   height_ = requested.height;
   targetMs_ = requested.targetMs;
+  pipelined_ = requested.pipelined;
   const int next = pick(meanMs_);
   if (next != current_) {
     current_ = next;
@@ -347,8 +352,10 @@ void FrameBudget::observe(const FrameStats& frame) {
     ++c.framesRun;
   }
   // The smoothed frame time of the current choice decides when to move (reused frames count: they are
-  // what the player gets).
-  meanMs_ = framesOnCurrent_ == 0 ? total : 0.5 * meanMs_ + 0.5 * total;
+  // what the player gets). In throughput mode that is the interval between frames; its stages above still
+  // teach the two sides' costs.
+  const double shown = frame.pipelined && frame.intervalMs > 0 ? frame.intervalMs : total;
+  meanMs_ = framesOnCurrent_ == 0 ? shown : 0.5 * meanMs_ + 0.5 * shown;
   ++framesOnCurrent_;
 }
 

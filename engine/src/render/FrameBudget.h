@@ -9,6 +9,8 @@
 // frame would do for this scene. Each has an expected error (the error table, measured
 // by tandem-bench --sweep against the reference) and a predicted cost:
 //   cost = fixed[fallback] + rayMsPerPixel · rayGridPixels · exp(work[choice])
+// or, in throughput mode (FrameSettings::pipelined: the rays of one frame beside the GL's stages of the next
+// and the last), the larger of the two terms; there the hysteresis below reads the interval between frames.
 // fixed = every stage but readback, rays and upload: the scene's load now times a learned factor per set of
 // raster fallbacks; rayMsPerPixel follows the scene from frame to frame; work starts from a prior and is
 // learned from the frames a choice runs: its first sets it, its next two halve the gap (in the logarithm),
@@ -84,6 +86,7 @@ class FrameBudget {
   int framesOnCurrent_ = 0;  // clean frames on current_ since it was chosen
   int width_ = 0, height_ = 0;
   double targetMs_ = 0;
+  bool pipelined_ = false;   // the frames overlap their rays (predictMs: the slower side, not the sum)
   double meanMs_ = 0;        // smoothed frame ms of current_ (clean frames only)
   // Ray part: log ms per ray-grid pixel at work 0 (the scene's load now) and each choice's work.
   bool haveRho_ = false;
