@@ -133,5 +133,53 @@ TEST(GBufferGLTest, FarAwaySceneKeepsItsIds) {
   EXPECT_LE(differing, 2 * w);  // at most a row of silhouette pixels may flip
 }
 
+// The ids' read-back in two halves (gl/PixelReadback.h, throughput mode's): what finish() gives is the ids
+// texture as it was when start() was called, row 0 at the top, even when the pass draws something else in
+// between, at each of three sizes.
+TEST(GBufferGLTest, SplitReadBackIsTheTextureAtItsStartTopRowFirst) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene = gltest::boxScene();
+  gl::GpuScene gpu;
+  gpu.upload(scene, std::nullopt);
+  auto pass = gl::VisibilityPass::create();
+  ASSERT_TRUE(pass.ok()) << pass.error().message;
+  for (glm::ivec2 size : {glm::ivec2(64, 48), glm::ivec2(37, 29), glm::ivec2(96, 54)}) {
+    SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y));
+    const int w = size.x, h = size.y;
+    ASSERT_TRUE(pass->resize(w, h).ok());
+    const Camera camera = toRenderSpace(scene.camera, gpu.anchor());
+    pass->render(gpu, camera);
+    // The texture itself, bottom row first as GL stores it.
+    std::vector<glm::uvec2> texels(static_cast<std::size_t>(w) * h);
+    glGetTextureImage(pass->ids().id(), 0, GL_RG_INTEGER, GL_UNSIGNED_INT,
+                      static_cast<GLsizei>(texels.size() * sizeof(glm::uvec2)), texels.data());
+    pass->startReadIds();
+    EXPECT_TRUE(pass->readingIds());
+    // Another view drawn into the same pass before the read-back is finished.
+    Camera away = camera;
+    away.posW += glm::vec3(3.0f, 0.0f, 0.0f);
+    pass->render(gpu, away);
+    std::vector<glm::uvec2> ids;
+    pass->finishReadIds(ids);
+    EXPECT_FALSE(pass->readingIds());
+    ASSERT_EQ(ids.size(), texels.size());
+    std::size_t differ = 0, covered = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const glm::uvec2 got = ids[static_cast<std::size_t>(y) * w + x];
+        differ += got != texels[static_cast<std::size_t>(h - 1 - y) * w + x] ? 1 : 0;
+        covered += got.x != 0 ? 1 : 0;
+      }
+    EXPECT_EQ(differ, 0u);
+    EXPECT_GT(covered, 0u);
+    EXPECT_LT(covered, ids.size()) << "the box and the background both in view";
+    // The whole read again now: the view drawn second, which differs.
+    std::vector<glm::uvec2> after;
+    pass->readIds(after);
+    EXPECT_NE(after, ids);
+  }
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
 }  // namespace
 }  // namespace tandem

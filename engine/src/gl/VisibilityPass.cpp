@@ -50,6 +50,7 @@ Result<void> VisibilityPass::resize(int width, int height) {
 }
 
 void VisibilityPass::release() {
+  idReadback_.drop();
   resolveFbo_.reset();
   exactHits_.reset();
   fbo_.reset();
@@ -164,8 +165,5 @@ Result<void> VisibilityPass::patch(std::span<const ResolvedPixel> pixels) {
 static_assert(kChannelIds.transfer == GL_RG_INTEGER && kChannelIds.type == GL_UNSIGNED_INT,
               "ids travel as one glm::uvec2 per pixel (rt::VisibilityBuffer)");
 
-void VisibilityPass::readIds(std::vector<glm::uvec2>& ids) const {
-  readTopDown(fbo_, kChannelIds, width_, height_, ids);
-}
 
 }  // namespace tandem::gl

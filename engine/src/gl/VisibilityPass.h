@@ -11,6 +11,7 @@
 #include "gl/GlObjects.h"
 #include "core/ResolvedPixel.h"
 #include "gl/GpuScene.h"
+#include "gl/PixelReadback.h"
 #include "tandem/Camera.h"
 #include "tandem/Result.h"
 
@@ -41,7 +42,16 @@ class VisibilityPass {
                   GpuScene::Instances which = GpuScene::Instances::All, bool clear = true,
                   const std::vector<std::uint8_t>* seen = nullptr) const;
   /// The ids channel, row 0 = top (the ray pass's convention); `ids` is resized to width × height.
-  void readIds(std::vector<glm::uvec2>& ids) const;
+  void readIds(std::vector<glm::uvec2>& ids) {
+    startReadIds();
+    finishReadIds(ids);
+  }
+  /// readIds in two halves (gl/PixelReadback.h): start() after render() fences the GL's copy of the ids into
+  /// mapped buffer memory, finish() waits for it and copies the rows out top-down. Draws into this pass
+  /// between the two do not change what finish() gives.
+  void startReadIds() { idReadback_.start(fbo_, kChannelIds, width_, height_); }
+  bool readingIds() const { return idReadback_.pending(); }
+  void finishReadIds(std::vector<glm::uvec2>& ids) { idReadback_.finish(ids); }
 
   /// Exact solids (docs/csg.md, "In the raster frame"): writes the ray pass's resolved pixels into this
   /// frame's visibility buffer (after render()), one point each: ids and depth, and for hits on a solid the
@@ -69,6 +79,7 @@ class VisibilityPass {
   Texture exactHits_;
   Framebuffer resolveFbo_;
   VertexArray emptyVao_;
+  PixelReadback idReadback_;  // the ids' read-back memory (8 bytes a pixel), made by the first read
   int width_ = 0, height_ = 0;
 };
 

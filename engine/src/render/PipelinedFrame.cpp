@@ -69,9 +69,12 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   // Whether it reuses the last frame's rays whole is known now (the last frame was remembered by the call
   // before); read its ids back while the rays in flight run.
   bool reuse = last.reusesRays(plan, sampleCamera, lastDrawn, false);
+  // The copy starts here and is read out once the frame in flight has landed: on a GPU it runs while this
+  // call waits for those rays (gl/PixelReadback.h).
   bool readBack = false;
   if (!reuse && !plan.glShadowProofs) {
-    timed(sample.readbackMs, [&] { readback(plan, false, stagedVisibility); });
+    stagedVisibility.proofs.clear();
+    if (plan.readsIds()) timed(sample.readbackMs, [&] { visibilityPass.startReadIds(); });
     readBack = true;
   }
   // The frame in flight lands (rays waited for, uploaded); it is composited once this frame's rays run.
@@ -80,6 +83,12 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
     landed = landInFlight(*spareVisibility);
     if (!landed->uploaded) lastDrawn = false;
   }
+  if (visibilityPass.readingIds())
+    timed(sample.readbackMs, [&] {
+      stagedVisibility.width = s.width;
+      stagedVisibility.height = s.height;
+      visibilityPass.finishReadIds(stagedVisibility.ids);
+    });
   // The frame before could not be drawn after all (its upload failed): its rays are no longer on show.
   if (reuse && !lastDrawn) reuse = false;
   if (!reuse && !readBack) {

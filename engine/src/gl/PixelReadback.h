@@ -1,0 +1,59 @@
+#pragma once
+// A read-back of one colour target through a pixel-pack buffer: start() asks the GL to copy the texels into
+// buffer memory the CPU keeps mapped (persistent, coherent) and fences the copy; finish() waits for the fence
+// and copies the rows out top-down, the flip GL's bottom-up rows need done by the copy itself (one pass over
+// the texels instead of a read and then a flip in place). Between the two the caller goes on: on a GPU the
+// copy runs beside it (throughput mode starts the frame's id read-back after its raster and finishes it only
+// once the frame before has landed, docs/pipeline.md "Transfers"); on a software GL the copy is done by
+// start() itself and finish() is the flip.
+#include <cstddef>
+#include <cstring>
+#include <vector>
+
+#include "gl/GlObjects.h"
+
+namespace tandem::gl {
+
+class PixelReadback {
+ public:
+  PixelReadback() = default;
+  ~PixelReadback() { drop(); }
+  PixelReadback(const PixelReadback&) = delete;
+  PixelReadback& operator=(const PixelReadback&) = delete;
+  PixelReadback(PixelReadback&& other) noexcept { *this = std::move(other); }
+  PixelReadback& operator=(PixelReadback&& other) noexcept;
+
+  /// Starts the copy of `fbo`'s colour target 0 (width × height texels of `channel`, tightly packed); the
+  /// buffer is made, or made again larger, on first need. A read-back already pending is dropped.
+  void start(const Framebuffer& fbo, const ChannelFormat& channel, int width, int height);
+  bool pending() const { return fence_ != nullptr; }
+  /// Waits for the copy start() began and writes its texels into `pixels` (resized to width × height), row 0
+  /// at the top. One T per texel.
+  template <class T>
+  void finish(std::vector<T>& pixels) {
+    assert(pending() && "PixelReadback::finish without start");
+    assert(sizeof(T) == texelBytes_ && "PixelReadback::finish: one T per texel of the channel");
+    wait();
+    pixels.resize(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
+    const std::size_t row = static_cast<std::size_t>(width_) * sizeof(T);
+    const auto* from = static_cast<const unsigned char*>(mapped_);
+    for (int y = 0; y < height_; ++y)
+      std::memcpy(pixels.data() + static_cast<std::size_t>(height_ - 1 - y) * static_cast<std::size_t>(width_),
+                  from + static_cast<std::size_t>(y) * row, row);
+  }
+  /// Frees the buffer (a pending read-back is dropped).
+  void drop();
+  std::size_t bytes() const { return bytes_; }
+
+ private:
+  void wait();
+
+  Buffer buffer_;
+  void* mapped_ = nullptr;
+  std::size_t bytes_ = 0;
+  GLsync fence_ = nullptr;
+  int width_ = 0, height_ = 0;
+  std::size_t texelBytes_ = 0;
+};
+
+}  // namespace tandem::gl
