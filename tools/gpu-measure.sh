@@ -10,6 +10,10 @@
 # Each step has its own time limit, so a hang costs one step, not the batch; the whole batch takes ~4 min.
 # `gpu-measure.sh proofs` runs only the hybrid shadows' steps and the GL tests (~3 min): --shadows ray against
 # hybrid with the proofs in the GL (auto on a GPU) and on the CPU, the frames kept to compare byte for byte.
+# `gpu-measure.sh pipeline` runs the pipelined frame's tests, Whitted at 1920x1080 and 1280x720 with --pipeline off and
+# on (interleaved, twice), the game with each, and the GL tests (~5 min).
+# `gpu-measure.sh check` (~4.5 min) runs the pipeline tests, the game at --target-fps 30 pipelined and not, and the
+# GL tests, each into its own file under $OUT (no archive: a run cut short keeps what it finished).
 # `gpu-measure.sh switches` measures Embree's huge pages at 16 threads, twice, interleaved (~2 min): BM_RayPass
 # and BM_RetraceFloor (heavy) with the defaults and TANDEM_EMBREE_CONFIG=hugepages=1, and Whitted 1920x1080
 # with every ray and with the GL's proofs.
@@ -50,6 +54,38 @@ if [ "$mode" = switches ]; then
     proofs "ray-$round" --shadows ray
     proofs "gl-$round" --shadows hybrid --shadow-proofs gl
   done
+  kill "$smi" 2>/dev/null
+  cd "$OUT" && tar czf results.tgz r && rm -rf r
+  exit 0
+fi
+if [ "$mode" = check ]; then  # after a fix: the pipelined frame's tests, the game's budget both ways, the GL tests (~4.5 min)
+  o=${OUT:?}  # plain files straight into $OUT, so that a run cut short still brings back what it finished
+  timeout 60 $B/tandem-pipeline-tests > "$o/pipeline-tests.txt" 2>&1; echo "rc=$?" >> "$o/pipeline-tests.txt"
+  for p in on off; do
+    timeout 40 $B/tandem-game --headless --frames 60 --size 1920x1080 --script $S --preset hybrid-full --target-fps 30 \
+      --pipeline $p --frame-log "$o/game-fps30-$p.csv" > "$o/game-fps30-$p.txt" 2>&1
+  done
+  timeout 215 $B/tandem-gl-tests > "$o/gl-tests.txt" 2>&1; echo "rc=$?" >> "$o/gl-tests.txt"
+  kill "$smi" 2>/dev/null; rm -rf "$out"
+  exit 0
+fi
+if [ "$mode" = pipeline ]; then  # throughput against latency mode, interleaved, and the GL suites (~5 min)
+  step pipeline-tests 150 $B/tandem-pipeline-tests
+  for round in 1 2; do
+    for p in off on; do
+      step "render-full-1080-$p-$round" 60 $B/tandem-render --size 1920x1080 --preset hybrid-full --frames 30 \
+        --pipeline $p --stats "$out/render-full-1080-$p-$round.json" -o "$out/render-full-1080-$p-$round.png"
+      step "render-fast-1080-$p-$round" 40 $B/tandem-render --size 1920x1080 --preset hybrid-fast --frames 60 \
+        --pipeline $p --stats "$out/render-fast-1080-$p-$round.json"
+      step "render-full-720-$p-$round" 40 $B/tandem-render --size 1280x720 --preset hybrid-full --frames 30 \
+        --pipeline $p --stats "$out/render-full-720-$p-$round.json"
+    done
+  done
+  for p in off on; do
+    game "fast-$p" --preset hybrid-fast --pipeline $p
+    game "fps30-$p" --preset hybrid-full --target-fps 30 --pipeline $p
+  done
+  step gl-tests 240 $B/tandem-gl-tests
   kill "$smi" 2>/dev/null
   cd "$OUT" && tar czf results.tgz r && rm -rf r
   exit 0
