@@ -111,13 +111,17 @@ void checkSequence(GlContext& ctx, const Scene& scene, FrameSettings& s, Camera&
     EXPECT_TRUE(t.pipelined);
     EXPECT_EQ(t.pipelineFilling, !pending.has_value());
     if (pending) {
-      if (strict) EXPECT_EQ(t.pipelineDrained, steps[i].drains) << "drained the frame in flight, or overlapped it";
+      if (strict) {
+        EXPECT_EQ(t.pipelineDrained, steps[i].drains) << "drained the frame in flight, or overlapped it";
+      }
       (t.pipelineDrained ? drained : overlapped) += 1;
       compare(*pending, capture(*throughput, t));
     } else {
       EXPECT_EQ(t.samples, 0) << "a filling call shows no frame";
     }
-    if (i > 0) EXPECT_GT(t.intervalMs, 0.0);
+    if (i > 0) {
+      EXPECT_GT(t.intervalMs, 0.0);
+    }
     pending = i;
   }
   const std::optional<FrameStats> last = throughput->finish();
@@ -128,11 +132,17 @@ void checkSequence(GlContext& ctx, const Scene& scene, FrameSettings& s, Camera&
   }
   EXPECT_FALSE(throughput->finish().has_value()) << "finish() left nothing in flight";
   const bool overlaps = std::any_of(steps.begin(), steps.end(), [](const Step& st) { return !st.drains && !st.latencyOnly; });
-  if (overlaps) EXPECT_GT(overlapped, 0) << "the sequence never overlapped a frame's rays with the next raster";
-  else EXPECT_EQ(overlapped, 0) << "a sequence that should always drain overlapped";
-  if (strict) EXPECT_GT(drained, 0) << "the sequence never drained";
-  if (s.reuseRays && s.shadows == EffectMode::Ray)
+  if (overlaps) {
+    EXPECT_GT(overlapped, 0) << "the sequence never overlapped a frame's rays with the next raster";
+  } else {
+    EXPECT_EQ(overlapped, 0) << "a sequence that should always drain overlapped";
+  }
+  if (strict) {
+    EXPECT_GT(drained, 0) << "the sequence never drained";
+  }
+  if (s.reuseRays && s.shadows == EffectMode::Ray) {
     EXPECT_GT(keeping, 0) << "no frame kept shadow answers (the camera still while an instance moved)";
+  }
 }
 
 // The steps every sequence runs: the camera moving, standing still (reuse), the scene changing under it (a

@@ -205,9 +205,9 @@ Renderer::Impl::Landed Renderer::Impl::landInFlight(gl::VisibilityPass& pass) {
   waitRays();
   if (f.failure) {
     // What latency mode would have thrown from render(), thrown from the call that lands the frame.
-    const std::exception_ptr failure = f.failure;
+    const std::exception_ptr thrown = f.failure;
     inFlight.reset();
-    std::rethrow_exception(failure);
+    std::rethrow_exception(thrown);
   }
   Landed l;
   l.waitedMs = wait.ms();
