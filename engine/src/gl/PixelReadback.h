@@ -24,9 +24,11 @@ class PixelReadback {
   PixelReadback& operator=(PixelReadback&& other) noexcept;
 
   /// Starts the copy of `fbo`'s colour target 0 (width × height texels of `channel`, tightly packed); the
-  /// buffer is made, or made again larger, on first need. A read-back already pending is dropped.
+  /// buffer is made, or made again larger, on first need. A read-back already pending is dropped. Where the GL
+  /// refuses the buffer (out of memory, no mapping) the texels are read into client memory at once instead,
+  /// and finish() takes them from there: the same result, without the overlap.
   void start(const Framebuffer& fbo, const ChannelFormat& channel, int width, int height);
-  bool pending() const { return fence_ != nullptr; }
+  bool pending() const { return pending_; }
   /// Waits for the copy start() began and writes its texels into `pixels` (resized to width × height), row 0
   /// at the top. One T per texel.
   template <class T>
@@ -36,22 +38,28 @@ class PixelReadback {
     wait();
     pixels.resize(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
     const std::size_t row = static_cast<std::size_t>(width_) * sizeof(T);
-    const auto* from = static_cast<const unsigned char*>(mapped_);
+    const auto* from = static_cast<const unsigned char*>(source());
     for (int y = 0; y < height_; ++y)
       std::memcpy(pixels.data() + static_cast<std::size_t>(height_ - 1 - y) * static_cast<std::size_t>(width_),
                   from + static_cast<std::size_t>(y) * row, row);
   }
   /// Frees the buffer (a pending read-back is dropped).
   void drop();
+  /// The mapped buffer's size (0 when none is held).
   std::size_t bytes() const { return bytes_; }
 
  private:
   void wait();
+  bool makeBuffer(std::size_t bytes);
+  const void* source() const { return mapped_ ? mapped_ : static_cast<const void*>(fallback_.data()); }
 
   Buffer buffer_;
   void* mapped_ = nullptr;
   std::size_t bytes_ = 0;
+  std::vector<unsigned char> fallback_;  // the texels read at once when the GL refused the buffer
+  std::size_t refused_ = 0;              // the size the GL refused (not asked again until drop())
   GLsync fence_ = nullptr;
+  bool pending_ = false;
   int width_ = 0, height_ = 0;
   std::size_t texelBytes_ = 0;
 };

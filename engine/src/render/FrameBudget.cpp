@@ -204,8 +204,11 @@ double FrameBudget::predictMs(int i) const {
                         static_cast<double>((height_ + c.rayScale - 1) / c.rayScale);
   const double rays = std::exp(logRho_ + c.work) * pixels;
   // Throughput mode: the ray pass runs beside the GL's stages of the frames around it, so a frame costs the
-  // slower of the two sides, not their sum (the read-back and upload counted with the rays: on the safe side).
-  return pipelined_ ? std::max(fixed, rays) : fixed + rays;
+  // slower of the two sides rather than their sum; the transfers (the ids read out, the results uploaded) lie
+  // between one frame's landing and the next one's launch, on neither side.
+  if (!(pipelined_ && overlapping_)) return fixed + rays;
+  const double transfers = transferShare_ * rays;
+  return std::max(fixed, rays - transfers) + transfers;
 }
 
 int FrameBudget::pick(double meanMs) {
@@ -308,6 +311,13 @@ FrameSettings FrameBudget::choose(const FrameSettings& requested, const SceneFac
 
 void FrameBudget::observe(const FrameStats& frame) {
   if (!stats_.active || !haveLadder_) return;
+  // Throughput mode shows a frame a call after its choice was made: one drawn with a choice the budget has
+  // since left teaches nothing about the current one.
+  if (frame.budget.active && frame.budget.step != current_) return;
+  // Whether frames overlap: throughput mode asked for and taken (not a latency-mode frame: several samples,
+  // accumulating at rest), and not draining every time (two drains running).
+  overlapping_ = frame.pipelined && !(frame.pipelineDrained && lastDrained_);
+  lastDrained_ = frame.pipelined && frame.pipelineDrained;
   // A frame that compiled shaders or failed says nothing about the steady cost, nor does one that only showed
   // an accumulation that had converged (FrameSettings::accumulate: it drew no sample).
   if (!frame.error.empty() || frame.shaderCompiles > 0 || frame.samples == 0) return;
@@ -340,6 +350,9 @@ void FrameBudget::observe(const FrameStats& frame) {
   if (c.rays && !frame.raysReused && rayMs > 0 && frame.rayWidth > 0 && frame.rayHeight > 0) {
     const double pixels = static_cast<double>(frame.rayWidth) * static_cast<double>(frame.rayHeight);
     const double measured = std::log(rayMs / pixels);
+    const double share = std::clamp((frame.readbackMs + frame.uploadMs) / rayMs, 0.0, 1.0);
+    transferShare_ = haveShare_ ? 0.5 * (transferShare_ + share) : share;
+    haveShare_ = true;
     if (!haveRho_) {
       logRho_ = measured - c.work;  // the first frame anchors the scale of every choice's work
       haveRho_ = true;
@@ -354,7 +367,8 @@ void FrameBudget::observe(const FrameStats& frame) {
   // The smoothed frame time of the current choice decides when to move (reused frames count: they are
   // what the player gets). In throughput mode that is the interval between frames; its stages above still
   // teach the two sides' costs.
-  const double shown = frame.pipelined && frame.intervalMs > 0 ? frame.intervalMs : total;
+  // A drained frame did not overlap (its interval holds the frame before it too): its own stages count.
+  const double shown = frame.pipelined && !frame.pipelineDrained && frame.intervalMs > 0 ? frame.intervalMs : total;
   meanMs_ = framesOnCurrent_ == 0 ? shown : 0.5 * meanMs_ + 0.5 * shown;
   ++framesOnCurrent_;
 }

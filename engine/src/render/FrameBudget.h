@@ -10,7 +10,10 @@
 // by tandem-bench --sweep against the reference) and a predicted cost:
 //   cost = fixed[fallback] + rayMsPerPixel · rayGridPixels · exp(work[choice])
 // or, in throughput mode (FrameSettings::pipelined: the rays of one frame beside the GL's stages of the next
-// and the last), the larger of the two terms; there the hysteresis below reads the interval between frames.
+// and the last), max(fixed, rays − transfers) + transfers, the transfers (read-back, upload) being the ray
+// term's learned share that runs between one frame landing and the next launching; there the hysteresis
+// below reads the interval between frames (which, unlike a latency frame's total, holds the application's
+// time between the calls), and a frame drawn with a choice already left is not learned from.
 // fixed = every stage but readback, rays and upload: the scene's load now times a learned factor per set of
 // raster fallbacks; rayMsPerPixel follows the scene from frame to frame; work starts from a prior and is
 // learned from the frames a choice runs: its first sets it, its next two halve the gap (in the logarithm),
@@ -86,7 +89,11 @@ class FrameBudget {
   int framesOnCurrent_ = 0;  // clean frames on current_ since it was chosen
   int width_ = 0, height_ = 0;
   double targetMs_ = 0;
-  bool pipelined_ = false;   // the frames overlap their rays (predictMs: the slower side, not the sum)
+  bool pipelined_ = false;   // throughput mode asked for (predictMs: the slower side, not the sum) ...
+  bool overlapping_ = false; // ... and the frames observed overlap (not latency-mode frames, not every one drained)
+  bool lastDrained_ = false;
+  bool haveShare_ = false;
+  double transferShare_ = 0; // the read-back and upload's share of the ray part (smoothed): outside the overlap
   double meanMs_ = 0;        // smoothed frame ms of current_ (clean frames only)
   // Ray part: log ms per ray-grid pixel at work 0 (the scene's load now) and each choice's work.
   bool haveRho_ = false;

@@ -71,10 +71,11 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   bool reuse = last.reusesRays(plan, sampleCamera, lastDrawn, false);
   // The copy starts here and is read out once the frame in flight has landed: on a GPU it runs while this
   // call waits for those rays (gl/PixelReadback.h).
-  bool readBack = false;
+  bool readBack = false, reading = false;
   if (!reuse && !plan.glShadowProofs) {
     stagedVisibility.proofs.clear();
-    if (plan.readsIds()) timed(sample.readbackMs, [&] { visibilityPass.startReadIds(); });
+    reading = plan.readsIds();
+    if (reading) timed(sample.readbackMs, [&] { visibilityPass.startReadIds(); });
     readBack = true;
   }
   // The frame in flight lands (rays waited for, uploaded); it is composited once this frame's rays run.
@@ -83,7 +84,7 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
     landed = landInFlight(*spareVisibility);
     if (!landed->uploaded) lastDrawn = false;
   }
-  if (visibilityPass.readingIds())
+  if (reading)
     timed(sample.readbackMs, [&] {
       stagedVisibility.width = s.width;
       stagedVisibility.height = s.height;
