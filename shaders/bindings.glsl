@@ -65,6 +65,11 @@
 #define TD_UNIT_EXACT_HITS 25  // RGBA32F, full res: a solid's outward normal and t along the camera ray
 // ---- texture units: raster shadows on the ray grid (ShadePass's shadow-mask pass) ----
 #define TD_UNIT_SHADOW_MASK 26  // RGBA16 array, ray grid: visibility of lights 0-3 (layer 0) and 4-7 (layer 1)
+// ---- texture units: motion (the motion view; docs/motion.md) — the same numbers as the proofs' units,
+// which belong to another program ----
+#define TD_UNIT_MOTION_INSTANCES 27  // RGBA32F buffer: per instance 4 texels, previous-from-current render space
+#define TD_UNIT_PREVIOUS_IDS 28      // RG32UI: the last frame's ids (GL rows)
+#define TD_UNIT_PREVIOUS_DEPTH 29    // the last frame's visibility depth
 // ---- texture units: the hybrid shadows' maps in the GL (ShadowProofPass; shadow_proof.frag) ----
 #define TD_UNIT_PROOF_TEXELS 27     // R32UI: texel records, TD_PROOF_RECORD words each
 #define TD_UNIT_PROOF_TRIANGLES 28  // RGBA32F: 5 per triangle (plane, edges, magnitude / valid / blocks)
@@ -110,6 +115,10 @@
 #define TD_LOC_RADIOSITY_AMBIENT 17
 #define TD_LOC_RADIOSITY_INSTANCES 18
 #define TD_LOC_RENDER_ANCHOR 19
+#define TD_LOC_CLIP_FROM_VIEW_ROTATION 20           // the motion view: this frame's projection and rotation (4 locations)
+#define TD_LOC_PREVIOUS_CLIP_FROM_VIEW_ROTATION 24  // and the last frame's (4 locations)
+#define TD_LOC_PREVIOUS_CAMERA_POS 28               // the last frame's camera, render space
+#define TD_LOC_MOTION_HISTORY 29                    // 1: the last frame's ids, depth and transforms are bound
 // The output pass (tonemap.frag; OutputPass).
 #define TD_LOC_EXPOSURE 0
 #define TD_LOC_TONE_MAP 1

@@ -131,6 +131,15 @@ layout(location = TD_LOC_LIGHT_SAMPLES) uniform int lightSamples;  // area-light
 layout(location = TD_LOC_SAMPLE_BASE) uniform uint sampleBase;   // the sequence index of the first (FrameShading::sampleBase)
 layout(location = TD_LOC_RAY_SCALE) uniform int rayScale;
 layout(location = TD_LOC_RENDER_ANCHOR) uniform vec3 renderAnchor;  // render space's origin in world space (world-space patterns)
+// The motion view (shade_debug.glsl's motionView): both frames' projections times their view rotations, the
+// last frame's camera, and whether the last frame is known (else every pixel counts as newly seen).
+layout(location = TD_LOC_CLIP_FROM_VIEW_ROTATION) uniform mat4 clipFromViewRotation;
+layout(location = TD_LOC_PREVIOUS_CLIP_FROM_VIEW_ROTATION) uniform mat4 previousClipFromViewRotation;
+layout(location = TD_LOC_PREVIOUS_CAMERA_POS) uniform vec3 previousCameraPos;
+layout(location = TD_LOC_MOTION_HISTORY) uniform int motionHistory;
+layout(binding = TD_UNIT_MOTION_INSTANCES) uniform samplerBuffer motionInstancesBuf;  // 4 texels an instance: columns
+layout(binding = TD_UNIT_PREVIOUS_IDS) uniform usampler2D previousIdsTex;
+layout(binding = TD_UNIT_PREVIOUS_DEPTH) uniform sampler2D previousDepthTex;
 
 // Variant flags, set by CompositePass for each frame's scene and settings. llvmpipe runs both sides of a
 // branch that diverges inside an 8-pixel SIMD group, so features a frame does not use are compiled out
@@ -201,6 +210,7 @@ layout(location = TD_LOC_RAY_PRESENT) uniform int rayPresent;
 #define TD_VIEW_LIGHT_MASK 5
 #define TD_VIEW_REFLECTION 6
 #define TD_VIEW_TRANSMISSION 7
+#define TD_VIEW_MOTION 8
 
 #ifndef TD_FUSED_OUTPUT
 #define TD_FUSED_OUTPUT 0    // the frame's pass writes the display too (ShadeInputs::fusedOutput)
@@ -260,6 +270,10 @@ void shadePixel() {
     return;
   }
   Surface s = loadSurface(pix, id);
+  if (debugView == TD_VIEW_MOTION) {
+    outColor = vec4(motionView(id, s.hit.posW), 1.0);
+    return;
+  }
   if (debugView == TD_VIEW_NORMAL) {
     outColor = vec4(0.5 + 0.5 * s.N, 1.0);
     return;

@@ -74,3 +74,35 @@ bool rayView(Surface s, ivec2 pTop, RaySample rays, out vec3 shown) {
   }
   return false;
 }
+
+// ---- the motion view (docs/motion.md) ----
+// Window coordinates (pixels, GL rows) and depth where a camera at camPos with `clipFromViewRotation` sees
+// the render-space point p: the visibility pass's projection, camera-relative.
+vec3 projectPixel(mat4 clipFromViewRot, vec3 camPos, vec3 p) {
+  vec4 clip = clipFromViewRot * vec4(p - camPos, 1.0);
+  vec3 ndc = clip.xyz / clip.w;
+  return vec3((ndc.xy * 0.5 + 0.5) * vec2(frameSize), ndc.z);
+}
+
+// The pixel's motion since the last frame, the point it shows moved back by its instance's previous-from-
+// current transform (identity for what did not move): red and green 0.5 + motion / 64 pixels (this frame's
+// position less the last's, unjittered), blue 1 where the last frame did not see this point (off screen,
+// another instance there, or the same instance at another depth: disoccluded) or no last frame is known.
+vec3 motionView(uvec2 id, vec3 posR) {
+  uint i = id.x - 1u;
+  mat4 previousFromCurrent = mat4(texelFetch(motionInstancesBuf, int(4u * i)), texelFetch(motionInstancesBuf, int(4u * i + 1u)),
+                                  texelFetch(motionInstancesBuf, int(4u * i + 2u)), texelFetch(motionInstancesBuf, int(4u * i + 3u)));
+  vec3 now = projectPixel(clipFromViewRotation, cameraPosW, posR);
+  if (motionHistory == 0) return vec3(0.5, 0.5, 1.0);
+  vec3 before = projectPixel(previousClipFromViewRotation, previousCameraPos, (previousFromCurrent * vec4(posR, 1.0)).xyz);
+  vec2 motion = now.xy - before.xy;
+  ivec2 at = ivec2(floor(before.xy));
+  bool seen = all(greaterThanEqual(at, ivec2(0))) && all(lessThan(at, frameSize)) && before.z > 0.0;
+  if (seen) {
+    seen = texelFetch(previousIdsTex, at, 0).x == id.x;
+    // Reversed-Z depth is 1/z-like: a relative tolerance for the surface's slope across the texel.
+    float depthThen = texelFetch(previousDepthTex, at, 0).r;
+    seen = seen && abs(depthThen - before.z) <= 0.02 * before.z;
+  }
+  return vec3(0.5 + motion / 64.0, seen ? 0.0 : 1.0);
+}

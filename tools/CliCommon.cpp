@@ -44,7 +44,7 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
                  "Reference preset only: N×N jittered samples per pixel, 1..64 (default " +
                      std::to_string(d.referenceSpp) + ")");
   app.add_option("--debug-view", o.debugView,
-                 "final | depth | instance | primitive | normal | light-mask | reflection | transmission (default " +
+                 "final | depth | instance | primitive | normal | light-mask | reflection | transmission | motion (default " +
                      std::string(toString(d.debugView)) + ")");
   app.add_option("--tonemap", o.toneMap, "none | reinhard | aces (default " + std::string(toString(d.toneMap)) + ")");
   app.add_option("--exposure", o.exposure, "Linear exposure multiplier, finite and > 0 (default " + number(d.exposure) + ")");

@@ -215,6 +215,8 @@ TEST(Pipeline, ThroughputFramesEqualLatencyFramesToTheBit) {
        [](FrameSettings& f) { f.hybridShadows = true, f.shadowProofs = ShadowProofs::Cpu; }, true},
       {"hybrid shadows, shafts", "hybrid-full",
        [](FrameSettings& f) { f.hybridShadows = true, f.shadowProofs = ShadowProofs::Shafts; }, true},
+      {"the motion view (each frame against the one composited before it)", "hybrid-full",
+       [](FrameSettings& f) { f.debugView = DebugView::Motion; }, true},
       {"hybrid shadows, proofs in the GL", "hybrid-full",
        [](FrameSettings& f) { f.hybridShadows = true, f.shadowProofs = ShadowProofs::Gl; }, false},
   };

@@ -35,6 +35,7 @@ enum class DebugView : std::uint8_t {
   LightMask,    // ray pass: fraction of lights visible
   Reflection,   // ray pass: weighted reflected radiance
   Transmission, // ray pass: weighted transmitted radiance
+  Motion,       // each pixel's motion since the last frame (pixels) and whether it was seen there (docs/motion.md)
 };
 
 /// The largest frame side resolved() keeps. The GL's own limits may be lower: Renderer::resize says.

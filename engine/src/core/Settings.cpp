@@ -159,8 +159,8 @@ std::string_view toString(ToneMap m) {
 }
 
 namespace {
-constexpr std::string_view kDebugNames[] = {"final",    "depth",      "instance",   "primitive",
-                                            "normal",   "light-mask", "reflection", "transmission"};
+constexpr std::string_view kDebugNames[] = {"final",      "depth",      "instance",     "primitive", "normal",
+                                            "light-mask", "reflection", "transmission", "motion"};
 }
 
 std::optional<DebugView> parseDebugView(std::string_view s) {

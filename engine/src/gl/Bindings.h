@@ -26,6 +26,9 @@ inline constexpr GLuint kUnitShadowMaps = TD_UNIT_SHADOW_MAPS, kUnitShadowCubes 
 inline constexpr GLuint kUnitTangentsTex = TD_UNIT_TANGENTS_TEX, kUnitNormalMaps = TD_UNIT_NORMAL_MAPS;
 inline constexpr GLuint kUnitRadiosityTableTex = TD_UNIT_RADIOSITY_TABLE_TEX, kUnitRadiosityTex = TD_UNIT_RADIOSITY_TEX;
 inline constexpr GLuint kUnitExactHits = TD_UNIT_EXACT_HITS;
+inline constexpr GLuint kUnitMotionInstances = TD_UNIT_MOTION_INSTANCES;
+inline constexpr GLuint kUnitPreviousIds = TD_UNIT_PREVIOUS_IDS;
+inline constexpr GLuint kUnitPreviousDepth = TD_UNIT_PREVIOUS_DEPTH;
 inline constexpr GLuint kUnitShadowMask = TD_UNIT_SHADOW_MASK;
 inline constexpr GLuint kUnitProofTexels = TD_UNIT_PROOF_TEXELS, kUnitProofTriangles = TD_UNIT_PROOF_TRIANGLES,
                         kUnitProofNear = TD_UNIT_PROOF_NEAR, kUnitProofInstances = TD_UNIT_PROOF_INSTANCES,

@@ -315,6 +315,18 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
     placeholders_.bindOr(c.unit, held ? rayGrid_[static_cast<std::size_t>(c.id)].texture.id() : 0, c.placeholder);
   }
   placeholders_.bindOr(kUnitExactHits, in.exactHits ? in.exactHits->id() : 0, P::Float2D);
+  if (in.debugView == DebugView::Motion) {
+    assert(in.motionInstances && "shade: the motion view without its instances' transforms");
+    const glm::mat4 now = clipFromViewRotation(camera, width, height);
+    glProgramUniformMatrix4fv(p, TD_LOC_CLIP_FROM_VIEW_ROTATION, 1, GL_FALSE, glm::value_ptr(now));
+    glProgramUniformMatrix4fv(p, TD_LOC_PREVIOUS_CLIP_FROM_VIEW_ROTATION, 1, GL_FALSE,
+                              glm::value_ptr(in.previousClipFromViewRotation));
+    glProgramUniform3fv(p, TD_LOC_PREVIOUS_CAMERA_POS, 1, glm::value_ptr(in.previousCameraPos));
+    glProgramUniform1i(p, TD_LOC_MOTION_HISTORY, in.motionHistory ? 1 : 0);
+    glBindTextureUnit(kUnitMotionInstances, in.motionInstances ? in.motionInstances->id() : 0);
+    placeholders_.bindOr(kUnitPreviousIds, in.previousIds ? in.previousIds->id() : 0, P::Uint2D);
+    placeholders_.bindOr(kUnitPreviousDepth, in.previousDepth ? in.previousDepth->id() : 0, P::Float2D);
+  }
 }
 
 void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& scene, const Texture& ids,

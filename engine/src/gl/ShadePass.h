@@ -62,7 +62,23 @@ struct ShadeInputs {
   const Texture* exactHits = nullptr;
   float exposure = 1.0f;
   ToneMap toneMap = ToneMap::Aces;
+  /// The motion view (DebugView::Motion, docs/motion.md): per instance its previous-from-current transform in
+  /// render space (a buffer texture, 4 RGBA32F texels an instance, the matrix's columns), the last frame's
+  /// ids and visibility depth, its camera's projection (unjittered, times the view rotation) and position in
+  /// render space. Without motionHistory there is no last frame: every pixel counts as newly seen.
+  const Texture* motionInstances = nullptr;
+  const Texture* previousIds = nullptr;
+  const Texture* previousDepth = nullptr;
+  glm::mat4 previousClipFromViewRotation{1.0f};
+  glm::vec3 previousCameraPos{0.0f};
+  bool motionHistory = false;
 };
+
+/// The visibility pass's projection without the anti-aliasing jitter, times the camera's view rotation: a
+/// render-space point p lands at clipFromViewRotation · (p − camera.posW, 1) (the motion view's projection).
+inline glm::mat4 clipFromViewRotation(const Camera& camera, int width, int height) {
+  return camera.clipFromView(float(width) / float(height)) * glm::mat4(glm::mat3(camera.viewFromWorld()));
+}
 
 /// What a ray-grid texture may hold, per tile of `size` texels (uploadReflected with GridTiles): 1 where
 /// the tile may be non-zero, 0 where it is zero.

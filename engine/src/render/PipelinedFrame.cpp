@@ -147,7 +147,7 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   FrameStats effects;
   timed(effects.prepareMs, [&] { caches.syncGpu(scene, s.shadingOverride, sampleCamera.shutter, sampleCamera.timeU); });
   caches.syncRasterEffects(scene, plan, visibilityPass, shadePass, in, effects, &gpuTimers);
-  viewInputs(plan, in);
+  viewInputs(plan, glCamera, in);
   f.in = in;
   timed(effects.bookkeepingMs, [&] { remember(plan, sampleCamera, in); });
 

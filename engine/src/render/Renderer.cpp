@@ -43,6 +43,7 @@ gl::RayGrid rayGridData(const rt::RayOutputs& rays) {
 // mode (FrameSettings::pipelined) the same stages run across two calls: renderPipelined.
 FrameStats Renderer::render(const Camera& camera, const FrameSettings& requested) {
   Impl& r = *impl_;
+  ++r.calls;
   FrameStats stats = r.renderFrame(camera, requested);
   stats.intervalMs = r.sinceLastCall ? r.sinceLastCall->ms() : 0.0;
   r.sinceLastCall.emplace();
@@ -330,7 +331,7 @@ void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::S
   localInputs(plan, in);
   // The probes are shaded from these inputs as they stand: the final view of local shading.
   caches.syncRasterEffects(scene, plan, visibilityPass, shadePass, in, stats, &gpuTimers);
-  viewInputs(plan, in);
+  viewInputs(plan, glCamera, in);
   rasterVisibility(plan, glCamera, stats);
 }
 
@@ -350,9 +351,10 @@ void Renderer::Impl::localInputs(const FramePlan& plan, gl::ShadeInputs& in) con
 }
 
 // What the frame's view adds to them (not the probes': they show local shading).
-void Renderer::Impl::viewInputs(const FramePlan& plan, gl::ShadeInputs& in) {
+void Renderer::Impl::viewInputs(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in) {
   in.debugView = plan.settings.debugView;
   in.rayScale = plan.settings.rayScale;
+  motionInputs(plan, glCamera, in);
 }
 
 void Renderer::Impl::rasterVisibility(const FramePlan& plan, const Camera& glCamera, FrameStats& stats) {
@@ -471,6 +473,7 @@ void Renderer::Impl::shade(const FramePlan& plan, const Camera& glCamera, const 
     fused.toneMap = s.toneMap;
     shadePass.shade(outputPass.fusedFramebuffer(), caches.gpu(), pass, glCamera, fused);
   }
+  rememberMotion(plan, pass);
   glFinish();
 }
 

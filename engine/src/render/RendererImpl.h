@@ -120,6 +120,7 @@ struct Renderer::Impl {
     radiosity.apply(changes);
     last.apply(changes);
     if (changes.replaced) {
+      ++sceneGeneration;  // the motion view's last frame showed another scene
       waitRays();      // a frame in flight may be reading the kept answers released here
       releaseKept();   // the second copy is the old scene's
       budget.reset();  // what the old scene cost says nothing of the new one
@@ -228,7 +229,33 @@ struct Renderer::Impl {
   // Its parts, which throughput mode runs apart: the shade inputs of local shading, those of the view (not
   // the probes'), the visibility pass.
   void localInputs(const FramePlan& plan, gl::ShadeInputs& in) const;
-  static void viewInputs(const FramePlan& plan, gl::ShadeInputs& in);
+  void viewInputs(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
+
+  // The motion view (DebugView::Motion, docs/motion.md; render/Motion.cpp): what a frame knows of the one
+  // before it. motionInputs (with the view inputs) gives the frame each instance's previous-from-current
+  // transform against the last frame composited, and notes this frame's transforms and camera as pending;
+  // rememberMotion (after the composite, in either mode) makes the pending frame the last one and copies its
+  // ids and depth. All of it goes when the view is off (cost follows the settings).
+  struct MotionFrame {
+    bool held = false;
+    std::uint64_t call = 0;  // the render() call that drew it (a frame of several samples draws several)
+    std::uint64_t sceneGeneration = 0;
+    glm::vec3 anchor{0.0f};
+    int width = 0, height = 0;
+    glm::mat4 clipFromViewRotation{1.0f};
+    glm::vec3 cameraPosR{0.0f};
+    std::vector<glm::dmat4> worldFromObject;
+  };
+  // last: the frame the motion is measured against (an earlier call's); next: the last one composited, made
+  // `last` by the first frame of a later call; pending: the frame being drawn.
+  MotionFrame motionLast, motionNext, motionPending;
+  std::uint64_t sceneGeneration = 0;
+  std::uint64_t calls = 0;  // render() calls so far
+  gl::Buffer motionBuffer;
+  gl::Texture motionTexture, previousIds, previousDepth, nextIds, nextDepth;
+  std::size_t motionBufferBytes = 0;
+  void motionInputs(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
+  void rememberMotion(const FramePlan& plan, const gl::VisibilityPass& pass);
   void rasterVisibility(const FramePlan& plan, const Camera& glCamera, FrameStats& stats);
   // Before the read-back: the GL's shadow proofs (FramePlan::glShadowProofs); true when it drew them.
   bool proveShadows(const FramePlan& plan, const Camera& camera, FrameStats& stats);

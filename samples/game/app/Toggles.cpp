@@ -99,7 +99,7 @@ WindowAction ViewState::onKey(const std::string& key) {
     auto it = std::find(names.begin(), names.end(), preset);
     applyPreset(it == names.end() || it + 1 == names.end() ? names.front() : *(it + 1));
   } else if (key == "9") {
-    const int n = static_cast<int>(tandem::DebugView::Transmission) + 1;
+    const int n = static_cast<int>(tandem::DebugView::Motion) + 1;
     settings.debugView = static_cast<tandem::DebugView>((static_cast<int>(settings.debugView) + 1) % n);
   } else if (key == "B") {
     // off -> 60 -> 30 -> 20 -> 15 -> 10 -> off; a target set by --target-fps goes to the next lower one

@@ -1,0 +1,104 @@
+// The motion view (DebugView::Motion, docs/motion.md): each pixel's motion since the last frame composited
+// and whether that frame saw the point it shows. The shade pass projects the pixel's exact primary hit with
+// this frame's camera and, moved back by its instance's previous-from-current transform, with the last
+// frame's; the last frame's ids and depth say whether the point was in view there.
+#include <cstring>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "render/RendererImpl.h"
+
+namespace tandem {
+
+void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in) {
+  const FrameSettings& s = plan.settings;
+  if (s.debugView != DebugView::Motion) {
+    if (motionLast.held || motionNext.held || motionBuffer) {
+      motionLast = motionNext = motionPending = {};
+      motionBuffer.reset();
+      motionTexture.reset();
+      previousIds.reset();
+      previousDepth.reset();
+      nextIds.reset();
+      nextDepth.reset();
+      motionBufferBytes = 0;
+    }
+    return;
+  }
+  // The last frame composited by an earlier call is the one this frame moves from (the samples of one frame
+  // all move from the same frame).
+  if (motionNext.held && motionNext.call != calls) {
+    motionLast = std::move(motionNext);
+    motionNext = {};
+    std::swap(previousIds, nextIds);
+    std::swap(previousDepth, nextDepth);
+  }
+  MotionFrame now;
+  now.held = true;
+  now.call = calls;
+  now.sceneGeneration = sceneGeneration;
+  now.anchor = caches.gpu().anchor();
+  now.width = s.width;
+  now.height = s.height;
+  now.clipFromViewRotation = gl::clipFromViewRotation(glCamera, s.width, s.height);
+  now.cameraPosR = glCamera.posW;
+  now.worldFromObject.reserve(scene.instances.size());
+  for (const Instance& inst : scene.instances) now.worldFromObject.emplace_back(inst.worldFromObject);
+  const MotionFrame& last = motionLast;
+  const bool history = last.held && last.sceneGeneration == now.sceneGeneration && last.anchor == now.anchor &&
+                       last.width == now.width && last.height == now.height &&
+                       last.worldFromObject.size() == now.worldFromObject.size() && previousIds && previousDepth;
+  // Per instance, where its points were in render space last frame given where they are now: exactly the
+  // identity for an instance that did not move (its pixels then move by the camera alone), else worked out in
+  // double around the anchor, so that a scene 1e6 from the origin moves as one at the origin does.
+  std::vector<glm::vec4> texels(4 * std::max<std::size_t>(now.worldFromObject.size(), 1), glm::vec4(0.0f));
+  for (std::size_t i = 0; i < now.worldFromObject.size(); ++i) {
+    glm::mat4 previousFromCurrent(1.0f);
+    if (history && last.worldFromObject[i] != now.worldFromObject[i]) {
+      const glm::dvec3 a(now.anchor);
+      const glm::dmat4 d = glm::translate(glm::dmat4(1.0), -a) * last.worldFromObject[i] *
+                           glm::inverse(now.worldFromObject[i]) * glm::translate(glm::dmat4(1.0), a);
+      previousFromCurrent = glm::mat4(d);
+    }
+    for (int c = 0; c < 4; ++c) texels[4 * i + static_cast<std::size_t>(c)] = previousFromCurrent[c];
+  }
+  const std::size_t bytes = texels.size() * sizeof(glm::vec4);
+  if (bytes != motionBufferBytes) {
+    motionBuffer = gl::createBuffer("motion: instances' previous-from-current", bytes, texels.data());
+    motionTexture = gl::createBufferTexture("motion: instances view", GL_RGBA32F, motionBuffer);
+    motionBufferBytes = bytes;
+  } else {
+    glNamedBufferSubData(motionBuffer.id(), 0, static_cast<GLsizeiptr>(bytes), texels.data());
+  }
+  in.motionInstances = &motionTexture;
+  in.motionHistory = history;
+  in.previousIds = history ? &previousIds : nullptr;
+  in.previousDepth = history ? &previousDepth : nullptr;
+  in.previousClipFromViewRotation = history ? last.clipFromViewRotation : glm::mat4(1.0f);
+  in.previousCameraPos = history ? last.cameraPosR : glm::vec3(0.0f);
+  motionPending = std::move(now);
+}
+
+void Renderer::Impl::rememberMotion(const FramePlan& plan, const gl::VisibilityPass& pass) {
+  if (plan.settings.debugView != DebugView::Motion || !motionPending.held) return;
+  // (pending stays: a frame of several samples composites each with the same inputs)
+  const int w = pass.width(), h = pass.height();
+  auto sized = [&](gl::Texture& t, GLenum internal, const char* name) {
+    GLint tw = 0, th = 0;
+    if (t) {
+      glGetTextureLevelParameteriv(t.id(), 0, GL_TEXTURE_WIDTH, &tw);
+      glGetTextureLevelParameteriv(t.id(), 0, GL_TEXTURE_HEIGHT, &th);
+    }
+    if (!t || tw != w || th != h) {
+      t = gl::createTexture2D(name, internal, w, h);
+      gl::setSampling(t, GL_NEAREST, GL_NEAREST);
+    }
+  };
+  sized(nextIds, gl::kChannelIds.internal, "motion: the last frame's ids");
+  sized(nextDepth, gl::kChannelDepth.internal, "motion: the last frame's depth");
+  glCopyImageSubData(pass.ids().id(), GL_TEXTURE_2D, 0, 0, 0, 0, nextIds.id(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+  glCopyImageSubData(pass.depth().id(), GL_TEXTURE_2D, 0, 0, 0, 0, nextDepth.id(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+  motionNext = motionPending;
+}
+
+}  // namespace tandem
