@@ -237,6 +237,115 @@ TEST(MotionGLTest, AnInstanceMovesItsOwnPixelsAndUncoversTheWallBehind) {
   EXPECT_GT(wall, 10000);
 }
 
+// Three frames, the camera stepping 0.1 then 0.2: the third frame's motion is the second step's, in both
+// modes (a frame measured from any but the one composited just before it would show 0.3 or 0.1).
+TEST(MotionGLTest, EachFrameMovesFromTheOneJustBeforeIt) {
+  TD_REQUIRE_GL_CONTEXT();
+  for (bool pipelined : {false, true}) {
+    SCOPED_TRACE(pipelined ? "throughput mode" : "latency mode");
+    auto r = gltest::makeRenderer(*glContext_);
+    ASSERT_TRUE(r);
+    Scene scene = wallAndBox(glm::dvec3(0.0));
+    ASSERT_TRUE(r->setScene(scene).ok());
+    FrameSettings s = motionSettings();
+    s.pipelined = pipelined;
+    Camera c = scene.camera;
+    for (float x : {0.0f, 0.1f, 0.3f}) {
+      c.posW.x = x;
+      c.targetW.x = x;
+      ASSERT_TRUE(r->render(c, s).error.empty());
+    }
+    if (pipelined) ASSERT_TRUE(r->finish().has_value());
+    const Motion m = decode(*r);
+    const double step = static_cast<double>(0.3f) - static_cast<double>(0.1f);
+    EXPECT_NEAR(m.at(10, 10).x, -step * pixelsPerUnit(kCameraZ - kWallZ), 2e-3);
+    EXPECT_NEAR(m.at(kW - 40, kH - 10).x, -step * pixelsPerUnit(kCameraZ - kWallZ), 2e-3);
+    EXPECT_FALSE(m.unseen[10 * kW + 10]);
+  }
+}
+
+// A box turning about its own centre (its transform's translation is not the anchor's): each front pixel's
+// motion is its point turned back about that centre and projected, worked out here in double from the
+// scene's own float matrices; at the origin and 1e6 away, where the render anchor is far from the origin too.
+TEST(MotionGLTest, AnInstanceTurningAboutItsCentreMovesAsItsPointsDo) {
+  TD_REQUIRE_GL_CONTEXT();
+  for (glm::dvec3 offset : {glm::dvec3(0.0), glm::dvec3(1e6, -2e5, 1e6)}) {
+    SCOPED_TRACE(offset.x);
+    auto r = gltest::makeRenderer(*glContext_);
+    ASSERT_TRUE(r);
+    Scene scene = wallAndBox(offset);
+    const glm::dmat4 before(scene.instances[1].worldFromObject);
+    constexpr double turn = glm::radians(10.0);
+    const Motion m = twoFrames(*r, scene, [&](Renderer& rr, Camera&) {
+      scene.instances[1].worldFromObject = scene.instances[1].worldFromObject *
+                                           glm::rotate(glm::mat4(1.0f), static_cast<float>(turn), glm::vec3(0.0f, 1.0f, 0.0f));
+      rr.setInstanceTransform(1, scene.instances[1].worldFromObject);
+    }, false);
+    const glm::dmat4 now(scene.instances[1].worldFromObject);
+    const glm::dmat4 previousFromCurrent = before * glm::inverse(now);
+    const glm::dvec3 eye = glm::dvec3(scene.camera.posW);
+    const double t = std::tan(glm::radians(double(kFovDeg)) / 2.0), aspect = double(kW) / kH;
+    // The front face (object z = +0.25) now: its plane in world space.
+    const glm::dvec3 n = glm::normalize(glm::dvec3(now * glm::dvec4(0, 0, 1, 0)));
+    const glm::dvec3 centre = glm::dvec3(now * glm::dvec4(0, 0, 0.25, 1));
+    int checked = 0;
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) {
+        const glm::dvec3 dir((2.0 * (x + 0.5) / kW - 1.0) * t * aspect, (2.0 * (y + 0.5) / kH - 1.0) * t, -1.0);
+        const glm::dvec3 p = eye + dir * (glm::dot(n, centre - eye) / glm::dot(n, dir));
+        const glm::dvec3 local = glm::dvec3(glm::inverse(now) * glm::dvec4(p, 1.0));
+        if (std::abs(local.x) > 0.23 || std::abs(local.y) > 0.23) continue;  // the face, a pixel in from its edges
+        const glm::dvec3 q = glm::dvec3(previousFromCurrent * glm::dvec4(p, 1.0)) - eye;
+        const glm::dvec2 then((q.x / -q.z / (t * aspect) + 1.0) * kW / 2.0, (q.y / -q.z / t + 1.0) * kH / 2.0);
+        const glm::dvec2 want = glm::dvec2(x + 0.5, y + 0.5) - then;
+        EXPECT_NEAR(m.at(x, y).x, want.x, 0.01) << x << "," << y;
+        EXPECT_NEAR(m.at(x, y).y, want.y, 0.01) << x << "," << y;
+        ++checked;
+      }
+    EXPECT_GT(checked, 150);
+  }
+}
+
+// Without a last frame to measure from every pixel is new: after the scene is set again, at a new size, and
+// when the view comes back after frames drawn without it.
+TEST(MotionGLTest, ANewSceneSizeOrViewHasNoLastFrame) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto r = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(r);
+  Scene scene = wallAndBox(glm::dvec3(0.0));
+  ASSERT_TRUE(r->setScene(scene).ok());
+  FrameSettings s = motionSettings();
+  auto allNew = [&](const char* what) {
+    const ImageF lin = r->readLinear();
+    std::size_t unseen = 0;
+    for (const glm::vec3& v : lin.rgb) unseen += v.z > 0.5f ? 1 : 0;
+    return ::testing::AssertionResult(unseen == lin.rgb.size()) << what << ": " << unseen << " of " << lin.rgb.size() << " new";
+  };
+  auto someSeen = [&]() {
+    const ImageF lin = r->readLinear();
+    for (const glm::vec3& v : lin.rgb)
+      if (v.z < 0.5f) return true;
+    return false;
+  };
+  ASSERT_TRUE(r->render(scene.camera, s).error.empty());
+  EXPECT_TRUE(allNew("the first frame"));
+  ASSERT_TRUE(r->render(scene.camera, s).error.empty());
+  ASSERT_TRUE(someSeen()) << "a still frame after a frame: seen";
+  ASSERT_TRUE(r->setScene(scene).ok());
+  ASSERT_TRUE(r->render(scene.camera, s).error.empty());
+  EXPECT_TRUE(allNew("the scene set again"));
+  ASSERT_TRUE(r->render(scene.camera, s).error.empty());
+  FrameSettings smaller = s;
+  smaller.width -= 16;
+  ASSERT_TRUE(r->render(scene.camera, smaller).error.empty());
+  EXPECT_TRUE(allNew("a new size"));
+  FrameSettings final = smaller;
+  final.debugView = DebugView::Final;
+  ASSERT_TRUE(r->render(scene.camera, final).error.empty());
+  ASSERT_TRUE(r->render(scene.camera, smaller).error.empty());
+  EXPECT_TRUE(allNew("the view back after a frame without it"));
+}
+
 // A face of the same instance turning into view: the camera swings round to see the box's side, whose points
 // lay behind its front the frame before (the same instance there, further away): only the depth test tells them
 // new. The box's pixels are told apart by the instance view of the same frame.

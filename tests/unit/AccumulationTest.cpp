@@ -62,6 +62,19 @@ TEST(Accumulation, GoesOnOnlyWhileNothingItShowsChanged) {
   EXPECT_EQ(a.step(camera, s, kStill), Step::GoOn);
 }
 
+// The motion view shows each frame's own motion since the frame before: never a mean over frames.
+TEST(Accumulation, TheMotionViewStartsAgainEveryFrame) {
+  Accumulation a;
+  Camera camera;
+  FrameSettings s = accumulating(8);
+  s.debugView = DebugView::Motion;
+  a.restart(camera, s);
+  EXPECT_EQ(a.step(camera, s, kStill), Step::Restart);
+  s.debugView = DebugView::NormalW;
+  a.restart(camera, s);
+  EXPECT_EQ(a.step(camera, s, kStill), Step::GoOn) << "other views accumulate as the frame does";
+}
+
 TEST(Accumulation, ConvergesAfterItsFramesAndEarlyWhenAdaptiveRoundsAgree) {
   Accumulation a;
   const Camera camera;

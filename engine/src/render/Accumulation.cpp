@@ -10,7 +10,8 @@ namespace tandem {
 Accumulation::Step Accumulation::step(const Camera& camera, const FrameSettings& settings, const Since& since) const {
   const bool same = active_ && since.lastDrawn && !since.sceneChanged && since.probesCurrent && camera_ == camera &&
                     settings_ == settings;
-  if (!same || settings.accumulate <= 1) return Step::Restart;
+  // The motion view draws each frame's own motion: a mean over frames would blend the motions of several.
+  if (!same || settings.accumulate <= 1 || settings.debugView == DebugView::Motion) return Step::Restart;
   return frames_ >= settings.accumulate ? Step::Converged : Step::GoOn;
 }
 

@@ -7,6 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "render/RendererImpl.h"
+#include "tandem/Log.h"
 
 namespace tandem {
 
@@ -83,19 +84,30 @@ void Renderer::Impl::rememberMotion(const FramePlan& plan, const gl::VisibilityP
   if (plan.settings.debugView != DebugView::Motion || !motionPending.held) return;
   // (pending stays: a frame of several samples composites each with the same inputs)
   const int w = pass.width(), h = pass.height();
+  // Made at the frame's size on first need; a copy the GL refuses (out of memory) leaves the next frame
+  // without a last frame (every pixel new), not the process without a frame.
   auto sized = [&](gl::Texture& t, GLenum internal, const char* name) {
     GLint tw = 0, th = 0;
     if (t) {
       glGetTextureLevelParameteriv(t.id(), 0, GL_TEXTURE_WIDTH, &tw);
       glGetTextureLevelParameteriv(t.id(), 0, GL_TEXTURE_HEIGHT, &th);
     }
-    if (!t || tw != w || th != h) {
-      t = gl::createTexture2D(name, internal, w, h);
-      gl::setSampling(t, GL_NEAREST, GL_NEAREST);
+    if (t && tw == w && th == h) return true;
+    t.reset();
+    auto made = gl::tryCreateTexture2D(name, internal, w, h);
+    if (!made) {
+      logWarning("the motion view: " + made.error().message + " (the next frame has no last frame)");
+      return false;
     }
+    t = std::move(*made);
+    gl::setSampling(t, GL_NEAREST, GL_NEAREST);
+    return true;
   };
-  sized(nextIds, gl::kChannelIds.internal, "motion: the last frame's ids");
-  sized(nextDepth, gl::kChannelDepth.internal, "motion: the last frame's depth");
+  if (!sized(nextIds, gl::kChannelIds.internal, "motion: the last frame's ids") ||
+      !sized(nextDepth, gl::kChannelDepth.internal, "motion: the last frame's depth")) {
+    motionNext = motionLast = {};  // nor the one before it: the next frame must not measure from that
+    return;
+  }
   glCopyImageSubData(pass.ids().id(), GL_TEXTURE_2D, 0, 0, 0, 0, nextIds.id(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
   glCopyImageSubData(pass.depth().id(), GL_TEXTURE_2D, 0, 0, 0, 0, nextDepth.id(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
   motionNext = motionPending;
