@@ -269,11 +269,11 @@ void shadePixel() {
     outColor = vec4(shown, 1.0);
     return;
   }
-  Surface s = loadSurface(pix, id);
-  if (debugView == TD_VIEW_MOTION) {
-    outColor = vec4(motionView(id, s.hit.posW), 1.0);
+  if (debugView == TD_VIEW_MOTION) {  // the hit's point alone: no attributes, no material
+    outColor = vec4(motionView(id, primaryHit(pix, id).posW), 1.0);
     return;
   }
+  Surface s = loadSurface(pix, id);
   if (debugView == TD_VIEW_NORMAL) {
     outColor = vec4(0.5 + 0.5 * s.N, 1.0);
     return;

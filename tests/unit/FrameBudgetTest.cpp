@@ -202,30 +202,33 @@ TEST(FrameBudget, GenerousTargetKeepsTheRequest) {
   EXPECT_EQ(describeBudget(b.stats()), "as requested");
 }
 
+// A run settled at `target`: within 40 frames, then at most one more change and frames within 10 % of the target;
+// nothing less wrong that truly fits 0.8 × target left on the table; every choice it ran predicted within
+// `predicted` of the machine's truth (the priors are 20–60 % off).
+void expectSettled(const FrameBudget& b, const Machine& m, const History& run, double target, double predicted) {
+  EXPECT_LE(run.switches(40), 1);
+  int within = 0;
+  for (std::size_t i = 40; i < run.ms.size(); ++i) within += run.ms[i] <= 1.1 * target;
+  EXPECT_GE(within, static_cast<int>(0.95 * static_cast<double>(run.ms.size() - 40)));
+  const int best = bestFitting(b, m, target, 0.8);
+  ASSERT_GE(best, 0);
+  EXPECT_LE(b.current(), best) << "settled on " << describeBudget(b.stats());
+  EXPECT_LE(m.trueMs(b.choices()[static_cast<std::size_t>(b.current())].settings), 1.05 * target);
+  EXPECT_TRUE(b.stats().reachable);
+  for (std::size_t i = 0; i < b.choices().size(); ++i) {
+    if (b.choices()[i].framesRun == 0) continue;
+    const double truth = m.trueMs(b.choices()[i].settings);
+    EXPECT_NEAR(b.predictMs(static_cast<int>(i)), truth, predicted * truth) << "choice " << i;
+  }
+}
+
 TEST(FrameBudget, ConvergesToTheLeastWrongChoiceThatFitsAndStays) {
   for (double target : {33.0, 45.0, 60.0, 80.0, 110.0}) {
     SCOPED_TRACE(target);
     FrameBudget b;
     Machine m;
-    const FrameSettings r = full(static_cast<float>(target));
-    const History run = play(b, m, r, 300);
-    // Settled within 40 frames, and then it holds: at most one more change, frames within 10 % of the target.
-    EXPECT_LE(run.switches(40), 1);
-    int within = 0;
-    for (std::size_t i = 40; i < run.ms.size(); ++i) within += run.ms[i] <= 1.1 * target;
-    EXPECT_GE(within, static_cast<int>(0.95 * static_cast<double>(run.ms.size() - 40)));
-    // And it does not leave much image on the table: nothing less wrong fits in 0.8 × target.
-    const int best = bestFitting(b, m, target, 0.8);
-    ASSERT_GE(best, 0);
-    EXPECT_LE(b.current(), best) << "settled on " << describeBudget(b.stats());
-    EXPECT_LE(m.trueMs(b.choices()[static_cast<std::size_t>(b.current())].settings), 1.05 * target);
-    EXPECT_TRUE(b.stats().reachable);
-    // The model learned every choice it ran: its predictions match the machine (the priors are 20–60 % off).
-    for (std::size_t i = 0; i < b.choices().size(); ++i) {
-      if (b.choices()[i].framesRun == 0) continue;
-      const double truth = m.trueMs(b.choices()[i].settings);
-      EXPECT_NEAR(b.predictMs(static_cast<int>(i)), truth, 0.12 * truth) << "choice " << i;
-    }
+    const History run = play(b, m, full(static_cast<float>(target)), 300);
+    expectSettled(b, m, run, target, 0.12);
   }
 }
 
@@ -242,22 +245,11 @@ TEST(FrameBudget, ThroughputModeChoosesByTheSlowerSideNotTheSum) {
     (void)play(latency, ml, r, 300);
     r.pipelined = true;
     const History run = play(throughput, mt, r, 300);
-    EXPECT_LE(run.switches(40), 1);
-    int within = 0;
-    for (std::size_t i = 40; i < run.ms.size(); ++i) within += run.ms[i] <= 1.1 * target;
-    EXPECT_GE(within, static_cast<int>(0.95 * static_cast<double>(run.ms.size() - 40)));
-    const int best = bestFitting(throughput, mt, target, 0.8);
-    ASSERT_GE(best, 0);
-    EXPECT_LE(throughput.current(), best) << "settled on " << describeBudget(throughput.stats());
+    expectSettled(throughput, mt, run, target, 0.08);
     EXPECT_LE(throughput.current(), latency.current());
     std::printf("target %.0f: throughput %s, latency %s\n", target, describeBudget(throughput.stats()).c_str(),
                 describeBudget(latency.stats()).c_str());
     richer += throughput.current() < latency.current() ? 1 : 0;
-    for (std::size_t i = 0; i < throughput.choices().size(); ++i) {
-      if (throughput.choices()[i].framesRun == 0) continue;
-      const double truth = mt.trueMs(throughput.choices()[i].settings);
-      EXPECT_NEAR(throughput.predictMs(static_cast<int>(i)), truth, 0.08 * truth) << "choice " << i;
-    }
   }
   EXPECT_GE(richer, 2);
 }

@@ -2,8 +2,6 @@
 // and whether that frame saw the point it shows. The shade pass projects the pixel's exact primary hit with
 // this frame's camera and, moved back by its instance's previous-from-current transform, with the last
 // frame's; the last frame's ids and depth say whether the point was in view there.
-#include <cstring>
-
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "render/RendererImpl.h"
@@ -45,19 +43,19 @@ void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera,
   now.cameraPosR = glCamera.posW;
   now.worldFromObject.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances) now.worldFromObject.emplace_back(inst.worldFromObject);
-  const MotionFrame& last = motionLast;
-  const bool history = last.held && last.sceneGeneration == now.sceneGeneration && last.anchor == now.anchor &&
-                       last.width == now.width && last.height == now.height &&
-                       last.worldFromObject.size() == now.worldFromObject.size() && previousIds && previousDepth;
+  const MotionFrame& before = motionLast;
+  const bool history = before.held && before.sceneGeneration == now.sceneGeneration && before.anchor == now.anchor &&
+                       before.width == now.width && before.height == now.height &&
+                       before.worldFromObject.size() == now.worldFromObject.size() && previousIds && previousDepth;
   // Per instance, where its points were in render space last frame given where they are now: exactly the
   // identity for an instance that did not move (its pixels then move by the camera alone), else worked out in
   // double around the anchor, so that a scene 1e6 from the origin moves as one at the origin does.
   std::vector<glm::vec4> texels(4 * std::max<std::size_t>(now.worldFromObject.size(), 1), glm::vec4(0.0f));
   for (std::size_t i = 0; i < now.worldFromObject.size(); ++i) {
     glm::mat4 previousFromCurrent(1.0f);
-    if (history && last.worldFromObject[i] != now.worldFromObject[i]) {
+    if (history && before.worldFromObject[i] != now.worldFromObject[i]) {
       const glm::dvec3 a(now.anchor);
-      const glm::dmat4 d = glm::translate(glm::dmat4(1.0), -a) * last.worldFromObject[i] *
+      const glm::dmat4 d = glm::translate(glm::dmat4(1.0), -a) * before.worldFromObject[i] *
                            glm::inverse(now.worldFromObject[i]) * glm::translate(glm::dmat4(1.0), a);
       previousFromCurrent = glm::mat4(d);
     }
@@ -75,8 +73,8 @@ void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera,
   in.motionHistory = history;
   in.previousIds = history ? &previousIds : nullptr;
   in.previousDepth = history ? &previousDepth : nullptr;
-  in.previousClipFromViewRotation = history ? last.clipFromViewRotation : glm::mat4(1.0f);
-  in.previousCameraPos = history ? last.cameraPosR : glm::vec3(0.0f);
+  in.previousClipFromViewRotation = history ? before.clipFromViewRotation : glm::mat4(1.0f);
+  in.previousCameraPos = history ? before.cameraPosR : glm::vec3(0.0f);
   motionPending = std::move(now);
 }
 
