@@ -119,6 +119,28 @@
 #define TD_LOC_PREVIOUS_CLIP_FROM_VIEW_ROTATION 24  // and the last frame's (4 locations)
 #define TD_LOC_PREVIOUS_CAMERA_POS 28               // the last frame's camera, render space
 #define TD_LOC_MOTION_HISTORY 29                    // 1: the last frame's ids, depth and transforms are bound
+#define TD_LOC_MOVED_BOX_COUNT 30    // the filter's guides: render-space boxes of what moved since the last frame
+#define TD_LOC_MOVED_BOXES 31        // TD_MAX_MOVED_BOXES pairs of vec4 (lo + instance, hi): locations 31-46
+#define TD_MAX_MOVED_BOXES 8
+// The spatiotemporal filter (denoise.frag; DenoisePass, docs/denoise.md): its own program's units and
+// locations. The camera's right and up axes, orthographic and the frame size (TD_LOC_CAMERA_RIGHT ..
+// TD_LOC_FRAME_SIZE, 2-5) are shade_hit.glsl's, from the same vectors (ShadePass's cameraVectors).
+#define TD_UNIT_DENOISE_NOISY 0          // the shade pass's radiance / surface colour this frame
+#define TD_UNIT_DENOISE_GUIDE 1          // this frame's guide (depth, normal + instance, albedo)
+#define TD_UNIT_DENOISE_MOTION 2         // this frame's motion (pixels), the point's depth before, in view before
+#define TD_UNIT_DENOISE_HISTORY 3        // the last frame's filter texels after the first a-trous iteration
+#define TD_UNIT_DENOISE_MOMENTS 4        // the last frame's luminance moments and history length
+#define TD_UNIT_DENOISE_INPUT 5          // an a-trous iteration's input filter texels
+#define TD_UNIT_DENOISE_EXACT 6          // this frame's radiance past the filter, added back by the final stage
+#define TD_UNIT_DENOISE_FILTERED 7       // the filtered frame (linear radiance), the anti-aliasing stage's input
+#define TD_UNIT_DENOISE_TAA_HISTORY 8    // the last frame's anti-aliased radiance (linear filtering: reprojected)
+#define TD_UNIT_DENOISE_LENGTH 9         // this frame's moments: whether the temporal stage dropped the history
+#define TD_LOC_DENOISE_STEP 6            // the a-trous iteration's tap spacing in pixels
+#define TD_LOC_DENOISE_HISTORY 7         // 1: the last frame's history and moments hold
+#define TD_LOC_DENOISE_MAX_HISTORY 8     // frames the temporal mean spans at most
+#define TD_LOC_DENOISE_EXPOSURE 9        // the final iteration writes the display too (tdDisplay)
+#define TD_LOC_DENOISE_TONE_MAP 10
+#define TD_LOC_DENOISE_BACKGROUND 11     // the final iteration's background pixels
 // The output pass (tonemap.frag; OutputPass).
 #define TD_LOC_EXPOSURE 0
 #define TD_LOC_TONE_MAP 1
@@ -160,6 +182,18 @@
 #define TD_CHANNEL_LINEAR GL_RGBA32F, GL_RGBA, GL_FLOAT          // linear radiance, full res
 #define TD_SAMPLER_LINEAR sampler2D
 #define TD_OUTPUT_LINEAR vec4                                     // the shade pass's output (probes' too)
+// The filter's channels (frame size): the shade pass writes the first three when the filter is on.
+// Packed texels: shaders/denoise.glsl.
+#define TD_CHANNEL_DENOISE_NOISY GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT  // the shade pass's radiance / surface colour
+#define TD_CHANNEL_DENOISE_GUIDE GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT  // depth, normal + instance, albedo
+#define TD_OUTPUT_DENOISE_GUIDE uvec4
+#define TD_CHANNEL_DENOISE_MOTION GL_RGBA32F, GL_RGBA, GL_FLOAT  // motion (pixels, GL rows), depth before, 1: in view before
+#define TD_OUTPUT_DENOISE_MOTION vec4
+#define TD_CHANNEL_DENOISE_EXACT GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT  // radiance past the filter (sharp mirrors, glass)
+#define TD_OUTPUT_DENOISE_EXACT vec4
+#define TD_CHANNEL_DENOISE_TEXEL GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT  // illumination, variance, depth, normal
+#define TD_CHANNEL_DENOISE_MOMENTS GL_RGBA32F, GL_RGBA, GL_FLOAT      // luminance, its square, history length, dropped
+#define TD_CHANNEL_DENOISE_RADIANCE GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT // filtered radiance; anti-aliased + instance tag
 #define TD_CHANNEL_DISPLAY GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE   // tone-mapped sRGB, full res
 #define TD_OUTPUT_DISPLAY vec4
 #define TD_CHANNEL_PROBES GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT     // reflection probe cubes

@@ -140,6 +140,9 @@ layout(location = TD_LOC_MOTION_HISTORY) uniform int motionHistory;
 layout(binding = TD_UNIT_MOTION_INSTANCES) uniform samplerBuffer motionInstancesBuf;  // 4 texels an instance: columns
 layout(binding = TD_UNIT_PREVIOUS_IDS) uniform usampler2D previousIdsTex;
 layout(binding = TD_UNIT_PREVIOUS_DEPTH) uniform sampler2D previousDepthTex;
+// The filter's guides: what moved since the last frame (shade_debug.glsl's lightMayHaveChanged).
+layout(location = TD_LOC_MOVED_BOX_COUNT) uniform int movedBoxCount;
+layout(location = TD_LOC_MOVED_BOXES) uniform vec4 movedBoxes[2 * TD_MAX_MOVED_BOXES];
 
 // Variant flags, set by CompositePass for each frame's scene and settings. llvmpipe runs both sides of a
 // branch that diverges inside an 8-pixel SIMD group, so features a frame does not use are compiled out
@@ -212,6 +215,11 @@ layout(location = TD_LOC_RAY_PRESENT) uniform int rayPresent;
 #define TD_VIEW_TRANSMISSION 7
 #define TD_VIEW_MOTION 8
 
+#ifndef TD_DENOISE_GUIDES
+#define TD_DENOISE_GUIDES 1  // the frame's pass writes the spatiotemporal filter's guides too (denoise.frag)
+#endif
+#include "denoise.glsl"
+
 #ifndef TD_FUSED_OUTPUT
 #define TD_FUSED_OUTPUT 0    // the frame's pass writes the display too (ShadeInputs::fusedOutput)
 #endif
@@ -243,6 +251,7 @@ const bool kUseRadiosity = TD_USE_RADIOSITY != 0;
 const bool kUseExact = TD_USE_EXACT != 0;
 const bool kUseAlphaBlend = TD_USE_ALPHA_BLEND != 0;
 const bool kFusedOutput = TD_FUSED_OUTPUT != 0;
+const bool kDenoiseGuides = TD_DENOISE_GUIDES != 0;
 
 layout(location = 0) out TD_OUTPUT_LINEAR outColor;
 
@@ -254,6 +263,37 @@ layout(location = 0) out TD_OUTPUT_LINEAR outColor;
 #include "shade_local.glsl"
 #include "shade_debug.glsl"
 
+// The filter's guides (bindings.glsl's TD_CHANNEL_DENOISE_*): what the pixel shows, where it was, the colour its
+// light is divided by. Zero on the background (instance 0: never filtered).
+#if TD_DENOISE_GUIDES
+layout(location = 2) out TD_OUTPUT_DENOISE_GUIDE outGuide;
+layout(location = 3) out TD_OUTPUT_DENOISE_MOTION outMotion;
+layout(location = 4) out TD_OUTPUT_DENOISE_EXACT outExact;
+// What the filter smooths goes out divided by the surface colour (the filter's illumination): the local light
+// (area lights' samples) and a glossy material's lobe samples; a sharp mirror's or glass's rays are exact for
+// the pixel's hit and go past the filter (outExact), added back after it.
+void writeGuides(uvec2 id, Surface s, vec3 local, vec3 specular) {
+  vec3 albedo = tdSurfaceColor(s.m, s.uv, s.pattern, s.tint);
+  bool glossy = texelFetch(uvTransformsBuf, 4 * int(s.hit.tri.material) + 3).a > 0.0;  // roughness (shade_probes)
+  outColor.rgb = (glossy ? local + specular : local) / tdDemodulation(albedo);
+  outExact = vec4(glossy ? vec3(0.0) : specular, 1.0);
+  // View depth (along the camera's axis: cross(up, right), unjittered, where the jitter tilts cameraForward):
+  // the filter rebuilds points from it without a square root.
+  float depth = dot(s.hit.posW - cameraPosW, normalize(cross(cameraUp, cameraRight)));
+  outGuide = uvec4(floatBitsToUint(depth), tdPackNormalInstance(s.N, id.x), packHalf2x16(albedo.rg),
+                   packHalf2x16(vec2(albedo.b, 0.0)));
+  outMotion = denoiseMotion(id, s.hit.posW);
+}
+void writeNoGuides() {
+  outGuide = uvec4(0u);
+  outMotion = vec4(0.0);
+  outExact = vec4(0.0);
+}
+#else
+void writeGuides(uvec2 id, Surface s, vec3 local, vec3 specular) {}
+void writeNoGuides() {}
+#endif
+
 // One pixel of the frame: its surface, the rays gathered there (and the probes' raster effects), its local
 // light, the Whitted sum; or a debug view.
 void shadePixel() {
@@ -263,6 +303,7 @@ void shadePixel() {
   vec3 shown;
   if (id.x == 0u) {
     outColor = vec4(debugView == TD_VIEW_FINAL ? background : vec3(0.0), 1.0);
+    if (kDenoiseGuides) writeNoGuides();
     return;
   }
   if (idView(pix, id, shown)) {
@@ -285,12 +326,14 @@ void shadePixel() {
     outColor = vec4(shown, 1.0);
     return;
   }
-  vec3 I = s.coverage * localLight(s, rays, id, pTop);
-  if ((rayInputs & TD_RAY_REFLECTED) != 0 || kProbeReflect) I += rays.reflected;
-  if ((rayInputs & TD_RAY_TRANSMITTED) != 0 || kProbeRefract) I += rays.transmitted;
+  vec3 local = s.coverage * localLight(s, rays, id, pTop);
+  vec3 specular = vec3(0.0);
+  if ((rayInputs & TD_RAY_REFLECTED) != 0 || kProbeReflect) specular += rays.reflected;
+  if ((rayInputs & TD_RAY_TRANSMITTED) != 0 || kProbeRefract) specular += rays.transmitted;
   bool toon = kUseToon && int(s.m.krKtIorModel.w + 0.5) == TD_MODEL_TOON && s.m.emissionFlags.w < 0.5;
-  if (toon && isEdge(pix, id, s.hit.ngRaw)) I = vec3(0.0);
-  outColor = vec4(I, 1.0);
+  if (toon && isEdge(pix, id, s.hit.ngRaw)) local = specular = vec3(0.0);
+  outColor = vec4(local + specular, 1.0);
+  if (kDenoiseGuides) writeGuides(id, s, local, specular);
 }
 
 // The frame's shade pass also writes the display value (TD_FUSED_OUTPUT): one full-screen pass instead of

@@ -88,13 +88,18 @@ vec3 projectPixel(mat4 clipFromViewRot, vec3 camPos, vec3 p) {
 // current transform (identity for what did not move): red and green 0.5 + motion / 64 pixels (this frame's
 // position less the last's, unjittered), blue 1 where the last frame did not see this point (off screen,
 // another instance there, or the same instance at another depth: disoccluded) or no last frame is known.
-vec3 motionView(uvec2 id, vec3 posR) {
+// Where instance id.x - 1 had the render-space point posR in the last frame (render space).
+vec3 previousPoint(uvec2 id, vec3 posR) {
   uint i = id.x - 1u;
   mat4 previousFromCurrent = mat4(texelFetch(motionInstancesBuf, int(4u * i)), texelFetch(motionInstancesBuf, int(4u * i + 1u)),
                                   texelFetch(motionInstancesBuf, int(4u * i + 2u)), texelFetch(motionInstancesBuf, int(4u * i + 3u)));
+  return (previousFromCurrent * vec4(posR, 1.0)).xyz;
+}
+
+vec3 motionView(uvec2 id, vec3 posR) {
   vec3 now = projectPixel(clipFromViewRotation, cameraPosW, posR);
   if (motionHistory == 0) return vec3(0.5, 0.5, 1.0);
-  vec3 before = projectPixel(previousClipFromViewRotation, previousCameraPos, (previousFromCurrent * vec4(posR, 1.0)).xyz);
+  vec3 before = projectPixel(previousClipFromViewRotation, previousCameraPos, previousPoint(id, posR));
   vec2 motion = now.xy - before.xy;
   ivec2 at = ivec2(floor(before.xy));
   bool seen = all(greaterThanEqual(at, ivec2(0))) && all(lessThan(at, frameSize)) && before.z > 0.0;
@@ -105,4 +110,44 @@ vec3 motionView(uvec2 id, vec3 posR) {
     seen = seen && abs(depthThen - before.z) <= 0.02 * before.z;
   }
   return vec3(0.5 + motion / 64.0, seen ? 0.0 : 1.0);
+}
+
+// ---- the spatiotemporal filter's guides (docs/denoise.md; TD_DENOISE_GUIDES) ----
+// Motion as the motion view measures it (now − before, unjittered, GL rows), the point's view depth in the
+// last frame, and whether the last frame's view of it holds (w): it lay in that frame, and nothing that moved
+// may have changed its light. The filter's reprojection checks the last frame's guide there. The last frame's ids and depth are the filter's own (its previous guide).
+// Whether an instance that moved since the last frame (a box where it was or where it is, other than the
+// point's own instance) may stand between the point and a light, now or then: the segment to the light's
+// centre against the box grown by the light's radius (the shadow rays to an area light stay within that of
+// the segment). Its shadow or its light on the point may have changed: the filter must not keep its history.
+bool lightMayHaveChanged(uint instance, vec3 posR) {
+  for (int k = 0; k < movedBoxCount; ++k) {
+    vec4 lo = movedBoxes[2 * k], hi = movedBoxes[2 * k + 1];
+    if (uint(lo.w + 0.5) == instance) continue;
+    for (int j = 0; j < TD_LIGHT_COUNT; ++j) {
+      int type = lightType(j);
+      vec3 to = type == TD_LIGHT_DIRECTIONAL ? -lights[j].dirRange.xyz * 1e6 : lights[j].posType.xyz - posR;
+      float r = type == TD_LIGHT_SPHERE ? lights[j].shapeV.w
+              : lightIsArea(j) ? length(lights[j].shapeU.xyz) + length(lights[j].shapeV.xyz) : 0.0;
+      // The slab test of the segment posR + t·to, t in [0, 1].
+      vec3 inv = 1.0 / to;
+      vec3 t0 = (lo.xyz - r - posR) * inv, t1 = (hi.xyz + r - posR) * inv;
+      float enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), max(min(t0.z, t1.z), 0.0));
+      float leave = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), min(max(t0.z, t1.z), 1.0));
+      if (enter <= leave) return true;
+    }
+  }
+  return false;
+}
+
+vec4 denoiseMotion(uvec2 id, vec3 posR) {
+  if (motionHistory == 0) return vec4(0.0);
+  vec3 now = projectPixel(clipFromViewRotation, cameraPosW, posR);
+  vec3 then = previousPoint(id, posR);
+  vec3 before = projectPixel(previousClipFromViewRotation, previousCameraPos, then);
+  bool inView = before.z > 0.0 && all(greaterThanEqual(before.xy, vec2(0.0))) && all(lessThan(before.xy, vec2(frameSize)));
+  inView = inView && !(movedBoxCount > 0 && lightMayHaveChanged(id.x - 1u, posR));
+  // The point's view depth then (clip w of a perspective projection), as the last frame's guide holds it.
+  float depthThen = (previousClipFromViewRotation * vec4(then - previousCameraPos, 1.0)).w;
+  return vec4(now.xy - before.xy, depthThen, inView ? 1.0 : 0.0);
 }

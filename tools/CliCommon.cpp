@@ -60,6 +60,11 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
   app.add_option("--aa-threshold", o.aaThreshold,
                  "Adaptive anti-aliasing: display-luminance range (0..1) over which a pixel's samples disagree (default " +
                      number(d.aaThreshold) + ")");
+  app.add_option("--denoise", o.denoise,
+                 "on | off: the spatiotemporal filter (docs/denoise.md): each frame draws new light and gloss samples "
+                 "at a new sub-pixel offset, reprojects the last frames' along the motion vectors and smooths what is "
+                 "still noisy, edge-aware; not with --aa or the reference preset (default: off)")
+      ->check(CLI::IsMember({"on", "off"}));
   app.add_option("--accumulate", o.accumulate,
                  "Progressive accumulation: while nothing changes, each frame adds new samples, up to N frames; "
                  "tandem-render then renders at least N frames and writes the converged image; 0..65536 (default: off)");
@@ -256,6 +261,14 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
                  "radiosity solve: add --radiosity on (or the scene's render.radiosity)"};
   if (s.aa != AntiAlias::Off && s.reference)
     return Error{"--aa: the reference preset takes its samples per pixel from --spp, got --aa " + o.aa->front()};
+  if (o.denoise) {
+    s.denoise = *o.denoise == "on";
+    if (s.denoise && s.reference)
+      return Error{"--denoise: the reference frame is converged, not filtered (drop --denoise or the reference preset)"};
+    if (s.denoise && s.aa != AntiAlias::Off)
+      return Error{"--denoise: a frame of several samples (--aa) is not filtered; the filter's frames draw one sample "
+                   "each at a new sub-pixel offset (drop --aa or --denoise), got --aa " + o.aa->front()};
+  }
   if (s.accumulate > 1 && o.targetFps)
     return Error{"--accumulate: a frame-time budget has no accumulation step yet (drop --target-fps or --accumulate), "
                  "got --accumulate " + std::to_string(s.accumulate)};
@@ -342,6 +355,7 @@ std::string describeSettings(const FrameSettings& s) {
   if (s.aa == AntiAlias::Ssaa) d += ", ssaa " + std::to_string(s.aaSamples);
   if (s.aa == AntiAlias::Adaptive) d += ", adaptive aa up to " + std::to_string(s.aaSamples) + " (threshold " + number(s.aaThreshold) + ")";
   if (s.accumulate > 1) d += ", accumulating up to " + std::to_string(s.accumulate) + " frames";
+  if (s.denoise) d += ", denoised";
   return d;
 }
 

@@ -41,6 +41,7 @@ struct FrameOptions {
   std::optional<int> radiosityShots;
   std::optional<int> radiosityPatches;
   std::optional<std::string> radiosityRefine;  // on | off
+  std::optional<std::string> denoise;  // on | off
   bool classicWhitted = false;
   bool schlick = false;
 };

@@ -218,11 +218,16 @@ int main(int argc, char** argv) {
 
   // The ray counts of the last frame that traced (a reused frame traces nothing).
   const FrameStats& last = stats.back();
-  int reused = 0;
+  int reused = 0, denoised = 0;
+  std::vector<double> denoiseMs;
   const FrameStats* traced = &stats.front();
   for (const FrameStats& s : stats) {
     reused += s.raysReused ? 1 : 0;
     if (!s.raysReused) traced = &s;
+    if (s.denoised) {
+      ++denoised;
+      denoiseMs.push_back(s.denoiseMs);
+    }
   }
   nlohmann::json j;
   const std::vector<Column> cols = columns();
@@ -305,6 +310,9 @@ int main(int argc, char** argv) {
                   static_cast<double>(last.radiosity.residual), last.radiosity.solveMs);
     if (reused > 0)
       std::printf("  %d of %d frame(s) reused the frame before's rays (--reuse on: nothing moved)\n", reused, frames);
+    if (denoised > 0)
+      std::printf("  %d of %d frame(s) filtered (--denoise on): the filter's median %.2f ms, part of composite\n",
+                  denoised, frames, median(denoiseMs));
     if (!intervals.empty())
       std::printf("  interval between frames: median %.2f ms (%.1f fps)%s\n", median(intervals),
                   1000.0 / std::max(median(intervals), 1e-3),
@@ -385,6 +393,9 @@ int main(int argc, char** argv) {
       j["pipeline"] = {{"drained_frames", drained}, {"rays_wait_ms_median", median(waits)}};
     }
     j["frames_reusing_rays"] = reused;
+    j["denoise"] = settings.denoise;
+    if (denoised > 0) j["denoise_ms_median"] = median(denoiseMs);
+    j["frames_denoised"] = denoised;
     if (last.budget.active) {
       nlohmann::json steps = nlohmann::json::array();
       for (const FrameStats& s : stats) steps.push_back(s.budget.step);

@@ -45,6 +45,7 @@ std::vector<ShadeVariant> eachFlagChanged() {
   with([](ShadeVariant& v) { v.fresnelSchlick = true; });
   with([](ShadeVariant& v) { v.fresnelWeighted = false; });
   with([](ShadeVariant& v) { v.fusedOutput = true; });
+  with([](ShadeVariant& v) { v.denoiseGuides = true; });
   with([](ShadeVariant& v) { v.radiosity = true; });
   with([](ShadeVariant& v) { v.exact = true; });
   with([](ShadeVariant& v) { v.procedural = true; });

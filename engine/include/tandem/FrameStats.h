@@ -115,6 +115,12 @@ struct FrameStats {
   /// The ray results are the last frame's (FrameSettings::reuseRays: nothing they depend on changed):
   /// `rays` is then all zero, since nothing was traced, and the readback and ray pass cost nothing.
   bool raysReused = false;
+  /// The spatiotemporal filter (FrameSettings::denoise) reconstructed this frame from its one noisy sample and
+  /// the last frames' (reprojected, rejected where unseen, clamped): what is shown is an estimate, not the
+  /// rays' answers as traced (raysReused, above, is reuse: the same answers to the bit). `denoiseMs`: the
+  /// filter's part of compositeMs.
+  bool denoised = false;
+  double denoiseMs = 0;
   /// Anti-aliasing and accumulation (FrameSettings::aa, accumulate): the sub-pixel samples this call drew
   /// (each a whole frame: the stage times and ray counts above are their sums; 0 when it showed an
   /// accumulation that had converged), the pixel-samples among them the adaptive rounds re-shaded, and the

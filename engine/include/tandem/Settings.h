@@ -152,6 +152,15 @@ struct FrameSettings {
   /// raster-only frames, an open shutter, radiosity and a new frame size.
   bool pipelined = false;
 
+  /// The spatiotemporal filter (docs/denoise.md): each frame of one sample draws new light and gloss samples
+  /// at a new sub-pixel offset, and a GL pass reprojects the last frames' filtered result along the motion
+  /// vectors (history rejected where the point was not in view, clamped to this frame's neighbourhood),
+  /// estimates each pixel's variance and smooths the noisy part with an edge-aware a-trous filter guided by
+  /// depth, normals and instances (SVGF). Where a pixel's samples agree (hard shadows, mirrors) its variance
+  /// is zero and the filter keeps it as drawn. Frames of several samples (aa) and the reference have their own
+  /// samples: resolved() turns it off for them; frames that go on accumulating at rest show the exact mean.
+  bool denoise = false;
+
   /// Clamps ranges and applies dependencies (e.g. rayScale rounded to 1, 2 or 4).
   FrameSettings resolved() const;
   /// Every field compared; sameRayInputs (render/FramePlan.h) compares only what the ray pass reads.

@@ -22,6 +22,8 @@ void FrameStats::addSample(const FrameStats& s) {
   threads = s.threads;
   shadowMapBytes = s.shadowMapBytes;
   raysReused = s.raysReused;
+  denoiseMs += s.denoiseMs;
+  denoised = s.denoised;
   shadowsProvedInGl = s.shadowsProvedInGl;
 }
 

@@ -26,6 +26,7 @@ FrameSettings FrameSettings::resolved() const {
   if (s.reference || s.targetMs > 0.0f) s.aa = AntiAlias::Off;
   if (s.targetMs > 0.0f) s.accumulate = 0;
   if (!s.reference) s.gi = GlobalIllumination::None;
+  if (s.reference || s.aa != AntiAlias::Off) s.denoise = false;
   if (s.gi == GlobalIllumination::Path) s.radiosity = false;
   s.radiosityError = std::isfinite(s.radiosityError) ? std::clamp(s.radiosityError, 0.0f, 1.0f) : 0.01f;
   s.radiosityShots = std::clamp(s.radiosityShots, 0, 100000000);

@@ -85,7 +85,7 @@ Result<Texture> tryCreateTexture2D(std::string_view label, GLenum internalFormat
 /// Bytes per texel of the formats tryCreateTexture2D takes (0 for others).
 constexpr std::size_t texelBytes(GLenum internalFormat) {
   switch (internalFormat) {
-    case GL_RGBA32F: return 16;
+    case GL_RGBA32F: case GL_RGBA32UI: return 16;
     case GL_RG32UI: case GL_RGBA16F: return 8;
     case GL_RGBA8: case GL_R32UI: case GL_DEPTH_COMPONENT32F: return 4;
     case GL_R8UI: return 1;

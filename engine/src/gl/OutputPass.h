@@ -32,6 +32,9 @@ class OutputPass {
   /// The linear target and the display at colour attachments 0 and 1: a shade pass with
   /// ShadeInputs::fusedOutput fills both, and output() is not needed for that frame.
   GLuint fusedFramebuffer() const { return fusedFbo_.id(); }
+  /// The targets themselves (a pass that writes them with targets of its own beside them: DenoisePass).
+  const Texture& linearTexture() const { return linear_; }
+  const Texture& displayTexture() const { return display_; }
   /// A finished linear frame (reference mode), row 0 = top; replaces the shade pass's output.
   void uploadLinear(const ImageF& image);
   /// Exposure, tone map and sRGB encoding into the RGBA8 target; debug views that are already display

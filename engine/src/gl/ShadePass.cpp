@@ -166,6 +166,7 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in,
   v.fresnelSchlick = in.fresnel == FresnelMode::Schlick;
   v.fresnelWeighted = in.fresnelWeighted;
   v.fusedOutput = in.fusedOutput;
+  v.denoiseGuides = in.denoiseGuides;
   v.radiosity = in.radiosity;
   v.exact = f.exact;
   v.procedural = f.procedural;
@@ -245,6 +246,7 @@ bool ShadePass::drawShadowMask(const GpuScene& scene, const VisibilityPass& visi
   grid.probeEffects = 0;
   grid.radiosity = false;
   grid.fusedOutput = false;
+  grid.denoiseGuides = false;
   GLuint p = variant(scene.features(), grid, Role::ShadowMask).id();
   setUp(p, visibility.width(), visibility.height(), scene, visibility.ids(), camera, grid);
   in.shadowMaps->bind(placeholders_);
@@ -264,7 +266,7 @@ void ShadePass::shadeInto(GLuint framebuffer, int width, int height, const GpuSc
   draw(framebuffer, width, height, scene, ids, depth, sampledDepth, camera, in, Role::Shade);
 }
 
-void setCameraUniforms(GLuint p, int width, int height, const Camera& camera) {
+CameraVectors cameraVectors(int width, int height, const Camera& camera) {
   float aspect = float(width) / float(height);
   glm::vec3 forward = glm::normalize(camera.targetW - camera.posW);
   glm::vec3 right = glm::normalize(glm::cross(forward, camera.upW));
@@ -276,12 +278,20 @@ void setCameraUniforms(GLuint p, int width, int height, const Camera& camera) {
   // the forward vector (perspective) or the origin (orthographic), so cameraRay itself stays as it is.
   const glm::vec3 jitterShift = rightScaled * (2.0f * camera.jitterPx.x / float(width)) -
                                 upScaled * (2.0f * camera.jitterPx.y / float(height));
-  const glm::vec3 originW = camera.orthographic ? camera.posW + jitterShift : camera.posW;
-  const glm::vec3 forwardShifted = camera.orthographic ? forward : forward + jitterShift;
-  glProgramUniform3fv(p, TD_LOC_CAMERA_POS, 1, glm::value_ptr(originW));
-  glProgramUniform3fv(p, TD_LOC_CAMERA_FORWARD, 1, glm::value_ptr(forwardShifted));
-  glProgramUniform3fv(p, TD_LOC_CAMERA_RIGHT, 1, glm::value_ptr(rightScaled));
-  glProgramUniform3fv(p, TD_LOC_CAMERA_UP, 1, glm::value_ptr(upScaled));
+  CameraVectors v;
+  v.origin = camera.orthographic ? camera.posW + jitterShift : camera.posW;
+  v.forward = camera.orthographic ? forward : forward + jitterShift;
+  v.right = rightScaled;
+  v.up = upScaled;
+  return v;
+}
+
+void setCameraUniforms(GLuint p, int width, int height, const Camera& camera) {
+  const CameraVectors v = cameraVectors(width, height, camera);
+  glProgramUniform3fv(p, TD_LOC_CAMERA_POS, 1, glm::value_ptr(v.origin));
+  glProgramUniform3fv(p, TD_LOC_CAMERA_FORWARD, 1, glm::value_ptr(v.forward));
+  glProgramUniform3fv(p, TD_LOC_CAMERA_RIGHT, 1, glm::value_ptr(v.right));
+  glProgramUniform3fv(p, TD_LOC_CAMERA_UP, 1, glm::value_ptr(v.up));
   glProgramUniform1i(p, TD_LOC_ORTHOGRAPHIC, camera.orthographic ? 1 : 0);
   glProgramUniform2i(p, TD_LOC_FRAME_SIZE, width, height);
 }
@@ -315,8 +325,8 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
     placeholders_.bindOr(c.unit, held ? rayGrid_[static_cast<std::size_t>(c.id)].texture.id() : 0, c.placeholder);
   }
   placeholders_.bindOr(kUnitExactHits, in.exactHits ? in.exactHits->id() : 0, P::Float2D);
-  if (in.debugView == DebugView::Motion) {
-    assert(in.motionInstances && "shade: the motion view without its instances' transforms");
+  if (in.debugView == DebugView::Motion || in.denoiseGuides) {
+    assert(in.motionInstances && "shade: motion without its instances' transforms");
     const glm::mat4 now = clipFromViewRotation(camera, width, height);
     glProgramUniformMatrix4fv(p, TD_LOC_CLIP_FROM_VIEW_ROTATION, 1, GL_FALSE, glm::value_ptr(now));
     glProgramUniformMatrix4fv(p, TD_LOC_PREVIOUS_CLIP_FROM_VIEW_ROTATION, 1, GL_FALSE,
@@ -324,6 +334,12 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
     glProgramUniform3fv(p, TD_LOC_PREVIOUS_CAMERA_POS, 1, glm::value_ptr(in.previousCameraPos));
     glProgramUniform1i(p, TD_LOC_MOTION_HISTORY, in.motionHistory ? 1 : 0);
     glBindTextureUnit(kUnitMotionInstances, in.motionInstances ? in.motionInstances->id() : 0);
+  }
+  if (in.denoiseGuides) {
+    glProgramUniform1i(p, TD_LOC_MOVED_BOX_COUNT, in.movedBoxCount);
+    glProgramUniform4fv(p, TD_LOC_MOVED_BOXES, 2 * TD_MAX_MOVED_BOXES, glm::value_ptr(in.movedBoxes[0].first));
+  }
+  if (in.debugView == DebugView::Motion) {
     placeholders_.bindOr(kUnitPreviousIds, in.previousIds ? in.previousIds->id() : 0, P::Uint2D);
     placeholders_.bindOr(kUnitPreviousDepth, in.previousDepth ? in.previousDepth->id() : 0, P::Float2D);
   }
@@ -351,6 +367,14 @@ void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& 
     const glm::vec4 display(shading::tdDisplay(glm::vec3(clear), in.exposure, static_cast<int>(in.toneMap), passThrough),
                             1.0f);
     glClearNamedFramebufferfv(framebuffer, GL_COLOR, 1, glm::value_ptr(display));
+  }
+  if (in.denoiseGuides) {
+    // The sky's guides (instance 0: never filtered), for the pixels the shader skips.
+    const glm::uvec4 none(0u);
+    const glm::vec4 still(0.0f);
+    glClearNamedFramebufferuiv(framebuffer, GL_COLOR, 2, glm::value_ptr(none));
+    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 3, glm::value_ptr(still));
+    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 4, glm::value_ptr(still));
   }
   if (depthSkipsSky_) glEnable(GL_DEPTH_TEST);
   else glDisable(GL_DEPTH_TEST);

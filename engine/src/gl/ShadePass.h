@@ -72,6 +72,18 @@ struct ShadeInputs {
   glm::mat4 previousClipFromViewRotation{1.0f};
   glm::vec3 previousCameraPos{0.0f};
   bool motionHistory = false;
+  /// The spatiotemporal filter (DenoisePass, docs/denoise.md): the target has its guides at colour
+  /// attachments 2-4 (distance + normal + instance, motion, surface colour), which the shader fills from the
+  /// motion inputs above (motionHistory false: no motion known).
+  bool denoiseGuides = false;
+  /// With motionHistory: the filter may keep its history (no light changed since the last frame, and no more
+  /// instances moved than movedBoxes holds).
+  bool denoiseHistory = false;
+  /// The instances that moved since the last frame, as render-space boxes where they were and where they are
+  /// (lo.xyz + the instance's index in lo.w, hi.xyz): a pixel whose way to a light crosses one starts its
+  /// history again (a shadow that moved; docs/denoise.md).
+  std::array<std::pair<glm::vec4, glm::vec4>, TD_MAX_MOVED_BOXES> movedBoxes{};
+  int movedBoxCount = 0;
 };
 
 /// The visibility pass's projection without the anti-aliasing jitter, times the camera's view rotation: a
@@ -86,6 +98,13 @@ struct GridResidency {
   std::vector<std::uint8_t> mayBeNonZero;
   int size = 0;
 };
+
+/// What cameraRay builds a pixel's ray from: the origin, the forward axis (with the sub-pixel jitter folded
+/// in: perspective), and the right and up axes scaled to the image plane's half extents (render space).
+struct CameraVectors {
+  glm::vec3 origin, forward, right, up;
+};
+CameraVectors cameraVectors(int width, int height, const Camera& camera);
 
 /// The camera uniforms of shade_hit.glsl's cameraRay (TD_LOC_CAMERA_*, TD_LOC_ORTHOGRAPHIC, TD_LOC_FRAME_SIZE)
 /// for a width × height frame; `camera` in render space. The shade pass's, and the shadow-proof pass's.

@@ -31,6 +31,7 @@ struct ShadeVariant {
   int probes = 0;               // ProbeEffect bits with a probe array, else 0
   bool fresnelSchlick = false, fresnelWeighted = true;
   bool fusedOutput = false;     // the display written as well (TD_FUSED_OUTPUT)
+  bool denoiseGuides = false;   // the spatiotemporal filter's guides written as well (TD_DENOISE_GUIDES)
   bool radiosity = false, exact = false, procedural = false;
 
   auto operator<=>(const ShadeVariant&) const = default;
@@ -62,6 +63,7 @@ struct ShadeVariant {
     f("TD_FRESNEL_SCHLICK", flag(fresnelSchlick));
     f("TD_FRESNEL_WEIGHTED", flag(fresnelWeighted));
     f("TD_FUSED_OUTPUT", flag(fusedOutput));
+    f("TD_DENOISE_GUIDES", flag(denoiseGuides));
     f("TD_USE_RADIOSITY", flag(radiosity));
     f("TD_USE_EXACT", flag(exact));
     f("TD_USE_PROCEDURAL", flag(procedural));

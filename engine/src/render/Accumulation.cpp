@@ -15,7 +15,7 @@ Accumulation::Step Accumulation::step(const Camera& camera, const FrameSettings&
   return frames_ >= settings.accumulate ? Step::Converged : Step::GoOn;
 }
 
-void Accumulation::restart(const Camera& camera, const FrameSettings& settings) {
+void Accumulation::restart(const Camera& camera, const FrameSettings& settings, std::uint32_t firstSample) {
   // The sums are set up by the first add, not here: while things move a game restarts every frame and shows
   // its one sample as drawn (firstUnread), and zeroing fresh sums would cost it every frame (at 1920x1080 the
   // 58 MB of new pages took ~35 ms on the GPU machine). The buffers keep their memory between restarts.
@@ -23,7 +23,7 @@ void Accumulation::restart(const Camera& camera, const FrameSettings& settings) 
   camera_ = camera;
   settings_ = settings;
   frames_ = 0;
-  next_ = 0;
+  next_ = firstSample;
   firstUnread = false;
   summing_ = false;
 }
@@ -42,15 +42,16 @@ void Accumulation::startSums() {
   summing_ = true;
 }
 
-Camera Accumulation::nextSample(const Camera& camera) {
+Camera sampleCamera(const Camera& camera, std::uint32_t index) {
   Camera jittered = camera;
-  jittered.sampleIndex = next_;  // new light samples with each new sub-pixel offset
-  jittered.jitterPx = subpixelJitter(next_);
-  if (camera.aperture > 0.0f) jittered.lensUv = lensSample(next_);  // and a new point of the lens
-  if (camera.shutter > 0.0f) jittered.timeU = timeSample(next_);   // and a new time in the shutter
-  ++next_;
+  jittered.sampleIndex = index;  // new light samples with each new sub-pixel offset
+  jittered.jitterPx = subpixelJitter(index);
+  if (camera.aperture > 0.0f) jittered.lensUv = lensSample(index);  // and a new point of the lens
+  if (camera.shutter > 0.0f) jittered.timeU = timeSample(index);   // and a new time in the shutter
   return jittered;
 }
+
+Camera Accumulation::nextSample(const Camera& camera) { return sampleCamera(camera, next_++); }
 
 void Accumulation::add(const ImageF& linear, const std::vector<std::uint8_t>* only) {
   const std::size_t n = static_cast<std::size_t>(settings_.width) * static_cast<std::size_t>(settings_.height);

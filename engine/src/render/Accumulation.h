@@ -17,6 +17,10 @@
 
 namespace tandem {
 
+/// The camera of sample `index` of a sequence: its sub-pixel offset, its index for light and gloss samples, and
+/// where the camera has a lens or a shutter, its lens point and time (core/Sampling.h's sequences).
+Camera sampleCamera(const Camera& camera, std::uint32_t index);
+
 class Accumulation {
  public:
   /// What a frame does with the samples so far.
@@ -39,7 +43,9 @@ class Accumulation {
 
   /// Starts again from nothing for `camera` and `settings` (its size): sums, counts, and for adaptive
   /// anti-aliasing each pixel's smallest and largest display luminance.
-  void restart(const Camera& camera, const FrameSettings& settings);
+  /// `firstSample`: the sequence index the samples start from (the filter's frames go on along the sequence
+  /// so that each draws new samples; 0 otherwise).
+  void restart(const Camera& camera, const FrameSettings& settings, std::uint32_t firstSample = 0);
   /// Frees everything (cost follows the settings: a frame without anti-aliasing or accumulation holds none).
   void release() { *this = Accumulation{}; }
   bool active() const { return active_; }
@@ -58,11 +64,14 @@ class Accumulation {
   /// probes: probes still catching up with a move (probesPerFrame > 0, `probesCurrent` false) are all
   /// brought up to date by the first sample instead of a few by each. A frame of one sample catches up as a
   /// plain frame does.
+  /// The spatiotemporal filter runs only on a first frame shown as drawn: the samples summed after it are
+  /// drawn as they are (their mean converges to the exact image).
   FramePlan samplePlan(const FramePlan& plan, bool probesCurrent) const {
-    if (singleSample(plan.settings) || probesCurrent) return plan;
-    FramePlan caughtUp = plan;
-    caughtUp.settings.probesPerFrame = 0;
-    return caughtUp;
+    if (singleSample(plan.settings)) return plan;
+    FramePlan sample = plan;
+    sample.denoise = false;
+    if (!probesCurrent) sample.settings.probesPerFrame = 0;
+    return sample;
   }
   /// Adds a sample's linear frame at the pixels `only` marks (nullptr: all). A frame of another size (a debug
   /// view has no linear frame) adds nothing.

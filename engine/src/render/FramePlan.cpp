@@ -50,6 +50,7 @@ FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested) {
   p.rayPass = wantsRays && !p.reference;
   p.rays = p.reference ? referenceRayEffects(s) : p.rayPass ? hybridRayEffects(r) : RayEffects{};
   p.resolve = facts.exactSolids && !p.reference;
+  p.denoise = s.denoise && !p.reference && s.debugView == DebugView::Final;
   p.glShadowProofs = p.rayPass && p.rays.primaryShadows && r.hybridShadows &&
                      (r.shadowProofs == ShadowProofs::Gl || (r.shadowProofs == ShadowProofs::Auto && !facts.softwareGl));
   // Raster effects only for what the scene can show (a glass object reflects through its Fresnel term).

@@ -43,6 +43,9 @@ struct FramePlan {
   bool rasterShadows = false;    // shadow maps for the primary points
   bool probeReflections = false; // cube-map probes stand in for reflection rays
   bool probeRefraction = false;  // ... and for refraction rays
+  /// The spatiotemporal filter runs on this frame (FrameSettings::denoise in the final hybrid view; a frame of
+  /// an accumulation going on at rest has it off: its samples are summed as drawn, Accumulation::samplePlan).
+  bool denoise = false;
   bool needsRayScene() const { return rayPass || reference || resolve; }
   /// Whether the visibility ids are read back: the ray pass and the resolve step start from them.
   bool readsIds() const { return rayPass || resolve; }

@@ -1,7 +1,8 @@
-// The motion view (DebugView::Motion, docs/motion.md): each pixel's motion since the last frame composited
-// and whether that frame saw the point it shows. The shade pass projects the pixel's exact primary hit with
-// this frame's camera and, moved back by its instance's previous-from-current transform, with the last
-// frame's; the last frame's ids and depth say whether the point was in view there.
+// Motion since the last frame composited (docs/motion.md), for the motion view (DebugView::Motion) and the
+// spatiotemporal filter (FramePlan::denoise): the shade pass projects the pixel's exact primary hit with this
+// frame's camera and, moved back by its instance's previous-from-current transform, with the last frame's.
+// The view also copies the last frame's ids and depth (whether the point was in view there); the filter keeps
+// its own (gl/DenoisePass).
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "render/RendererImpl.h"
@@ -11,7 +12,8 @@ namespace tandem {
 
 void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in) {
   const FrameSettings& s = plan.settings;
-  if (s.debugView != DebugView::Motion) {
+  const bool view = s.debugView == DebugView::Motion;
+  if (!view && !plan.denoise) {
     if (motionLast.held || motionNext.held || motionBuffer) {
       motionLast = motionNext = motionPending = {};
       motionBuffer.reset();
@@ -43,10 +45,12 @@ void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera,
   now.cameraPosR = glCamera.posW;
   now.worldFromObject.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances) now.worldFromObject.emplace_back(inst.worldFromObject);
+  if (plan.denoise) now.lights = scene.lights;
   const MotionFrame& before = motionLast;
   const bool history = before.held && before.sceneGeneration == now.sceneGeneration && before.anchor == now.anchor &&
                        before.width == now.width && before.height == now.height &&
-                       before.worldFromObject.size() == now.worldFromObject.size() && previousIds && previousDepth;
+                       before.worldFromObject.size() == now.worldFromObject.size() &&
+                       (!view || (previousIds && previousDepth));
   // Per instance, where its points were in render space last frame given where they are now: exactly the
   // identity for an instance that did not move (its pixels then move by the camera alone), else worked out in
   // double around the anchor, so that a scene 1e6 from the origin moves as one at the origin does.
@@ -71,15 +75,20 @@ void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera,
   }
   in.motionInstances = &motionTexture;
   in.motionHistory = history;
-  in.previousIds = history ? &previousIds : nullptr;
-  in.previousDepth = history ? &previousDepth : nullptr;
+  if (history && plan.denoise) denoiseInputs(before, now, in);
+  in.previousIds = history && view ? &previousIds : nullptr;
+  in.previousDepth = history && view ? &previousDepth : nullptr;
   in.previousClipFromViewRotation = history ? before.clipFromViewRotation : glm::mat4(1.0f);
   in.previousCameraPos = history ? before.cameraPosR : glm::vec3(0.0f);
   motionPending = std::move(now);
 }
 
 void Renderer::Impl::rememberMotion(const FramePlan& plan, const gl::VisibilityPass& pass) {
-  if (plan.settings.debugView != DebugView::Motion || !motionPending.held) return;
+  if (!motionPending.held) return;
+  if (plan.settings.debugView != DebugView::Motion) {
+    if (plan.denoise) motionNext = motionPending;  // the filter's guides are its own last ids and depth
+    return;
+  }
   // (pending stays: a frame of several samples composites each with the same inputs)
   const int w = pass.width(), h = pass.height();
   // Made at the frame's size on first need; a copy the GL refuses (out of memory) leaves the next frame
@@ -109,6 +118,36 @@ void Renderer::Impl::rememberMotion(const FramePlan& plan, const gl::VisibilityP
   glCopyImageSubData(pass.ids().id(), GL_TEXTURE_2D, 0, 0, 0, 0, nextIds.id(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
   glCopyImageSubData(pass.depth().id(), GL_TEXTURE_2D, 0, 0, 0, 0, nextDepth.id(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
   motionNext = motionPending;
+}
+
+// The filter keeps its history only while the lights are as they were (a change of light reaches pixels by
+// amounts its statistics cannot tell from noise in a few frames); the instances that moved go to the shade
+// pass as boxes (render space, where they were and where they are), so that the pixels whose light they may
+// have blocked or unblocked start again. Too many for the boxes: the whole history starts again.
+void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame& now, gl::ShadeInputs& in) const {
+  in.denoiseHistory = before.lights == now.lights;
+  in.movedBoxCount = 0;
+  const std::vector<gl::Bounds>& meshes = caches.meshBounds();
+  const glm::dmat4 fromWorld = glm::translate(glm::dmat4(1.0), -glm::dvec3(now.anchor));
+  for (std::size_t i = 0; i < now.worldFromObject.size() && in.denoiseHistory; ++i) {
+    if (before.worldFromObject[i] == now.worldFromObject[i]) continue;
+    const std::size_t mesh = scene.instances[i].mesh;
+    if (mesh >= meshes.size() || meshes[mesh].empty()) continue;
+    for (const glm::dmat4* m : {&before.worldFromObject[i], &now.worldFromObject[i]}) {
+      if (in.movedBoxCount == TD_MAX_MOVED_BOXES) {
+        in.denoiseHistory = false;
+        break;
+      }
+      gl::Bounds box;
+      const gl::Bounds& b = meshes[mesh];
+      for (int k = 0; k < 8; ++k) {
+        const glm::dvec4 corner((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z, 1.0);
+        box.add(glm::vec3(fromWorld * *m * corner));
+      }
+      in.movedBoxes[static_cast<std::size_t>(in.movedBoxCount++)] = {glm::vec4(box.lo, static_cast<float>(i)),
+                                                                      glm::vec4(box.hi, 0.0f)};
+    }
+  }
 }
 
 }  // namespace tandem

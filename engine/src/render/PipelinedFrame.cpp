@@ -235,7 +235,7 @@ FrameStats Renderer::Impl::showLanded(Landed& l, const gl::VisibilityPass& pass)
   if (l.uploaded)
     timed(l.sample.compositeMs, [&] {
       gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Composite);
-      shade(l.plan, l.glCamera, l.in, pass);
+      shade(l.plan, l.glCamera, l.in, pass, l.sample);
     });
   FrameStats out = l.stats;
   out.addSample(l.sample);

@@ -67,17 +67,17 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
   // the targets the frame in flight would be shown in are made again at the new size.
   const bool resized = inFlight && (inFlight->plan.settings.width != s.width || inFlight->plan.settings.height != s.height);
   if (s.pipelined && !plan.reference && plan.rayPass && !(camera.shutter > 0.0f) && !s.radiosity && !resized) {
-    if (!sampled) return renderPipelined(clock, plan, camera, stats, pending, false);
+    if (!sampled) return renderPipelined(clock, plan, denoiseSample(plan, camera), stats, pending, false);
     // Accumulation (without anti-aliasing) starting again, as it does every frame while things move: its one
     // sample is shown as drawn (drawSampled's single sample), a plain frame from the sample's camera. The
     // frames that go on adding samples are drawn in latency mode, the first of them reading this one's
     // linear frame once it is shown.
     if (s.aa == AntiAlias::Off &&
         accum.step(camera, s, {clock.lastDrawn, last.sceneChanged, caches.probesCurrent()}) == Accumulation::Step::Restart) {
-      timed(stats.accumulateMs, [&] { accum.restart(camera, s); });
+      timed(stats.accumulateMs, [&] { accum.restart(camera, s, firstDenoiseSample(plan)); });
       const Camera sampleCamera = accum.nextSample(camera);
       FramePlan samplePlan = accum.samplePlan(plan, caches.probesCurrent());
-      accum.firstUnread = true;
+      accum.firstUnread = !plan.denoise;  // a filtered frame is not a sample to sum
       accum.frameDone();
       stats.accumulated = 1;
       return renderPipelined(clock, samplePlan, sampleCamera, stats, pending, true);
@@ -89,7 +89,7 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
   if (!s.pipelined && (rayHeld || spareVisibility)) releasePipeline();  // cost follows the settings
   if (!sampled && accum.active()) timed(stats.accumulateMs, [&] { accum.release(); });  // cost follows the settings
   const bool drawn = sampled ? drawSampled(plan, camera, stats, clock.lastDrawn)
-                             : drawSample(plan, camera, stats, clock.lastDrawn, nullptr);
+                             : drawSample(plan, denoiseSample(plan, camera), stats, clock.lastDrawn, nullptr);
   if (drawn) timed(stats.presentMs, [&] { present(); });
   return finishFrame(clock, stats);
 }
@@ -147,7 +147,7 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
   if (uploaded)
     timed(sample.compositeMs, [&] {
       gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Composite);
-      shade(plan, glCamera, in, visibilityPass);
+      shade(plan, glCamera, in, visibilityPass, sample);
     });
   if (uploaded) timed(sample.bookkeepingMs, [&] { remember(plan, camera, in); });
   stats.addSample(sample);
@@ -218,7 +218,8 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
   };
   stats.samples = 0;
   if (step == Accumulation::Step::Converged) return converged();
-  if (step == Accumulation::Step::Restart) timed(stats.accumulateMs, [&] { accum.restart(camera, s); });
+  if (step == Accumulation::Step::Restart)
+    timed(stats.accumulateMs, [&] { accum.restart(camera, s, firstDenoiseSample(plan)); });
   // The linear frame's read-back and the sums are the accumulation's time.
   auto addLinear = [&](const std::vector<std::uint8_t>* only) {
     timed(stats.accumulateMs, [&] {
@@ -246,7 +247,7 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
     }
     drawnOnce = true;
     ++stats.samples;
-    if (single) accum.firstUnread = true;
+    if (single) accum.firstUnread = !plan.denoise;  // a filtered frame is not a sample to sum
     else addLinear(only);
     if (only != nullptr)
       timed(stats.accumulateMs, [&] {
@@ -461,7 +462,7 @@ bool Renderer::Impl::upload(const FramePlan& plan, gl::ShadeInputs& in, FrameSta
 
 // shade: the visibility buffer shaded with the ray results added, then exposure + tone map + sRGB once.
 void Renderer::Impl::shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in,
-                           const gl::VisibilityPass& pass) {
+                           const gl::VisibilityPass& pass, FrameStats& sample) {
   const FrameSettings& s = plan.settings;
   if (plan.reference) {
     outputPass.output(s.exposure, s.toneMap, s.debugView);  // the reference's linear frame was uploaded
@@ -471,7 +472,8 @@ void Renderer::Impl::shade(const FramePlan& plan, const Camera& glCamera, const 
     fused.fusedOutput = true;
     fused.exposure = s.exposure;
     fused.toneMap = s.toneMap;
-    shadePass.shade(outputPass.fusedFramebuffer(), caches.gpu(), pass, glCamera, fused);
+    if (!shadeDenoised(plan, glCamera, fused, pass, sample))
+      shadePass.shade(outputPass.fusedFramebuffer(), caches.gpu(), pass, glCamera, fused);
   }
   rememberMotion(plan, pass);
   glFinish();

@@ -20,6 +20,7 @@
 #include "gl/Gl.h"
 #include "gl/GlObjects.h"
 #include "gl/GpuScene.h"
+#include "gl/DenoisePass.h"
 #include "gl/GpuTimers.h"
 #include "gl/OutputPass.h"
 #include "gl/Program.h"
@@ -245,6 +246,7 @@ struct Renderer::Impl {
     glm::mat4 clipFromViewRotation{1.0f};
     glm::vec3 cameraPosR{0.0f};
     std::vector<glm::dmat4> worldFromObject;
+    std::vector<Light> lights;  // the filter's history does not outlive a change of light
   };
   // last: the frame the motion is measured against (an earlier call's); next: the last one composited, made
   // `last` by the first frame of a later call; pending: the frame being drawn.
@@ -255,6 +257,8 @@ struct Renderer::Impl {
   gl::Texture motionTexture, previousIds, previousDepth, nextIds, nextDepth;
   std::size_t motionBufferBytes = 0;
   void motionInputs(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
+  // The filter's part of them: whether its history holds, and the boxes of what moved.
+  void denoiseInputs(const MotionFrame& before, const MotionFrame& now, gl::ShadeInputs& in) const;
   void rememberMotion(const FramePlan& plan, const gl::VisibilityPass& pass);
   void rasterVisibility(const FramePlan& plan, const Camera& glCamera, FrameStats& stats);
   // Before the read-back: the GL's shadow proofs (FramePlan::glShadowProofs); true when it drew them.
@@ -277,7 +281,21 @@ struct Renderer::Impl {
   // `pass`: the visibility buffer the frame was rasterized into (visibilityPass, or in throughput mode the
   // spare one while the next frame's is drawn).
   bool upload(const FramePlan& plan, gl::ShadeInputs& in, FrameStats& stats, bool reused, gl::VisibilityPass& pass);
-  void shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in, const gl::VisibilityPass& pass);
+  void shade(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in, const gl::VisibilityPass& pass,
+             FrameStats& sample);
+
+  // The spatiotemporal filter (FrameSettings::denoise, docs/denoise.md; render/Denoise.cpp): made on first use,
+  // released when the setting is off (cost follows the settings). Each filtered frame draws the next sample of
+  // one sequence (denoiseSample; an accumulation's first frame starts there: firstDenoiseSample), so the
+  // history gathers new samples. shadeDenoised shades the frame into the filter's target and filters it into
+  // the output; false when the frame is not filtered (then shaded as usual).
+  std::optional<gl::DenoisePass> denoisePass;
+  bool denoiseFailed = false;  // its programs did not build: frames are drawn without it from then on
+  std::uint32_t denoiseFrames = 0;
+  Camera denoiseSample(const FramePlan& plan, const Camera& camera);
+  std::uint32_t firstDenoiseSample(const FramePlan& plan) { return plan.denoise ? denoiseFrames++ : 0u; }
+  bool shadeDenoised(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in,
+                     const gl::VisibilityPass& pass, FrameStats& sample);
   void present();
   void remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in);
 };

@@ -52,6 +52,8 @@ class SceneCaches {
   /// The shutter time the GL copy's moving instances are drawn at (syncGpu's timeU).
   float gpuTime() const { return gpuTime_; }
 
+  /// Each mesh's object-space bounds, as the last upload found them.
+  const std::vector<gl::Bounds>& meshBounds() const { return meshBounds_; }
   gl::GpuScene& gpu() { return gpu_; }
   const gl::GpuScene& gpu() const { return gpu_; }
 

@@ -1,0 +1,226 @@
+#include "gl/DenoisePass.h"
+
+#include <algorithm>
+#include <cassert>
+#include <string>
+#include <tuple>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "gl/Bindings.h"
+#include "gl/FeedbackLoop.h"
+#include "gl/ShadePass.h"
+
+namespace tandem::gl {
+
+namespace {
+
+constexpr ChannelFormat kNoisy{TD_CHANNEL_DENOISE_NOISY}, kExact{TD_CHANNEL_DENOISE_EXACT},
+                        kGuide{TD_CHANNEL_DENOISE_GUIDE}, kMotion{TD_CHANNEL_DENOISE_MOTION},
+                        kTexel{TD_CHANNEL_DENOISE_TEXEL}, kMoments{TD_CHANNEL_DENOISE_MOMENTS},
+                        kRadiance{TD_CHANNEL_DENOISE_RADIANCE};
+static_assert(texelBytes(kNoisy.internal) > 0 && texelBytes(kExact.internal) > 0 && texelBytes(kGuide.internal) > 0 &&
+                  texelBytes(kMotion.internal) > 0 && texelBytes(kTexel.internal) > 0 &&
+                  texelBytes(kMoments.internal) > 0 && texelBytes(kRadiance.internal) > 0,
+              "targetBytes: a filter channel's format is missing");
+
+Result<Program> stage(const char* label, int stage) {
+  return buildProgram(label, {{GL_VERTEX_SHADER, "shaders/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "shaders/denoise.frag"}},
+                      "#define TD_DENOISE_STAGE " + std::to_string(stage) + "\n");
+}
+
+// A framebuffer of `colours` (attachment index, texture) and, when given, `depth`: complete, or why not.
+Result<Framebuffer> framebuffer(const char* label, std::initializer_list<std::pair<int, GLuint>> colours,
+                                const Texture* depth) {
+  Framebuffer fbo = createFramebuffer(label);
+  if (depth != nullptr) glNamedFramebufferTexture(fbo.id(), GL_DEPTH_ATTACHMENT, depth->id(), 0);
+  GLenum buffers[5] = {GL_NONE, GL_NONE, GL_NONE, GL_NONE, GL_NONE};
+  int count = 0;
+  for (const auto& [index, texture] : colours) {
+    assert(index >= 0 && index < 5 && "DenoisePass: an attachment past the five it draws");
+    glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(index), texture, 0);
+    buffers[index] = GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(index);
+    count = std::max(count, index + 1);
+  }
+  glNamedFramebufferDrawBuffers(fbo.id(), count, buffers);
+  if (auto complete = checkFramebufferComplete(fbo, label); !complete) return complete.error();
+  return fbo;
+}
+
+}  // namespace
+
+Result<DenoisePass> DenoisePass::create() {
+  DenoisePass pass;
+  const std::array<std::tuple<Program*, const char*, int>, 4> stages{{
+      {&pass.temporal_, "denoise: temporal", 0},
+      {&pass.atrous_, "denoise: a-trous", 1},
+      {&pass.last_, "denoise: a-trous, last", 2},
+      {&pass.antiAlias_, "denoise: anti-aliasing", 3},
+  }};
+  for (const auto& [program, label, index] : stages) {
+    auto built = stage(label, index);
+    if (!built) return built.error();
+    *program = std::move(*built);
+  }
+  pass.emptyVao_ = createVertexArray("full-screen triangle (denoise)");
+  return pass;
+}
+
+std::size_t DenoisePass::targetBytes(int width, int height) {
+  const std::size_t perPixel =
+      texelBytes(kNoisy.internal) + texelBytes(kExact.internal) + texelBytes(kGuide.internal) +
+      texelBytes(kMotion.internal) + 2 * texelBytes(kTexel.internal) + texelBytes(kChannelDepth.internal) +
+      texelBytes(kRadiance.internal) + 2 * (texelBytes(kTexel.internal) + texelBytes(kMoments.internal) + texelBytes(kRadiance.internal));
+  return perPixel * static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+}
+
+Result<void> DenoisePass::reserve(int width, int height) {
+  assert(width > 0 && height > 0 && "DenoisePass::reserve: empty frame");
+  if (width == width_ && height == height_) return {};
+  // Everything old first (it may be what keeps the new targets from fitting); a new size has no past.
+  targets_ = {};
+  width_ = height_ = 0;
+  historyHeld_ = false;
+  Targets t;
+  const std::array<std::tuple<Texture*, ChannelFormat, const char*>, 15> all{{
+      {&t.skip, kChannelDepth, "denoise: pixels the a-trous iterations filter"},
+      {&t.noisy, kNoisy, "denoise: noisy illumination"},
+      {&t.exact, kExact, "denoise: radiance past the filter"},
+      {&t.guide, kGuide, "denoise: guide"},
+      {&t.motion, kMotion, "denoise: motion"},
+      {&t.scratchA, kTexel, "denoise: a-trous A"},
+      {&t.scratchB, kTexel, "denoise: a-trous B"},
+      {&t.filtered, kRadiance, "denoise: filtered radiance"},
+      {&t.history[0], kTexel, "denoise: history 0"},
+      {&t.history[1], kTexel, "denoise: history 1"},
+      {&t.moments[0], kMoments, "denoise: moments 0"},
+      {&t.moments[1], kMoments, "denoise: moments 1"},
+      {&t.antiAliased[0], kRadiance, "denoise: anti-aliased 0"},
+      {&t.antiAliased[1], kRadiance, "denoise: anti-aliased 1"},
+      {&t.filteredSpare, kRadiance, "denoise: unused"},
+  }};
+  for (const auto& [texture, format, label] : all) {
+    auto made = tryCreateTexture2D(label, format.internal, width, height);
+    if (!made) return made.error();
+    *texture = std::move(*made);
+    setSampling(*texture, GL_NEAREST, GL_NEAREST);
+    glClearTexImage(texture->id(), 0, format.transfer, format.type, nullptr);  // nothing reads what was never written
+  }
+  // The anti-aliasing stage reprojects its history between texels.
+  for (Texture& a : t.antiAliased) {
+    setSampling(a, GL_LINEAR, GL_LINEAR);
+    glTextureParameteri(a.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(a.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
+  auto make = [&](Framebuffer& into, const char* label, std::initializer_list<std::pair<int, GLuint>> colours,
+                  const Texture* depth) -> Result<void> {
+    auto made = framebuffer(label, colours, depth);
+    if (!made) return made.error();
+    into = std::move(*made);
+    return {};
+  };
+  // (The shade pass attaches the visibility depth itself.)
+  if (auto ok = make(t.shadeFbo, "denoise: shade pass's target",
+                     {{0, t.noisy.id()}, {2, t.guide.id()}, {3, t.motion.id()}, {4, t.exact.id()}}, nullptr);
+      !ok)
+    return ok.error();
+  for (int k = 0; k < 2; ++k) {
+    if (auto ok = make(t.temporalFbo[k], "denoise: temporal",
+                       {{0, t.scratchA.id()}, {1, t.moments[k].id()}, {2, t.scratchB.id()}, {3, t.history[k].id()}},
+                       &t.skip);
+        !ok)
+      return ok.error();
+    if (auto ok = make(t.historyFbo[k], "denoise: history", {{0, t.history[k].id()}}, &t.skip); !ok) return ok.error();
+  }
+  if (auto ok = make(t.scratchAFbo, "denoise: a-trous A", {{0, t.scratchA.id()}}, &t.skip); !ok) return ok.error();
+  if (auto ok = make(t.scratchBFbo, "denoise: a-trous B", {{0, t.scratchB.id()}}, &t.skip); !ok) return ok.error();
+  if (auto ok = make(t.filteredFbo, "denoise: filtered", {{0, t.filtered.id()}}, nullptr); !ok) return ok.error();
+  targets_ = std::move(t);
+  width_ = width;
+  height_ = height;
+  return {};
+}
+
+void DenoisePass::filter(const Texture& linear, const Texture& display, const Camera& camera, bool history,
+                         float exposure, ToneMap toneMap, glm::vec3 background, int maxHistory) {
+  assert(holds() && "DenoisePass::filter: no targets (reserve first)");
+  Targets& t = targets_;
+  const int now = current_, before = 1 - current_;
+  // The output's framebuffers (its two targets and this pass's anti-aliased history), made again when the
+  // output's textures are others (a new frame size).
+  if (t.outputLinear != linear.id() || t.outputDisplay != display.id()) {
+    for (int k = 0; k < 2; ++k) {
+      auto made = framebuffer("denoise: the frame's output",
+                              {{0, linear.id()}, {1, display.id()}, {2, t.antiAliased[k].id()}}, nullptr);
+      // Textures of the frame's size and formats this pass writes elsewhere too: only a driver bug refuses.
+      assert(made.ok() && "DenoisePass: the output's framebuffer is incomplete");
+      if (made) t.outputFbo[k] = std::move(*made);
+    }
+    t.outputLinear = linear.id();
+    t.outputDisplay = display.id();
+  }
+  const bool past = history && historyHeld_;
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glViewport(0, 0, width_, height_);
+  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);  // fullscreen.vert's z = 0 lands on depth 0
+  glBindVertexArray(emptyVao_.id());
+  // The temporal stage writes every pixel and, as depth, whether the a-trous iterations filter it (1) or it
+  // has settled (0); they then run only where the depth test (0 < stored) passes; the last iteration and the
+  // anti-aliasing run everywhere (they write the frame).
+  enum class Depth { Write, Test, Off };
+  const CameraVectors axes = cameraVectors(width_, height_, camera);
+  auto draw = [&](const Program& program, GLuint framebuffer, int step, const Texture* input, Depth depth,
+                  const char* what) {
+    if (depth == Depth::Off) {
+      glDisable(GL_DEPTH_TEST);
+    } else {
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(depth == Depth::Write ? GL_ALWAYS : GL_LESS);
+      glDepthMask(depth == Depth::Write ? GL_TRUE : GL_FALSE);
+    }
+    const GLuint p = program.id();
+    glProgramUniform3fv(p, TD_LOC_CAMERA_RIGHT, 1, glm::value_ptr(axes.right));
+    glProgramUniform3fv(p, TD_LOC_CAMERA_UP, 1, glm::value_ptr(axes.up));
+    glProgramUniform1i(p, TD_LOC_ORTHOGRAPHIC, camera.orthographic ? 1 : 0);
+    glProgramUniform2i(p, TD_LOC_FRAME_SIZE, width_, height_);
+    glProgramUniform1i(p, TD_LOC_DENOISE_STEP, step);
+    glProgramUniform1i(p, TD_LOC_DENOISE_HISTORY, past ? 1 : 0);
+    glProgramUniform1f(p, TD_LOC_DENOISE_MAX_HISTORY, static_cast<float>(maxHistory));
+    glProgramUniform1f(p, TD_LOC_DENOISE_EXPOSURE, exposure);
+    glProgramUniform1i(p, TD_LOC_DENOISE_TONE_MAP, static_cast<int>(toneMap));
+    glProgramUniform3fv(p, TD_LOC_DENOISE_BACKGROUND, 1, glm::value_ptr(background));
+    glBindTextureUnit(TD_UNIT_DENOISE_NOISY, t.noisy.id());
+    glBindTextureUnit(TD_UNIT_DENOISE_GUIDE, t.guide.id());
+    glBindTextureUnit(TD_UNIT_DENOISE_MOTION, t.motion.id());
+    glBindTextureUnit(TD_UNIT_DENOISE_EXACT, t.exact.id());
+    glBindTextureUnit(TD_UNIT_DENOISE_HISTORY, t.history[before].id());
+    glBindTextureUnit(TD_UNIT_DENOISE_MOMENTS, t.moments[before].id());
+    glBindTextureUnit(TD_UNIT_DENOISE_INPUT, (input != nullptr ? *input : t.filteredSpare).id());
+    glBindTextureUnit(TD_UNIT_DENOISE_FILTERED, t.filtered.id());
+    glBindTextureUnit(TD_UNIT_DENOISE_TAA_HISTORY, t.antiAliased[before].id());
+    glBindTextureUnit(TD_UNIT_DENOISE_LENGTH, t.moments[now].id());
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glUseProgram(p);
+    assertNoFeedbackLoop(what);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  };
+  // Temporal: into A (and B and the history: see above) and this frame's moments. Then the a-trous
+  // iterations; the first one's result is the history the next frame reprojects (SVGF: one iteration smooths
+  // it enough to reproject without carrying single-sample noise forward, more would blur it frame after
+  // frame). Then the anti-aliasing, into the frame.
+  draw(temporal_, t.temporalFbo[now].id(), 0, nullptr, Depth::Write, "denoise: temporal");
+  draw(atrous_, t.historyFbo[now].id(), 1, &t.scratchA, Depth::Test, "denoise: a-trous 1");
+  draw(atrous_, t.scratchBFbo.id(), 2, &t.history[now], Depth::Test, "denoise: a-trous 2");
+  draw(last_, t.filteredFbo.id(), 4, &t.scratchB, Depth::Off, "denoise: a-trous 4 (last)");
+  draw(antiAlias_, t.outputFbo[now].id(), 0, nullptr, Depth::Off, "denoise: anti-aliasing");
+  glDepthMask(GL_TRUE);
+  glDisable(GL_DEPTH_TEST);
+  glUseProgram(0);
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  current_ = before;
+  historyHeld_ = true;
+}
+
+}  // namespace tandem::gl

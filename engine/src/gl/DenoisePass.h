@@ -1,0 +1,69 @@
+#pragma once
+// The spatiotemporal filter (shaders/denoise.frag, docs/denoise.md; FrameSettings::denoise): the shade pass
+// draws the frame's noisy linear radiance and the filter's guides into shadeFramebuffer(); filter() then
+// accumulates the demodulated illumination over frames along the motion vectors (temporal stage), estimates
+// its variance and runs the edge-aware a-trous iterations, the last one writing linear radiance and the display
+// into the frame's output. It keeps the last frame's guide, filtered illumination and moments: the history.
+#include <array>
+#include <cstddef>
+
+#include <glm/glm.hpp>
+
+#include "gl/GlObjects.h"
+#include "gl/Program.h"
+#include "tandem/Camera.h"
+#include "tandem/Result.h"
+#include "tandem/Settings.h"
+
+namespace tandem::gl {
+
+class DenoisePass {
+ public:
+  static Result<DenoisePass> create();
+
+  /// Its targets at the frame's size (made again when it changes, the history then forgotten); an error
+  /// names what the GL refused, and the pass then holds none.
+  Result<void> reserve(int width, int height);
+  /// The GL memory reserve(width, height) allocates.
+  static std::size_t targetBytes(int width, int height);
+  bool holds() const { return width_ > 0; }
+  /// The shade pass's target for this frame: the noisy radiance divided by the surface colour at colour
+  /// attachment 0, the guide and the motion at 2 and 3 (ShadeInputs::denoiseGuides).
+  GLuint shadeFramebuffer() const { return targets_.shadeFbo.id(); }
+  /// Filters the frame the shade pass just drew into the frame's output, `linear` radiance and its `display`
+  /// (OutputPass's targets, the frame's size). `camera` in render space, as the shade pass drew with;
+  /// `history` false: the last frame is not this frame's past (new scene, size, no motion inputs), nothing of it
+  /// is reused. `background`: the background pixels' radiance. `maxHistory`: frames the temporal mean spans at
+  /// most.
+  void filter(const Texture& linear, const Texture& display, const Camera& camera, bool history, float exposure,
+              ToneMap toneMap, glm::vec3 background, int maxHistory);
+  /// The next frame has no past (a frame was drawn without the filter in between).
+  void forget() { historyHeld_ = false; }
+
+  /// The a-trous iterations (tap spacing 1, 2, 4 pixels).
+  static constexpr int kIterations = 3;
+
+ private:
+  Program temporal_, atrous_, last_, antiAlias_;
+  VertexArray emptyVao_;
+  // The frame-size targets (reserve): the shade pass's (noisy illumination, the radiance past the filter,
+  // guide, motion), the a-trous iterations' two scratch texels, the depth that marks where they filter, the
+  // filtered frame, and this frame's and the last frame's history, moments and anti-aliased frame, alternating.
+  struct Targets {
+    Texture noisy, exact, guide, motion, scratchA, scratchB, filtered;
+    Texture skip;  // depth: 1 where the a-trous iterations filter, 0 where the temporal stage found it settled
+    Texture filteredSpare;  // bound where a stage reads no iteration's input (every unit holds a texture)
+    std::array<Texture, 2> history, moments, antiAliased;
+    std::array<Framebuffer, 2> temporalFbo, historyFbo;
+    Framebuffer shadeFbo, scratchAFbo, scratchBFbo, filteredFbo;
+    // The frame's output with this pass's anti-aliased history beside it, for the output's textures as named.
+    std::array<Framebuffer, 2> outputFbo;
+    GLuint outputLinear = 0, outputDisplay = 0;
+  };
+  Targets targets_;
+  int current_ = 0;  // which of the pairs this frame writes
+  bool historyHeld_ = false;
+  int width_ = 0, height_ = 0;
+};
+
+}  // namespace tandem::gl

@@ -1,0 +1,61 @@
+// The spatiotemporal filter's part of the frame (FrameSettings::denoise, docs/denoise.md): each filtered frame
+// draws the next sample of one sequence, the shade pass writes the noisy frame and the filter's guides into the
+// filter's target, and gl::DenoisePass filters it into the frame's output.
+#include "core/Timer.h"
+#include "render/RendererImpl.h"
+#include "tandem/Log.h"
+
+namespace tandem {
+
+namespace {
+// Frames the temporal mean spans at most: long enough that a still view's one-sample noise falls by ~5x
+// (sqrt(32)) before the a-trous filter, short enough that what the clamp lets through fades within a second.
+constexpr int kMaxHistory = 32;
+}  // namespace
+
+Camera Renderer::Impl::denoiseSample(const FramePlan& plan, const Camera& camera) {
+  if (!plan.denoise) return camera;
+  return sampleCamera(camera, denoiseFrames++);
+}
+
+bool Renderer::Impl::shadeDenoised(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in,
+                                   const gl::VisibilityPass& pass, FrameStats& sample) {
+  if (!plan.settings.denoise) {
+    denoisePass.reset();  // cost follows the settings
+    return false;
+  }
+  if (!plan.denoise || denoiseFailed) {
+    if (denoisePass) denoisePass->forget();  // the frame after this one has no past
+    return false;
+  }
+  if (!denoisePass) {
+    auto made = gl::DenoisePass::create();
+    if (!made) {
+      logError("the spatiotemporal filter: " + made.error().message + " (frames are drawn without it)");
+      denoiseFailed = true;
+      return false;
+    }
+    denoisePass = std::move(*made);
+  }
+  if (auto reserved = denoisePass->reserve(pass.width(), pass.height()); !reserved) {
+    logWarning("the spatiotemporal filter: " + reserved.error().message + " (this frame is drawn without it)");
+    return false;
+  }
+  gl::ShadeInputs guided = in;
+  guided.fusedOutput = false;  // the filter writes the display
+  guided.denoiseGuides = true;
+  shadePass.shade(denoisePass->shadeFramebuffer(), caches.gpu(), pass, glCamera, guided);
+  // The filter's own time (its part of the composite): the shade pass finished first.
+  glFinish();
+  Timer filtered;
+  // A light that changed reaches any pixel, by amounts the history's statistics cannot tell from noise within
+  // a few frames: the filter starts again (docs/denoise.md).
+  denoisePass->filter(outputPass.linearTexture(), outputPass.displayTexture(), glCamera,
+                      in.motionHistory && in.denoiseHistory, in.exposure, in.toneMap, in.background, kMaxHistory);
+  glFinish();
+  sample.denoiseMs = filtered.ms();
+  sample.denoised = true;
+  return true;
+}
+
+}  // namespace tandem

@@ -1,0 +1,286 @@
+#version 450 core
+// The spatiotemporal filter (docs/denoise.md; after SVGF, Schied et al., HPG 2017): the shade pass's noisy
+// radiance divided by the surface colour (the illumination: texture detail never enters the filter) is
+// accumulated over frames along the motion vectors, its variance estimated from luminance moments, and
+// smoothed by an edge-aware a-trous filter whose weights stop at other instances, at points off the centre's
+// tangent plane, at other normals, and at luminance differences the variance does not explain. Three stages
+// of one program (TD_DENOISE_STAGE):
+//   0 temporal: reprojection, history rejection and clamping, moments, variance;
+//   1 a-trous: one iteration at tap spacing `stepPx`, filter texels in and out;
+//   2 last: the last iteration, multiplied back by the surface colour, with the radiance that went past the
+//     filter (a sharp mirror's or glass's rays) added: the filtered frame;
+//   3 anti-aliasing (TAA): the filtered frame blended with the last frame's result reprojected along the
+//     motion vectors and clamped to this frame's neighbourhood (the jittered frames' sub-pixel samples add up
+//     at edges), into the frame's linear radiance and its display, and kept for the next frame.
+// Background pixels (instance 0) are never filtered. Texel layouts: denoise.glsl.
+#define TD_OUT(T) out T
+#include "bindings.glsl"
+#include "shading.glsl"
+#include "denoise.glsl"
+
+#ifndef TD_DENOISE_STAGE
+#define TD_DENOISE_STAGE 0
+#endif
+
+layout(location = TD_LOC_CAMERA_RIGHT) uniform vec3 cameraRight;
+layout(location = TD_LOC_CAMERA_UP) uniform vec3 cameraUp;
+layout(location = TD_LOC_ORTHOGRAPHIC) uniform int orthographic;
+layout(location = TD_LOC_FRAME_SIZE) uniform ivec2 frameSize;
+layout(location = TD_LOC_DENOISE_STEP) uniform int stepPx;
+layout(location = TD_LOC_DENOISE_HISTORY) uniform int history;
+layout(location = TD_LOC_DENOISE_MAX_HISTORY) uniform float maxHistory;
+layout(location = TD_LOC_DENOISE_EXPOSURE) uniform float exposure;
+layout(location = TD_LOC_DENOISE_TONE_MAP) uniform int toneMap;
+layout(location = TD_LOC_DENOISE_BACKGROUND) uniform vec3 background;
+
+layout(binding = TD_UNIT_DENOISE_NOISY) uniform sampler2D noisyTex;
+layout(binding = TD_UNIT_DENOISE_GUIDE) uniform usampler2D guideTex;
+layout(binding = TD_UNIT_DENOISE_MOTION) uniform sampler2D motionTex;
+layout(binding = TD_UNIT_DENOISE_HISTORY) uniform usampler2D historyTex;
+layout(binding = TD_UNIT_DENOISE_MOMENTS) uniform sampler2D momentsTex;
+layout(binding = TD_UNIT_DENOISE_INPUT) uniform usampler2D inputTex;
+layout(binding = TD_UNIT_DENOISE_EXACT) uniform sampler2D exactTex;
+layout(binding = TD_UNIT_DENOISE_FILTERED) uniform sampler2D filteredTex;
+layout(binding = TD_UNIT_DENOISE_TAA_HISTORY) uniform sampler2D taaHistoryTex;  // bilinear
+layout(binding = TD_UNIT_DENOISE_LENGTH) uniform sampler2D lengthTex;
+
+#if TD_DENOISE_STAGE == 2
+layout(location = 0) out vec4 outFiltered;
+#elif TD_DENOISE_STAGE == 3
+layout(location = 0) out vec4 outLinear;
+layout(location = 1) out vec4 outDisplay;
+layout(location = 2) out vec4 outTaa;      // the next frame's history: radiance
+#else
+layout(location = 0) out uvec4 outTexel;   // the filter texel
+#endif
+#if TD_DENOISE_STAGE == 0
+layout(location = 1) out vec4 outMoments;  // luminance, its square, history length
+layout(location = 2) out uvec4 outTexelB;  // the texel again into the iterations' other targets: a pixel they
+layout(location = 3) out uvec4 outHistory; // skip (gl_FragDepth 0) reads as drawn in every one of them
+#endif
+
+// Whether a texel's noise is below what the display shows (its standard deviation under 1 % of its
+// luminance, under one 8-bit step of sRGB's mid-tones): the a-trous iterations leave such a pixel as it is, and skip it (a software GL skips whole
+// blocks of them by the depth test, before any shading).
+bool settled(vec3 illum, float var) { return sqrt(var) <= 0.01 * tdDenoiseLuminance(illum) + 1e-5; }
+
+// A pixel's four neighbours (the temporal and anti-aliasing stages' neighbourhoods: a cross of five).
+const ivec2 cross4[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+
+vec3 illumination(uvec4 t) { return vec3(unpackHalf2x16(t.x), unpackHalf2x16(t.y).x); }
+float variance(uvec4 t) { return unpackHalf2x16(t.y).y; }
+uvec4 filterTexel(vec3 illum, float var, uint depthBits, uint normalInstance) {
+  return uvec4(packHalf2x16(illum.rg), packHalf2x16(vec2(illum.b, var)), depthBits, normalInstance);
+}
+
+// ---- stage 0: temporal accumulation ----
+#if TD_DENOISE_STAGE == 0
+void temporal() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  uvec4 g = texelFetch(guideTex, p, 0);
+  uint tag = tdInstanceTag(g.y);
+  if (tag == 0u) {
+    outTexel = outTexelB = outHistory = uvec4(0u);
+    outMoments = vec4(0.0);
+    gl_FragDepth = 0.0;
+    return;
+  }
+  vec3 cur = texelFetch(noisyTex, p, 0).rgb;
+  // This frame's neighbourhood (a cross of five): the box the history is clamped to (a light switched off, a
+  // reflection that moved otherwise than its surface), and the variance of a history too short for its own
+  // moments. Taps off the frame read the edge.
+  vec3 m1 = cur, m2 = cur * cur;
+  for (int k = 0; k < 4; ++k) {
+    vec3 c = texelFetch(noisyTex, clamp(p + cross4[k], ivec2(0), frameSize - 1), 0).rgb;
+    m1 += c;
+    m2 += c * c;
+  }
+  vec3 mean = m1 / 5.0;
+  vec3 sigma = sqrt(max(m2 / 5.0 - mean * mean, vec3(0.0)));
+  float lMean = tdDenoiseLuminance(mean);
+  float spatialVariance = max(tdDenoiseLuminance(m2 / 5.0) - lMean * lMean, 0.0);
+
+  // The point's place in the last frame: a bilinear tap of the four texels around it, each kept only where
+  // the last frame showed the same instance at the depth the point had then, facing the same way.
+  vec4 m = texelFetch(motionTex, p, 0);
+  vec3 N = tdUnpackNormal(g.y);
+  vec3 past = vec3(0.0);
+  vec3 pastMoments = vec3(0.0);  // luminance, its square, history length
+  float weight = 0.0;
+  if (history != 0 && m.w > 0.5) {
+    vec2 before = vec2(p) + 0.5 - m.xy;
+    vec2 base = floor(before - 0.5);
+    vec2 f = before - 0.5 - base;
+    for (int k = 0; k < 4; ++k) {
+      ivec2 o = ivec2(k & 1, k >> 1);
+      ivec2 q = ivec2(base) + o;
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, frameSize))) continue;
+      uvec4 h = texelFetch(historyTex, q, 0);
+      float depthThen = uintBitsToFloat(h.z);
+      if (tdInstanceTag(h.w) != tag || abs(depthThen - m.z) > 0.03 * m.z || dot(tdUnpackNormal(h.w), N) < 0.9) continue;
+      float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
+      past += w * illumination(h);
+      pastMoments += w * texelFetch(momentsTex, q, 0).rgb;
+      weight += w;
+    }
+  }
+  float len = 1.0;
+  // Whether the anti-aliasing's history must go too: the point was not in the last frame, its light may have
+  // changed, or the history was stale. (Another instance there, a disocclusion or an edge the jitter crosses,
+  // is not: the anti-aliasing's box bounds it, and edges are what it is for.)
+  bool drop = history != 0 && m.w < 0.5;
+  vec3 illum = cur;
+  float l = tdDenoiseLuminance(cur);
+  vec2 moments = vec2(l, l * l);
+  if (weight > 0.01) {
+    past /= weight;
+    pastMoments /= weight;
+    len = min(floor(pastMoments.z + 0.5) + 1.0, maxHistory);
+    // Stale history (a shadow that went with the object casting it, a reflection that moved otherwise than its
+    // surface) lies outside what this frame's neighbourhood allows: the difference between the two means,
+    // five samples' and `len` frames', is within 4 standard deviations of their noise. One sample's spread is
+    // the history's (its moments) for the history's mean; for this frame's, the neighbourhood's own, but at
+    // least half the history's (a penumbra's samples are 0 or 1, and five of them may well all agree; after a
+    // change they agree because the light is no longer half blocked). A history outside that box is dropped.
+    float spread = sqrt(max(pastMoments.y - pastMoments.x * pastMoments.x, 0.0));
+    vec3 perSample = max(sigma, vec3(0.5 * spread));
+    vec3 box = 4.0 * sqrt(perSample * perSample / 5.0 + spread * spread / max(len - 1.0, 1.0)) +
+               vec3(0.02 * tdDenoiseLuminance(mean) + 1e-3);
+    if (any(greaterThan(abs(past - mean), box))) {
+      // Stale: the pixel starts again as a newly seen one (its moments too: a spread made of the old light and
+      // the new would let the old one through the next frames' boxes).
+      len = 1.0;
+      drop = true;
+    } else {
+      float alpha = 1.0 / len;
+      illum = mix(past, cur, alpha);
+      moments = mix(pastMoments.xy, moments, alpha);
+    }
+  }
+  // The variance of one frame's sample, from the moments; with few frames of history, the neighbourhood's
+  // (SVGF's bootstrap). What the a-trous weights need is the noise left in the temporal mean: that over the
+  // frames it averages, so a view that holds still filters less and less, towards its exact mean.
+  float var = len >= 4.0 ? max(moments.y - moments.x * moments.x, 0.0) : spatialVariance;
+  var /= len;
+  outTexel = outTexelB = outHistory = filterTexel(illum, var, g.x, g.y);
+  outMoments = vec4(moments, len, drop ? 1.0 : 0.0);
+  gl_FragDepth = settled(illum, var) ? 0.0 : 1.0;
+}
+#endif
+
+// ---- stages 1 and 2: one a-trous iteration ----
+// Pixel q's normalized device coordinates.
+vec2 ndcOf(ivec2 q) { return (vec2(q) + 0.5) / vec2(frameSize) * 2.0 - 1.0; }
+
+uvec4 atrous(ivec2 p, uvec4 centre) {
+  uint tag = tdInstanceTag(centre.w);
+  vec3 N = tdUnpackNormal(centre.w);
+  float z = uintBitsToFloat(centre.z);
+  vec3 c0 = illumination(centre);
+  float v0 = variance(centre);
+  float lc = tdDenoiseLuminance(c0);
+  // The point pixel q shows at view depth zq, relative to the camera: zq·(F + R·x + U·y) (perspective; F the
+  // forward axis, R and U the scaled right and up, x and y its ndc), or R·x + U·y + zq·F (orthographic). Its
+  // distance off the centre's tangent plane, dot(N, Pq − P), is then affine in x, y and zq: three dot
+  // products once per pixel, a few multiplies per tap.
+  vec3 F = normalize(cross(cameraUp, cameraRight));
+  float nf = dot(N, F), nr = dot(N, cameraRight), nu = dot(N, cameraUp);
+  vec2 ndc = ndcOf(p);
+  bool ortho = orthographic != 0;
+  float planeAt = ortho ? nr * ndc.x + nu * ndc.y + z * nf : z * (nf + nr * ndc.x + nu * ndc.y);
+  // The weights as one exponential: that distance in pixel footprints at the centre's depth (per pixel of tap
+  // spacing), and the luminance difference in units of the centre's noise (a pixel whose samples agree has
+  // none and keeps its value). log2(e) is folded into both scales.
+  float footprint = 2.0 * length(cameraUp) * (ortho ? 1.0 : z) / float(frameSize.y);
+  float planeScale = 1.4426950 / (footprint * float(stepPx));
+  float lumScale = 1.4426950 / (4.0 * sqrt(max(v0, 0.0)) + 1e-6);
+  vec2 ndcStep = 2.0 * float(stepPx) / vec2(frameSize);
+  const float kernel[3] = float[3](0.25, 0.5, 0.25);
+  vec3 sum = c0 * 0.25;
+  float wsum = 0.25;
+  float vsum = 0.0625 * v0;
+  // Branch-free taps (a software GL runs both sides of a branch its SIMD lanes disagree on): a tap off the
+  // frame reads the nearest edge texel and weighs nothing, as does one on another instance.
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      if (dx == 0 && dy == 0) continue;
+      ivec2 want = p + stepPx * ivec2(dx, dy);
+      ivec2 q = clamp(want, ivec2(0), frameSize - 1);
+      uvec4 t = texelFetch(inputTex, q, 0);
+      vec3 c = illumination(t);
+      float zq = uintBitsToFloat(t.z);
+      vec2 nq = ndc + ndcStep * vec2(dx, dy);
+      float along = nr * nq.x + nu * nq.y;
+      float plane = abs((ortho ? along + zq * nf : zq * (nf + along)) - planeAt);
+      // The normals' weight, max(cos, 0)^32 by squaring.
+      float wn = max(dot(N, tdUnpackNormal(t.w)), 0.0);
+      wn *= wn;
+      wn *= wn;
+      wn *= wn;
+      wn *= wn;
+      wn *= wn;
+      float d = (dx == 0 || dy == 0) ? 1.0 : 1.41421356;
+      float e = plane * planeScale / d + abs(tdDenoiseLuminance(c) - lc) * lumScale;
+      float valid = (q == want && tdInstanceTag(t.w) == tag) ? 1.0 : 0.0;
+      float w = kernel[dx + 1] * kernel[dy + 1] * valid * wn * exp2(-e);
+      sum += w * c;
+      wsum += w;
+      vsum += w * w * variance(t);
+    }
+  return filterTexel(sum / wsum, vsum / (wsum * wsum), centre.z, centre.w);
+}
+
+// ---- stage 3: temporal anti-aliasing ----
+#if TD_DENOISE_STAGE == 3
+void antiAlias(ivec2 p) {
+  vec3 current = texelFetch(filteredTex, p, 0).rgb;
+  // This frame's neighbourhood (a cross of five) bounds what the history may say (a history outside it is
+  // stale: a disocclusion, a change of light).
+  vec3 lo = current, hi = current;
+  for (int k = 0; k < 4; ++k) {
+    vec3 c = texelFetch(filteredTex, clamp(p + cross4[k], ivec2(0), frameSize - 1), 0).rgb;
+    lo = min(lo, c);
+    hi = max(hi, c);
+  }
+  vec3 result = current;
+  vec4 m = texelFetch(motionTex, p, 0);
+  // The background has no motion of its own (its guide is cleared): its colour is the same wherever it is.
+  bool background = tdInstanceTag(texelFetch(guideTex, p, 0).y) == 0u;
+  // A pixel whose filter history was dropped as stale (or off the last frame, or its light changed) drops this
+  // one too: the box above is as wide as a fresh pixel's noise, and would let the old colour through.
+  bool fresh = !background && texelFetch(lengthTex, p, 0).a > 0.5;
+  if (history != 0 && !fresh && (background || m.w > 0.5)) {
+    vec2 before = (vec2(p) + 0.5 - (background ? vec2(0.0) : m.xy)) / vec2(frameSize);
+    vec3 past = clamp(textureLod(taaHistoryTex, before, 0.0).rgb, lo, hi);
+    result = mix(past, current, 0.15);
+  }
+  outLinear = vec4(result, 1.0);
+  outDisplay = vec4(tdDisplay(result, exposure, toneMap, false), 1.0);
+  outTaa = vec4(result, 1.0);
+}
+#endif
+
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+#if TD_DENOISE_STAGE == 0
+  temporal();
+#elif TD_DENOISE_STAGE == 1
+  // (Only pixels the temporal stage left unsettled run this: the depth test.)
+  outTexel = atrous(p, texelFetch(inputTex, p, 0));
+#elif TD_DENOISE_STAGE == 2
+  // Last: back to radiance (times the surface colour).
+  uvec4 centre = texelFetch(inputTex, p, 0);
+  vec3 linear = background;
+  if (tdInstanceTag(centre.w) != 0u) {
+    uvec4 g = texelFetch(guideTex, p, 0);
+    vec3 albedo = vec3(unpackHalf2x16(g.z), unpackHalf2x16(g.w).x);
+    vec3 illum = illumination(centre);
+    // The same test as the temporal stage's, on the same texel: settled pixels were skipped all along.
+    if (!settled(illum, variance(centre))) illum = illumination(atrous(p, centre));
+    linear = illum * tdDemodulation(albedo) + texelFetch(exactTex, p, 0).rgb;
+  }
+  outFiltered = vec4(linear, 1.0);
+#else
+  antiAlias(p);
+#endif
+}
