@@ -122,6 +122,7 @@
 #define TD_LOC_MOVED_BOX_COUNT 30    // the filter's guides: render-space boxes of what moved since the last frame
 #define TD_LOC_MOVED_BOXES 31        // TD_MAX_MOVED_BOXES pairs of vec4 (lo + instance, hi): locations 31-46
 #define TD_MAX_MOVED_BOXES 8
+#define TD_LOC_PREVIOUS_CAMERA_FORWARD 47  // the filter's guides: the last frame's camera axis (unit, render space)
 // The spatiotemporal filter (denoise.frag; DenoisePass, docs/denoise.md): its own program's units and
 // locations. The camera's right and up axes, orthographic and the frame size (TD_LOC_CAMERA_RIGHT ..
 // TD_LOC_FRAME_SIZE, 2-5) are shade_hit.glsl's, from the same vectors (ShadePass's cameraVectors).
@@ -135,6 +136,7 @@
 #define TD_UNIT_DENOISE_FILTERED 7       // the filtered frame (linear radiance), the anti-aliasing stage's input
 #define TD_UNIT_DENOISE_TAA_HISTORY 8    // the last frame's anti-aliased radiance (linear filtering: reprojected)
 #define TD_UNIT_DENOISE_LENGTH 9         // this frame's moments: whether the temporal stage dropped the history
+#define TD_UNIT_DENOISE_SKIP 10          // the depth the temporal stage wrote: 1 where the iterations filter
 #define TD_LOC_DENOISE_STEP 6            // the a-trous iteration's tap spacing in pixels
 #define TD_LOC_DENOISE_HISTORY 7         // 1: the last frame's history and moments hold
 #define TD_LOC_DENOISE_MAX_HISTORY 8     // frames the temporal mean spans at most
@@ -185,15 +187,25 @@
 // The filter's channels (frame size): the shade pass writes the first three when the filter is on.
 // Packed texels: shaders/denoise.glsl.
 #define TD_CHANNEL_DENOISE_NOISY GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT  // the shade pass's radiance / surface colour
+#define TD_SAMPLER_DENOISE_NOISY sampler2D
 #define TD_CHANNEL_DENOISE_GUIDE GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT  // depth, normal + instance, albedo
+#define TD_SAMPLER_DENOISE_GUIDE usampler2D
 #define TD_OUTPUT_DENOISE_GUIDE uvec4
-#define TD_CHANNEL_DENOISE_MOTION GL_RGBA32F, GL_RGBA, GL_FLOAT  // motion (pixels, GL rows), depth before, 1: in view before
+#define TD_CHANNEL_DENOISE_MOTION GL_RGBA32F, GL_RGBA, GL_FLOAT  // motion (pixels, GL rows), depth before, 1: history holds
+#define TD_SAMPLER_DENOISE_MOTION sampler2D
 #define TD_OUTPUT_DENOISE_MOTION vec4
 #define TD_CHANNEL_DENOISE_EXACT GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT  // radiance past the filter (sharp mirrors, glass)
+#define TD_SAMPLER_DENOISE_EXACT sampler2D
 #define TD_OUTPUT_DENOISE_EXACT vec4
 #define TD_CHANNEL_DENOISE_TEXEL GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT  // illumination, variance, depth, normal
+#define TD_SAMPLER_DENOISE_TEXEL usampler2D
+#define TD_OUTPUT_DENOISE_TEXEL uvec4
 #define TD_CHANNEL_DENOISE_MOMENTS GL_RGBA32F, GL_RGBA, GL_FLOAT      // luminance, its square, history length, dropped
-#define TD_CHANNEL_DENOISE_RADIANCE GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT // filtered radiance; anti-aliased + instance tag
+#define TD_SAMPLER_DENOISE_MOMENTS sampler2D
+#define TD_OUTPUT_DENOISE_MOMENTS vec4
+#define TD_CHANNEL_DENOISE_RADIANCE GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT // the filtered frame; the anti-aliased one
+#define TD_SAMPLER_DENOISE_RADIANCE sampler2D
+#define TD_OUTPUT_DENOISE_RADIANCE vec4
 #define TD_CHANNEL_DISPLAY GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE   // tone-mapped sRGB, full res
 #define TD_OUTPUT_DISPLAY vec4
 #define TD_CHANNEL_PROBES GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT     // reflection probe cubes

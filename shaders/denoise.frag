@@ -33,30 +33,33 @@ layout(location = TD_LOC_DENOISE_EXPOSURE) uniform float exposure;
 layout(location = TD_LOC_DENOISE_TONE_MAP) uniform int toneMap;
 layout(location = TD_LOC_DENOISE_BACKGROUND) uniform vec3 background;
 
-layout(binding = TD_UNIT_DENOISE_NOISY) uniform sampler2D noisyTex;
-layout(binding = TD_UNIT_DENOISE_GUIDE) uniform usampler2D guideTex;
-layout(binding = TD_UNIT_DENOISE_MOTION) uniform sampler2D motionTex;
-layout(binding = TD_UNIT_DENOISE_HISTORY) uniform usampler2D historyTex;
-layout(binding = TD_UNIT_DENOISE_MOMENTS) uniform sampler2D momentsTex;
-layout(binding = TD_UNIT_DENOISE_INPUT) uniform usampler2D inputTex;
-layout(binding = TD_UNIT_DENOISE_EXACT) uniform sampler2D exactTex;
-layout(binding = TD_UNIT_DENOISE_FILTERED) uniform sampler2D filteredTex;
-layout(binding = TD_UNIT_DENOISE_TAA_HISTORY) uniform sampler2D taaHistoryTex;  // bilinear
-layout(binding = TD_UNIT_DENOISE_LENGTH) uniform sampler2D lengthTex;
+layout(binding = TD_UNIT_DENOISE_NOISY) uniform TD_SAMPLER_DENOISE_NOISY noisyTex;
+layout(binding = TD_UNIT_DENOISE_GUIDE) uniform TD_SAMPLER_DENOISE_GUIDE guideTex;
+layout(binding = TD_UNIT_DENOISE_MOTION) uniform TD_SAMPLER_DENOISE_MOTION motionTex;
+layout(binding = TD_UNIT_DENOISE_HISTORY) uniform TD_SAMPLER_DENOISE_TEXEL historyTex;
+layout(binding = TD_UNIT_DENOISE_MOMENTS) uniform TD_SAMPLER_DENOISE_MOMENTS momentsTex;
+layout(binding = TD_UNIT_DENOISE_INPUT) uniform TD_SAMPLER_DENOISE_TEXEL inputTex;
+layout(binding = TD_UNIT_DENOISE_EXACT) uniform TD_SAMPLER_DENOISE_EXACT exactTex;
+layout(binding = TD_UNIT_DENOISE_FILTERED) uniform TD_SAMPLER_DENOISE_RADIANCE filteredTex;
+layout(binding = TD_UNIT_DENOISE_TAA_HISTORY) uniform TD_SAMPLER_DENOISE_RADIANCE taaHistoryTex;  // bilinear
+layout(binding = TD_UNIT_DENOISE_LENGTH) uniform TD_SAMPLER_DENOISE_MOMENTS lengthTex;
+layout(binding = TD_UNIT_DENOISE_SKIP) uniform TD_SAMPLER_DEPTH skipTex;
 
 #if TD_DENOISE_STAGE == 2
-layout(location = 0) out vec4 outFiltered;
+layout(location = 0) out TD_OUTPUT_DENOISE_RADIANCE outFiltered;
 #elif TD_DENOISE_STAGE == 3
-layout(location = 0) out vec4 outLinear;
-layout(location = 1) out vec4 outDisplay;
-layout(location = 2) out vec4 outTaa;      // the next frame's history: radiance
+layout(location = 0) out TD_OUTPUT_LINEAR outLinear;
+layout(location = 1) out TD_OUTPUT_DISPLAY outDisplay;
+layout(location = 2) out TD_OUTPUT_DENOISE_RADIANCE outTaa;  // the next frame's history
 #else
-layout(location = 0) out uvec4 outTexel;   // the filter texel
+layout(location = 0) out TD_OUTPUT_DENOISE_TEXEL outTexel;   // the filter texel
 #endif
 #if TD_DENOISE_STAGE == 0
-layout(location = 1) out vec4 outMoments;  // luminance, its square, history length
-layout(location = 2) out uvec4 outTexelB;  // the texel again into the iterations' other targets: a pixel they
-layout(location = 3) out uvec4 outHistory; // skip (gl_FragDepth 0) reads as drawn in every one of them
+layout(location = 1) out TD_OUTPUT_DENOISE_MOMENTS outMoments;  // luminance, its square, history length, dropped
+// The texel again into the iterations' other targets: a pixel they skip (gl_FragDepth 0) reads as drawn in
+// every one of them.
+layout(location = 2) out TD_OUTPUT_DENOISE_TEXEL outTexelB;
+layout(location = 3) out TD_OUTPUT_DENOISE_TEXEL outHistory;
 #endif
 
 // Whether a texel's noise is below what the display shows (its standard deviation under 1 % of its
@@ -69,7 +72,11 @@ const ivec2 cross4[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0
 
 vec3 illumination(uvec4 t) { return vec3(unpackHalf2x16(t.x), unpackHalf2x16(t.y).x); }
 float variance(uvec4 t) { return unpackHalf2x16(t.y).y; }
+// (Clamped under half precision's largest value: an infinity there would turn a zero weight's product into a
+// NaN that reprojection carries on.)
 uvec4 filterTexel(vec3 illum, float var, uint depthBits, uint normalInstance) {
+  illum = min(illum, vec3(65000.0));
+  var = min(var, 65000.0);
   return uvec4(packHalf2x16(illum.rg), packHalf2x16(vec2(illum.b, var)), depthBits, normalInstance);
 }
 
@@ -86,6 +93,7 @@ void temporal() {
     return;
   }
   vec3 cur = texelFetch(noisyTex, p, 0).rgb;
+  if (any(isnan(cur)) || any(isinf(cur))) cur = vec3(0.0);  // a shading fault must not live on in the history
   // This frame's neighbourhood (a cross of five): the box the history is clamped to (a light switched off, a
   // reflection that moved otherwise than its surface), and the variance of a history too short for its own
   // moments. Taps off the frame read the edge.
@@ -275,8 +283,8 @@ void main() {
     uvec4 g = texelFetch(guideTex, p, 0);
     vec3 albedo = vec3(unpackHalf2x16(g.z), unpackHalf2x16(g.w).x);
     vec3 illum = illumination(centre);
-    // The same test as the temporal stage's, on the same texel: settled pixels were skipped all along.
-    if (!settled(illum, variance(centre))) illum = illumination(atrous(p, centre));
+    // Where the temporal stage found the pixel settled, the iterations skipped it: so does the last one.
+    if (texelFetch(skipTex, p, 0).r > 0.5) illum = illumination(atrous(p, centre));
     linear = illum * tdDemodulation(albedo) + texelFetch(exactTex, p, 0).rgb;
   }
   outFiltered = vec4(linear, 1.0);

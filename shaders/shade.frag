@@ -143,6 +143,7 @@ layout(binding = TD_UNIT_PREVIOUS_DEPTH) uniform sampler2D previousDepthTex;
 // The filter's guides: what moved since the last frame (shade_debug.glsl's lightMayHaveChanged).
 layout(location = TD_LOC_MOVED_BOX_COUNT) uniform int movedBoxCount;
 layout(location = TD_LOC_MOVED_BOXES) uniform vec4 movedBoxes[2 * TD_MAX_MOVED_BOXES];
+layout(location = TD_LOC_PREVIOUS_CAMERA_FORWARD) uniform vec3 previousCameraForward;
 
 // Variant flags, set by CompositePass for each frame's scene and settings. llvmpipe runs both sides of a
 // branch that diverges inside an 8-pixel SIMD group, so features a frame does not use are compiled out
@@ -275,7 +276,8 @@ layout(location = 4) out TD_OUTPUT_DENOISE_EXACT outExact;
 void writeGuides(uvec2 id, Surface s, vec3 local, vec3 specular) {
   vec3 albedo = tdSurfaceColor(s.m, s.uv, s.pattern, s.tint);
   bool glossy = texelFetch(uvTransformsBuf, 4 * int(s.hit.tri.material) + 3).a > 0.0;  // roughness (shade_probes)
-  outColor.rgb = (glossy ? local + specular : local) / tdDemodulation(albedo);
+  // (under half precision's largest value: the noisy target is RGBA16F)
+  outColor.rgb = min((glossy ? local + specular : local) / tdDemodulation(albedo), vec3(65000.0));
   outExact = vec4(glossy ? vec3(0.0) : specular, 1.0);
   // View depth (along the camera's axis: cross(up, right), unjittered, where the jitter tilts cameraForward):
   // the filter rebuilds points from it without a square root.

@@ -147,7 +147,7 @@ vec4 denoiseMotion(uvec2 id, vec3 posR) {
   vec3 before = projectPixel(previousClipFromViewRotation, previousCameraPos, then);
   bool inView = before.z > 0.0 && all(greaterThanEqual(before.xy, vec2(0.0))) && all(lessThan(before.xy, vec2(frameSize)));
   inView = inView && !(movedBoxCount > 0 && lightMayHaveChanged(id.x - 1u, posR));
-  // The point's view depth then (clip w of a perspective projection), as the last frame's guide holds it.
-  float depthThen = (previousClipFromViewRotation * vec4(then - previousCameraPos, 1.0)).w;
+  // The point's view depth then, as the last frame's guide holds it.
+  float depthThen = dot(then - previousCameraPos, previousCameraForward);
   return vec4(now.xy - before.xy, depthThen, inView ? 1.0 : 0.0);
 }

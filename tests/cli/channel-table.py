@@ -27,7 +27,10 @@ for line in open(os.path.join(root, "docs", "gbuffer.md")):
 doc_name = {"IDS": "ids", "DEPTH": "depth", "LIGHT_MASK": "light mask", "REFLECTED": "reflected",
             "TRANSMITTED": "transmitted", "LINEAR": "linear radiance", "DISPLAY": "display",
             "PROBES": "reflection probes", "SHADOW_MAPS": "shadow maps", "AREA_SAMPLES": "area-light samples",
-            "EXACT_HITS": "exact hits", "SHADOW_MASK": "shadow mask", "SHADOW_PROOFS": "shadow proofs"}
+            "EXACT_HITS": "exact hits", "SHADOW_MASK": "shadow mask", "SHADOW_PROOFS": "shadow proofs",
+            "DENOISE_NOISY": "denoise: noisy", "DENOISE_GUIDE": "denoise: guide", "DENOISE_MOTION": "denoise: motion",
+            "DENOISE_EXACT": "denoise: exact", "DENOISE_TEXEL": "denoise: texels", "DENOISE_MOMENTS": "denoise: moments",
+            "DENOISE_RADIANCE": "denoise: radiance"}
 for name, fmt in channels.items():
     row = doc_name.get(name)
     if row is None:
@@ -43,7 +46,7 @@ for name, fmt in channels.items():
 literal = re.compile(r"\bGL_(RG32UI|R16UI|R32UI|RGBA32F|RGBA16F|RGBA16|RGBA8|DEPTH_COMPONENT32F|RG_INTEGER|RED_INTEGER|RGBA|"
                      r"FLOAT|HALF_FLOAT|UNSIGNED_BYTE|UNSIGNED_SHORT|UNSIGNED_INT|DEPTH_COMPONENT)\b")
 for f in ["VisibilityPass.cpp", "ShadePass.cpp", "OutputPass.cpp", "ReflectionProbes.cpp", "RasterEffects.cpp",
-          "RayChannels.h", "ShadowProofPass.cpp"]:
+          "RayChannels.h", "ShadowProofPass.cpp", "DenoisePass.cpp"]:
     path = os.path.join(root, "engine", "src", "gl", f)
     in_assert = False
     for n, line in enumerate(open(path), 1):

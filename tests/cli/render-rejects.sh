@@ -58,6 +58,9 @@ check --trace-pixel --trace-pixel 0,18
 check --trace-pixel --trace-pixel 5
 check --trace-pixel --trace-pixel -1,5
 check --aa --aa smooth
+check --denoise --denoise maybe
+check --denoise --denoise on --aa ssaa 4
+check --denoise --denoise on --preset reference
 check --aa --aa ssaa 0
 check --aa --aa ssaa 257
 check --aa --aa ssaa four

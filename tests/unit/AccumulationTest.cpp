@@ -246,6 +246,32 @@ TEST(Accumulation, SamplesOfOneFrameSeeTheSameProbes) {
   EXPECT_TRUE(caught.settings == ssaa.settings);
 }
 
+TEST(Accumulation, TheFilterRunsOnTheFirstFrameAloneAndTheSamplesGoOnAlongItsSequence) {
+  // The spatiotemporal filter (docs/denoise.md): a first frame of one sample is shown filtered; the samples
+  // summed after it are drawn as they are, their plan without the filter (the mean converges to the exact
+  // image), and they take the sequence on from where the filter's frames had reached.
+  Accumulation a;
+  FramePlan plan;
+  plan.settings = accumulating(8);
+  plan.settings.denoise = true;
+  plan.denoise = true;
+  a.restart(Camera{}, plan.settings, 37);
+  EXPECT_TRUE(a.samplePlan(plan, true).denoise);
+  const Camera first = a.nextSample(Camera{});
+  EXPECT_EQ(first.sampleIndex, 37u);
+  EXPECT_EQ(first.jitterPx, subpixelJitter(37));
+  EXPECT_EQ(first, sampleCamera(Camera{}, 37));
+  a.frameDone();
+  const FramePlan later = a.samplePlan(plan, true);
+  EXPECT_FALSE(later.denoise);
+  EXPECT_TRUE(later.settings == plan.settings) << "only the filter is off: the settings are the frame's";
+  EXPECT_EQ(a.nextSample(Camera{}).sampleIndex, 38u);
+  // Without the filter the sequence starts at 0, as it always did.
+  Accumulation b;
+  b.restart(Camera{}, accumulating(8));
+  EXPECT_EQ(b.nextSample(Camera{}).sampleIndex, 0u);
+}
+
 TEST(Accumulation, ReleaseFreesEverything) {
   Accumulation a;
   a.restart(Camera{}, accumulating(8));

@@ -199,5 +199,29 @@ TEST(FramePlan, SameRayInputsComparesWhatTheRayPassReads) {
   EXPECT_FALSE(sameRayInputs(reference, planFrame(everything(), base)));
 }
 
+TEST(FramePlan, TheFilterRunsOnHybridFramesOfOneSampleInTheFinalView) {
+  FrameSettings s = *presetSettings("hybrid-full");
+  s.denoise = true;
+  EXPECT_TRUE(planFrame(everything(), s).denoise);
+  FrameSettings raster = *presetSettings("raster");
+  raster.denoise = true;
+  EXPECT_TRUE(planFrame(everything(), raster).denoise) << "raster shadows of area lights are sampled too";
+  FrameSettings view = s;
+  view.debugView = DebugView::NormalW;
+  EXPECT_FALSE(planFrame(everything(), view).denoise) << "a debug view shows the frame's own values";
+  FrameSettings reference = *presetSettings("reference");
+  reference.denoise = true;
+  EXPECT_FALSE(reference.resolved().denoise) << "the reference is converged, not filtered";
+  EXPECT_FALSE(planFrame(everything(), reference).denoise);
+  FrameSettings aa = s;
+  aa.aa = AntiAlias::Ssaa;
+  EXPECT_FALSE(aa.resolved().denoise) << "a frame of several samples has its own";
+  EXPECT_FALSE(planFrame(everything(), aa).denoise);
+  // The filter is not a ray input: a frame with it traces what one without it would.
+  FrameSettings off = s;
+  off.denoise = false;
+  EXPECT_TRUE(sameRayInputs(planFrame(everything(), s), planFrame(everything(), off)));
+}
+
 }  // namespace
 }  // namespace tandem

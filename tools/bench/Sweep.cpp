@@ -55,6 +55,9 @@ struct Combo {
   std::string name;
   std::string group;   // "preset", "effect", "budget-knob" (one knob of the budget alone), "aa" or "budget"
   FrameSettings settings;
+  /// Drawn with the camera moving (kPanFrames frames of a sideways pan that ends at the scene's camera, the
+  /// measured frames the pan's last): the spatiotemporal filter's combinations, measured in motion.
+  bool moving = false;
 };
 
 std::string modes(const FrameSettings& s) {
@@ -66,6 +69,7 @@ std::string modes(const FrameSettings& s) {
   if (s.aa == AntiAlias::Ssaa) m += " ssaa " + std::to_string(s.aaSamples);
   if (s.aa == AntiAlias::Adaptive) m += " adaptive " + std::to_string(s.aaSamples);
   if (s.targetMs > 0) m += " within " + std::to_string(static_cast<int>(std::lround(s.targetMs))) + " ms";
+  if (s.denoise) m += " denoised, camera moving";
   return m;
 }
 
@@ -74,7 +78,7 @@ std::string modes(const FrameSettings& s) {
 /// and only that effect rasterized under hybrid-full — plus everything off, hybrid-full at half
 /// resolution, the budget's other knobs alone (1/4 grid, depth 2 and 1), hybrid shadows and three anti-aliased
 /// frames (ssaa 4 over hybrid-fast and hybrid-full, adaptive up to 16 over hybrid-full). 19 in all (3 more
-/// with area lights, 2 more with glossy materials), and
+/// with area lights, 2 more with glossy materials, 2 more with either: the spatiotemporal filter), and
 /// two budget runs after them (kBudgetFractions): enough to draw a front and measure the budget's error
 /// table, few enough for about 15 minutes on two cores. A scene with area lights adds their sample counts
 /// over hybrid-full (1 and 16; the presets draw 4) and the raster preset's soft shadows at 16; one with glossy
@@ -150,6 +154,16 @@ std::vector<Combo> makeCombos(const FrameSettings& base, bool areaLights = false
     c.push_back({"hybrid-full-light1", "light-samples", one});
     c.push_back({"hybrid-full-light16", "light-samples", sixteen});
     c.push_back({"raster-light16", "light-samples", rasterSixteen});
+  }
+  if (areaLights || glossy) {
+    // The spatiotemporal filter (docs/denoise.md), the camera moving: one light and lobe sample a frame, and
+    // hybrid-full's own four, each frame reconstructed from the last frames'. Against the raw frames above
+    // (hybrid-full-light1 / -gloss1 and hybrid-full), which have no history and are the same still or moving.
+    FrameSettings one = full, four = full;
+    one.lightSamples = one.glossSamples = 1;
+    one.denoise = four.denoise = true;
+    c.push_back({"hybrid-full-1-denoised", "denoise", one, true});
+    c.push_back({"hybrid-full-denoised", "denoise", four, true});
   }
   if (lensOrMotion) {
     // Depth of field and motion blur: every anti-aliasing sample sees through a new lens point at a new time
@@ -258,13 +272,33 @@ struct FrameRun {
 // The warm-up is `warmup` frames and at least `warmupSeconds` of frames: a GPU left idle (between
 // combinations, or while the floor is measured) runs at its lowest clock and needs a while to come up (an H100
 // drew Whitted's raster frame in 9.8 ms over 2 warm-up frames and 1.8 ms once warm; docs/bench.md).
-FrameRun renderFrames(Renderer& r, const Camera& camera, FrameSettings s, int warmup, double warmupSeconds, int frames) {
+/// Frames a moving combination's pan takes before its measured frames (the filter's history fills meanwhile).
+constexpr int kPanFrames = 16;
+
+/// `camera` moved sideways by `steps` pan steps (0.4 % of its distance to the target each: about 2 pixels a
+/// frame on the target at 360 rows and a 42-degree field of view).
+Camera panned(const Camera& camera, int steps) {
+  const glm::vec3 forward = camera.targetW - camera.posW;
+  const glm::vec3 right = glm::normalize(glm::cross(forward, camera.upW));
+  const glm::vec3 shift = right * (0.004f * glm::length(forward) * static_cast<float>(steps));
+  Camera c = camera;
+  c.posW += shift;
+  c.targetW += shift;
+  return c;
+}
+
+FrameRun renderFrames(Renderer& r, const Camera& camera, FrameSettings s, int warmup, double warmupSeconds, int frames,
+                      bool moving = false) {
   s.reuseRays = false;
   FrameRun run;
   const auto start = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  for (int i = 0; i < warmup || (i < 1000 && seconds() < warmupSeconds); ++i) (void)r.render(camera, s);
-  for (int i = 0; i < frames; ++i) run.stats.push_back(r.render(camera, s));
+  // Moving: the warm-up where the pan starts, then the pan, its last `frames` frames measured, the last one at
+  // `camera` (the truth's view).
+  const int pan = moving ? kPanFrames + frames : 0;
+  for (int i = 0; i < warmup || (i < 1000 && seconds() < warmupSeconds); ++i) (void)r.render(panned(camera, -pan), s);
+  for (int i = 1; i <= pan - frames; ++i) (void)r.render(panned(camera, i - pan), s);
+  for (int i = 0; i < frames; ++i) run.stats.push_back(r.render(panned(camera, moving ? i + 1 - frames : 0), s));
   run.image = r.readImage();
   return run;
 }
@@ -616,7 +650,7 @@ int runSweep(const SweepOptions& o) {
       std::map<std::string, Image> images;
       std::vector<std::size_t> mine;
       for (const Combo& combo : makeCombos(base, hasAreaLights(l.scene), hasGloss(l.scene), hasLensOrMotion(l.scene))) {
-        FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup, o.warmupSeconds, o.frames);
+        FrameRun run = renderFrames(renderer, camera, combo.settings, o.warmup, o.warmupSeconds, o.frames, combo.moving);
         Row row = measuredRow(l.label, size, combo, o.frames, run, truth.image);
         (void)writePng((fs::path(o.out) / "images" / (prefix + "-" + combo.name + ".png")).string(), run.image);
         images[combo.name] = std::move(run.image);

@@ -82,7 +82,7 @@ Result<void> DenoisePass::reserve(int width, int height) {
   width_ = height_ = 0;
   historyHeld_ = false;
   Targets t;
-  const std::array<std::tuple<Texture*, ChannelFormat, const char*>, 15> all{{
+  const std::array<std::tuple<Texture*, ChannelFormat, const char*>, 14> all{{
       {&t.skip, kChannelDepth, "denoise: pixels the a-trous iterations filter"},
       {&t.noisy, kNoisy, "denoise: noisy illumination"},
       {&t.exact, kExact, "denoise: radiance past the filter"},
@@ -97,7 +97,6 @@ Result<void> DenoisePass::reserve(int width, int height) {
       {&t.moments[1], kMoments, "denoise: moments 1"},
       {&t.antiAliased[0], kRadiance, "denoise: anti-aliased 0"},
       {&t.antiAliased[1], kRadiance, "denoise: anti-aliased 1"},
-      {&t.filteredSpare, kRadiance, "denoise: unused"},
   }};
   for (const auto& [texture, format, label] : all) {
     auto made = tryCreateTexture2D(label, format.internal, width, height);
@@ -135,6 +134,7 @@ Result<void> DenoisePass::reserve(int width, int height) {
   if (auto ok = make(t.scratchAFbo, "denoise: a-trous A", {{0, t.scratchA.id()}}, &t.skip); !ok) return ok.error();
   if (auto ok = make(t.scratchBFbo, "denoise: a-trous B", {{0, t.scratchB.id()}}, &t.skip); !ok) return ok.error();
   if (auto ok = make(t.filteredFbo, "denoise: filtered", {{0, t.filtered.id()}}, nullptr); !ok) return ok.error();
+  for (Framebuffer& fbo : t.outputFbo) fbo = createFramebuffer("denoise: the frame's output");
   targets_ = std::move(t);
   width_ = width;
   height_ = height;
@@ -146,19 +146,17 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Ca
   assert(holds() && "DenoisePass::filter: no targets (reserve first)");
   Targets& t = targets_;
   const int now = current_, before = 1 - current_;
-  // The output's framebuffers (its two targets and this pass's anti-aliased history), made again when the
-  // output's textures are others (a new frame size).
-  if (t.outputLinear != linear.id() || t.outputDisplay != display.id()) {
-    for (int k = 0; k < 2; ++k) {
-      auto made = framebuffer("denoise: the frame's output",
-                              {{0, linear.id()}, {1, display.id()}, {2, t.antiAliased[k].id()}}, nullptr);
-      // Textures of the frame's size and formats this pass writes elsewhere too: only a driver bug refuses.
-      assert(made.ok() && "DenoisePass: the output's framebuffer is incomplete");
-      if (made) t.outputFbo[k] = std::move(*made);
-    }
-    t.outputLinear = linear.id();
-    t.outputDisplay = display.id();
-  }
+  // The output's targets beside this pass's anti-aliased history, attached every frame (a texture the output
+  // made again may have the old one's name).
+  const GLuint out = t.outputFbo[now].id();
+  glNamedFramebufferTexture(out, GL_COLOR_ATTACHMENT0, linear.id(), 0);
+  glNamedFramebufferTexture(out, GL_COLOR_ATTACHMENT1, display.id(), 0);
+  glNamedFramebufferTexture(out, GL_COLOR_ATTACHMENT2, t.antiAliased[now].id(), 0);
+  const GLenum outputs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+  glNamedFramebufferDrawBuffers(out, 3, outputs);
+  // Textures of the frame's size in formats the frame's passes draw into: only a driver bug refuses them.
+  assert(glCheckNamedFramebufferStatus(out, GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE &&
+         "DenoisePass: the output's framebuffer is incomplete");
   const bool past = history && historyHeld_;
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
@@ -170,8 +168,12 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Ca
   // anti-aliasing run everywhere (they write the frame).
   enum class Depth { Write, Test, Off };
   const CameraVectors axes = cameraVectors(width_, height_, camera);
+  // Every unit a stage's samplers name holds a texture of their type that its framebuffer does not attach:
+  // where a stage reads no iteration's input, the last frame's history; the filtered frame and this frame's
+  // moments only for the anti-aliasing stage (the stages before write them).
   auto draw = [&](const Program& program, GLuint framebuffer, int step, const Texture* input, Depth depth,
                   const char* what) {
+    const bool antiAliasing = &program == &antiAlias_;
     if (depth == Depth::Off) {
       glDisable(GL_DEPTH_TEST);
     } else {
@@ -196,10 +198,11 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Ca
     glBindTextureUnit(TD_UNIT_DENOISE_EXACT, t.exact.id());
     glBindTextureUnit(TD_UNIT_DENOISE_HISTORY, t.history[before].id());
     glBindTextureUnit(TD_UNIT_DENOISE_MOMENTS, t.moments[before].id());
-    glBindTextureUnit(TD_UNIT_DENOISE_INPUT, (input != nullptr ? *input : t.filteredSpare).id());
-    glBindTextureUnit(TD_UNIT_DENOISE_FILTERED, t.filtered.id());
+    glBindTextureUnit(TD_UNIT_DENOISE_INPUT, (input != nullptr ? *input : t.history[before]).id());
+    glBindTextureUnit(TD_UNIT_DENOISE_FILTERED, (antiAliasing ? t.filtered : t.antiAliased[before]).id());
     glBindTextureUnit(TD_UNIT_DENOISE_TAA_HISTORY, t.antiAliased[before].id());
-    glBindTextureUnit(TD_UNIT_DENOISE_LENGTH, t.moments[now].id());
+    glBindTextureUnit(TD_UNIT_DENOISE_LENGTH, t.moments[antiAliasing ? now : before].id());
+    glBindTextureUnit(TD_UNIT_DENOISE_SKIP, (depth == Depth::Off ? t.skip : t.noisy).id());  // attached: the test's
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glUseProgram(p);
     assertNoFeedbackLoop(what);
@@ -213,7 +216,7 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Ca
   draw(atrous_, t.historyFbo[now].id(), 1, &t.scratchA, Depth::Test, "denoise: a-trous 1");
   draw(atrous_, t.scratchBFbo.id(), 2, &t.history[now], Depth::Test, "denoise: a-trous 2");
   draw(last_, t.filteredFbo.id(), 4, &t.scratchB, Depth::Off, "denoise: a-trous 4 (last)");
-  draw(antiAlias_, t.outputFbo[now].id(), 0, nullptr, Depth::Off, "denoise: anti-aliasing");
+  draw(antiAlias_, out, 0, nullptr, Depth::Off, "denoise: anti-aliasing");
   glDepthMask(GL_TRUE);
   glDisable(GL_DEPTH_TEST);
   glUseProgram(0);

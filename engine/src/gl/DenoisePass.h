@@ -52,13 +52,12 @@ class DenoisePass {
   struct Targets {
     Texture noisy, exact, guide, motion, scratchA, scratchB, filtered;
     Texture skip;  // depth: 1 where the a-trous iterations filter, 0 where the temporal stage found it settled
-    Texture filteredSpare;  // bound where a stage reads no iteration's input (every unit holds a texture)
     std::array<Texture, 2> history, moments, antiAliased;
     std::array<Framebuffer, 2> temporalFbo, historyFbo;
     Framebuffer shadeFbo, scratchAFbo, scratchBFbo, filteredFbo;
-    // The frame's output with this pass's anti-aliased history beside it, for the output's textures as named.
+    // The frame's output with this pass's anti-aliased history beside it (the output's textures attached each
+    // frame).
     std::array<Framebuffer, 2> outputFbo;
-    GLuint outputLinear = 0, outputDisplay = 0;
   };
   Targets targets_;
   int current_ = 0;  // which of the pairs this frame writes

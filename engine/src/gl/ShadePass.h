@@ -71,10 +71,11 @@ struct ShadeInputs {
   const Texture* previousDepth = nullptr;
   glm::mat4 previousClipFromViewRotation{1.0f};
   glm::vec3 previousCameraPos{0.0f};
+  glm::vec3 previousCameraForward{0.0f, 0.0f, -1.0f};  // its axis (unit): the filter's depths are along it
   bool motionHistory = false;
-  /// The spatiotemporal filter (DenoisePass, docs/denoise.md): the target has its guides at colour
-  /// attachments 2-4 (distance + normal + instance, motion, surface colour), which the shader fills from the
-  /// motion inputs above (motionHistory false: no motion known).
+  /// The spatiotemporal filter (DenoisePass, docs/denoise.md): the target has its inputs at colour
+  /// attachments 2-4 (the guide: depth, normal, instance and surface colour; the motion; the radiance that goes
+  /// past the filter), which the shader fills from the motion inputs above (motionHistory false: none known).
   bool denoiseGuides = false;
   /// With motionHistory: the filter may keep its history (no light changed since the last frame, and no more
   /// instances moved than movedBoxes holds).

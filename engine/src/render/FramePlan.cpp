@@ -76,6 +76,7 @@ bool sameRayInputs(const FramePlan& a, const FramePlan& b) {
     s.probeSize = FrameSettings{}.probeSize;
     s.reuseRays = FrameSettings{}.reuseRays;
     s.targetMs = FrameSettings{}.targetMs;  // the budget's choice is in the other fields
+    s.denoise = FrameSettings{}.denoise;    // the filter works on the shaded frame, after the rays
     return s;
   };
   return rayPart(a) == rayPart(b);

@@ -43,9 +43,13 @@ void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera,
   now.height = s.height;
   now.clipFromViewRotation = gl::clipFromViewRotation(glCamera, s.width, s.height);
   now.cameraPosR = glCamera.posW;
+  now.forwardR = glm::normalize(glCamera.targetW - glCamera.posW);
   now.worldFromObject.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances) now.worldFromObject.emplace_back(inst.worldFromObject);
-  if (plan.denoise) now.lights = scene.lights;
+  if (plan.denoise) {
+    now.lights = scene.lights;
+    now.shading = shadingSettings(s);
+  }
   const MotionFrame& before = motionLast;
   const bool history = before.held && before.sceneGeneration == now.sceneGeneration && before.anchor == now.anchor &&
                        before.width == now.width && before.height == now.height &&
@@ -80,6 +84,7 @@ void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera,
   in.previousDepth = history && view ? &previousDepth : nullptr;
   in.previousClipFromViewRotation = history ? before.clipFromViewRotation : glm::mat4(1.0f);
   in.previousCameraPos = history ? before.cameraPosR : glm::vec3(0.0f);
+  in.previousCameraForward = history ? before.forwardR : glm::vec3(0.0f, 0.0f, -1.0f);
   motionPending = std::move(now);
 }
 
@@ -120,12 +125,26 @@ void Renderer::Impl::rememberMotion(const FramePlan& plan, const gl::VisibilityP
   motionNext = motionPending;
 }
 
-// The filter keeps its history only while the lights are as they were (a change of light reaches pixels by
-// amounts its statistics cannot tell from noise in a few frames); the instances that moved go to the shade
+// What of the settings shapes the light the filter accumulates: the frame's own, less the display's (exposure
+// and tone map: its history is linear radiance), the size (checked on its own), the frame-time budget's target
+// (its choice is in the other fields) and how the frame is scheduled (reuse, throughput mode).
+FrameSettings Renderer::Impl::shadingSettings(const FrameSettings& s) {
+  FrameSettings shaping = s;
+  shaping.exposure = FrameSettings{}.exposure;
+  shaping.toneMap = FrameSettings{}.toneMap;
+  shaping.targetMs = FrameSettings{}.targetMs;
+  shaping.reuseRays = FrameSettings{}.reuseRays;
+  shaping.pipelined = FrameSettings{}.pipelined;
+  return shaping;
+}
+
+// The filter keeps its history only while the lights and the settings that shape the light are as they were
+// (a change of light reaches pixels by amounts its statistics cannot tell from noise in a few frames); the
+// instances that moved go to the shade
 // pass as boxes (render space, where they were and where they are), so that the pixels whose light they may
 // have blocked or unblocked start again. Too many for the boxes: the whole history starts again.
 void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame& now, gl::ShadeInputs& in) const {
-  in.denoiseHistory = before.lights == now.lights;
+  in.denoiseHistory = before.lights == now.lights && before.shading == now.shading;
   in.movedBoxCount = 0;
   const std::vector<gl::Bounds>& meshes = caches.meshBounds();
   const glm::dmat4 fromWorld = glm::translate(glm::dmat4(1.0), -glm::dvec3(now.anchor));

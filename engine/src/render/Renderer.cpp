@@ -88,6 +88,7 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
   if (!timed(stats.prepareMs, [&] { return prepare(plan, camera, stats, true, true); })) return finishFrame(clock, stats);
   if (!s.pipelined && (rayHeld || spareVisibility)) releasePipeline();  // cost follows the settings
   if (!sampled && accum.active()) timed(stats.accumulateMs, [&] { accum.release(); });  // cost follows the settings
+  if (!s.denoise && denoisePass) denoisePass.reset();  // (a frame that shades releases it too: shadeDenoised)
   const bool drawn = sampled ? drawSampled(plan, camera, stats, clock.lastDrawn)
                              : drawSample(plan, denoiseSample(plan, camera), stats, clock.lastDrawn, nullptr);
   if (drawn) timed(stats.presentMs, [&] { present(); });

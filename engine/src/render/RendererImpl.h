@@ -245,6 +245,8 @@ struct Renderer::Impl {
     int width = 0, height = 0;
     glm::mat4 clipFromViewRotation{1.0f};
     glm::vec3 cameraPosR{0.0f};
+    glm::vec3 forwardR{0.0f, 0.0f, -1.0f};  // the camera's axis (unit)
+    FrameSettings shading;  // the filter: its settings as they shape the light (shadingSettings)
     std::vector<glm::dmat4> worldFromObject;
     std::vector<Light> lights;  // the filter's history does not outlive a change of light
   };
@@ -259,6 +261,7 @@ struct Renderer::Impl {
   void motionInputs(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
   // The filter's part of them: whether its history holds, and the boxes of what moved.
   void denoiseInputs(const MotionFrame& before, const MotionFrame& now, gl::ShadeInputs& in) const;
+  static FrameSettings shadingSettings(const FrameSettings& s);
   void rememberMotion(const FramePlan& plan, const gl::VisibilityPass& pass);
   void rasterVisibility(const FramePlan& plan, const Camera& glCamera, FrameStats& stats);
   // Before the read-back: the GL's shadow proofs (FramePlan::glShadowProofs); true when it drew them.

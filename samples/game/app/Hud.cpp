@@ -126,6 +126,8 @@ void Hud::draw(const HudInfo& info) {
           ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "  out of reach: the cheapest choice is over %.1f ms",
                              st.budget.targetMs);
       }
+      ImGui::Text("denoise %s [N]%s", s.denoise ? "on" : "off",
+                  st.denoised ? (" filter " + std::to_string(static_cast<int>(st.denoiseMs + 0.5)) + " ms").c_str() : "");
       ImGui::Text("radiosity %s [G]", s.radiosity ? "on" : "off");
       if (s.radiosity) {
         if (!st.radiosity.active)

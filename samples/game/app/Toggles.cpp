@@ -28,6 +28,7 @@ constexpr const char* kHelp[] = {
     "0                  render scale 100 %, 50 %, 25 % of the window",
     "B                  frame budget: off, 60, 30, 20, 15, 10 fps (the renderer picks what fits)",
     "G                  radiosity: the hall's diffuse interreflection, solved in the background (HUD: progress)",
+    "N                  denoise: the spatiotemporal filter (soft shadows from one sample a frame, TAA edges)",
     "V                  vsync on / off",
     "F / F11            fullscreen",
     "P / F12            screenshot (frame, and the window with the HUD)",
@@ -113,6 +114,8 @@ WindowAction ViewState::onKey(const std::string& key) {
     setTargetFps(next);
   } else if (key == "G") {
     settings.radiosity = !settings.radiosity;
+  } else if (key == "N") {
+    settings.denoise = !settings.denoise;
   } else if (key == "0") {
     renderScalePct = renderScalePct == 100 ? 50 : renderScalePct == 50 ? 25 : 100;
   } else if (key == "F1" || key == "H") {

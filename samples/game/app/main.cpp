@@ -60,8 +60,10 @@ struct Options {
   int accumulate = 16;
   int lightSamples = tandem::FrameSettings{}.lightSamples;
   std::string radiosity = "off";
+  std::string denoise = "off";
   std::string frameLog;
   int errorEvery = 0;
+  std::string errorTruth = "requested";
   bool checkReuse = false;
   double dt = 1.0 / 60.0;
   bool noVsync = false;
@@ -198,7 +200,9 @@ class Session {
   }
 
   /// FLIP of the last frame against the same instant drawn as requested, without the budget.
-  tandem::Result<double> errorAgainstRequested(int w, int h) {
+  /// `converged`: against the requested settings' converged image instead (no filter, 16 light and lobe samples,
+  /// 32 jittered frames at this instant): what the frame's sampling and reconstruction cost it in all.
+  tandem::Result<double> errorAgainstRequested(int w, int h, bool converged) {
     syncScene(*truth_, game_, handles_);
     tandem::FrameSettings s = view_.settings;
     s.width = w;
@@ -208,8 +212,17 @@ class Session {
     s.targetMs = 0.0f;
     s.reuseRays = false;
     s.probesPerFrame = 0;  // drawn only every Nth frame: its probes must not lag behind the game
-    const tandem::FrameStats st = truth_->render(camera_, s);
-    if (!st.error.empty()) return tandem::Error{st.error};
+    int frames = 1;
+    if (converged) {
+      s.denoise = false;
+      s.aa = tandem::AntiAlias::Off;
+      s.lightSamples = s.glossSamples = 16;
+      s.accumulate = frames = 32;
+    }
+    for (int i = 0; i < frames; ++i) {
+      const tandem::FrameStats st = truth_->render(camera_, s);
+      if (!st.error.empty()) return tandem::Error{st.error};
+    }
     auto f = tandem::flip(renderer_->readImage(), truth_->readImage());
     if (!f) return f.error();
     return f->mean;
@@ -275,7 +288,8 @@ class Session {
       << " budget=" << (view_.targetFps > 0.0f ? fpsText(view_.targetFps) : std::string("off"))
       << " aa=" << tandem::toString(s.aa) << (s.aa != tandem::AntiAlias::Off ? std::to_string(s.aaSamples) : std::string())
       << " accumulate=" << s.accumulate << " light-samples=" << s.lightSamples
-      << " radiosity=" << (s.radiosity ? "on" : "off") << " pipeline=" << (s.pipelined ? "on" : "off");
+      << " radiosity=" << (s.radiosity ? "on" : "off") << " denoise=" << (s.denoise ? "on" : "off")
+      << " pipeline=" << (s.pipelined ? "on" : "off");
     return o.str();
   }
 
@@ -446,7 +460,7 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
       std::string flip;
       if (o.errorEvery > 0 && f % o.errorEvery == 0) {
         const auto e0 = std::chrono::steady_clock::now();
-        auto e = s.errorAgainstRequested(w, h);
+        auto e = s.errorAgainstRequested(w, h, o.errorTruth == "converged");
         errorMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - e0).count();
         if (!e) return fail("--error-every: " + e.error().message);
         char buf[32];
@@ -736,12 +750,24 @@ int run(int argc, char** argv) {
                  "the HUD showing its progress (key G; FrameSettings::radiosity, radiosityBackground)")
       ->check(CLI::IsMember({"off", "on"}))
       ->capture_default_str();
+  app.add_option("--denoise", o.denoise,
+                 "off | on: the spatiotemporal filter (key N; FrameSettings::denoise, docs/denoise.md): each frame "
+                 "draws new light samples at a new sub-pixel offset, reprojects the last frames' and smooths what "
+                 "is still noisy; with accumulation at rest the exact mean takes over")
+      ->check(CLI::IsMember({"off", "on"}))
+      ->capture_default_str();
   app.add_option("--frame-log", o.frameLog,
                  "Headless: one CSV row per frame (stage times, rays, the budget's choice; tandem-bench --budget)");
   app.add_option("--error-every", o.errorEvery,
                  "Headless with --frame-log: every Nth frame, FLIP against the same instant drawn as requested "
                  "without the budget (a second renderer)")
       ->check(CLI::Range(1, 1000000));
+  app.add_option("--error-truth", o.errorTruth,
+                 "requested | converged: --error-every measures against the same instant drawn as requested, or "
+                 "against its converged image (no filter, 16 light and lobe samples, 32 jittered frames: what "
+                 "sampling and the filter cost the frame; docs/denoise.md)")
+      ->check(CLI::IsMember({"requested", "converged"}))
+      ->capture_default_str();
   app.add_flag("--check-reuse", o.checkReuse,
                "Headless: draw every frame again with reuse off (a second renderer) and compare them to the bit; "
                "prints the rays reuse saved, fails if a frame differs");
@@ -826,11 +852,14 @@ int run(int argc, char** argv) {
   }
   if (view.settings.aa != tandem::AntiAlias::Off && o.targetFps > 0.0f)
     return fail("--aa: a frame-time budget has no anti-aliasing step yet (drop --target-fps or --aa)");
+  if (view.settings.aa != tandem::AntiAlias::Off && o.denoise == "on")
+    return fail("--denoise: a frame of several samples (--aa) is not filtered (drop --aa or --denoise)");
   view.settings.accumulate = o.accumulate;
   view.settings.lightSamples = o.lightSamples;
   // The hall's radiosity is solved on a thread of its own while the game runs: the frames never wait for it.
   view.settings.radiosity = o.radiosity == "on";
   view.settings.radiosityBackground = true;
+  view.settings.denoise = o.denoise == "on";
   if (!std::isfinite(o.targetFps)) return fail("--target-fps: must be 0.1..1000 frames per second");
   view.setTargetFps(o.targetFps);
   view.vsync = !o.noVsync;

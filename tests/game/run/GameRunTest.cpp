@@ -275,6 +275,7 @@ TEST(GameRun, ToggleKeysReachTheSettings) {
   EXPECT_EQ(s["depth"], "3");
   EXPECT_EQ(s["budget"], "60");
   EXPECT_EQ(s["radiosity"], "on");
+  EXPECT_EQ(s["denoise"], "on");
 }
 
 TEST(GameRun, RadiositySolvesInTheBackgroundWhileTheGamePlays) {
