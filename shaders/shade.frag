@@ -270,15 +270,17 @@ layout(location = 0) out TD_OUTPUT_LINEAR outColor;
 layout(location = 2) out TD_OUTPUT_DENOISE_GUIDE outGuide;
 layout(location = 3) out TD_OUTPUT_DENOISE_MOTION outMotion;
 layout(location = 4) out TD_OUTPUT_DENOISE_EXACT outExact;
-// What the filter smooths goes out divided by the surface colour (the filter's illumination): the local light
-// (area lights' samples) and a glossy material's lobe samples; a sharp mirror's or glass's rays are exact for
-// the pixel's hit and go past the filter (outExact), added back after it.
-void writeGuides(uvec2 id, Surface s, vec3 local, vec3 specular) {
+// What the filter smooths goes out divided by the surface colour (the filter's illumination): the area lights'
+// light (their samples) and a glossy material's lobe samples. The rest is exact for the pixel's hit and goes
+// past the filter (outExact), added back after it: emission, the ambient term, the other lights (a light that
+// moves every frame changes no history), a sharp mirror's or glass's rays.
+void writeGuides(uvec2 id, Surface s, vec3 local, vec3 area, vec3 specular) {
   vec3 albedo = tdSurfaceColor(s.m, s.uv, s.pattern, s.tint);
   bool glossy = texelFetch(uvTransformsBuf, 4 * int(s.hit.tri.material) + 3).a > 0.0;  // roughness (shade_probes)
+  vec3 sampled = glossy ? area + specular : area;
   // (under half precision's largest value: the noisy target is RGBA16F)
-  outColor.rgb = min((glossy ? local + specular : local) / tdDemodulation(albedo), vec3(65000.0));
-  outExact = vec4(glossy ? vec3(0.0) : specular, 1.0);
+  outColor.rgb = min(sampled / tdDemodulation(albedo), vec3(65000.0));
+  outExact = vec4(local - area + (glossy ? vec3(0.0) : specular), 1.0);
   // View depth (along the camera's axis: cross(up, right), unjittered, where the jitter tilts cameraForward):
   // the filter rebuilds points from it without a square root.
   float depth = dot(s.hit.posW - cameraPosW, normalize(cross(cameraUp, cameraRight)));
@@ -292,7 +294,7 @@ void writeNoGuides() {
   outExact = vec4(0.0);
 }
 #else
-void writeGuides(uvec2 id, Surface s, vec3 local, vec3 specular) {}
+void writeGuides(uvec2 id, Surface s, vec3 local, vec3 area, vec3 specular) {}
 void writeNoGuides() {}
 #endif
 
@@ -329,13 +331,14 @@ void shadePixel() {
     return;
   }
   vec3 local = s.coverage * localLight(s, rays, id, pTop);
+  vec3 area = s.coverage * areaLightShare;
   vec3 specular = vec3(0.0);
   if ((rayInputs & TD_RAY_REFLECTED) != 0 || kProbeReflect) specular += rays.reflected;
   if ((rayInputs & TD_RAY_TRANSMITTED) != 0 || kProbeRefract) specular += rays.transmitted;
   bool toon = kUseToon && int(s.m.krKtIorModel.w + 0.5) == TD_MODEL_TOON && s.m.emissionFlags.w < 0.5;
-  if (toon && isEdge(pix, id, s.hit.ngRaw)) local = specular = vec3(0.0);
+  if (toon && isEdge(pix, id, s.hit.ngRaw)) local = area = specular = vec3(0.0);
   outColor = vec4(local + specular, 1.0);
-  if (kDenoiseGuides) writeGuides(id, s, local, specular);
+  if (kDenoiseGuides) writeGuides(id, s, local, area, specular);
 }
 
 // The frame's shade pass also writes the display value (TD_FUSED_OUTPUT): one full-screen pass instead of

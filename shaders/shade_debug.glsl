@@ -117,18 +117,19 @@ vec3 motionView(uvec2 id, vec3 posR) {
 // last frame, and whether the last frame's view of it holds (w): it lay in that frame, and nothing that moved
 // may have changed its light. The filter's reprojection checks the last frame's guide there. The last frame's ids and depth are the filter's own (its previous guide).
 // Whether an instance that moved since the last frame (a box where it was or where it is, other than the
-// point's own instance) may stand between the point and a light, now or then: the segment to the light's
-// centre against the box grown by the light's radius (the shadow rays to an area light stay within that of
-// the segment). Its shadow or its light on the point may have changed: the filter must not keep its history.
+// point's own instance) may stand between the point and an area light (the filter smooths only their light),
+// now or then: the segment to the light's centre against the box grown by the light's radius (the shadow rays
+// to it stay within that of the segment). Its shadow on the point may have changed: the filter must not keep
+// its history.
 bool lightMayHaveChanged(uint instance, vec3 posR) {
   for (int k = 0; k < movedBoxCount; ++k) {
     vec4 lo = movedBoxes[2 * k], hi = movedBoxes[2 * k + 1];
-    if (uint(lo.w + 0.5) == instance) continue;
+    if (lo.w >= 0.0 && uint(lo.w + 0.5) == instance) continue;  // (-1: boxes of several merged)
     for (int j = 0; j < TD_LIGHT_COUNT; ++j) {
-      int type = lightType(j);
-      vec3 to = type == TD_LIGHT_DIRECTIONAL ? -lights[j].dirRange.xyz * 1e6 : lights[j].posType.xyz - posR;
-      float r = type == TD_LIGHT_SPHERE ? lights[j].shapeV.w
-              : lightIsArea(j) ? length(lights[j].shapeU.xyz) + length(lights[j].shapeV.xyz) : 0.0;
+      if (!lightIsArea(j)) continue;  // the other lights' light goes past the filter
+      vec3 to = lights[j].posType.xyz - posR;
+      float r = lightType(j) == TD_LIGHT_SPHERE ? lights[j].shapeV.w
+                                                : length(lights[j].shapeU.xyz) + length(lights[j].shapeV.xyz);
       // The slab test of the segment posR + t·to, t in [0, 1].
       vec3 inv = 1.0 / to;
       vec3 t0 = (lo.xyz - r - posR) * inv, t1 = (hi.xyz + r - posR) * inv;

@@ -102,9 +102,14 @@ vec3 directLight(int j, LightingPoint p, Triangle tri, GpuMaterial m, RaySample 
   return vis * Lj;
 }
 
+// The area lights' share of the last localLight (with the spatiotemporal filter's guides: what the frame
+// samples, which the filter smooths; the rest is exact for the pixel's hit and goes past it).
+vec3 areaLightShare = vec3(0.0);
+
 // The surface's own light (docs/shading.md): emission, the ambient term or the radiosity solution, and every
 // direct light with its visibility.
 vec3 localLight(Surface s, RaySample rays, uvec2 id, ivec2 pTop) {
+  areaLightShare = vec3(0.0);
   GpuMaterial m = s.m;
   Triangle tri = s.hit.tri;
   vec3 b = s.hit.b, posW = s.hit.posW, origin = s.hit.origin;
@@ -157,7 +162,12 @@ vec3 localLight(Surface s, RaySample rays, uvec2 id, ivec2 pTop) {
     // compiler, whose light index is a variable, so every light would run every light type's code and every
     // map kind's lookup (llvmpipe runs both sides of each branch); the kinds (TD_LIGHT_KINDS) and
     // lightIsArea specialize a constant index only.
-#define TD_ADD_LIGHT(J) if (J < TD_LIGHT_COUNT) local += directLight(J, lp, tri, m, rays);
+#define TD_ADD_LIGHT(J)                                                 \
+  if (J < TD_LIGHT_COUNT) {                                             \
+    vec3 lightJ = directLight(J, lp, tri, m, rays);                     \
+    local += lightJ;                                                    \
+    if (kDenoiseGuides && lightIsArea(J)) areaLightShare += lightJ;     \
+  }
     TD_ADD_LIGHT(0) TD_ADD_LIGHT(1) TD_ADD_LIGHT(2) TD_ADD_LIGHT(3)
     TD_ADD_LIGHT(4) TD_ADD_LIGHT(5) TD_ADD_LIGHT(6) TD_ADD_LIGHT(7)
 #undef TD_ADD_LIGHT

@@ -77,12 +77,12 @@ struct ShadeInputs {
   /// attachments 2-4 (the guide: depth, normal, instance and surface colour; the motion; the radiance that goes
   /// past the filter), which the shader fills from the motion inputs above (motionHistory false: none known).
   bool denoiseGuides = false;
-  /// With motionHistory: the filter may keep its history (no light changed since the last frame, and no more
-  /// instances moved than movedBoxes holds).
+  /// With motionHistory: the filter may keep its history (no area light and no setting that shapes the light
+  /// changed since the last frame).
   bool denoiseHistory = false;
   /// The instances that moved since the last frame, as render-space boxes where they were and where they are
-  /// (lo.xyz + the instance's index in lo.w, hi.xyz): a pixel whose way to a light crosses one starts its
-  /// history again (a shadow that moved; docs/denoise.md).
+  /// (lo.xyz + the instance's index in lo.w, -1 for a union of several; hi.xyz): a pixel whose way to an area
+  /// light crosses one starts its history again (a shadow that moved; docs/denoise.md).
   std::array<std::pair<glm::vec4, glm::vec4>, TD_MAX_MOVED_BOXES> movedBoxes{};
   int movedBoxCount = 0;
 };

@@ -3,6 +3,8 @@
 // frame's camera and, moved back by its instance's previous-from-current transform, with the last frame's.
 // The view also copies the last frame's ids and depth (whether the point was in view there); the filter keeps
 // its own (gl/DenoisePass).
+#include <limits>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "render/RendererImpl.h"
@@ -47,7 +49,9 @@ void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera,
   now.worldFromObject.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances) now.worldFromObject.emplace_back(inst.worldFromObject);
   if (plan.denoise) {
-    now.lights = scene.lights;
+    // The area lights: the filter smooths their light alone (the others' goes past it).
+    for (const Light& l : scene.lights)
+      if (isAreaLight(l.type)) now.lights.push_back(l);
     now.shading = shadingSettings(s);
   }
   const MotionFrame& before = motionLast;
@@ -142,31 +146,56 @@ FrameSettings Renderer::Impl::shadingSettings(const FrameSettings& s) {
 // (a change of light reaches pixels by amounts its statistics cannot tell from noise in a few frames); the
 // instances that moved go to the shade
 // pass as boxes (render space, where they were and where they are), so that the pixels whose light they may
-// have blocked or unblocked start again. Too many for the boxes: the whole history starts again.
+// have blocked or unblocked start again.
 void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame& now, gl::ShadeInputs& in) const {
   in.denoiseHistory = before.lights == now.lights && before.shading == now.shading;
   in.movedBoxCount = 0;
+  if (!in.denoiseHistory) return;
+  struct Moved {
+    gl::Bounds box;
+    std::size_t instance;
+  };
+  std::vector<Moved> moved;
   const std::vector<gl::Bounds>& meshes = caches.meshBounds();
   const glm::dmat4 fromWorld = glm::translate(glm::dmat4(1.0), -glm::dvec3(now.anchor));
-  for (std::size_t i = 0; i < now.worldFromObject.size() && in.denoiseHistory; ++i) {
+  for (std::size_t i = 0; i < now.worldFromObject.size(); ++i) {
     if (before.worldFromObject[i] == now.worldFromObject[i]) continue;
     const std::size_t mesh = scene.instances[i].mesh;
     if (mesh >= meshes.size() || meshes[mesh].empty()) continue;
     for (const glm::dmat4* m : {&before.worldFromObject[i], &now.worldFromObject[i]}) {
-      if (in.movedBoxCount == TD_MAX_MOVED_BOXES) {
-        in.denoiseHistory = false;
-        break;
-      }
       gl::Bounds box;
       const gl::Bounds& b = meshes[mesh];
       for (int k = 0; k < 8; ++k) {
         const glm::dvec4 corner((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z, 1.0);
         box.add(glm::vec3(fromWorld * *m * corner));
       }
-      in.movedBoxes[static_cast<std::size_t>(in.movedBoxCount++)] = {glm::vec4(box.lo, static_cast<float>(i)),
-                                                                      glm::vec4(box.hi, 0.0f)};
+      moved.push_back({box, i});
     }
   }
+  // More boxes than the shader holds: the two whose union adds the least volume become that union (the
+  // instance then unknown: no pixel of it is spared), until they fit. A game moves many small things.
+  constexpr std::size_t kNoInstance = ~std::size_t{0};
+  auto volume = [](const gl::Bounds& b) {
+    const glm::vec3 e = glm::max(b.hi - b.lo, glm::vec3(0.0f));
+    return static_cast<double>(e.x) * e.y * e.z;
+  };
+  while (moved.size() > TD_MAX_MOVED_BOXES) {
+    std::size_t a = 0, b = 1;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < moved.size(); ++i)
+      for (std::size_t j = i + 1; j < moved.size(); ++j) {
+        gl::Bounds u = moved[i].box;
+        u.add(moved[j].box);
+        const double grows = volume(u) - volume(moved[i].box) - volume(moved[j].box);
+        if (grows < best) best = grows, a = i, b = j;
+      }
+    moved[a].box.add(moved[b].box);
+    if (moved[a].instance != moved[b].instance) moved[a].instance = kNoInstance;
+    moved.erase(moved.begin() + static_cast<std::ptrdiff_t>(b));
+  }
+  for (const Moved& m : moved)
+    in.movedBoxes[static_cast<std::size_t>(in.movedBoxCount++)] = {
+        glm::vec4(m.box.lo, m.instance == kNoInstance ? -1.0f : static_cast<float>(m.instance)), glm::vec4(m.box.hi, 0.0f)};
 }
 
 }  // namespace tandem

@@ -248,7 +248,7 @@ struct Renderer::Impl {
     glm::vec3 forwardR{0.0f, 0.0f, -1.0f};  // the camera's axis (unit)
     FrameSettings shading;  // the filter: its settings as they shape the light (shadingSettings)
     std::vector<glm::dmat4> worldFromObject;
-    std::vector<Light> lights;  // the filter's history does not outlive a change of light
+    std::vector<Light> lights;  // the area lights: the filter's history does not outlive a change of one
   };
   // last: the frame the motion is measured against (an earlier call's); next: the last one composited, made
   // `last` by the first frame of a later call; pending: the frame being drawn.
