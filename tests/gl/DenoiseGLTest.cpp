@@ -24,11 +24,13 @@ namespace {
 
 constexpr int kW = 320, kH = 180;
 
-Scene areaLights() {
-  auto scene = loadSceneFile(test::sourceDir() + "/assets/scenes/area-lights.json");
+Scene sceneFile(const std::string& name) {
+  auto scene = loadSceneFile(test::sourceDir() + "/assets/scenes/" + name);
   EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().message);
   return scene.ok() ? *scene : Scene{};
 }
+
+Scene areaLights() { return sceneFile("area-lights.json"); }
 
 using Frame = gltest::SceneFrame;
 
@@ -106,6 +108,7 @@ TEST(Denoise, OneFilteredSampleBeatsFourRawOnesWithTheCameraMoving) {
 // and the new truth exceeds 0.1: where a ghost would be).
 struct Change {
   const char* name;
+  const char* scene;                     // assets/scenes/...
   std::function<void(Renderer&)> apply;  // on the renderer that has been filtering the old state
   std::function<void(Scene&)> edit;      // the same change, on a scene (the fresh renderer's)
   Camera (*camera)(const Camera&);       // where the camera is after it
@@ -118,7 +121,7 @@ class NoGhost : public ::testing::TestWithParam<Change> {};
 TEST_P(NoGhost, FourFramesAfterAChangeAreAsNearTheTruthAsAFreshStart) {
   TD_REQUIRE_GL_CONTEXT();
   const Change& change = GetParam();
-  Scene scene = areaLights();
+  Scene scene = sceneFile(change.scene);
   Frame f = load(*glContext_, scene);
   const Camera before = f.camera, after = change.camera(f.camera);
   const Image oldTruth = truth(f, before);
@@ -169,18 +172,19 @@ Camera uncovering(const Camera& c) {
   return moved;
 }
 constexpr std::uint32_t kSoftbox = 1, kBlock = 2;  // area-lights.json's order: lights, instances
+constexpr std::uint32_t kSatin = 3;                 // glossy.json's roughness-0.15 ball
 
 INSTANTIATE_TEST_SUITE_P(
     Denoise, NoGhost,
     ::testing::Values(
-        Change{"light-off",
+        Change{"light-off", "area-lights.json",
                [](Renderer& r) {
                  Light off = r.scene().lights[kSoftbox];
                  off.intensity = 0.0f;
                  r.setLight(kSoftbox, off);
                },
                [](Scene& s) { s.lights[kSoftbox].intensity = 0.0f; }, same},
-        Change{"object-removed",
+        Change{"object-removed", "area-lights.json",
                // Out of sight and out of every light's way (the renderer has no removal: a game hides it so).
                [](Renderer& r) {
                  glm::mat4 away = r.scene().instances[kBlock].worldFromObject;
@@ -188,7 +192,17 @@ INSTANTIATE_TEST_SUITE_P(
                  r.setInstanceTransform(kBlock, away);
                },
                [](Scene& s) { s.instances[kBlock].worldFromObject[3] = glm::vec4(0.0f, -100.0f, 0.0f, 1.0f); }, same},
-        Change{"disocclusion", [](Renderer&) {}, [](Scene&) {}, uncovering}),
+        Change{"disocclusion", "area-lights.json", [](Renderer&) {}, [](Scene&) {}, uncovering},
+        // A ball taken out of a glossy floor's reflection (the floor's lobe samples are filtered): what its
+        // shadow was, the moved instance's box says; what its reflection was, only the statistics can.
+        Change{"reflection-removed", "glossy.json",
+               [](Renderer& r) {
+                 glm::mat4 away = r.scene().instances[kSatin].worldFromObject;
+                 away[3] = glm::vec4(0.0f, -100.0f, 0.0f, 1.0f);
+                 r.setInstanceTransform(kSatin, away);
+               },
+               [](Scene& s) { s.instances[kSatin].worldFromObject[3] = glm::vec4(0.0f, -100.0f, 0.0f, 1.0f); },
+               same}),
     [](const ::testing::TestParamInfo<Change>& info) {
       std::string name = info.param.name;
       std::replace(name.begin(), name.end(), '-', '_');
