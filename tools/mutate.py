@@ -277,11 +277,11 @@ MUTATIONS = [
     # The spatiotemporal filter (docs/denoise.md): tests/gl/DenoiseGLTest.cpp against converged images.
     ("denoise-moved-instances-ignored", "shaders/shade_debug.glsl",
      "  inView = inView && !(movedBoxCount > 0 && lightMayHaveChanged(id.x - 1u, posR));", "", "tandem-gl-tests",
-     "*NoGhost*"),
+     "Denoise.NoGhost*"),
     ("denoise-history-outlives-a-light", "engine/src/render/Motion.cpp",
      "  in.denoiseHistory = before.lights == now.lights && before.shading == now.shading;",
      "  in.denoiseHistory = true;", "tandem-gl-tests",
-     "*NoGhost*"),
+     "Denoise.NoGhost*"),
     ("denoise-luminance-weight-ignored", "shaders/denoise.frag",
      "  float lumScale = 1.4426950 / (4.0 * sqrt(max(v0, 0.0)) + 1e-6);", "  float lumScale = 0.0;", "tandem-gl-tests",
      "Denoise.*"),

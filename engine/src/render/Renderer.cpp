@@ -88,7 +88,6 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
   if (!timed(stats.prepareMs, [&] { return prepare(plan, camera, stats, true, true); })) return finishFrame(clock, stats);
   if (!s.pipelined && (rayHeld || spareVisibility)) releasePipeline();  // cost follows the settings
   if (!sampled && accum.active()) timed(stats.accumulateMs, [&] { accum.release(); });  // cost follows the settings
-  if (!s.denoise && denoisePass) denoisePass.reset();  // (a frame that shades releases it too: shadeDenoised)
   const bool drawn = sampled ? drawSampled(plan, camera, stats, clock.lastDrawn)
                              : drawSample(plan, denoiseSample(plan, camera), stats, clock.lastDrawn, nullptr);
   if (drawn) timed(stats.presentMs, [&] { present(); });
@@ -303,6 +302,9 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
     stats.error = frameError(s, targets.error().message);
     return false;
   }
+  // The filter's targets go with its setting (cost follows the settings; a frame that shades releases them
+  // too: shadeDenoised).
+  if (!s.denoise && denoisePass) denoisePass.reset();
   // The GL copy's time is each sample's (drawSample): here only the shutter, leaving the time as it is.
   if (syncGl) caches.syncGpu(scene, s.shadingOverride, camera.shutter, caches.gpuTime());
   if (syncEmbree && plan.needsRayScene() && !caches.syncRays(scene, camera.shutter, *tracer)) plan.withoutRays();
