@@ -302,9 +302,7 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
     stats.error = frameError(s, targets.error().message);
     return false;
   }
-  // The filter's targets go with its setting (cost follows the settings; a frame that shades releases them
-  // too: shadeDenoised).
-  if (!s.denoise && denoisePass) denoisePass.reset();
+  if (!s.denoise && denoisePass) denoisePass.reset();  // cost follows the settings (and see shadeDenoised)
   // The GL copy's time is each sample's (drawSample): here only the shutter, leaving the time as it is.
   if (syncGl) caches.syncGpu(scene, s.shadingOverride, camera.shutter, caches.gpuTime());
   if (syncEmbree && plan.needsRayScene() && !caches.syncRays(scene, camera.shutter, *tracer)) plan.withoutRays();
