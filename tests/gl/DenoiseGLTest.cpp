@@ -43,12 +43,7 @@ FrameSettings settings(const Frame& f, int lightSamples, bool denoise) {
   return s;
 }
 
-Image draw(Frame& f, const Camera& camera, const FrameSettings& s, FrameStats* stats = nullptr) {
-  FrameStats st = f.renderer->render(camera, s);
-  EXPECT_TRUE(st.error.empty()) << st.error;
-  if (stats != nullptr) *stats = st;
-  return f.renderer->readImage();
-}
+using gltest::drawFrame;
 
 // The converged image of `camera`'s view of what `f` holds now: 64 jittered frames of 8 light samples (512 per
 // light and pixel, the pixel's area sampled as the filter's jitter samples it).
@@ -56,7 +51,7 @@ Image truth(Frame& f, const Camera& camera) {
   FrameSettings s = settings(f, 8, false);
   s.accumulate = 64;
   Image image;
-  for (int i = 0; i < 64; ++i) image = draw(f, camera, s);
+  for (int i = 0; i < 64; ++i) image = drawFrame(f, camera, s);
   return image;
 }
 
@@ -72,7 +67,7 @@ Camera panned(const Camera& start, int k) {
 // `frames` filtered frames of one light sample from `camera`, the last one's image.
 Image filterFrames(Frame& f, const Camera& camera, int frames, FrameStats* stats = nullptr) {
   Image image;
-  for (int k = 0; k < frames; ++k) image = draw(f, camera, settings(f, 1, true), stats);
+  for (int k = 0; k < frames; ++k) image = drawFrame(f, camera, settings(f, 1, true), stats);
   return image;
 }
 
@@ -84,11 +79,11 @@ TEST(Denoise, OneFilteredSampleBeatsFourRawOnesWithTheCameraMoving) {
   constexpr int kFrames = 16;
   Image filtered;
   FrameStats st;
-  for (int k = 0; k < kFrames; ++k) filtered = draw(f, panned(f.camera, k), settings(f, 1, true), &st);
+  for (int k = 0; k < kFrames; ++k) filtered = drawFrame(f, panned(f.camera, k), settings(f, 1, true), &st);
   EXPECT_TRUE(st.denoised);
   const Camera last = panned(f.camera, kFrames - 1);
-  const Image raw1 = draw(f, last, settings(f, 1, false));
-  const Image raw4 = draw(f, last, settings(f, 4, false));
+  const Image raw1 = drawFrame(f, last, settings(f, 1, false));
+  const Image raw4 = drawFrame(f, last, settings(f, 4, false));
   const Image converged = truth(f, last);
   const double eFiltered = flipMean(filtered, converged), e1 = flipMean(raw1, converged), e4 = flipMean(raw4, converged);
   std::printf("FLIP vs converged, camera panning, frame %d: filtered 1 sample %.5f, raw 1 sample %.5f, raw 4 "
@@ -123,7 +118,7 @@ void expectNoGhost(GlContext& context, const Change& change) {
   Image first;
   Image fourth;
   for (int k = 0; k < 4; ++k) {
-    fourth = draw(f, after, settings(f, 1, true));
+    fourth = drawFrame(f, after, settings(f, 1, true));
     if (k == 0) first = fourth;
   }
   Scene edited = scene;
@@ -174,26 +169,23 @@ const Change kLightOff{"light-off", "area-lights.json",
                          r.setLight(kSoftbox, off);
                        },
                        [](Scene& s) { s.lights[kSoftbox].intensity = 0.0f; }, same};
-// Out of sight and out of every light's way (the renderer has no removal: a game hides an object so).
-const Change kObjectRemoved{"object-removed", "area-lights.json",
-                            [](Renderer& r) {
-                              glm::mat4 away = r.scene().instances[kBlock].worldFromObject;
-                              away[3] = glm::vec4(0.0f, -100.0f, 0.0f, 1.0f);
-                              r.setInstanceTransform(kBlock, away);
-                            },
-                            [](Scene& s) { s.instances[kBlock].worldFromObject[3] = glm::vec4(0.0f, -100.0f, 0.0f, 1.0f); },
-                            same};
+// Instance `instance` moved out of sight and out of every light's way (the renderer has no removal: a game
+// hides an object so), on the renderer and on a scene alike.
+Change removing(const char* name, const char* scene, std::uint32_t instance) {
+  auto away = [](glm::mat4 m) {
+    m[3] = glm::vec4(0.0f, -100.0f, 0.0f, 1.0f);
+    return m;
+  };
+  return Change{name, scene,
+                [=](Renderer& r) { r.setInstanceTransform(instance, away(r.scene().instances[instance].worldFromObject)); },
+                [=](Scene& s) { s.instances[instance].worldFromObject = away(s.instances[instance].worldFromObject); },
+                same};
+}
+const Change kObjectRemoved = removing("object-removed", "area-lights.json", kBlock);
 const Change kDisocclusion{"disocclusion", "area-lights.json", [](Renderer&) {}, [](Scene&) {}, uncovering};
 // A ball taken out of a glossy floor's reflection (the floor's lobe samples are filtered): what its shadow was,
 // the moved instance's box says; what its reflection was, only the statistics can.
-const Change kReflectionRemoved{"reflection-removed", "glossy.json",
-                                [](Renderer& r) {
-                                  glm::mat4 away = r.scene().instances[kSatin].worldFromObject;
-                                  away[3] = glm::vec4(0.0f, -100.0f, 0.0f, 1.0f);
-                                  r.setInstanceTransform(kSatin, away);
-                                },
-                                [](Scene& s) { s.instances[kSatin].worldFromObject[3] = glm::vec4(0.0f, -100.0f, 0.0f, 1.0f); },
-                                same};
+const Change kReflectionRemoved = removing("reflection-removed", "glossy.json", kSatin);
 
 TEST(Denoise, NoGhostFourFramesAfterALightIsSwitchedOff) {
   TD_REQUIRE_GL_CONTEXT();
@@ -231,7 +223,7 @@ TEST(Denoise, ExactAnswersStayAsTheRaysAnsweredThem) {
   ASSERT_TRUE(st.denoised);
   FrameSettings exact = settings(f, 1, false);
   const Image accumulated = gltest::accumulateFrames(f, exact, 32);
-  const Image raw = draw(f, f.camera, exact);
+  const Image raw = drawFrame(f, f.camera, exact);
   auto count = [&](const Image& a, int over) {
     int n = 0;
     for (std::size_t i = 0; i < a.rgba.size(); ++i)
@@ -266,7 +258,7 @@ TEST(Denoise, FarFromTheOriginTheFramesAreTheOrigins) {
       Camera c = f.camera;
       c.posW.x += 0.25f * static_cast<float>(k);  // a step the camera's float holds exactly at 1e6
       c.targetW.x += 0.25f * static_cast<float>(k);
-      images[i] = draw(f, c, settings(f, 1, true));
+      images[i] = drawFrame(f, c, settings(f, 1, true));
     }
   }
   const double e = flipMean(images[0], images[1]);
@@ -279,11 +271,11 @@ TEST(Denoise, StatsSayReconstructedAndOffReleasesIt) {
   TD_REQUIRE_GL_CONTEXT();
   Frame f = load(*glContext_, areaLights());
   FrameSettings off = settings(f, 1, false);
-  draw(f, f.camera, off);
+  drawFrame(f, f.camera, off);
   const std::size_t without = f.renderer->resources().glObjects;
   FrameStats st;
   for (int k = 0; k < 3; ++k) {
-    draw(f, f.camera, settings(f, 1, true), &st);
+    drawFrame(f, f.camera, settings(f, 1, true), &st);
     // Each filtered frame draws new samples (a new sub-pixel offset): traced, never reused, and reconstructed.
     EXPECT_TRUE(st.denoised);
     EXPECT_FALSE(st.raysReused);
@@ -295,10 +287,10 @@ TEST(Denoise, StatsSayReconstructedAndOffReleasesIt) {
   // every variant does: one program).
   const std::size_t with = f.renderer->resources().glObjects;
   EXPECT_GE(with, without + 20);
-  draw(f, f.camera, off, &st);
+  drawFrame(f, f.camera, off, &st);
   EXPECT_FALSE(st.denoised);
   EXPECT_EQ(st.denoiseMs, 0.0);
-  draw(f, f.camera, off, &st);
+  drawFrame(f, f.camera, off, &st);
   EXPECT_TRUE(st.raysReused) << "without the filter a still frame reuses its rays again";
   EXPECT_EQ(f.renderer->resources().glObjects, without + 1) << "the filter's targets and programs are released";
   // Not with several samples a frame (aa) or in the reference: resolved() turns it off there.
@@ -306,7 +298,7 @@ TEST(Denoise, StatsSayReconstructedAndOffReleasesIt) {
   aa.aa = AntiAlias::Ssaa;
   aa.aaSamples = 2;
   EXPECT_FALSE(aa.resolved().denoise);
-  draw(f, f.camera, aa, &st);
+  drawFrame(f, f.camera, aa, &st);
   EXPECT_FALSE(st.denoised);
 }
 
@@ -320,9 +312,9 @@ TEST(Denoise, FramesOfAnotherSizeInBetweenLeaveTheOutputRight) {
   FrameSettings other = settings(f, 1, false);
   other.width = kW / 2;
   other.height = kH / 2;
-  draw(f, f.camera, other);
+  drawFrame(f, f.camera, other);
   other.debugView = DebugView::NormalW;  // a view the filter leaves alone, at the other size
-  draw(f, f.camera, other);
+  drawFrame(f, f.camera, other);
   const Image after = filterFrames(f, f.camera, 4);
   ASSERT_EQ(after.width, kW);
   const double e = flipMean(after, before);
@@ -338,11 +330,11 @@ TEST(Denoise, AnAccumulationAtRestStillConvergesOnTheExactMean) {
   FrameSettings s = settings(f, 4, true);
   s.accumulate = 32;
   FrameStats st;
-  Image image = draw(f, f.camera, s, &st);
+  Image image = drawFrame(f, f.camera, s, &st);
   EXPECT_TRUE(st.denoised) << "the first frame is shown filtered";
   EXPECT_EQ(st.accumulated, 1);
   for (int k = 1; k < 32; ++k) {
-    image = draw(f, f.camera, s, &st);
+    image = drawFrame(f, f.camera, s, &st);
     EXPECT_FALSE(st.denoised) << "frame " << k << ": the samples summed are drawn as they are";
   }
   EXPECT_EQ(st.accumulated, 31) << "the filtered first frame is not a sample of the mean";

@@ -187,10 +187,11 @@ inline Image drawFrame(SceneFrame& f, const FrameSettings& settings, FrameStats*
   return f.renderer->readImage();
 }
 
-/// One frame with `settings` from `camera` (not the frame's), its display image.
-inline Image drawFrame(SceneFrame& f, const Camera& camera, const FrameSettings& settings) {
+/// One frame with `settings` from `camera` (not the frame's), its display image (the stats in `stats`).
+inline Image drawFrame(SceneFrame& f, const Camera& camera, const FrameSettings& settings, FrameStats* stats = nullptr) {
   FrameStats st = f.renderer->render(camera, settings);
   EXPECT_TRUE(st.error.empty()) << st.error;
+  if (stats != nullptr) *stats = st;
   return f.renderer->readImage();
 }
 

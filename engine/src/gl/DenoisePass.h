@@ -40,9 +40,6 @@ class DenoisePass {
   /// The next frame has no past (a frame was drawn without the filter in between).
   void forget() { historyHeld_ = false; }
 
-  /// The a-trous iterations (tap spacing 1, 2, 4 pixels).
-  static constexpr int kIterations = 3;
-
  private:
   Program temporal_, atrous_, last_, antiAlias_;
   VertexArray emptyVao_;

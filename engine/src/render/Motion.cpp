@@ -3,7 +3,7 @@
 // frame's camera and, moved back by its instance's previous-from-current transform, with the last frame's.
 // The view also copies the last frame's ids and depth (whether the point was in view there); the filter keeps
 // its own (gl/DenoisePass).
-#include <limits>
+#include <algorithm>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -172,26 +172,28 @@ void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame&
       moved.push_back({box, i});
     }
   }
-  // More boxes than the shader holds: the two whose union adds the least volume become that union (the
-  // instance then unknown: no pixel of it is spared), until they fit. A game moves many small things.
+  // More boxes than the shader holds (a game moves many small things): sorted by centre along the axis their
+  // centres spread most, cut into that many runs of neighbours, each run's union one box (the instance then
+  // unknown, -1, unless the run is one instance's). Linear after the sort: this runs every frame.
   constexpr std::size_t kNoInstance = ~std::size_t{0};
-  auto volume = [](const gl::Bounds& b) {
-    const glm::vec3 e = glm::max(b.hi - b.lo, glm::vec3(0.0f));
-    return static_cast<double>(e.x) * e.y * e.z;
-  };
-  while (moved.size() > TD_MAX_MOVED_BOXES) {
-    std::size_t a = 0, b = 1;
-    double best = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < moved.size(); ++i)
-      for (std::size_t j = i + 1; j < moved.size(); ++j) {
-        gl::Bounds u = moved[i].box;
-        u.add(moved[j].box);
-        const double grows = volume(u) - volume(moved[i].box) - volume(moved[j].box);
-        if (grows < best) best = grows, a = i, b = j;
+  if (moved.size() > TD_MAX_MOVED_BOXES) {
+    gl::Bounds centres;
+    for (const Moved& m : moved) centres.add(m.box.centre());
+    const glm::vec3 spread = centres.hi - centres.lo;
+    const int axis = spread.x >= spread.y && spread.x >= spread.z ? 0 : spread.y >= spread.z ? 1 : 2;
+    std::sort(moved.begin(), moved.end(),
+              [axis](const Moved& a, const Moved& b) { return a.box.centre()[axis] < b.box.centre()[axis]; });
+    std::vector<Moved> runs;
+    for (std::size_t k = 0; k < TD_MAX_MOVED_BOXES; ++k) {
+      const std::size_t first = k * moved.size() / TD_MAX_MOVED_BOXES, end = (k + 1) * moved.size() / TD_MAX_MOVED_BOXES;
+      Moved run = moved[first];
+      for (std::size_t m = first + 1; m < end; ++m) {
+        run.box.add(moved[m].box);
+        if (moved[m].instance != run.instance) run.instance = kNoInstance;
       }
-    moved[a].box.add(moved[b].box);
-    if (moved[a].instance != moved[b].instance) moved[a].instance = kNoInstance;
-    moved.erase(moved.begin() + static_cast<std::ptrdiff_t>(b));
+      runs.push_back(run);
+    }
+    moved = std::move(runs);
   }
   for (const Moved& m : moved)
     in.movedBoxes[static_cast<std::size_t>(in.movedBoxCount++)] = {
