@@ -143,6 +143,8 @@
 #define TD_LOC_DENOISE_EXPOSURE 9        // the final iteration writes the display too (tdDisplay)
 #define TD_LOC_DENOISE_TONE_MAP 10
 #define TD_LOC_DENOISE_BACKGROUND 11     // the final iteration's background pixels
+#define TD_LOC_DENOISE_GRID_SCALE 12     // the ray grid's divisor (rayScale): the filter's own pixels are the grid's
+#define TD_LOC_DENOISE_GRID_SIZE 13      // the grid's size in pixels
 // The output pass (tonemap.frag; OutputPass).
 #define TD_LOC_EXPOSURE 0
 #define TD_LOC_TONE_MAP 1

@@ -11,7 +11,12 @@
 //     filter (a sharp mirror's or glass's rays) added: the filtered frame;
 //   3 anti-aliasing (TAA): the filtered frame blended with the last frame's result reprojected along the
 //     motion vectors and clamped to this frame's neighbourhood (the jittered frames' sub-pixel samples add up
-//     at edges), into the frame's linear radiance and its display, and kept for the next frame.
+//     at edges), into the frame's linear radiance and its display, and kept for the next frame;
+//   4 upsampling: with rays on a coarser grid (gridScale > 1) the temporal stage and every a-trous iteration
+//     run on the grid's pixels (each reads the frame pixel the grid traced: its own sample, not the shade
+//     pass's blend of four, whose noise would come in grid-sized blocks the edge-stopping weights keep as
+//     structure); this stage takes each frame pixel's illumination from its grid neighbours, edge-aware, and
+//     does what stage 2 does for a full-resolution grid.
 // Background pixels (instance 0) are never filtered. Texel layouts: denoise.glsl.
 #define TD_OUT(T) out T
 #include "bindings.glsl"
@@ -32,6 +37,8 @@ layout(location = TD_LOC_DENOISE_MAX_HISTORY) uniform float maxHistory;
 layout(location = TD_LOC_DENOISE_EXPOSURE) uniform float exposure;
 layout(location = TD_LOC_DENOISE_TONE_MAP) uniform int toneMap;
 layout(location = TD_LOC_DENOISE_BACKGROUND) uniform vec3 background;
+layout(location = TD_LOC_DENOISE_GRID_SCALE) uniform int gridScale;   // 1: the grid is the frame
+layout(location = TD_LOC_DENOISE_GRID_SIZE) uniform ivec2 gridSize;   // the temporal and a-trous stages' pixels
 
 layout(binding = TD_UNIT_DENOISE_NOISY) uniform TD_SAMPLER_DENOISE_NOISY noisyTex;
 layout(binding = TD_UNIT_DENOISE_GUIDE) uniform TD_SAMPLER_DENOISE_GUIDE guideTex;
@@ -45,7 +52,7 @@ layout(binding = TD_UNIT_DENOISE_TAA_HISTORY) uniform TD_SAMPLER_DENOISE_RADIANC
 layout(binding = TD_UNIT_DENOISE_LENGTH) uniform TD_SAMPLER_DENOISE_MOMENTS lengthTex;
 layout(binding = TD_UNIT_DENOISE_SKIP) uniform TD_SAMPLER_DEPTH skipTex;
 
-#if TD_DENOISE_STAGE == 2
+#if TD_DENOISE_STAGE == 2 || TD_DENOISE_STAGE == 4
 layout(location = 0) out TD_OUTPUT_DENOISE_RADIANCE outFiltered;
 #elif TD_DENOISE_STAGE == 3
 layout(location = 0) out TD_OUTPUT_LINEAR outLinear;
@@ -70,6 +77,21 @@ bool settled(vec3 illum, float var) { return sqrt(var) <= 0.01 * tdDenoiseLumina
 // A pixel's four neighbours (the temporal and anti-aliasing stages' neighbourhoods: a cross of five).
 const ivec2 cross4[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
 
+// The frame pixel (GL rows) grid pixel q (GL rows) stands for: the one the ray pass traced for it (rows from
+// the top, engine/src/rt/RayTracer.h), where the shade pass's value is that grid pixel's own sample.
+ivec2 standIn(ivec2 q) {
+  ivec2 top = min(ivec2(q.x, gridSize.y - 1 - q.y) * gridScale + gridScale / 2, frameSize - 1);
+  return ivec2(top.x, frameSize.y - 1 - top.y);
+}
+// A frame position (GL rows, pixels, centres at .5) in grid pixels (the stand-ins' centres at .5).
+vec2 toGrid(vec2 x) {
+  vec2 top = vec2(x.x, float(frameSize.y) - x.y);
+  vec2 g = (top - (float(gridScale / 2) + 0.5)) / float(gridScale) + 0.5;
+  return vec2(g.x, float(gridSize.y) - g.y);
+}
+// The grid pixel whose block of frame pixels holds frame pixel p.
+ivec2 gridOf(ivec2 p) { return clamp(ivec2(floor(toGrid(vec2(p) + 0.5))), ivec2(0), gridSize - 1); }
+
 vec3 illumination(uvec4 t) { return vec3(unpackHalf2x16(t.x), unpackHalf2x16(t.y).x); }
 float variance(uvec4 t) { return unpackHalf2x16(t.y).y; }
 // (Clamped under half precision's largest value: an infinity there would turn a zero weight's product into a
@@ -83,8 +105,9 @@ uvec4 filterTexel(vec3 illum, float var, uint depthBits, uint normalInstance) {
 // ---- stage 0: temporal accumulation ----
 #if TD_DENOISE_STAGE == 0
 void temporal() {
-  ivec2 p = ivec2(gl_FragCoord.xy);
-  uvec4 g = texelFetch(guideTex, p, 0);
+  ivec2 p = ivec2(gl_FragCoord.xy);  // a grid pixel
+  ivec2 at = standIn(p);
+  uvec4 g = texelFetch(guideTex, at, 0);
   uint tag = tdInstanceTag(g.y);
   if (tag == 0u) {
     outTexel = outTexelB = outHistory = uvec4(0u);
@@ -92,14 +115,15 @@ void temporal() {
     gl_FragDepth = 0.0;
     return;
   }
-  vec3 cur = texelFetch(noisyTex, p, 0).rgb;
+  vec3 cur = texelFetch(noisyTex, at, 0).rgb;
   if (any(isnan(cur)) || any(isinf(cur))) cur = vec3(0.0);  // a shading fault must not live on in the history
   // This frame's neighbourhood (a cross of five): the box the history is clamped to (a light switched off, a
   // reflection that moved otherwise than its surface), and the variance of a history too short for its own
-  // moments. Taps off the frame read the edge.
+  // moments. Taps off the frame read the edge; on a coarser grid the neighbours are the next grid pixels'
+  // (samples of their own).
   vec3 m1 = cur, m2 = cur * cur;
   for (int k = 0; k < 4; ++k) {
-    vec3 c = texelFetch(noisyTex, clamp(p + cross4[k], ivec2(0), frameSize - 1), 0).rgb;
+    vec3 c = texelFetch(noisyTex, standIn(clamp(p + cross4[k], ivec2(0), gridSize - 1)), 0).rgb;
     m1 += c;
     m2 += c * c;
   }
@@ -110,19 +134,19 @@ void temporal() {
 
   // The point's place in the last frame: a bilinear tap of the four texels around it, each kept only where
   // the last frame showed the same instance at the depth the point had then, facing the same way.
-  vec4 m = texelFetch(motionTex, p, 0);
+  vec4 m = texelFetch(motionTex, at, 0);
   vec3 N = tdUnpackNormal(g.y);
   vec3 past = vec3(0.0);
   vec3 pastMoments = vec3(0.0);  // luminance, its square, history length
   float weight = 0.0;
   if (history != 0 && m.w > 0.5) {
-    vec2 before = vec2(p) + 0.5 - m.xy;
+    vec2 before = toGrid(vec2(at) + 0.5 - m.xy);
     vec2 base = floor(before - 0.5);
     vec2 f = before - 0.5 - base;
     for (int k = 0; k < 4; ++k) {
       ivec2 o = ivec2(k & 1, k >> 1);
       ivec2 q = ivec2(base) + o;
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, frameSize))) continue;
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, gridSize))) continue;
       uvec4 h = texelFetch(historyTex, q, 0);
       float depthThen = uintBitsToFloat(h.z);
       if (tdInstanceTag(h.w) != tag || abs(depthThen - m.z) > 0.03 * m.z || dot(tdUnpackNormal(h.w), N) < 0.9) continue;
@@ -172,71 +196,149 @@ void temporal() {
   var /= len;
   outTexel = outTexelB = outHistory = filterTexel(illum, var, g.x, g.y);
   outMoments = vec4(moments, len, drop ? 1.0 : 0.0);
-  gl_FragDepth = settled(illum, var) ? 0.0 : 1.0;
+  // Settled needs the neighbours' samples to agree too: a pixel whose few samples agreed by chance (a penumbra's
+  // visibility is 0 or 1 a sample) is not done, and a skipped one would stay a speck.
+  gl_FragDepth = settled(illum, max(var, spatialVariance / len)) ? 0.0 : 1.0;
 }
 #endif
 
-// ---- stages 1 and 2: one a-trous iteration ----
+// ---- stages 1, 2 and 4: one a-trous iteration, the upsampling ----
 // Pixel q's normalized device coordinates.
 vec2 ndcOf(ivec2 q) { return (vec2(q) + 0.5) / vec2(frameSize) * 2.0 - 1.0; }
 
+// A point's tangent plane, as the a-trous and upsampling taps measure distances off it. The point pixel q
+// shows at view depth zq, relative to the camera, is zq·(F + R·x + U·y) (perspective; F the forward axis, R and
+// U the scaled right and up, x and y its ndc), or R·x + U·y + zq·F (orthographic). Its distance off the plane,
+// dot(N, Pq − P), is then affine in x, y and zq: three dot products once per pixel, a few multiplies per tap.
+struct TangentPlane {
+  vec3 N;
+  float nf, nr, nu, at;
+  float footprint;  // a pixel's width at the point's depth
+};
+TangentPlane tangentPlane(vec3 N, float z, vec2 ndc) {
+  TangentPlane t;
+  t.N = N;
+  vec3 F = normalize(cross(cameraUp, cameraRight));
+  t.nf = dot(N, F);
+  t.nr = dot(N, cameraRight);
+  t.nu = dot(N, cameraUp);
+  bool ortho = orthographic != 0;
+  t.at = ortho ? t.nr * ndc.x + t.nu * ndc.y + z * t.nf : z * (t.nf + t.nr * ndc.x + t.nu * ndc.y);
+  t.footprint = 2.0 * length(cameraUp) * (ortho ? 1.0 : z) / float(frameSize.y);
+  return t;
+}
+float planeDistance(TangentPlane t, float zq, vec2 nq) {
+  float along = t.nr * nq.x + t.nu * nq.y;
+  return abs((orthographic != 0 ? along + zq * t.nf : zq * (t.nf + along)) - t.at);
+}
+// The normals' weight, max(cos, 0)^32 by squaring.
+float normalWeight(TangentPlane t, uint normalInstance) {
+  float wn = max(dot(t.N, tdUnpackNormal(normalInstance)), 0.0);
+  wn *= wn;
+  wn *= wn;
+  wn *= wn;
+  wn *= wn;
+  return wn * wn;
+}
+
+// One iteration at grid pixel p (a frame pixel when gridScale is 1): taps stepPx grid pixels apart.
 uvec4 atrous(ivec2 p, uvec4 centre) {
   uint tag = tdInstanceTag(centre.w);
-  vec3 N = tdUnpackNormal(centre.w);
-  float z = uintBitsToFloat(centre.z);
   vec3 c0 = illumination(centre);
   float v0 = variance(centre);
   float lc = tdDenoiseLuminance(c0);
-  // The point pixel q shows at view depth zq, relative to the camera: zq·(F + R·x + U·y) (perspective; F the
-  // forward axis, R and U the scaled right and up, x and y its ndc), or R·x + U·y + zq·F (orthographic). Its
-  // distance off the centre's tangent plane, dot(N, Pq − P), is then affine in x, y and zq: three dot
-  // products once per pixel, a few multiplies per tap.
-  vec3 F = normalize(cross(cameraUp, cameraRight));
-  float nf = dot(N, F), nr = dot(N, cameraRight), nu = dot(N, cameraUp);
-  vec2 ndc = ndcOf(p);
-  bool ortho = orthographic != 0;
-  float planeAt = ortho ? nr * ndc.x + nu * ndc.y + z * nf : z * (nf + nr * ndc.x + nu * ndc.y);
-  // The weights as one exponential: that distance in pixel footprints at the centre's depth (per pixel of tap
-  // spacing), and the luminance difference in units of the centre's noise (a pixel whose samples agree has
-  // none and keeps its value). log2(e) is folded into both scales.
-  float footprint = 2.0 * length(cameraUp) * (ortho ? 1.0 : z) / float(frameSize.y);
-  float planeScale = 1.4426950 / (footprint * float(stepPx));
-  float lumScale = 1.4426950 / (4.0 * sqrt(max(v0, 0.0)) + 1e-6);
-  vec2 ndcStep = 2.0 * float(stepPx) / vec2(frameSize);
+  // The taps first (a tap off the frame reads the nearest edge texel and weighs nothing, as does one on another
+  // instance): the luminance weight's noise is the centre's variance blurred over them (SVGF's 3x3 Gaussian,
+  // here at the iteration's spacing: the taps it reads anyway), so that a pixel whose few samples agreed by
+  // chance still filters with its neighbours.
   const float kernel[3] = float[3](0.25, 0.5, 0.25);
+  uvec4 taps[9];
+  float valid[9];
+  float vBlur = 0.25 * v0, vWeight = 0.25;
+  for (int k = 0; k < 9; ++k) {
+    ivec2 o = ivec2(k % 3, k / 3) - 1;
+    ivec2 want = p + stepPx * o;
+    ivec2 q = clamp(want, ivec2(0), gridSize - 1);
+    taps[k] = texelFetch(inputTex, q, 0);
+    valid[k] = (k != 4 && q == want && tdInstanceTag(taps[k].w) == tag) ? 1.0 : 0.0;
+    float g = kernel[o.x + 1] * kernel[o.y + 1] * valid[k];
+    vBlur += g * variance(taps[k]);
+    vWeight += g;
+  }
+  vBlur /= vWeight;
+  vec2 ndc = ndcOf(standIn(p));
+  TangentPlane plane = tangentPlane(tdUnpackNormal(centre.w), uintBitsToFloat(centre.z), ndc);
+  // The weights as one exponential: the distance off the plane in pixel footprints at the centre's depth (per
+  // frame pixel of tap spacing), and the luminance difference in units of the centre's noise (a pixel whose
+  // samples agree has none and keeps its value). log2(e) is folded into both scales.
+  const float spacing = float(stepPx * gridScale);  // in frame pixels
+  float planeScale = 1.4426950 / (plane.footprint * spacing);
+  float lumScale = 1.4426950 / (4.0 * sqrt(max(vBlur, 0.0)) + 1e-6);
+  vec2 ndcStep = 2.0 * spacing / vec2(frameSize);
   vec3 sum = c0 * 0.25;
   float wsum = 0.25;
   float vsum = 0.0625 * v0;
-  // Branch-free taps (a software GL runs both sides of a branch its SIMD lanes disagree on): a tap off the
-  // frame reads the nearest edge texel and weighs nothing, as does one on another instance.
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      if (dx == 0 && dy == 0) continue;
-      ivec2 want = p + stepPx * ivec2(dx, dy);
-      ivec2 q = clamp(want, ivec2(0), frameSize - 1);
-      uvec4 t = texelFetch(inputTex, q, 0);
-      vec3 c = illumination(t);
-      float zq = uintBitsToFloat(t.z);
-      vec2 nq = ndc + ndcStep * vec2(dx, dy);
-      float along = nr * nq.x + nu * nq.y;
-      float plane = abs((ortho ? along + zq * nf : zq * (nf + along)) - planeAt);
-      // The normals' weight, max(cos, 0)^32 by squaring.
-      float wn = max(dot(N, tdUnpackNormal(t.w)), 0.0);
-      wn *= wn;
-      wn *= wn;
-      wn *= wn;
-      wn *= wn;
-      wn *= wn;
-      float d = (dx == 0 || dy == 0) ? 1.0 : 1.41421356;
-      float e = plane * planeScale / d + abs(tdDenoiseLuminance(c) - lc) * lumScale;
-      float valid = (q == want && tdInstanceTag(t.w) == tag) ? 1.0 : 0.0;
-      float w = kernel[dx + 1] * kernel[dy + 1] * valid * wn * exp2(-e);
-      sum += w * c;
-      wsum += w;
-      vsum += w * w * variance(t);
-    }
+  // Branch-free (a software GL runs both sides of a branch its SIMD lanes disagree on).
+  for (int k = 0; k < 9; ++k) {
+    ivec2 o = ivec2(k % 3, k / 3) - 1;
+    uvec4 t = taps[k];
+    vec3 c = illumination(t);
+    float d = (o.x == 0 || o.y == 0) ? 1.0 : 1.41421356;
+    float e = planeDistance(plane, uintBitsToFloat(t.z), ndc + ndcStep * vec2(o)) * planeScale / d +
+              abs(tdDenoiseLuminance(c) - lc) * lumScale;
+    float w = kernel[o.x + 1] * kernel[o.y + 1] * valid[k] * normalWeight(plane, t.w) * exp2(-e);
+    sum += w * c;
+    wsum += w;
+    vsum += w * w * variance(t);
+  }
   return filterTexel(sum / wsum, vsum / (wsum * wsum), centre.z, centre.w);
 }
+
+// ---- stage 4: upsampling from a coarser grid ----
+#if TD_DENOISE_STAGE == 4
+// Frame pixel p's filtered illumination from the grid's: its four bilinear neighbours among the grid pixels,
+// each weighed as an a-trous tap (the same instance, near p's tangent plane, facing its way). None of them
+// (a thin object, a silhouette): the nearest grid pixel within one step that shows p's instance (the shade
+// pass's rule for the rays), else p's own sample.
+vec3 upsample(ivec2 p, uvec4 guide) {
+  uint tag = tdInstanceTag(guide.y);
+  vec2 ndc = ndcOf(p);
+  TangentPlane plane = tangentPlane(tdUnpackNormal(guide.y), uintBitsToFloat(guide.x), ndc);
+  float planeScale = 1.4426950 / (plane.footprint * float(gridScale));
+  vec2 u = toGrid(vec2(p) + 0.5) - 0.5;
+  ivec2 g0 = ivec2(floor(u));
+  vec2 f = u - vec2(g0);
+  vec3 sum = vec3(0.0);
+  float wsum = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 o = ivec2(k & 1, k >> 1);
+    ivec2 want = g0 + o;
+    ivec2 q = clamp(want, ivec2(0), gridSize - 1);
+    uvec4 t = texelFetch(inputTex, q, 0);
+    float bilinear = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
+    float valid = (q == want && tdInstanceTag(t.w) == tag) ? 1.0 : 0.0;
+    float w = bilinear * valid * normalWeight(plane, t.w) *
+              exp2(-planeDistance(plane, uintBitsToFloat(t.z), ndcOf(standIn(q))) * planeScale);
+    sum += w * illumination(t);
+    wsum += w;
+  }
+  if (wsum > 1e-4) return sum / wsum;
+  ivec2 nearest = ivec2(floor(u + 0.5));
+  float bestD = 1e30;
+  vec3 best = texelFetch(noisyTex, p, 0).rgb;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      ivec2 q = clamp(nearest + ivec2(dx, dy), ivec2(0), gridSize - 1);
+      uvec4 t = texelFetch(inputTex, q, 0);
+      vec2 d = vec2(q) - u;
+      if (tdInstanceTag(t.w) == tag && dot(d, d) < bestD) {
+        bestD = dot(d, d);
+        best = illumination(t);
+      }
+    }
+  return best;
+}
+#endif
 
 // ---- stage 3: temporal anti-aliasing ----
 #if TD_DENOISE_STAGE == 3
@@ -256,7 +358,7 @@ void antiAlias(ivec2 p) {
   bool background = tdInstanceTag(texelFetch(guideTex, p, 0).y) == 0u;
   // A pixel whose filter history was dropped as stale (or off the last frame, or its light changed) drops this
   // one too: the box above is as wide as a fresh pixel's noise, and would let the old colour through.
-  bool fresh = !background && texelFetch(lengthTex, p, 0).a > 0.5;
+  bool fresh = !background && texelFetch(lengthTex, gridOf(p), 0).a > 0.5;
   if (history != 0 && !fresh && (background || m.w > 0.5)) {
     vec2 before = (vec2(p) + 0.5 - (background ? vec2(0.0) : m.xy)) / vec2(frameSize);
     vec3 past = clamp(textureLod(taaHistoryTex, before, 0.0).rgb, lo, hi);
@@ -286,6 +388,15 @@ void main() {
     // Where the temporal stage found the pixel settled, the iterations skipped it: so does the last one.
     if (texelFetch(skipTex, p, 0).r > 0.5) illum = illumination(atrous(p, centre));
     linear = illum * tdDemodulation(albedo) + texelFetch(exactTex, p, 0).rgb;
+  }
+  outFiltered = vec4(linear, 1.0);
+#elif TD_DENOISE_STAGE == 4
+  // Last on a coarser grid: the grid's filtered illumination at this pixel, times its surface colour.
+  uvec4 g = texelFetch(guideTex, p, 0);
+  vec3 linear = background;
+  if (tdInstanceTag(g.y) != 0u) {
+    vec3 albedo = vec3(unpackHalf2x16(g.z), unpackHalf2x16(g.w).x);
+    linear = upsample(p, g) * tdDemodulation(albedo) + texelFetch(exactTex, p, 0).rgb;
   }
   outFiltered = vec4(linear, 1.0);
 #else

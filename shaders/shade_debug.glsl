@@ -122,20 +122,23 @@ vec3 motionView(uvec2 id, vec3 posR) {
 // to it stay within that of the segment). Its shadow on the point may have changed: the filter must not keep
 // its history.
 bool lightMayHaveChanged(uint instance, vec3 posR) {
-  for (int k = 0; k < movedBoxCount; ++k) {
-    vec4 lo = movedBoxes[2 * k], hi = movedBoxes[2 * k + 1];
-    if (lo.w >= 0.0 && uint(lo.w + 0.5) == instance) continue;  // (-1: boxes of several merged)
-    for (int j = 0; j < TD_LIGHT_COUNT; ++j) {
-      if (!lightIsArea(j)) continue;  // the other lights' light goes past the filter
-      vec3 to = lights[j].posType.xyz - posR;
-      float r = lightType(j) == TD_LIGHT_SPHERE ? lights[j].shapeV.w
-                                                : length(lights[j].shapeU.xyz) + length(lights[j].shapeV.xyz);
-      // The slab test of the segment posR + t·to, t in [0, 1].
-      vec3 inv = 1.0 / to;
-      vec3 t0 = (lo.xyz - r - posR) * inv, t1 = (hi.xyz + r - posR) * inv;
+  // Lights outside, boxes inside: a light's segment (and its reciprocal) once, then a few multiplies a box
+  // (on llvmpipe the other order, the light's data read again for every box, cost more than the filter).
+  for (int j = 0; j < TD_LIGHT_COUNT; ++j) {
+    if (!lightIsArea(j)) continue;  // the other lights' light goes past the filter
+    vec3 to = lights[j].posType.xyz - posR;
+    float r = lightType(j) == TD_LIGHT_SPHERE ? lights[j].shapeV.w
+                                              : length(lights[j].shapeU.xyz) + length(lights[j].shapeV.xyz);
+    // The slab test of the segment posR + t·to, t in [0, 1], against each box grown by r.
+    vec3 inv = 1.0 / to;
+    vec3 posPlusR = posR + r, posMinusR = posR - r;
+    for (int k = 0; k < movedBoxCount; ++k) {
+      vec4 lo = movedBoxes[2 * k], hi = movedBoxes[2 * k + 1];
+      vec3 t0 = (lo.xyz - posPlusR) * inv, t1 = (hi.xyz - posMinusR) * inv;
       float enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), max(min(t0.z, t1.z), 0.0));
       float leave = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), min(max(t0.z, t1.z), 1.0));
-      if (enter <= leave) return true;
+      // (lo.w: the box's instance, -1 for boxes of several merged; the point's own instance is no blocker)
+      if (enter <= leave && !(lo.w >= 0.0 && uint(lo.w + 0.5) == instance)) return true;
     }
   }
   return false;

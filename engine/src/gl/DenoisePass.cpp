@@ -51,11 +51,12 @@ Result<Framebuffer> framebuffer(const char* label, std::initializer_list<std::pa
 
 Result<DenoisePass> DenoisePass::create() {
   DenoisePass pass;
-  const std::array<std::tuple<Program*, const char*, int>, 4> stages{{
+  const std::array<std::tuple<Program*, const char*, int>, 5> stages{{
       {&pass.temporal_, "denoise: temporal", 0},
       {&pass.atrous_, "denoise: a-trous", 1},
       {&pass.last_, "denoise: a-trous, last", 2},
       {&pass.antiAlias_, "denoise: anti-aliasing", 3},
+      {&pass.upsample_, "denoise: upsampling", 4},
   }};
   for (const auto& [program, label, index] : stages) {
     auto built = stage(label, index);
@@ -66,40 +67,55 @@ Result<DenoisePass> DenoisePass::create() {
   return pass;
 }
 
-std::size_t DenoisePass::targetBytes(int width, int height) {
-  const std::size_t perPixel =
-      texelBytes(kNoisy.internal) + texelBytes(kExact.internal) + texelBytes(kGuide.internal) +
-      texelBytes(kMotion.internal) + 2 * texelBytes(kTexel.internal) + texelBytes(kChannelDepth.internal) +
-      texelBytes(kRadiance.internal) + 2 * (texelBytes(kTexel.internal) + texelBytes(kMoments.internal) + texelBytes(kRadiance.internal));
-  return perPixel * static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+namespace {
+// The ray grid's size along a side of `frame` pixels (rt/RayTracer.h: ceil(frame / scale)).
+int gridSide(int frame, int scale) { return (frame + scale - 1) / scale; }
+}  // namespace
+
+std::size_t DenoisePass::targetBytes(int width, int height, int gridScale) {
+  const std::size_t perPixel = texelBytes(kNoisy.internal) + texelBytes(kExact.internal) +
+                               texelBytes(kGuide.internal) + texelBytes(kMotion.internal) +
+                               3 * texelBytes(kRadiance.internal);
+  const std::size_t perGridPixel = 2 * texelBytes(kTexel.internal) + texelBytes(kChannelDepth.internal) +
+                                   2 * (texelBytes(kTexel.internal) + texelBytes(kMoments.internal));
+  return perPixel * static_cast<std::size_t>(width) * static_cast<std::size_t>(height) +
+         perGridPixel * static_cast<std::size_t>(gridSide(width, gridScale)) *
+             static_cast<std::size_t>(gridSide(height, gridScale));
 }
 
-Result<void> DenoisePass::reserve(int width, int height) {
-  assert(width > 0 && height > 0 && "DenoisePass::reserve: empty frame");
-  if (width == width_ && height == height_) return {};
+Result<void> DenoisePass::reserve(int width, int height, int gridScale) {
+  assert(width > 0 && height > 0 && gridScale >= 1 && "DenoisePass::reserve: empty frame");
+  if (width == width_ && height == height_ && gridScale == gridScale_) return {};
   // Everything old first (it may be what keeps the new targets from fitting); a new size has no past.
   targets_ = {};
-  width_ = height_ = 0;
+  width_ = height_ = gridWidth_ = gridHeight_ = 0;
   historyHeld_ = false;
   Targets t;
-  const std::array<std::tuple<Texture*, ChannelFormat, const char*>, 14> all{{
-      {&t.skip, kChannelDepth, "denoise: pixels the a-trous iterations filter"},
-      {&t.noisy, kNoisy, "denoise: noisy illumination"},
-      {&t.exact, kExact, "denoise: radiance past the filter"},
-      {&t.guide, kGuide, "denoise: guide"},
-      {&t.motion, kMotion, "denoise: motion"},
-      {&t.scratchA, kTexel, "denoise: a-trous A"},
-      {&t.scratchB, kTexel, "denoise: a-trous B"},
-      {&t.filtered, kRadiance, "denoise: filtered radiance"},
-      {&t.history[0], kTexel, "denoise: history 0"},
-      {&t.history[1], kTexel, "denoise: history 1"},
-      {&t.moments[0], kMoments, "denoise: moments 0"},
-      {&t.moments[1], kMoments, "denoise: moments 1"},
-      {&t.antiAliased[0], kRadiance, "denoise: anti-aliased 0"},
-      {&t.antiAliased[1], kRadiance, "denoise: anti-aliased 1"},
+  const int gw = gridSide(width, gridScale), gh = gridSide(height, gridScale);
+  struct Target {
+    Texture* texture;
+    ChannelFormat format;
+    const char* label;
+    bool grid;  // of the grid's size, else the frame's
+  };
+  const std::array<Target, 14> all{{
+      {&t.skip, kChannelDepth, "denoise: pixels the a-trous iterations filter", true},
+      {&t.noisy, kNoisy, "denoise: noisy illumination", false},
+      {&t.exact, kExact, "denoise: radiance past the filter", false},
+      {&t.guide, kGuide, "denoise: guide", false},
+      {&t.motion, kMotion, "denoise: motion", false},
+      {&t.scratchA, kTexel, "denoise: a-trous A", true},
+      {&t.scratchB, kTexel, "denoise: a-trous B", true},
+      {&t.filtered, kRadiance, "denoise: filtered radiance", false},
+      {&t.history[0], kTexel, "denoise: history 0", true},
+      {&t.history[1], kTexel, "denoise: history 1", true},
+      {&t.moments[0], kMoments, "denoise: moments 0", true},
+      {&t.moments[1], kMoments, "denoise: moments 1", true},
+      {&t.antiAliased[0], kRadiance, "denoise: anti-aliased 0", false},
+      {&t.antiAliased[1], kRadiance, "denoise: anti-aliased 1", false},
   }};
-  for (const auto& [texture, format, label] : all) {
-    auto made = tryCreateTexture2D(label, format.internal, width, height);
+  for (const auto& [texture, format, label, grid] : all) {
+    auto made = tryCreateTexture2D(label, format.internal, grid ? gw : width, grid ? gh : height);
     if (!made) return made.error();
     *texture = std::move(*made);
     setSampling(*texture, GL_NEAREST, GL_NEAREST);
@@ -138,6 +154,9 @@ Result<void> DenoisePass::reserve(int width, int height) {
   targets_ = std::move(t);
   width_ = width;
   height_ = height;
+  gridScale_ = gridScale;
+  gridWidth_ = gw;
+  gridHeight_ = gh;
   return {};
 }
 
@@ -160,7 +179,6 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Ca
   const bool past = history && historyHeld_;
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
-  glViewport(0, 0, width_, height_);
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);  // fullscreen.vert's z = 0 lands on depth 0
   glBindVertexArray(emptyVao_.id());
   // The temporal stage writes every pixel and, as depth, whether the a-trous iterations filter it (1) or it
@@ -174,6 +192,9 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Ca
   auto draw = [&](const Program& program, GLuint framebuffer, int step, const Texture* input, Depth depth,
                   const char* what) {
     const bool antiAliasing = &program == &antiAlias_;
+    // The temporal stage and the iterations that write filter texels run on the grid, the rest on the frame.
+    const bool onGrid = &program == &temporal_ || &program == &atrous_;
+    glViewport(0, 0, onGrid ? gridWidth_ : width_, onGrid ? gridHeight_ : height_);
     if (depth == Depth::Off) {
       glDisable(GL_DEPTH_TEST);
     } else {
@@ -192,6 +213,8 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Ca
     glProgramUniform1f(p, TD_LOC_DENOISE_EXPOSURE, exposure);
     glProgramUniform1i(p, TD_LOC_DENOISE_TONE_MAP, static_cast<int>(toneMap));
     glProgramUniform3fv(p, TD_LOC_DENOISE_BACKGROUND, 1, glm::value_ptr(background));
+    glProgramUniform1i(p, TD_LOC_DENOISE_GRID_SCALE, gridScale_);
+    glProgramUniform2i(p, TD_LOC_DENOISE_GRID_SIZE, gridWidth_, gridHeight_);
     glBindTextureUnit(TD_UNIT_DENOISE_NOISY, t.noisy.id());
     glBindTextureUnit(TD_UNIT_DENOISE_GUIDE, t.guide.id());
     glBindTextureUnit(TD_UNIT_DENOISE_MOTION, t.motion.id());
@@ -211,11 +234,18 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Ca
   // Temporal: into A (and B and the history: see above) and this frame's moments. Then the a-trous
   // iterations; the first one's result is the history the next frame reprojects (SVGF: one iteration smooths
   // it enough to reproject without carrying single-sample noise forward, more would blur it frame after
-  // frame). Then the anti-aliasing, into the frame.
+  // frame). On a coarser grid the last iteration writes texels too (back into A: where it skips a settled pixel,
+  // A holds the temporal stage's value, which is what every iteration left there), and the upsampling takes
+  // them to the frame. Then the anti-aliasing, into the frame.
   draw(temporal_, t.temporalFbo[now].id(), 0, nullptr, Depth::Write, "denoise: temporal");
   draw(atrous_, t.historyFbo[now].id(), 1, &t.scratchA, Depth::Test, "denoise: a-trous 1");
   draw(atrous_, t.scratchBFbo.id(), 2, &t.history[now], Depth::Test, "denoise: a-trous 2");
-  draw(last_, t.filteredFbo.id(), 4, &t.scratchB, Depth::Off, "denoise: a-trous 4 (last)");
+  if (gridScale_ == 1) {
+    draw(last_, t.filteredFbo.id(), 4, &t.scratchB, Depth::Off, "denoise: a-trous 4 (last)");
+  } else {
+    draw(atrous_, t.scratchAFbo.id(), 4, &t.scratchB, Depth::Test, "denoise: a-trous 4");
+    draw(upsample_, t.filteredFbo.id(), 0, &t.scratchA, Depth::Off, "denoise: upsampling");
+  }
   draw(antiAlias_, out, 0, nullptr, Depth::Off, "denoise: anti-aliasing");
   glDepthMask(GL_TRUE);
   glDisable(GL_DEPTH_TEST);

@@ -21,11 +21,12 @@ class DenoisePass {
  public:
   static Result<DenoisePass> create();
 
-  /// Its targets at the frame's size (made again when it changes, the history then forgotten); an error
-  /// names what the GL refused, and the pass then holds none.
-  Result<void> reserve(int width, int height);
-  /// The GL memory reserve(width, height) allocates.
-  static std::size_t targetBytes(int width, int height);
+  /// Its targets at the frame's size, the temporal and a-trous stages' on the ray grid of 1/`gridScale` of it
+  /// (FrameSettings::rayScale: each grid pixel's own sample is what they filter); made again when either
+  /// changes, the history then forgotten. An error names what the GL refused, and the pass then holds none.
+  Result<void> reserve(int width, int height, int gridScale);
+  /// The GL memory reserve(width, height, gridScale) allocates.
+  static std::size_t targetBytes(int width, int height, int gridScale);
   bool holds() const { return width_ > 0; }
   /// The shade pass's target for this frame: the noisy radiance divided by the surface colour at colour
   /// attachment 0, the guide and the motion at 2 and 3 (ShadeInputs::denoiseGuides).
@@ -41,11 +42,12 @@ class DenoisePass {
   void forget() { historyHeld_ = false; }
 
  private:
-  Program temporal_, atrous_, last_, antiAlias_;
+  Program temporal_, atrous_, last_, upsample_, antiAlias_;
   VertexArray emptyVao_;
-  // The frame-size targets (reserve): the shade pass's (noisy illumination, the radiance past the filter,
-  // guide, motion), the a-trous iterations' two scratch texels, the depth that marks where they filter, the
-  // filtered frame, and this frame's and the last frame's history, moments and anti-aliased frame, alternating.
+  // The targets (reserve): of the frame's size, the shade pass's (noisy illumination, the radiance past the
+  // filter, guide, motion), the filtered frame and this frame's and the last frame's anti-aliased one; of the
+  // grid's, the a-trous iterations' two scratch texels, the depth that marks where they filter, and this
+  // frame's and the last frame's history and moments. The pairs alternate.
   struct Targets {
     Texture noisy, exact, guide, motion, scratchA, scratchB, filtered;
     Texture skip;  // depth: 1 where the a-trous iterations filter, 0 where the temporal stage found it settled
@@ -60,6 +62,7 @@ class DenoisePass {
   int current_ = 0;  // which of the pairs this frame writes
   bool historyHeld_ = false;
   int width_ = 0, height_ = 0;
+  int gridScale_ = 1, gridWidth_ = 0, gridHeight_ = 0;
 };
 
 }  // namespace tandem::gl

@@ -1,6 +1,8 @@
 // The spatiotemporal filter's part of the frame (FrameSettings::denoise, docs/denoise.md): each filtered frame
 // draws the next sample of one sequence, the shade pass writes the noisy frame and the filter's guides into the
 // filter's target, and gl::DenoisePass filters it into the frame's output.
+#include <algorithm>
+
 #include "core/Timer.h"
 #include "render/RendererImpl.h"
 #include "tandem/Log.h"
@@ -37,7 +39,7 @@ bool Renderer::Impl::shadeDenoised(const FramePlan& plan, const Camera& glCamera
     }
     denoisePass = std::move(*made);
   }
-  if (auto reserved = denoisePass->reserve(pass.width(), pass.height()); !reserved) {
+  if (auto reserved = denoisePass->reserve(pass.width(), pass.height(), std::max(1, in.rayScale)); !reserved) {
     logWarning("the spatiotemporal filter: " + reserved.error().message + " (this frame is drawn without it)");
     return false;
   }

@@ -397,7 +397,7 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
     for (const tandem::FrameStage& stage : tandem::kFrameStages)
       if (stage.gpu != nullptr) log << ",gpu_" << stage.name << "_ms";
     log << ",gpu_frames_ago,game_ms,loop_ms,rays,rays_reused,shader_compiles,target_ms,step,steps,choice,predicted_ms,"
-           "expected_flip,flip\n";
+           "expected_flip,flip,denoise_ms\n";
   }
   if (o.errorEvery > 0)
     if (auto r = s.initTruth(); !r) return fail(r.error().message);
@@ -421,7 +421,7 @@ int runHeadless(Session& s, const Options& o, int w, int h) {
         << "," << st.rays.total() << "," << (st.raysReused ? 1 : 0) << "," << st.shaderCompiles << ","
         << st.budget.targetMs << "," << st.budget.step << "," << st.budget.steps << ",\""
         << tandem::describeBudget(st.budget) << "\"," << st.budget.predictedMs << "," << st.budget.expectedError << ","
-        << flip << "\n";
+        << flip << "," << st.denoiseMs << "\n";
   };
   for (int f = 0; f < o.frames && !s.quit_; ++f) {
     const auto t0 = std::chrono::steady_clock::now();
