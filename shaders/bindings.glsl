@@ -126,8 +126,8 @@
 // The spatiotemporal filter (denoise.frag; DenoisePass, docs/denoise.md): its own program's units and
 // locations. The camera's right and up axes, orthographic and the frame size (TD_LOC_CAMERA_RIGHT ..
 // TD_LOC_FRAME_SIZE, 2-5) are shade_hit.glsl's, from the same vectors (ShadePass's cameraVectors).
-#define TD_UNIT_DENOISE_NOISY 0          // the shade pass's radiance / surface colour this frame
-#define TD_UNIT_DENOISE_GUIDE 1          // this frame's guide (depth, normal + instance, albedo)
+#define TD_UNIT_DENOISE_NOISY 0          // the shade pass's sampled radiance / its modulation this frame
+#define TD_UNIT_DENOISE_GUIDE 1          // this frame's guide (depth, normal + instance, modulation)
 #define TD_UNIT_DENOISE_MOTION 2         // this frame's motion (pixels), the point's depth before, in view before
 #define TD_UNIT_DENOISE_HISTORY 3        // the last frame's filter texels after the first a-trous iteration
 #define TD_UNIT_DENOISE_MOMENTS 4        // the last frame's luminance moments and history length
@@ -188,9 +188,9 @@
 #define TD_OUTPUT_LINEAR vec4                                     // the shade pass's output (probes' too)
 // The filter's channels (frame size): the shade pass writes the first three when the filter is on.
 // Packed texels: shaders/denoise.glsl.
-#define TD_CHANNEL_DENOISE_NOISY GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT  // the shade pass's radiance / surface colour
+#define TD_CHANNEL_DENOISE_NOISY GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT  // the shade pass's sampled radiance / modulation
 #define TD_SAMPLER_DENOISE_NOISY sampler2D
-#define TD_CHANNEL_DENOISE_GUIDE GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT  // depth, normal + instance, albedo
+#define TD_CHANNEL_DENOISE_GUIDE GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT  // depth, normal + instance, modulation
 #define TD_SAMPLER_DENOISE_GUIDE usampler2D
 #define TD_OUTPUT_DENOISE_GUIDE uvec4
 #define TD_CHANNEL_DENOISE_MOTION GL_RGBA32F, GL_RGBA, GL_FLOAT  // motion (pixels, GL rows), depth before, 1: history holds

@@ -1,13 +1,13 @@
 #version 450 core
 // The spatiotemporal filter (docs/denoise.md; after SVGF, Schied et al., HPG 2017): the shade pass's noisy
-// radiance divided by the surface colour (the illumination: texture detail never enters the filter) is
-// accumulated over frames along the motion vectors, its variance estimated from luminance moments, and
+// radiance divided by what it is made of (the area lights' light unshadowed, or a glossy surface's colour:
+// neither texture detail nor a highlight that moves with the view enters the filter) is accumulated over frames along the motion vectors, its variance estimated from luminance moments, and
 // smoothed by an edge-aware a-trous filter whose weights stop at other instances, at points off the centre's
 // tangent plane, at other normals, and at luminance differences the variance does not explain. Three stages
-// of one program (TD_DENOISE_STAGE):
+// of one program (TD_DENOISE_STAGE) and a fifth for a coarser ray grid:
 //   0 temporal: reprojection, history rejection and clamping, moments, variance;
 //   1 a-trous: one iteration at tap spacing `stepPx`, filter texels in and out;
-//   2 last: the last iteration, multiplied back by the surface colour, with the radiance that went past the
+//   2 last: the last iteration, multiplied back by the modulation, with the radiance that went past the
 //     filter (a sharp mirror's or glass's rays) added: the filtered frame;
 //   3 anti-aliasing (TAA): the filtered frame blended with the last frame's result reprojected along the
 //     motion vectors and clamped to this frame's neighbourhood (the jittered frames' sub-pixel samples add up
@@ -378,25 +378,25 @@ void main() {
   // (Only pixels the temporal stage left unsettled run this: the depth test.)
   outTexel = atrous(p, texelFetch(inputTex, p, 0));
 #elif TD_DENOISE_STAGE == 2
-  // Last: back to radiance (times the surface colour).
+  // Last: back to radiance (times the modulation).
   uvec4 centre = texelFetch(inputTex, p, 0);
   vec3 linear = background;
   if (tdInstanceTag(centre.w) != 0u) {
     uvec4 g = texelFetch(guideTex, p, 0);
-    vec3 albedo = vec3(unpackHalf2x16(g.z), unpackHalf2x16(g.w).x);
+    vec3 modulation = vec3(unpackHalf2x16(g.z), unpackHalf2x16(g.w).x);
     vec3 illum = illumination(centre);
     // Where the temporal stage found the pixel settled, the iterations skipped it: so does the last one.
     if (texelFetch(skipTex, p, 0).r > 0.5) illum = illumination(atrous(p, centre));
-    linear = illum * tdDemodulation(albedo) + texelFetch(exactTex, p, 0).rgb;
+    linear = illum * modulation + texelFetch(exactTex, p, 0).rgb;
   }
   outFiltered = vec4(linear, 1.0);
 #elif TD_DENOISE_STAGE == 4
-  // Last on a coarser grid: the grid's filtered illumination at this pixel, times its surface colour.
+  // Last on a coarser grid: the grid's filtered value at this pixel, times the pixel's own modulation.
   uvec4 g = texelFetch(guideTex, p, 0);
   vec3 linear = background;
   if (tdInstanceTag(g.y) != 0u) {
-    vec3 albedo = vec3(unpackHalf2x16(g.z), unpackHalf2x16(g.w).x);
-    linear = upsample(p, g) * tdDemodulation(albedo) + texelFetch(exactTex, p, 0).rgb;
+    vec3 modulation = vec3(unpackHalf2x16(g.z), unpackHalf2x16(g.w).x);
+    linear = upsample(p, g) * modulation + texelFetch(exactTex, p, 0).rgb;
   }
   outFiltered = vec4(linear, 1.0);
 #else

@@ -3,7 +3,7 @@
 //
 // A software GL pays for every texel fetch and every pass (llvmpipe: ~2 ms a full-screen pass at 640x360
 // before any work), so what a tap needs travels in one RGBA32UI texel:
-//   guide (the shade pass's):     x depth (float bits), y normal + instance, z albedo rg (half), w albedo b
+//   guide (the shade pass's):     x depth (float bits), y normal + instance, z modulation rg (half), w its b
 //   filter texel (the stages'):   x illumination rg (half), y illumination b + variance (half), z depth, w
 //                                 normal + instance
 // Depth is view depth (along the camera's unjittered axis); the normal is three signed bytes (an edge-stopping

@@ -264,28 +264,32 @@ layout(location = 0) out TD_OUTPUT_LINEAR outColor;
 #include "shade_local.glsl"
 #include "shade_debug.glsl"
 
-// The filter's guides (bindings.glsl's TD_CHANNEL_DENOISE_*): what the pixel shows, where it was, the colour its
-// light is divided by. Zero on the background (instance 0: never filtered).
+// The filter's guides (bindings.glsl's TD_CHANNEL_DENOISE_*): what the pixel shows, where it was, what its
+// sampled light is divided by. Zero on the background (instance 0: never filtered).
 #if TD_DENOISE_GUIDES
 layout(location = 2) out TD_OUTPUT_DENOISE_GUIDE outGuide;
 layout(location = 3) out TD_OUTPUT_DENOISE_MOTION outMotion;
 layout(location = 4) out TD_OUTPUT_DENOISE_EXACT outExact;
-// What the filter smooths goes out divided by the surface colour (the filter's illumination): the area lights'
-// light (their samples) and a glossy material's lobe samples. The rest is exact for the pixel's hit and goes
-// past the filter (outExact), added back after it: emission, the ambient term, the other lights (a light that
-// moves every frame changes no history), a sharp mirror's or glass's rays.
+// What the filter smooths goes out divided by the modulation the filter multiplies it back by: the area lights'
+// light (their samples) over their light unshadowed (the visible fraction), or on a glossy material with its
+// lobe samples, over the surface colour (texture detail never enters the filter). The rest is exact for the
+// pixel's hit and goes past the filter (outExact), added back after it: emission, the ambient term, the other
+// lights (a light that moves every frame changes no history), a sharp mirror's or glass's rays.
 void writeGuides(uvec2 id, Surface s, vec3 local, vec3 area, vec3 specular) {
-  vec3 albedo = tdSurfaceColor(s.m, s.uv, s.pattern, s.tint);
-  bool glossy = texelFetch(uvTransformsBuf, 4 * int(s.hit.tri.material) + 3).a > 0.0;  // roughness (shade_probes)
+  bool glossy = !areaLightsAsVisibility;
   vec3 sampled = glossy ? area + specular : area;
-  // (under half precision's largest value: the noisy target is RGBA16F)
-  outColor.rgb = min(sampled / tdDemodulation(albedo), vec3(65000.0));
+  // What the filtered value is multiplied back by: the area lights' light unshadowed (the filter smooths the
+  // fraction of it that is visible: shade_local's areaLightAsVisibility), or on a glossy surface its colour.
+  // (Under half precision's largest value: the noisy target and the guide hold halves.)
+  vec3 modulation = glossy ? tdDemodulation(tdSurfaceColor(s.m, s.uv, s.pattern, s.tint))
+                           : clamp(s.coverage * areaLightUnshadowed, vec3(1e-4), vec3(65000.0));
+  outColor.rgb = min(sampled / modulation, vec3(65000.0));
   outExact = vec4(local - area + (glossy ? vec3(0.0) : specular), 1.0);
   // View depth (along the camera's axis: cross(up, right), unjittered, where the jitter tilts cameraForward):
   // the filter rebuilds points from it without a square root.
   float depth = dot(s.hit.posW - cameraPosW, normalize(cross(cameraUp, cameraRight)));
-  outGuide = uvec4(floatBitsToUint(depth), tdPackNormalInstance(s.N, id.x), packHalf2x16(albedo.rg),
-                   packHalf2x16(vec2(albedo.b, 0.0)));
+  outGuide = uvec4(floatBitsToUint(depth), tdPackNormalInstance(s.N, id.x), packHalf2x16(modulation.rg),
+                   packHalf2x16(vec2(modulation.b, 0.0)));
   outMotion = denoiseMotion(id, s.hit.posW);
 }
 void writeNoGuides() {
@@ -336,7 +340,10 @@ void shadePixel() {
   if ((rayInputs & TD_RAY_REFLECTED) != 0 || kProbeReflect) specular += rays.reflected;
   if ((rayInputs & TD_RAY_TRANSMITTED) != 0 || kProbeRefract) specular += rays.transmitted;
   bool toon = kUseToon && int(s.m.krKtIorModel.w + 0.5) == TD_MODEL_TOON && s.m.emissionFlags.w < 0.5;
-  if (toon && isEdge(pix, id, s.hit.ngRaw)) local = area = specular = vec3(0.0);
+  if (toon && isEdge(pix, id, s.hit.ngRaw)) {
+    local = area = specular = vec3(0.0);
+    areaLightUnshadowed = vec3(0.0);  // (the filter's modulation: an outline stays black)
+  }
   outColor = vec4(local + specular, 1.0);
   if (kDenoiseGuides) writeGuides(id, s, local, area, specular);
 }

@@ -40,6 +40,34 @@ struct LightingPoint {
   ivec2 pTop;
 };
 
+// Area light j's term at p without its shadows: the mean over `samples` samples of the light from sequence
+// index `base` on, each counted where its bit in `bits` is set.
+vec3 areaLightSum(int j, LightingPoint p, Triangle tri, GpuMaterial m, int samples, uint base, uint bits) {
+  GpuLight L = lights[j];
+  int type = lightType(j);
+  vec3 toLight;
+  float dist;
+  uint seed = tdPixelSeed(p.pTop.x, p.pTop.y, 0u);
+  vec3 sum = vec3(0.0);
+  for (int k = 0; k < samples; ++k) {
+    if (((bits >> uint(k)) & 1u) == 0u) continue;
+    vec2 u = tdLightSampleU(seed, j, base + uint(k));
+    if (kUseGouraud && p.model == TD_MODEL_GOURAUD) {
+      vec3 E0 = tdAreaLightSample(L, type, tri.p0, u, toLight, dist);
+      sum += p.b.x * tdShadeLight(p.C, p.ks, p.ns, p.model, p.N0, normalize(p.origin - tri.p0), E0, toLight, 0.0);
+      vec3 E1 = tdAreaLightSample(L, type, tri.p1, u, toLight, dist);
+      sum += p.b.y * tdShadeLight(p.C, p.ks, p.ns, p.model, p.N1, normalize(p.origin - tri.p1), E1, toLight, 0.0);
+      vec3 E2 = tdAreaLightSample(L, type, tri.p2, u, toLight, dist);
+      sum += p.b.z * tdShadeLight(p.C, p.ks, p.ns, p.model, p.N2, normalize(p.origin - tri.p2), E2, toLight, 0.0);
+    } else {
+      vec3 E = tdAreaLightSample(L, type, p.posW, u, toLight, dist);
+      float level = kUseToon && p.model == TD_MODEL_TOON ? toonLevel(m, dot(p.Ns, toLight)) : 0.0;
+      sum += tdShadeLight(p.C, p.ks, p.ns, p.model, p.Ns, p.V, E, toLight, level);
+    }
+  }
+  return sum * (1.0 / float(samples));
+}
+
 // Direct light j's term at p, visibility included: the rays' or the shadow mask's (gathered in `rays`), or
 // the shadow maps'.
 vec3 directLight(int j, LightingPoint p, Triangle tri, GpuMaterial m, RaySample rays) {
@@ -61,25 +89,7 @@ vec3 directLight(int j, LightingPoint p, Triangle tri, GpuMaterial m, RaySample 
       bits = rays.area[j];
       vis = 1.0;
     }
-    uint seed = tdPixelSeed(p.pTop.x, p.pTop.y, 0u);
-    vec3 sum = vec3(0.0);
-    for (int k = 0; k < lightSamples; ++k) {
-      if (((bits >> uint(k)) & 1u) == 0u) continue;
-      vec2 u = tdLightSampleU(seed, j, sampleBase + uint(k));
-      if (kUseGouraud && p.model == TD_MODEL_GOURAUD) {
-        vec3 E0 = tdAreaLightSample(L, type, tri.p0, u, toLight, dist);
-        sum += p.b.x * tdShadeLight(p.C, p.ks, p.ns, p.model, p.N0, normalize(p.origin - tri.p0), E0, toLight, 0.0);
-        vec3 E1 = tdAreaLightSample(L, type, tri.p1, u, toLight, dist);
-        sum += p.b.y * tdShadeLight(p.C, p.ks, p.ns, p.model, p.N1, normalize(p.origin - tri.p1), E1, toLight, 0.0);
-        vec3 E2 = tdAreaLightSample(L, type, tri.p2, u, toLight, dist);
-        sum += p.b.z * tdShadeLight(p.C, p.ks, p.ns, p.model, p.N2, normalize(p.origin - tri.p2), E2, toLight, 0.0);
-      } else {
-        vec3 E = tdAreaLightSample(L, type, p.posW, u, toLight, dist);
-        float level = kUseToon && p.model == TD_MODEL_TOON ? toonLevel(m, dot(p.Ns, toLight)) : 0.0;
-        sum += tdShadeLight(p.C, p.ks, p.ns, p.model, p.Ns, p.V, E, toLight, level);
-      }
-    }
-    Lj = sum * (1.0 / float(lightSamples));
+    Lj = areaLightSum(j, p, tri, m, lightSamples, sampleBase, bits);
   } else if (kUseGouraud && p.model == TD_MODEL_GOURAUD) {
     vec3 E0 = tdLightIncidentOfType(L, type, tri.p0, toLight, dist);
     vec3 L0 = tdShadeLight(p.C, p.ks, p.ns, p.model, p.N0, normalize(p.origin - tri.p0), E0, toLight, 0.0);
@@ -105,11 +115,41 @@ vec3 directLight(int j, LightingPoint p, Triangle tri, GpuMaterial m, RaySample 
 // The area lights' share of the last localLight (with the spatiotemporal filter's guides: what the frame
 // samples, which the filter smooths; the rest is exact for the pixel's hit and goes past it).
 vec3 areaLightShare = vec3(0.0);
+// With the filter's guides, on a surface without a glossy lobe: the area lights' light unshadowed (the filter
+// smooths areaLightShare / areaLightUnshadowed, the visible fraction, and multiplies it back), else 0.
+vec3 areaLightUnshadowed = vec3(0.0);
+bool areaLightsAsVisibility = false;
+
+#if TD_DENOISE_GUIDES
+// The filter's form of area light j's term (docs/denoise.md): the light unshadowed, from kUnshadowedSamples
+// samples of it (shading only: no rays), times the fraction of the frame's samples that reached it (the rays',
+// the shadow mask's or the shadow maps', as directLight reads them). The filter smooths only the visible
+// fraction; the unshadowed light, a highlight that moves with the view included, is this frame's and is never
+// reprojected. directLight's estimate on a coarser ray grid is this product already; with full-resolution
+// rays it is the ratio estimator's (Heitz et al. 2018) form of the per-sample sum.
+const int kUnshadowedSamples = 4;
+vec3 areaLightAsVisibility(int j, LightingPoint p, Triangle tri, GpuMaterial m, RaySample rays, out vec3 unshadowed) {
+  GpuLight L = lights[j];
+  unshadowed = areaLightSum(j, p, tri, m, kUnshadowedSamples, sampleBase * uint(kUnshadowedSamples), 0xFFFFFFFFu);
+  bool rayShadowed = ((rayInputs & TD_RAY_LIGHT_MASK) != 0 || kShadowMask) && L.radiance.w > 0.5;
+  float vis = rayShadowed ? rays.vis[j] : 1.0;
+  if (kShadowMaps && L.radiance.w > 0.5) vis = rasterShadow(j, p.posW, p.Ng, p.pTop);
+  return vis * unshadowed;
+}
+#else
+vec3 areaLightAsVisibility(int j, LightingPoint p, Triangle tri, GpuMaterial m, RaySample rays, out vec3 unshadowed) {
+  unshadowed = vec3(0.0);
+  return vec3(0.0);
+}
+#endif
 
 // The surface's own light (docs/shading.md): emission, the ambient term or the radiosity solution, and every
 // direct light with its visibility.
 vec3 localLight(Surface s, RaySample rays, uvec2 id, ivec2 pTop) {
   areaLightShare = vec3(0.0);
+  areaLightUnshadowed = vec3(0.0);
+  // (a glossy lobe's samples are filtered with the area lights' light, both divided by the surface colour)
+  areaLightsAsVisibility = kDenoiseGuides && !isGlossy(s.hit.tri.material);
   GpuMaterial m = s.m;
   Triangle tri = s.hit.tri;
   vec3 b = s.hit.b, posW = s.hit.posW, origin = s.hit.origin;
@@ -162,11 +202,17 @@ vec3 localLight(Surface s, RaySample rays, uvec2 id, ivec2 pTop) {
     // compiler, whose light index is a variable, so every light would run every light type's code and every
     // map kind's lookup (llvmpipe runs both sides of each branch); the kinds (TD_LIGHT_KINDS) and
     // lightIsArea specialize a constant index only.
-#define TD_ADD_LIGHT(J)                                                 \
-  if (J < TD_LIGHT_COUNT) {                                             \
-    vec3 lightJ = directLight(J, lp, tri, m, rays);                     \
-    local += lightJ;                                                    \
-    if (kDenoiseGuides && lightIsArea(J)) areaLightShare += lightJ;     \
+#define TD_ADD_LIGHT(J)                                                        \
+  if (J < TD_LIGHT_COUNT) {                                                    \
+    vec3 lightJ, unshadowedJ;                                                  \
+    if (kUseAreaLights && areaLightsAsVisibility && lightIsArea(J)) {          \
+      lightJ = areaLightAsVisibility(J, lp, tri, m, rays, unshadowedJ);        \
+      areaLightUnshadowed += unshadowedJ;                                      \
+    } else {                                                                   \
+      lightJ = directLight(J, lp, tri, m, rays);                               \
+    }                                                                          \
+    local += lightJ;                                                           \
+    if (kDenoiseGuides && lightIsArea(J)) areaLightShare += lightJ;            \
   }
     TD_ADD_LIGHT(0) TD_ADD_LIGHT(1) TD_ADD_LIGHT(2) TD_ADD_LIGHT(3)
     TD_ADD_LIGHT(4) TD_ADD_LIGHT(5) TD_ADD_LIGHT(6) TD_ADD_LIGHT(7)

@@ -3,6 +3,10 @@
 // standalone include.
 // What the shade pass knows of the surface a pixel shows (loadSurface); its normals face the viewer once
 // orientTwoSided has run.
+// Whether a material has a glossy lobe (docs/glossy.md): its roughness, in the uv-transform record's fourth
+// texel (shade_probes).
+bool isGlossy(uint material) { return texelFetch(uvTransformsBuf, 4 * int(material) + 3).a > 0.0; }
+
 struct Surface {
   PrimaryHit hit;
   vec3 V;          // towards the eye

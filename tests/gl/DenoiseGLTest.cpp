@@ -35,8 +35,9 @@ using Frame = gltest::SceneFrame;
 
 Frame load(GlContext& context, Scene scene) { return gltest::sceneFrame(context, Result<Scene>(std::move(scene)), kW, kH); }
 
-FrameSettings settings(const Frame& f, int lightSamples, bool denoise) {
+FrameSettings settings(const Frame& f, int lightSamples, bool denoise, int rayScale = 1) {
   FrameSettings s = *presetSettings("hybrid-full", f.base);
+  s.rayScale = rayScale;
   s.lightSamples = lightSamples;
   s.glossSamples = lightSamples;
   s.denoise = denoise;
@@ -47,8 +48,8 @@ using gltest::drawFrame;
 
 // The converged image of `camera`'s view of what `f` holds now: 64 jittered frames of 8 light samples (512 per
 // light and pixel, the pixel's area sampled as the filter's jitter samples it).
-Image truth(Frame& f, const Camera& camera) {
-  FrameSettings s = settings(f, 8, false);
+Image truth(Frame& f, const Camera& camera, int rayScale = 1) {
+  FrameSettings s = settings(f, 8, false, rayScale);
   s.accumulate = 64;
   Image image;
   for (int i = 0; i < 64; ++i) image = drawFrame(f, camera, s);
@@ -73,28 +74,42 @@ Image filterFrames(Frame& f, const Camera& camera, int frames, FrameStats* stats
 
 using gltest::flipMean;
 
-TEST(Denoise, OneFilteredSampleBeatsFourRawOnesWithTheCameraMoving) {
-  TD_REQUIRE_GL_CONTEXT();
-  Frame f = load(*glContext_, areaLights());
+// 16 frames of the pan with rays on a grid of 1/rayScale: the filtered frame against raw frames of one and
+// four light samples, all against the converged image at that grid; `name` for the images it saves.
+void expectFilteredBeatsRaw(GlContext& context, int rayScale, const std::string& name) {
+  Frame f = load(context, areaLights());
   constexpr int kFrames = 16;
   Image filtered;
   FrameStats st;
-  for (int k = 0; k < kFrames; ++k) filtered = drawFrame(f, panned(f.camera, k), settings(f, 1, true), &st);
+  for (int k = 0; k < kFrames; ++k)
+    filtered = drawFrame(f, panned(f.camera, k), settings(f, 1, true, rayScale), &st);
   EXPECT_TRUE(st.denoised);
   const Camera last = panned(f.camera, kFrames - 1);
-  const Image raw1 = drawFrame(f, last, settings(f, 1, false));
-  const Image raw4 = drawFrame(f, last, settings(f, 4, false));
-  const Image converged = truth(f, last);
+  const Image raw1 = drawFrame(f, last, settings(f, 1, false, rayScale));
+  const Image raw4 = drawFrame(f, last, settings(f, 4, false, rayScale));
+  const Image converged = truth(f, last, rayScale);
   const double eFiltered = flipMean(filtered, converged), e1 = flipMean(raw1, converged), e4 = flipMean(raw4, converged);
-  std::printf("FLIP vs converged, camera panning, frame %d: filtered 1 sample %.5f, raw 1 sample %.5f, raw 4 "
-              "samples %.5f\n",
-              kFrames, eFiltered, e1, e4);
-  gltest::savePng("denoise-moving-filtered.png", filtered);
-  gltest::savePng("denoise-moving-raw4.png", raw4);
-  gltest::savePng("denoise-moving-converged.png", converged);
-  if (auto r = flip(filtered, converged); r.ok()) gltest::savePng("denoise-moving-flip.png", heatmap(*r));
+  std::printf("FLIP vs converged, rays at 1/%d, camera panning, frame %d: filtered 1 sample %.5f, raw 1 sample "
+              "%.5f, raw 4 samples %.5f\n",
+              rayScale, kFrames, eFiltered, e1, e4);
+  gltest::savePng(name + "-filtered.png", filtered);
+  gltest::savePng(name + "-raw4.png", raw4);
+  gltest::savePng(name + "-converged.png", converged);
+  if (auto r = flip(filtered, converged); r.ok()) gltest::savePng(name + "-flip.png", heatmap(*r));
   EXPECT_LT(eFiltered, 0.9 * e4);
   EXPECT_LT(eFiltered, 0.5 * e1);
+}
+
+TEST(Denoise, OneFilteredSampleBeatsFourRawOnesWithTheCameraMoving) {
+  TD_REQUIRE_GL_CONTEXT();
+  expectFilteredBeatsRaw(*glContext_, 1, "denoise-moving");
+}
+
+// Rays on the half-resolution grid (hybrid-fast's): the filter runs on the grid's own samples and upsamples
+// (a filter of the frame's pixels would see the shade pass's blend of four grid samples, noise in 2x2 blocks).
+TEST(Denoise, OnAHalfResolutionRayGridTooItBeatsFourRawSamples) {
+  TD_REQUIRE_GL_CONTEXT();
+  expectFilteredBeatsRaw(*glContext_, 2, "denoise-moving-grid2");
 }
 
 // A change of state, then 4 filtered frames: as near the new state's truth as 4 frames of a filter that never
