@@ -196,9 +196,7 @@ void temporal() {
   var /= len;
   outTexel = outTexelB = outHistory = filterTexel(illum, var, g.x, g.y);
   outMoments = vec4(moments, len, drop ? 1.0 : 0.0);
-  // Settled needs the neighbours' samples to agree too: a pixel whose few samples agreed by chance (a penumbra's
-  // visibility is 0 or 1 a sample) is not done, and a skipped one would stay a speck.
-  gl_FragDepth = settled(illum, max(var, spatialVariance / len)) ? 0.0 : 1.0;
+  gl_FragDepth = settled(illum, var) ? 0.0 : 1.0;
 }
 #endif
 
@@ -247,25 +245,6 @@ uvec4 atrous(ivec2 p, uvec4 centre) {
   vec3 c0 = illumination(centre);
   float v0 = variance(centre);
   float lc = tdDenoiseLuminance(c0);
-  // The taps first (a tap off the frame reads the nearest edge texel and weighs nothing, as does one on another
-  // instance): the luminance weight's noise is the centre's variance blurred over them (SVGF's 3x3 Gaussian,
-  // here at the iteration's spacing: the taps it reads anyway), so that a pixel whose few samples agreed by
-  // chance still filters with its neighbours.
-  const float kernel[3] = float[3](0.25, 0.5, 0.25);
-  uvec4 taps[9];
-  float valid[9];
-  float vBlur = 0.25 * v0, vWeight = 0.25;
-  for (int k = 0; k < 9; ++k) {
-    ivec2 o = ivec2(k % 3, k / 3) - 1;
-    ivec2 want = p + stepPx * o;
-    ivec2 q = clamp(want, ivec2(0), gridSize - 1);
-    taps[k] = texelFetch(inputTex, q, 0);
-    valid[k] = (k != 4 && q == want && tdInstanceTag(taps[k].w) == tag) ? 1.0 : 0.0;
-    float g = kernel[o.x + 1] * kernel[o.y + 1] * valid[k];
-    vBlur += g * variance(taps[k]);
-    vWeight += g;
-  }
-  vBlur /= vWeight;
   vec2 ndc = ndcOf(standIn(p));
   TangentPlane plane = tangentPlane(tdUnpackNormal(centre.w), uintBitsToFloat(centre.z), ndc);
   // The weights as one exponential: the distance off the plane in pixel footprints at the centre's depth (per
@@ -273,24 +252,30 @@ uvec4 atrous(ivec2 p, uvec4 centre) {
   // samples agree has none and keeps its value). log2(e) is folded into both scales.
   const float spacing = float(stepPx * gridScale);  // in frame pixels
   float planeScale = 1.4426950 / (plane.footprint * spacing);
-  float lumScale = 1.4426950 / (4.0 * sqrt(max(vBlur, 0.0)) + 1e-6);
+  float lumScale = 1.4426950 / (4.0 * sqrt(max(v0, 0.0)) + 1e-6);
   vec2 ndcStep = 2.0 * spacing / vec2(frameSize);
+  const float kernel[3] = float[3](0.25, 0.5, 0.25);
   vec3 sum = c0 * 0.25;
   float wsum = 0.25;
   float vsum = 0.0625 * v0;
-  // Branch-free (a software GL runs both sides of a branch its SIMD lanes disagree on).
-  for (int k = 0; k < 9; ++k) {
-    ivec2 o = ivec2(k % 3, k / 3) - 1;
-    uvec4 t = taps[k];
-    vec3 c = illumination(t);
-    float d = (o.x == 0 || o.y == 0) ? 1.0 : 1.41421356;
-    float e = planeDistance(plane, uintBitsToFloat(t.z), ndc + ndcStep * vec2(o)) * planeScale / d +
-              abs(tdDenoiseLuminance(c) - lc) * lumScale;
-    float w = kernel[o.x + 1] * kernel[o.y + 1] * valid[k] * normalWeight(plane, t.w) * exp2(-e);
-    sum += w * c;
-    wsum += w;
-    vsum += w * w * variance(t);
-  }
+  // Branch-free taps (a software GL runs both sides of a branch its SIMD lanes disagree on): a tap off the
+  // frame reads the nearest edge texel and weighs nothing, as does one on another instance.
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      if (dx == 0 && dy == 0) continue;
+      ivec2 want = p + stepPx * ivec2(dx, dy);
+      ivec2 q = clamp(want, ivec2(0), gridSize - 1);
+      uvec4 t = texelFetch(inputTex, q, 0);
+      vec3 c = illumination(t);
+      float d = (dx == 0 || dy == 0) ? 1.0 : 1.41421356;
+      float e = planeDistance(plane, uintBitsToFloat(t.z), ndc + ndcStep * vec2(dx, dy)) * planeScale / d +
+                abs(tdDenoiseLuminance(c) - lc) * lumScale;
+      float valid = (q == want && tdInstanceTag(t.w) == tag) ? 1.0 : 0.0;
+      float w = kernel[dx + 1] * kernel[dy + 1] * valid * normalWeight(plane, t.w) * exp2(-e);
+      sum += w * c;
+      wsum += w;
+      vsum += w * w * variance(t);
+    }
   return filterTexel(sum / wsum, vsum / (wsum * wsum), centre.z, centre.w);
 }
 

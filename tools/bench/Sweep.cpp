@@ -157,13 +157,16 @@ std::vector<Combo> makeCombos(const FrameSettings& base, bool areaLights = false
   }
   if (areaLights || glossy) {
     // The spatiotemporal filter (docs/denoise.md), the camera moving: one light and lobe sample a frame, and
-    // hybrid-full's own four, each frame reconstructed from the last frames'. Against the raw frames above
-    // (hybrid-full-light1 / -gloss1 and hybrid-full), which have no history and are the same still or moving.
-    FrameSettings one = full, four = full;
-    one.lightSamples = one.glossSamples = 1;
-    one.denoise = four.denoise = true;
+    // hybrid-full's own four, each frame reconstructed from the last frames'; and hybrid-fast's half-resolution
+    // ray grid with one sample (the filter on the grid's pixels). Against the raw frames above
+    // (hybrid-full-light1 / -gloss1, hybrid-full, hybrid-fast), which have no history and are the same still or
+    // moving.
+    FrameSettings one = full, four = full, fastOne = *presetSettings("hybrid-fast", base);
+    one.lightSamples = one.glossSamples = fastOne.lightSamples = fastOne.glossSamples = 1;
+    one.denoise = four.denoise = fastOne.denoise = true;
     c.push_back({"hybrid-full-1-denoised", "denoise", one, true});
     c.push_back({"hybrid-full-denoised", "denoise", four, true});
+    c.push_back({"hybrid-fast-1-denoised", "denoise", fastOne, true});
   }
   if (lensOrMotion) {
     // Depth of field and motion blur: every anti-aliasing sample sees through a new lens point at a new time

@@ -40,6 +40,9 @@ class DenoisePass {
               ToneMap toneMap, glm::vec3 background, int maxHistory);
   /// The next frame has no past (a frame was drawn without the filter in between).
   void forget() { historyHeld_ = false; }
+  /// What the last filter() left for the next frame to reproject: the filter texels (denoise.glsl) after the
+  /// first a-trous iteration, of the grid's size. For tests and debugging.
+  const Texture& history() const { return targets_.history[1 - current_]; }
 
  private:
   Program temporal_, atrous_, last_, upsample_, antiAlias_;
