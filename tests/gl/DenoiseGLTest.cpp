@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <vector>
 
 #include <glm/gtc/packing.hpp>
 
@@ -365,6 +366,41 @@ TEST(Denoise, AnAccumulationAtRestStillConvergesOnTheExactMean) {
   const double eFiltered = flipMean(image, converged), ePlain = flipMean(exact, converged);
   std::printf("accumulation of 32 at rest: FLIP vs converged with the filter on %.5f, off %.5f\n", eFiltered, ePlain);
   EXPECT_LT(eFiltered, ePlain + 0.002);
+}
+
+// The camera pans, then stops, accumulating at rest: the first still frame is filtered (with the pan's
+// history), and the frames after it hand over to the mean of the samples drawn since: none of them shows the
+// raw mean of a few samples, which is further from the truth than the filtered frame.
+TEST(Denoise, WhenTheCameraStopsNoFrameIsFurtherFromTheTruthThanTheFilteredOne) {
+  TD_REQUIRE_GL_CONTEXT();
+  Frame f = load(*glContext_, areaLights());
+  FrameSettings s = settings(f, 1, true);
+  s.accumulate = 16;
+  constexpr int kPan = 16;
+  FrameStats st;
+  // The pan's last frame is the first at the still camera: filtered, with the pan's history.
+  for (int k = 0; k < kPan; ++k) drawFrame(f, panned(f.camera, k), s, &st);
+  EXPECT_TRUE(st.denoised);
+  EXPECT_EQ(st.accumulated, 1);
+  const Camera still = panned(f.camera, kPan - 1);
+  std::vector<Image> frames{f.renderer->readImage()};
+  for (int k = 1; k < 16; ++k) frames.push_back(drawFrame(f, still, s, &st));
+  EXPECT_EQ(st.accumulated, 15) << "the 16th frame shows the mean of the 15 samples drawn after the filtered one";
+  const Image converged = truth(f, still);
+  const double eStop = flipMean(frames[0], converged);
+  double worst = 0.0;
+  int worstFrame = 0;
+  for (int k = 1; k < 16; ++k) {
+    const double e = flipMean(frames[static_cast<std::size_t>(k)], converged);
+    if (e > worst) {
+      worst = e;
+      worstFrame = k;
+    }
+  }
+  std::printf("camera stopped: FLIP vs converged, the filtered frame %.5f, the worst after it %.5f (frame %d), "
+              "the 16th %.5f\n",
+              eStop, worst, worstFrame, flipMean(frames.back(), converged));
+  EXPECT_LT(worst, 1.1 * eStop);
 }
 
 // ---- the filter on a ray grid, on synthetic inputs (gl::DenoisePass alone) ----

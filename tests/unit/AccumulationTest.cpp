@@ -286,5 +286,35 @@ TEST(Accumulation, ReleaseFreesEverything) {
   EXPECT_EQ(a.step(Camera{}, accumulating(8), kStill), Step::Restart);
 }
 
+// After a first frame the filter drew, what is shown hands over from it to the mean: the filtered frame is
+// not a sample, its weight falls linearly over min(accumulate, 16) - 1 samples, and from then on (the last
+// frames of a 16-frame accumulation included) the exact mean is shown.
+TEST(Accumulation, AFilteredFirstFrameHandsOverToTheExactMean) {
+  for (const int frames : {16, 4, 64}) {
+    Accumulation a;
+    a.restart(Camera{}, accumulating(frames));
+    a.firstShown(true);
+    EXPECT_TRUE(a.firstUnread) << "the next frame reads it";
+    a.add(flat(4, 3, glm::vec3(1.0f)), nullptr);  // the filtered frame
+    EXPECT_EQ(a.mostSamples(), 0) << frames << ": the filtered frame is not a sample";
+    const int span = std::min(frames, 16) - 1;
+    for (int n = 1; n <= span + 1 && n < frames; ++n) {
+      a.add(flat(4, 3, glm::vec3(n % 2 == 0 ? 0.0f : 2.0f)), nullptr);  // samples whose mean is ~1, not exactly
+      const float mean = a.mean().rgb[0].r;
+      const float w = std::min(1.0f, static_cast<float>(n) / static_cast<float>(span));
+      EXPECT_FLOAT_EQ(a.shown().rgb[5].r, (1.0f - w) * 1.0f + w * mean) << frames << " frames, sample " << n;
+    }
+    EXPECT_EQ(a.shown().rgb[0], a.mean().rgb[0]) << frames << ": handed over";
+  }
+  // A first frame drawn as it is, the sums take it; nothing is blended.
+  Accumulation b;
+  b.restart(Camera{}, accumulating(16));
+  b.firstShown(false);
+  b.add(flat(4, 3, glm::vec3(3.0f)), nullptr);
+  b.add(flat(4, 3, glm::vec3(1.0f)), nullptr);
+  EXPECT_EQ(b.mostSamples(), 2);
+  EXPECT_EQ(b.shown().rgb[0], glm::vec3(2.0f));
+}
+
 }  // namespace
 }  // namespace tandem

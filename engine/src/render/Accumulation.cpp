@@ -24,8 +24,9 @@ void Accumulation::restart(const Camera& camera, const FrameSettings& settings, 
   settings_ = settings;
   frames_ = 0;
   next_ = firstSample;
-  firstUnread = false;
+  firstUnread = firstFiltered_ = false;
   summing_ = false;
+  handover_ = ImageF{};
 }
 
 void Accumulation::startSums() {
@@ -56,6 +57,11 @@ Camera Accumulation::nextSample(const Camera& camera) { return sampleCamera(came
 void Accumulation::add(const ImageF& linear, const std::vector<std::uint8_t>* only) {
   const std::size_t n = static_cast<std::size_t>(settings_.width) * static_cast<std::size_t>(settings_.height);
   if (!active_ || linear.rgb.size() != n || (only != nullptr && only->size() != n)) return;
+  if (firstFiltered_) {
+    firstFiltered_ = false;
+    handover_ = linear;
+    return;
+  }
   if (!summing_) startSums();
   const bool adaptive = settings_.aa == AntiAlias::Adaptive;
   for (std::size_t i = 0; i < n; ++i) {
@@ -83,6 +89,22 @@ const ImageF& Accumulation::mean() {
   for (std::size_t i = 0; i < mean_.rgb.size(); ++i)
     mean_.rgb[i] = summing_ && count_[i] > 0 ? glm::vec3(sum_[i] / static_cast<double>(count_[i])) : glm::vec3(0.0f);
   return mean_;
+}
+
+const ImageF& Accumulation::shown() {
+  const ImageF& m = mean();
+  if (handover_.rgb.size() != m.rgb.size()) return m;
+  // Linear in the samples: the filtered frame's error is mostly bias, the mean's noise falls as 1/sqrt(n); by
+  // about 16 one-sample frames their errors are alike (docs/denoise.md).
+  const int span = std::max(1, std::min(settings_.accumulate, 16) - 1);
+  const float w = std::min(1.0f, static_cast<float>(mostSamples()) / static_cast<float>(span));
+  if (w >= 1.0f) {
+    handover_ = ImageF{};  // handed over: the exact mean from here on
+    return m;
+  }
+  shown_ = m;
+  for (std::size_t i = 0; i < shown_.rgb.size(); ++i) shown_.rgb[i] = glm::mix(handover_.rgb[i], m.rgb[i], w);
+  return shown_;
 }
 
 int Accumulation::mostSamples() const {

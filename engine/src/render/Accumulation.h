@@ -65,7 +65,8 @@ class Accumulation {
   /// brought up to date by the first sample instead of a few by each. A frame of one sample catches up as a
   /// plain frame does.
   /// The spatiotemporal filter runs only on a first frame shown as drawn: the samples summed after it are
-  /// drawn as they are (their mean converges to the exact image).
+  /// drawn as they are (their mean converges to the exact image; shown() hands over to it from the filtered
+  /// frame).
   FramePlan samplePlan(const FramePlan& plan, bool probesCurrent) const {
     if (singleSample(plan.settings)) return plan;
     FramePlan sample = plan;
@@ -74,15 +75,21 @@ class Accumulation {
     return sample;
   }
   /// Adds a sample's linear frame at the pixels `only` marks (nullptr: all). A frame of another size (a debug
-  /// view has no linear frame) adds nothing.
+  /// view has no linear frame) adds nothing. The first frame's, when the filter drew it (firstShown(true)), is
+  /// kept to hand over from instead: it is not a sample of the mean.
   void add(const ImageF& linear, const std::vector<std::uint8_t>* only);
 
   /// Adaptive: the next round's pixels (`refine`) and the pixels whose rays it traces (`traced`;
   /// render/Adaptive.h). False when no pixel's samples disagree.
   bool nextRound(std::vector<std::uint8_t>& refine, std::vector<std::uint8_t>& traced) const;
 
-  /// The mean of each pixel's samples (black where none), to show.
+  /// The mean of each pixel's samples (black where none).
   const ImageF& mean();
+  /// What to show: the mean, or after a first frame the filter drew, the mean blended with that frame, whose
+  /// weight falls linearly to nothing over the first min(accumulate, 16) − 1 samples: a view that stops is
+  /// never shown the raw mean of a few samples (noisier than the filtered frame), and the last frames of the
+  /// accumulation are its exact mean.
+  const ImageF& shown();
   /// The most samples any pixel has.
   int mostSamples() const;
 
@@ -94,6 +101,11 @@ class Accumulation {
   /// The first frame's one sample is shown as drawn and read into the sums only if the next frame goes on
   /// (`firstUnread`): a game that accumulates at rest pays nothing for it while things move.
   bool firstUnread = false;
+  /// The first frame is on show as drawn (its one sample, or `filtered`: the filter's reconstruction).
+  void firstShown(bool filtered) {
+    firstUnread = true;
+    firstFiltered_ = filtered;
+  }
 
  private:
   void startSums();  // zeroed sums and counts (adaptive: the luminance bounds) for the settings' size
@@ -107,6 +119,9 @@ class Accumulation {
   std::vector<std::uint32_t> count_;
   std::vector<float> lo_, hi_;  // adaptive: each pixel's samples' smallest and largest display luminance
   ImageF mean_;
+  bool firstFiltered_ = false;  // the first frame on show is the filter's: add() keeps it in handover_
+  ImageF handover_;             // that frame, while shown() still blends it in
+  ImageF shown_;
 };
 
 }  // namespace tandem

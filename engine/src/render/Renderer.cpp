@@ -77,7 +77,7 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
       timed(stats.accumulateMs, [&] { accum.restart(camera, s, firstDenoiseSample(plan)); });
       const Camera sampleCamera = accum.nextSample(camera);
       FramePlan samplePlan = accum.samplePlan(plan, caches.probesCurrent());
-      accum.firstUnread = !plan.denoise;  // a filtered frame is not a sample to sum
+      accum.firstShown(plan.denoise);  // a filtered frame is not a sample to sum
       accum.frameDone();
       stats.accumulated = 1;
       return renderPipelined(clock, samplePlan, sampleCamera, stats, pending, true);
@@ -247,7 +247,7 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
     }
     drawnOnce = true;
     ++stats.samples;
-    if (single) accum.firstUnread = !plan.denoise;  // a filtered frame is not a sample to sum
+    if (single) accum.firstShown(plan.denoise);  // a filtered frame is not a sample to sum
     else addLinear(only);
     if (only != nullptr)
       timed(stats.accumulateMs, [&] {
@@ -286,7 +286,7 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
   timed(stats.accumulateMs, [&] {
     stats.accumulated = accum.mostSamples();
     gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Accumulate);
-    outputPass.uploadLinear(accum.mean());
+    outputPass.uploadLinear(accum.shown());
     outputPass.output(s.exposure, s.toneMap, s.debugView);
     glFinish();
   });
