@@ -83,14 +83,20 @@ ivec2 standIn(ivec2 q) {
   ivec2 top = min(ivec2(q.x, gridSize.y - 1 - q.y) * gridScale + gridScale / 2, frameSize - 1);
   return ivec2(top.x, frameSize.y - 1 - top.y);
 }
-// A frame position (GL rows, pixels, centres at .5) in grid pixels (the stand-ins' centres at .5).
+// A frame position (GL rows, pixels, centres at .5) in grid pixels (the stand-ins' centres at .5). Where the
+// frame is not a whole number of grid pixels, the last grid row or column's stand-in is clamped to the frame's
+// edge and this spacing is off there by up to half a grid pixel.
 vec2 toGrid(vec2 x) {
   vec2 top = vec2(x.x, float(frameSize.y) - x.y);
   vec2 g = (top - (float(gridScale / 2) + 0.5)) / float(gridScale) + 0.5;
   return vec2(g.x, float(gridSize.y) - g.y);
 }
-// The grid pixel whose block of frame pixels holds frame pixel p.
-ivec2 gridOf(ivec2 p) { return clamp(ivec2(floor(toGrid(vec2(p) + 0.5))), ivec2(0), gridSize - 1); }
+// The grid pixel whose block of frame pixels holds frame pixel p (blocks of rows counted from the top, as the
+// ray grid's).
+ivec2 gridOf(ivec2 p) {
+  ivec2 g = min(ivec2(p.x, frameSize.y - 1 - p.y) / gridScale, gridSize - 1);
+  return ivec2(g.x, gridSize.y - 1 - g.y);
+}
 
 vec3 illumination(uvec4 t) { return vec3(unpackHalf2x16(t.x), unpackHalf2x16(t.y).x); }
 float variance(uvec4 t) { return unpackHalf2x16(t.y).y; }
@@ -311,6 +317,7 @@ vec3 upsample(ivec2 p, uvec4 guide) {
   ivec2 nearest = ivec2(floor(u + 0.5));
   float bestD = 1e30;
   vec3 best = texelFetch(noisyTex, p, 0).rgb;
+  if (any(isnan(best)) || any(isinf(best))) best = vec3(0.0);  // (a shading fault, as the temporal stage's)
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       ivec2 q = clamp(nearest + ivec2(dx, dy), ivec2(0), gridSize - 1);

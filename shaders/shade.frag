@@ -275,7 +275,7 @@ layout(location = 4) out TD_OUTPUT_DENOISE_EXACT outExact;
 // lobe samples, over the surface colour (texture detail never enters the filter). The rest is exact for the
 // pixel's hit and goes past the filter (outExact), added back after it: emission, the ambient term, the other
 // lights (a light that moves every frame changes no history), a sharp mirror's or glass's rays.
-void writeGuides(uvec2 id, Surface s, vec3 local, vec3 area, vec3 specular) {
+void writeGuides(uvec2 id, Surface s, vec3 local, vec3 area, vec3 specular, bool outline) {
   bool glossy = !areaLightsAsVisibility;
   vec3 sampled = glossy ? area + specular : area;
   // What the filtered value is multiplied back by: the area lights' light unshadowed (the filter smooths the
@@ -288,8 +288,10 @@ void writeGuides(uvec2 id, Surface s, vec3 local, vec3 area, vec3 specular) {
   // View depth (along the camera's axis: cross(up, right), unjittered, where the jitter tilts cameraForward):
   // the filter rebuilds points from it without a square root.
   float depth = dot(s.hit.posW - cameraPosW, normalize(cross(cameraUp, cameraRight)));
-  outGuide = uvec4(floatBitsToUint(depth), tdPackNormalInstance(s.N, id.x), packHalf2x16(modulation.rg),
-                   packHalf2x16(vec2(modulation.b, 0.0)));
+  // A toon outline (black, whatever the filter makes of its light) faces no way: the filter's normal weight
+  // keeps its zero out of its neighbours'.
+  outGuide = uvec4(floatBitsToUint(depth), tdPackNormalInstance(outline ? vec3(0.0) : s.N, id.x),
+                   packHalf2x16(modulation.rg), packHalf2x16(vec2(modulation.b, 0.0)));
   outMotion = denoiseMotion(id, s.hit.posW);
 }
 void writeNoGuides() {
@@ -298,7 +300,7 @@ void writeNoGuides() {
   outExact = vec4(0.0);
 }
 #else
-void writeGuides(uvec2 id, Surface s, vec3 local, vec3 area, vec3 specular) {}
+void writeGuides(uvec2 id, Surface s, vec3 local, vec3 area, vec3 specular, bool outline) {}
 void writeNoGuides() {}
 #endif
 
@@ -340,12 +342,13 @@ void shadePixel() {
   if ((rayInputs & TD_RAY_REFLECTED) != 0 || kProbeReflect) specular += rays.reflected;
   if ((rayInputs & TD_RAY_TRANSMITTED) != 0 || kProbeRefract) specular += rays.transmitted;
   bool toon = kUseToon && int(s.m.krKtIorModel.w + 0.5) == TD_MODEL_TOON && s.m.emissionFlags.w < 0.5;
-  if (toon && isEdge(pix, id, s.hit.ngRaw)) {
+  bool outline = toon && isEdge(pix, id, s.hit.ngRaw);
+  if (outline) {
     local = area = specular = vec3(0.0);
     areaLightUnshadowed = vec3(0.0);  // (the filter's modulation: an outline stays black)
   }
   outColor = vec4(local + specular, 1.0);
-  if (kDenoiseGuides) writeGuides(id, s, local, area, specular);
+  if (kDenoiseGuides) writeGuides(id, s, local, area, specular, outline);
 }
 
 // The frame's shade pass also writes the display value (TD_FUSED_OUTPUT): one full-screen pass instead of

@@ -134,7 +134,7 @@ vec3 areaLightAsVisibility(int j, LightingPoint p, Triangle tri, GpuMaterial m, 
   bool rayShadowed = ((rayInputs & TD_RAY_LIGHT_MASK) != 0 || kShadowMask) && L.radiance.w > 0.5;
   float vis = rayShadowed ? rays.vis[j] : 1.0;
   if (kShadowMaps && L.radiance.w > 0.5) vis = rasterShadow(j, p.posW, p.Ng, p.pTop);
-  return vis * unshadowed;
+  return vis > 0.0 ? vis * unshadowed : vec3(0.0);  // (as directLight: no 0 · inf where the light overflows)
 }
 #else
 vec3 areaLightAsVisibility(int j, LightingPoint p, Triangle tri, GpuMaterial m, RaySample rays, out vec3 unshadowed) {

@@ -356,7 +356,8 @@ TEST(Denoise, AnAccumulationAtRestStillConvergesOnTheExactMean) {
   EXPECT_EQ(st.accumulated, 1);
   for (int k = 1; k < 32; ++k) {
     image = drawFrame(f, f.camera, s, &st);
-    EXPECT_FALSE(st.denoised) << "frame " << k << ": the samples summed are drawn as they are";
+    // The first 15 samples are shown blended with the filtered frame (Accumulation::shown), the rest as drawn.
+    EXPECT_EQ(st.denoised, k < 15) << "frame " << k;
   }
   EXPECT_EQ(st.accumulated, 31) << "the filtered first frame is not a sample of the mean";
   FrameSettings plain = s;
@@ -401,6 +402,46 @@ TEST(Denoise, WhenTheCameraStopsNoFrameIsFurtherFromTheTruthThanTheFilteredOne) 
               "the 16th %.5f\n",
               eStop, worst, worstFrame, flipMean(frames.back(), converged));
   EXPECT_LT(worst, 1.1 * eStop);
+}
+
+// Toon outlines (black) on the half-resolution ray grid: the filter keeps their black out of the surface
+// beside them (an outline faces no way in the guide), which is as bright as in the converged frame.
+TEST(Denoise, ToonOutlinesOnARayGridDoNotDarkenTheSurfaceBesideThem) {
+  TD_REQUIRE_GL_CONTEXT();
+  Frame f = load(*glContext_, areaLights());
+  FrameSettings s = settings(f, 1, true, 2);
+  s.shadingOverride = ShadingModel::Toon;
+  Image filtered;
+  for (int k = 0; k < 16; ++k) filtered = drawFrame(f, f.camera, s, nullptr);
+  FrameSettings t = settings(f, 8, false, 2);
+  t.shadingOverride = ShadingModel::Toon;
+  t.accumulate = 64;
+  Image converged;
+  for (int k = 0; k < 64; ++k) converged = drawFrame(f, f.camera, t);
+  // Beside an outline: a pixel not black in the converged frame with a black one (an outline) within 2 pixels.
+  auto luminance = [](const Image& im, int x, int y) {
+    const glm::u8vec4 c = im.at(x, y);
+    return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
+  };
+  double sumFiltered = 0.0, sumConverged = 0.0;
+  int beside = 0;
+  for (int y = 2; y < kH - 2; ++y)
+    for (int x = 2; x < kW - 2; ++x) {
+      if (luminance(converged, x, y) < 8.0) continue;
+      bool near = false;
+      for (int dy = -2; dy <= 2 && !near; ++dy)
+        for (int dx = -2; dx <= 2 && !near; ++dx) near = luminance(converged, x + dx, y + dy) < 1.0;
+      if (!near) continue;
+      sumFiltered += luminance(filtered, x, y);
+      sumConverged += luminance(converged, x, y);
+      ++beside;
+    }
+  gltest::savePng("denoise-toon-grid2-filtered.png", filtered);
+  gltest::savePng("denoise-toon-grid2-converged.png", converged);
+  std::printf("toon on a 1/2 grid: %d pixels beside outlines, mean display luminance filtered %.2f, converged %.2f\n",
+              beside, sumFiltered / std::max(beside, 1), sumConverged / std::max(beside, 1));
+  ASSERT_GT(beside, 500);
+  EXPECT_GT(sumFiltered, 0.98 * sumConverged);  // (with the outlines' zeros upsampled into them: 0.95)
 }
 
 // ---- the filter on a ray grid, on synthetic inputs (gl::DenoisePass alone) ----

@@ -28,8 +28,9 @@ class DenoisePass {
   /// The GL memory reserve(width, height, gridScale) allocates.
   static std::size_t targetBytes(int width, int height, int gridScale);
   bool holds() const { return width_ > 0; }
-  /// The shade pass's target for this frame: the noisy radiance divided by the surface colour at colour
-  /// attachment 0, the guide and the motion at 2 and 3 (ShadeInputs::denoiseGuides).
+  /// The shade pass's target for this frame: the sampled radiance divided by its modulation at colour
+  /// attachment 0, the guide, the motion and the radiance past the filter at 2, 3 and 4
+  /// (ShadeInputs::denoiseGuides).
   GLuint shadeFramebuffer() const { return targets_.shadeFbo.id(); }
   /// Filters the frame the shade pass just drew into the frame's output, `linear` radiance and its `display`
   /// (OutputPass's targets, the frame's size). `camera` in render space, as the shade pass drew with;

@@ -74,7 +74,7 @@ struct ShadeInputs {
   glm::vec3 previousCameraForward{0.0f, 0.0f, -1.0f};  // its axis (unit): the filter's depths are along it
   bool motionHistory = false;
   /// The spatiotemporal filter (DenoisePass, docs/denoise.md): the target has its inputs at colour
-  /// attachments 2-4 (the guide: depth, normal, instance and surface colour; the motion; the radiance that goes
+  /// attachments 2-4 (the guide: depth, normal, instance and modulation; the motion; the radiance that goes
   /// past the filter), which the shader fills from the motion inputs above (motionHistory false: none known).
   bool denoiseGuides = false;
   /// With motionHistory: the filter may keep its history (no area light and no setting that shapes the light

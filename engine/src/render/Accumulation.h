@@ -90,6 +90,8 @@ class Accumulation {
   /// never shown the raw mean of a few samples (noisier than the filtered frame), and the last frames of the
   /// accumulation are its exact mean.
   const ImageF& shown();
+  /// Whether the last shown() still blended the filtered frame in (a reconstruction: FrameStats::denoised).
+  bool handingOver() const { return !handover_.rgb.empty(); }
   /// The most samples any pixel has.
   int mostSamples() const;
 

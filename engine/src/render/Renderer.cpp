@@ -287,6 +287,7 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
     stats.accumulated = accum.mostSamples();
     gl::GpuStage gpu(&gpuTimers, gl::GpuTimers::Accumulate);
     outputPass.uploadLinear(accum.shown());
+    stats.denoised = accum.handingOver();  // the filtered frame still blended in: a reconstruction
     outputPass.output(s.exposure, s.toneMap, s.debugView);
     glFinish();
   });
