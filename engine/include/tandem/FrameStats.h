@@ -117,8 +117,9 @@ struct FrameStats {
   bool raysReused = false;
   /// The spatiotemporal filter (FrameSettings::denoise) reconstructed this frame from its one noisy sample and
   /// the last frames' (reprojected, rejected where unseen, clamped): what is shown is an estimate, not the
-  /// rays' answers as traced (raysReused, above, is reuse: the same answers to the bit). `denoiseMs`: the
-  /// filter's part of compositeMs.
+  /// rays' answers as traced (raysReused, above, is reuse: the same answers to the bit); also while an
+  /// accumulation at rest still blends the filtered frame into the mean of the samples drawn since.
+  /// `denoiseMs`: the filter's part of compositeMs.
   bool denoised = false;
   double denoiseMs = 0;
   /// Anti-aliasing and accumulation (FrameSettings::aa, accumulate): the sub-pixel samples this call drew
