@@ -33,8 +33,10 @@ void expectStagesMakeTheTotal(const FrameStats& st, const std::string& what) {
   ASSERT_TRUE(st.error.empty()) << what << ": " << st.error;
   for (const FrameStage& stage : kFrameStages) EXPECT_GE(st.*stage.cpu, 0.0) << what << ": " << stage.name;
   EXPECT_GT(st.totalMs, 0.0) << what;
-  // The timers' own cost is what is left: microseconds.
-  EXPECT_LE(std::abs(st.untimedMs()), 0.02 * st.totalMs) << what << ": " << stageList(st);
+  // The timers' own cost is what is left: microseconds, and on a loaded machine (the parallel sanitizer run) a
+  // thread preempted between two timers. 2 % of a sub-millisecond frame (a converged reference: 0.6 ms) is
+  // under one such preemption (0.014 ms seen), hence the floor; a stage left untimed costs milliseconds.
+  EXPECT_LE(std::abs(st.untimedMs()), 0.02 * st.totalMs + 0.05) << what << ": " << stageList(st);
 }
 
 TEST(FrameStages, AddUpToTheTotalInEveryPresetAndSamplingMode) {
