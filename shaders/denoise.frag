@@ -1,10 +1,11 @@
 #version 450 core
 // The spatiotemporal filter (docs/denoise.md; after SVGF, Schied et al., HPG 2017): the shade pass's noisy
 // radiance divided by what it is made of (the area lights' light unshadowed, or a glossy surface's colour:
-// neither texture detail nor a highlight that moves with the view enters the filter) is accumulated over frames along the motion vectors, its variance estimated from luminance moments, and
-// smoothed by an edge-aware a-trous filter whose weights stop at other instances, at points off the centre's
-// tangent plane, at other normals, and at luminance differences the variance does not explain. Three stages
-// of one program (TD_DENOISE_STAGE) and a fifth for a coarser ray grid:
+// neither texture detail nor a highlight that moves with the view enters the filter) is accumulated over
+// frames along the motion vectors, its variance estimated from luminance moments, and smoothed by an
+// edge-aware a-trous filter whose weights stop at other instances, at points off the centre's tangent plane,
+// at other normals, and at luminance differences the variance does not explain. Five stages of one program
+// (TD_DENOISE_STAGE):
 //   0 temporal: reprojection, history rejection and clamping, moments, variance;
 //   1 a-trous: one iteration at tap spacing `stepPx`, filter texels in and out;
 //   2 last: the last iteration, multiplied back by the modulation, with the radiance that went past the
@@ -14,9 +15,8 @@
 //     at edges), into the frame's linear radiance and its display, and kept for the next frame;
 //   4 upsampling: with rays on a coarser grid (gridScale > 1) the temporal stage and every a-trous iteration
 //     run on the grid's pixels (each reads the frame pixel the grid traced: its own sample, not the shade
-//     pass's blend of four, whose noise would come in grid-sized blocks the edge-stopping weights keep as
-//     structure); this stage takes each frame pixel's illumination from its grid neighbours, edge-aware, and
-//     does what stage 2 does for a full-resolution grid.
+//     pass's blend of four; a quarter of the pixels at 1/2), and this stage takes each frame pixel's value
+//     from its grid neighbours, edge-aware, then does what stage 2 does for a full-resolution grid.
 // Background pixels (instance 0) are never filtered. Texel layouts: denoise.glsl.
 #define TD_OUT(T) out T
 #include "bindings.glsl"
