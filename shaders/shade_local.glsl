@@ -205,7 +205,7 @@ vec3 localLight(Surface s, RaySample rays, uvec2 id, ivec2 pTop) {
 #define TD_ADD_LIGHT(J)                                                        \
   if (J < TD_LIGHT_COUNT) {                                                    \
     vec3 lightJ, unshadowedJ;                                                  \
-    if (kUseAreaLights && areaLightsAsVisibility && lightIsArea(J)) {          \
+    if (kUseAreaLights && kDenoiseGuides && lightIsArea(J)) {                 \
       lightJ = areaLightAsVisibility(J, lp, tri, m, rays, unshadowedJ);        \
       areaLightUnshadowed += unshadowedJ;                                      \
     } else {                                                                   \
