@@ -4,6 +4,7 @@
 // The view also copies the last frame's ids and depth (whether the point was in view there); the filter keeps
 // its own (gl/DenoisePass).
 #include <algorithm>
+#include <limits>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -158,25 +159,34 @@ void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame&
   std::vector<Moved> moved;
   const std::vector<gl::Bounds>& meshes = caches.meshBounds();
   const glm::dmat4 fromWorld = glm::translate(glm::dmat4(1.0), -glm::dvec3(now.anchor));
+  // One box an instance: where it was and where it is (the two overlap for all but the fastest).
   for (std::size_t i = 0; i < now.worldFromObject.size(); ++i) {
     if (before.worldFromObject[i] == now.worldFromObject[i]) continue;
     const std::size_t mesh = scene.instances[i].mesh;
     if (mesh >= meshes.size() || meshes[mesh].empty()) continue;
+    gl::Bounds box;
     for (const glm::dmat4* m : {&before.worldFromObject[i], &now.worldFromObject[i]}) {
-      gl::Bounds box;
       const gl::Bounds& b = meshes[mesh];
       for (int k = 0; k < 8; ++k) {
         const glm::dvec4 corner((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z, 1.0);
         box.add(glm::vec3(fromWorld * *m * corner));
       }
-      moved.push_back({box, i});
     }
+    moved.push_back({box, i});
   }
-  // More boxes than the shader holds (a game moves many small things): sorted by centre along the axis their
-  // centres spread most, cut into that many runs of neighbours, each run's union one box (the instance then
-  // unknown, -1, unless the run is one instance's). Linear after the sort: this runs every frame.
+  // More boxes than the shader holds (a game moves many small things): merged two at a time, each time the
+  // two whose union adds least surface (what a box flags grows with its extent: merging neighbours keeps
+  // it small; merging far-apart things into slabs flagged every point of a floor). Quadratic in the boxes
+  // per merge: above kGreedy of them, first runs of neighbours along the axis their centres spread most,
+  // each run's union one box. The instance becomes unknown (-1) when boxes of two merge.
   constexpr std::size_t kNoInstance = ~std::size_t{0};
-  if (moved.size() > TD_MAX_MOVED_BOXES) {
+  constexpr std::size_t kGreedy = 32;
+  auto unite = [kNoInstance](Moved a, const Moved& b) {
+    a.box.add(b.box);
+    if (a.instance != b.instance) a.instance = kNoInstance;
+    return a;
+  };
+  if (moved.size() > kGreedy) {
     gl::Bounds centres;
     for (const Moved& m : moved) centres.add(m.box.centre());
     const glm::vec3 spread = centres.hi - centres.lo;
@@ -184,16 +194,30 @@ void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame&
     std::sort(moved.begin(), moved.end(),
               [axis](const Moved& a, const Moved& b) { return a.box.centre()[axis] < b.box.centre()[axis]; });
     std::vector<Moved> runs;
-    for (std::size_t k = 0; k < TD_MAX_MOVED_BOXES; ++k) {
-      const std::size_t first = k * moved.size() / TD_MAX_MOVED_BOXES, end = (k + 1) * moved.size() / TD_MAX_MOVED_BOXES;
+    for (std::size_t k = 0; k < kGreedy; ++k) {
+      const std::size_t first = k * moved.size() / kGreedy, end = (k + 1) * moved.size() / kGreedy;
       Moved run = moved[first];
-      for (std::size_t m = first + 1; m < end; ++m) {
-        run.box.add(moved[m].box);
-        if (moved[m].instance != run.instance) run.instance = kNoInstance;
-      }
+      for (std::size_t m = first + 1; m < end; ++m) run = unite(run, moved[m]);
       runs.push_back(run);
     }
     moved = std::move(runs);
+  }
+  auto area = [](const gl::Bounds& b) {
+    const glm::vec3 d = b.hi - b.lo;
+    return d.x * d.y + d.y * d.z + d.z * d.x;
+  };
+  while (moved.size() > TD_MAX_MOVED_BOXES) {
+    std::size_t bestA = 0, bestB = 1;
+    float bestGrowth = std::numeric_limits<float>::infinity();
+    for (std::size_t a = 0; a < moved.size(); ++a)
+      for (std::size_t b = a + 1; b < moved.size(); ++b) {
+        gl::Bounds u = moved[a].box;
+        u.add(moved[b].box);
+        const float growth = area(u) - area(moved[a].box) - area(moved[b].box);
+        if (growth < bestGrowth) bestGrowth = growth, bestA = a, bestB = b;
+      }
+    moved[bestA] = unite(moved[bestA], moved[bestB]);
+    moved.erase(moved.begin() + static_cast<std::ptrdiff_t>(bestB));
   }
   for (const Moved& m : moved)
     in.movedBoxes[static_cast<std::size_t>(in.movedBoxCount++)] = {
