@@ -348,9 +348,14 @@ void antiAlias(ivec2 p) {
   // one too: the box above is as wide as a fresh pixel's noise, and would let the old colour through.
   bool fresh = !background && texelFetch(lengthTex, gridOf(p), 0).a > 0.5;
   if (history != 0 && !fresh && (background || m.w > 0.5)) {
-    vec2 before = (vec2(p) + 0.5 - (background ? vec2(0.0) : m.xy)) / vec2(frameSize);
-    vec3 past = clamp(textureLod(taaHistoryTex, before, 0.0).rgb, lo, hi);
-    result = mix(past, current, 0.15);
+    vec2 motion = background ? vec2(0.0) : m.xy;
+    vec3 past = clamp(textureLod(taaHistoryTex, (vec2(p) + 0.5 - motion) / vec2(frameSize), 0.0).rgb, lo, hi);
+    // The new frame's share: 0.15 up to 1.5 pixels of motion a frame (the jittered frames' sub-pixel samples
+    // add up over ~12 frames), rising to 0.5 at 3 and beyond (each frame's bilinear tap of the history blurs
+    // it, and over a long history the blur costs more than the averaging gains; the camera's jitter fades over
+    // the same range: render/Accumulation.h's filteredJitterScale). In the game's run, 2 to 16 pixels a frame,
+    // FLIP 0.037 at 0.15 throughout, 0.030 so.
+    result = mix(past, current, mix(0.15, 0.5, clamp((length(motion) - 1.5) / 1.5, 0.0, 1.0)));
   }
   outLinear = vec4(result, 1.0);
   outDisplay = vec4(tdDisplay(result, exposure, toneMap, false), 1.0);

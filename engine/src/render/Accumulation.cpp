@@ -1,6 +1,8 @@
 #include "render/Accumulation.h"
 
+#include <algorithm>
 #include <limits>
+#include <utility>
 
 #include "core/Sampling.h"
 #include "render/Adaptive.h"
@@ -15,10 +17,14 @@ Accumulation::Step Accumulation::step(const Camera& camera, const FrameSettings&
   return frames_ >= settings.accumulate ? Step::Converged : Step::GoOn;
 }
 
-void Accumulation::restart(const Camera& camera, const FrameSettings& settings, std::uint32_t firstSample) {
+void Accumulation::restart(const Camera& camera, const FrameSettings& settings, std::uint32_t firstSample,
+                           bool filtered) {
   // The sums are set up by the first add, not here: while things move a game restarts every frame and shows
   // its one sample as drawn (firstUnread), and zeroing fresh sums would cost it every frame (at 1920x1080 the
   // 58 MB of new pages took ~35 ms on the GPU machine). The buffers keep their memory between restarts.
+  jitterScale_ = filtered && active_
+                     ? filteredJitterScale(cameraMotionPx(camera_, camera, {settings.width, settings.height}))
+                     : 1.0f;
   active_ = true;
   camera_ = camera;
   settings_ = settings;
@@ -43,6 +49,22 @@ void Accumulation::startSums() {
   summing_ = true;
 }
 
+float cameraMotionPx(const Camera& before, const Camera& now, glm::ivec2 size) {
+  const glm::vec2 frame(std::max(size.x, 1), std::max(size.y, 1));
+  const glm::vec4 clip = before.clipFromView(frame.x / frame.y) * before.viewFromWorld() * glm::vec4(now.targetW, 1.0f);
+  if (!(clip.w > 0.0f)) return std::numeric_limits<float>::infinity();
+  // (now's target lies at its frame's centre, ndc 0)
+  return glm::length(glm::vec2(clip) / clip.w * 0.5f * frame);
+}
+
+float filteredJitterScale(float motionPx) { return glm::clamp((3.0f - motionPx) / 1.5f, 0.0f, 1.0f); }
+
+Camera filteredSample(const Camera& camera, std::uint32_t index, float jitterScale) {
+  Camera sample = sampleCamera(camera, index);
+  sample.jitterPx *= jitterScale;
+  return sample;
+}
+
 Camera sampleCamera(const Camera& camera, std::uint32_t index) {
   Camera jittered = camera;
   jittered.sampleIndex = index;  // new light samples with each new sub-pixel offset
@@ -52,7 +74,9 @@ Camera sampleCamera(const Camera& camera, std::uint32_t index) {
   return jittered;
 }
 
-Camera Accumulation::nextSample(const Camera& camera) { return sampleCamera(camera, next_++); }
+Camera Accumulation::nextSample(const Camera& camera) {
+  return filteredSample(camera, next_++, std::exchange(jitterScale_, 1.0f));
+}
 
 void Accumulation::add(const ImageF& linear, const std::vector<std::uint8_t>* only) {
   const std::size_t n = static_cast<std::size_t>(settings_.width) * static_cast<std::size_t>(settings_.height);

@@ -20,6 +20,19 @@ namespace tandem {
 /// The camera of sample `index` of a sequence: its sub-pixel offset, its index for light and gloss samples, and
 /// where the camera has a lens or a shutter, its lens point and time (core/Sampling.h's sequences).
 Camera sampleCamera(const Camera& camera, std::uint32_t index);
+/// How far a frame of `size` pixels moves on screen from camera `before` to `now`: the pixels `now`'s target
+/// (the centre of its frame) moved since `before`'s view (a rotation's motion at any depth, a translation's at
+/// the target's distance: the points the camera looks at). Infinite when the target was behind `before`.
+float cameraMotionPx(const Camera& before, const Camera& now, glm::ivec2 size);
+/// The sub-pixel offset's scale for a frame the spatiotemporal filter draws while the camera moves `motionPx`
+/// a frame: 1 up to 1.5 pixels, falling to 0 (the pixel centres) at 3 and beyond. A jittered frame pays only
+/// where its history lasts long enough to average the offsets out; a camera moving pixels a frame shortens
+/// the anti-aliasing's history (denoise.frag, over the same range) and the offsets showed as edges jumping by
+/// up to a pixel (docs/denoise.md: the game's run, 2 to 16 pixels a frame, FLIP 0.033 with the offsets down to
+/// 8 pixels, 0.030 so; a slow pan keeps them).
+float filteredJitterScale(float motionPx);
+/// sampleCamera with its sub-pixel offset scaled by `jitterScale` (filteredJitterScale).
+Camera filteredSample(const Camera& camera, std::uint32_t index, float jitterScale);
 
 class Accumulation {
  public:
@@ -44,8 +57,10 @@ class Accumulation {
   /// Starts again from nothing for `camera` and `settings` (its size): sums, counts, and for adaptive
   /// anti-aliasing each pixel's smallest and largest display luminance.
   /// `firstSample`: the sequence index the samples start from (the filter's frames go on along the sequence
-  /// so that each draws new samples; 0 otherwise).
-  void restart(const Camera& camera, const FrameSettings& settings, std::uint32_t firstSample = 0);
+  /// so that each draws new samples; 0 otherwise). `filtered`: the first frame is the filter's, its sub-pixel
+  /// offset scaled by how far the camera moved since the last restart (filteredJitterScale).
+  void restart(const Camera& camera, const FrameSettings& settings, std::uint32_t firstSample = 0,
+               bool filtered = false);
   /// Frees everything (cost follows the settings: a frame without anti-aliasing or accumulation holds none).
   void release() { *this = Accumulation{}; }
   bool active() const { return active_; }
@@ -117,6 +132,7 @@ class Accumulation {
   FrameSettings settings_;   // the plan's
   int frames_ = 0;
   std::uint32_t next_ = 0;   // index of the next sample's sub-pixel offset (subpixelJitter)
+  float jitterScale_ = 1.0f; // the next sample's sub-pixel offset scale (the filter's first: filteredSample)
   std::vector<glm::dvec3> sum_;  // double: 65536 frames of 256 samples would drift in float
   std::vector<std::uint32_t> count_;
   std::vector<float> lo_, hi_;  // adaptive: each pixel's samples' smallest and largest display luminance

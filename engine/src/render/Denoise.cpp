@@ -17,7 +17,10 @@ constexpr int kMaxHistory = 32;
 
 Camera Renderer::Impl::denoiseSample(const FramePlan& plan, const Camera& camera) {
   if (!plan.denoise) return camera;
-  return sampleCamera(camera, denoiseFrames++);
+  const float motionPx =
+      denoiseCamera ? cameraMotionPx(*denoiseCamera, camera, {plan.settings.width, plan.settings.height}) : 0.0f;
+  denoiseCamera = camera;
+  return filteredSample(camera, denoiseFrames++, filteredJitterScale(motionPx));
 }
 
 bool Renderer::Impl::shadeDenoised(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in,

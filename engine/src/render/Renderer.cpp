@@ -74,7 +74,7 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
     // linear frame once it is shown.
     if (s.aa == AntiAlias::Off &&
         accum.step(camera, s, {clock.lastDrawn, last.sceneChanged, caches.probesCurrent()}) == Accumulation::Step::Restart) {
-      timed(stats.accumulateMs, [&] { accum.restart(camera, s, firstDenoiseSample(plan)); });
+      timed(stats.accumulateMs, [&] { accum.restart(camera, s, firstDenoiseSample(plan), plan.denoise); });
       const Camera sampleCamera = accum.nextSample(camera);
       FramePlan samplePlan = accum.samplePlan(plan, caches.probesCurrent());
       accum.firstShown(plan.denoise);  // a filtered frame is not a sample to sum
@@ -219,7 +219,7 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
   stats.samples = 0;
   if (step == Accumulation::Step::Converged) return converged();
   if (step == Accumulation::Step::Restart)
-    timed(stats.accumulateMs, [&] { accum.restart(camera, s, firstDenoiseSample(plan)); });
+    timed(stats.accumulateMs, [&] { accum.restart(camera, s, firstDenoiseSample(plan), plan.denoise); });
   // The linear frame's read-back and the sums are the accumulation's time.
   auto addLinear = [&](const std::vector<std::uint8_t>* only) {
     timed(stats.accumulateMs, [&] {

@@ -295,6 +295,7 @@ struct Renderer::Impl {
   std::optional<gl::DenoisePass> denoisePass;
   bool denoiseFailed = false;  // its programs did not build: frames are drawn without it from then on
   std::uint32_t denoiseFrames = 0;
+  std::optional<Camera> denoiseCamera;  // the last filtered frame's camera without accumulation (denoiseSample)
   Camera denoiseSample(const FramePlan& plan, const Camera& camera);
   std::uint32_t firstDenoiseSample(const FramePlan& plan) { return plan.denoise ? denoiseFrames++ : 0u; }
   bool shadeDenoised(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in,
