@@ -119,9 +119,7 @@
 #define TD_LOC_PREVIOUS_CLIP_FROM_VIEW_ROTATION 24  // and the last frame's (4 locations)
 #define TD_LOC_PREVIOUS_CAMERA_POS 28               // the last frame's camera, render space
 #define TD_LOC_MOTION_HISTORY 29                    // 1: the last frame's ids, depth and transforms are bound
-#define TD_LOC_MOVED_BOX_COUNT 30    // the filter's guides: render-space boxes of what moved since the last frame
-#define TD_LOC_MOVED_BOXES 31        // TD_MAX_MOVED_BOXES pairs of vec4 (lo + instance, hi): locations 31-46
-#define TD_MAX_MOVED_BOXES 8
+#define TD_MAX_MOVED_BOXES 8         // the filter's boxes of what moved since the last frame (denoise.frag)
 #define TD_LOC_PREVIOUS_CAMERA_FORWARD 47  // the filter's guides: the last frame's camera axis (unit, render space)
 // The spatiotemporal filter (denoise.frag; DenoisePass, docs/denoise.md): its own program's units and
 // locations. The camera's right and up axes, orthographic and the frame size (TD_LOC_CAMERA_RIGHT ..
@@ -137,6 +135,7 @@
 #define TD_UNIT_DENOISE_TAA_HISTORY 8    // the last frame's anti-aliased radiance (linear filtering: reprojected)
 #define TD_UNIT_DENOISE_LENGTH 9         // this frame's moments: whether the temporal stage dropped the history
 #define TD_UNIT_DENOISE_SKIP 10          // the depth the temporal stage wrote: 1 where the iterations filter
+#define TD_UNIT_DENOISE_IDS 11           // this frame's visibility ids (the temporal stage: the instance, whole)
 #define TD_LOC_DENOISE_STEP 6            // the a-trous iteration's tap spacing in pixels
 #define TD_LOC_DENOISE_HISTORY 7         // 1: the last frame's history and moments hold
 #define TD_LOC_DENOISE_MAX_HISTORY 8     // frames the temporal mean spans at most
@@ -145,6 +144,11 @@
 #define TD_LOC_DENOISE_BACKGROUND 11     // the final iteration's background pixels
 #define TD_LOC_DENOISE_GRID_SCALE 12     // the ray grid's divisor (rayScale): the filter's own pixels are the grid's
 #define TD_LOC_DENOISE_GRID_SIZE 13      // the grid's size in pixels
+#define TD_LOC_DENOISE_CAMERA_POS 14     // the camera, render space (the temporal stage rebuilds points)
+#define TD_LOC_DENOISE_MOVED_COUNTS 15   // ivec2: moved boxes, area lights (DenoisePass's MovedInstances)
+#define TD_LOC_DENOISE_MOVED_BOXES 16    // TD_MAX_MOVED_BOXES pairs of vec4 (lo + instance, hi): locations 16-31
+#define TD_LOC_DENOISE_AREA_LIGHTS 32    // TD_MAX_LIGHTS vec4 (centre, radius): locations 32-39
+#define TD_LOC_DENOISE_JITTER 40         // this frame's sub-pixel offset (pixels, x right, y up: GL rows)
 // The output pass (tonemap.frag; OutputPass).
 #define TD_LOC_EXPOSURE 0
 #define TD_LOC_TONE_MAP 1
@@ -193,7 +197,7 @@
 #define TD_CHANNEL_DENOISE_GUIDE GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT  // depth, normal + instance, modulation
 #define TD_SAMPLER_DENOISE_GUIDE usampler2D
 #define TD_OUTPUT_DENOISE_GUIDE uvec4
-#define TD_CHANNEL_DENOISE_MOTION GL_RGBA32F, GL_RGBA, GL_FLOAT  // motion (pixels, GL rows), depth before, 1: history holds
+#define TD_CHANNEL_DENOISE_MOTION GL_RGBA32F, GL_RGBA, GL_FLOAT  // motion (pixels, GL rows), depth before, 1: in the last frame's view
 #define TD_SAMPLER_DENOISE_MOTION sampler2D
 #define TD_OUTPUT_DENOISE_MOTION vec4
 #define TD_CHANNEL_DENOISE_EXACT GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT  // radiance past the filter (sharp mirrors, glass)

@@ -55,6 +55,7 @@ layout(binding = TD_UNIT_DENOISE_SKIP) uniform TD_SAMPLER_DEPTH skipTex;
 #if TD_DENOISE_STAGE == 2 || TD_DENOISE_STAGE == 4
 layout(location = 0) out TD_OUTPUT_DENOISE_RADIANCE outFiltered;
 #elif TD_DENOISE_STAGE == 3
+layout(location = TD_LOC_DENOISE_JITTER) uniform vec2 jitterPx;
 layout(location = 0) out TD_OUTPUT_LINEAR outLinear;
 layout(location = 1) out TD_OUTPUT_DISPLAY outDisplay;
 layout(location = 2) out TD_OUTPUT_DENOISE_RADIANCE outTaa;  // the next frame's history
@@ -98,6 +99,9 @@ ivec2 gridOf(ivec2 p) {
   return ivec2(g.x, gridSize.y - 1 - g.y);
 }
 
+// Pixel q's normalized device coordinates.
+vec2 ndcOf(ivec2 q) { return (vec2(q) + 0.5) / vec2(frameSize) * 2.0 - 1.0; }
+
 vec3 illumination(uvec4 t) { return vec3(unpackHalf2x16(t.x), unpackHalf2x16(t.y).x); }
 float variance(uvec4 t) { return unpackHalf2x16(t.y).y; }
 // (Clamped under half precision's largest value: an infinity there would turn a zero weight's product into a
@@ -110,6 +114,53 @@ uvec4 filterTexel(vec3 illum, float var, uint depthBits, uint normalInstance) {
 
 // ---- stage 0: temporal accumulation ----
 #if TD_DENOISE_STAGE == 0
+layout(location = TD_LOC_DENOISE_CAMERA_POS) uniform vec3 cameraPosR;
+layout(location = TD_LOC_DENOISE_MOVED_COUNTS) uniform ivec2 movedCounts;  // boxes, area lights
+layout(location = TD_LOC_DENOISE_MOVED_BOXES) uniform vec4 movedBoxes[2 * TD_MAX_MOVED_BOXES];
+layout(location = TD_LOC_DENOISE_AREA_LIGHTS) uniform vec4 areaLights[TD_MAX_LIGHTS];
+layout(binding = TD_UNIT_DENOISE_IDS) uniform TD_SAMPLER_IDS idsTex;
+
+// Whether an instance that moved since the last frame (a box holding where it was and where it is, other than
+// the point's own instance) may stand between the point and an area light (the filter smooths only their
+// light): the shadow rays from the point to a light of radius r stay within r·t of the segment to its centre
+// at the fraction t of the way (a cone from the point), so a box the cone misses cannot have changed the
+// point's shadow. Tested as slab tests of the segment against the box grown by r (t in [enter, leave] where
+// the cone may meet it), then grown by r·leave (the cone's widest there), and so on while it meets, four
+// times. Growing by r alone flagged every point of a floor beside objects resting on it: the cone is narrow
+// near the point. Run here, on the grid's pixels (a quarter of the frame's at 1/2), not in the shade pass.
+bool lightMayHaveChanged(uint instance, vec3 posR) {
+  // Lights outside, boxes inside: a light's segment (and its reciprocal) once, then a few multiplies a box.
+  for (int j = 0; j < movedCounts.y; ++j) {
+    vec3 to = areaLights[j].xyz - posR;
+    float r = areaLights[j].w;
+    vec3 inv = 1.0 / to;
+    for (int k = 0; k < movedCounts.x; ++k) {
+      vec4 lo = movedBoxes[2 * k], hi = movedBoxes[2 * k + 1];
+      // (lo.w: the box's instance, -1 for boxes of several merged; the point's own instance is no blocker)
+      if (lo.w >= 0.0 && uint(lo.w + 0.5) == instance) continue;
+      float grow = r;
+      bool meets = true;
+      for (int pass = 0; pass < 4 && meets; ++pass) {
+        vec3 t0 = (lo.xyz - grow - posR) * inv, t1 = (hi.xyz + grow - posR) * inv;
+        float enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), max(min(t0.z, t1.z), 0.0));
+        float leave = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), min(max(t0.z, t1.z), 1.0));
+        meets = enter <= leave;
+        grow = r * leave;
+      }
+      if (meets) return true;
+    }
+  }
+  return false;
+}
+
+// Frame pixel q's point at view depth z (render space; tangentPlane's reconstruction, from the pixel's centre).
+vec3 pointAt(ivec2 q, float z) {
+  vec2 ndc = ndcOf(q);
+  vec3 F = normalize(cross(cameraUp, cameraRight));
+  vec3 across = cameraRight * ndc.x + cameraUp * ndc.y;
+  return cameraPosR + (orthographic != 0 ? across + z * F : z * (F + across));
+}
+
 void temporal() {
   ivec2 p = ivec2(gl_FragCoord.xy);  // a grid pixel
   ivec2 at = standIn(p);
@@ -141,11 +192,14 @@ void temporal() {
   // The point's place in the last frame: a bilinear tap of the four texels around it, each kept only where
   // the last frame showed the same instance at the depth the point had then, facing the same way.
   vec4 m = texelFetch(motionTex, at, 0);
+  // The point lay in the last frame, and no instance that moved may have changed its light.
+  bool holds = history != 0 && m.w > 0.5 &&
+               !(movedCounts.x > 0 && lightMayHaveChanged(texelFetch(idsTex, at, 0).x - 1u, pointAt(at, uintBitsToFloat(g.x))));
   vec3 N = tdUnpackNormal(g.y);
   vec3 past = vec3(0.0);
   vec3 pastMoments = vec3(0.0);  // luminance, its square, history length
   float weight = 0.0;
-  if (history != 0 && m.w > 0.5) {
+  if (holds) {
     vec2 before = toGrid(vec2(at) + 0.5 - m.xy);
     vec2 base = floor(before - 0.5);
     vec2 f = before - 0.5 - base;
@@ -166,7 +220,7 @@ void temporal() {
   // Whether the anti-aliasing's history must go too: the point was not in the last frame, its light may have
   // changed, or the history was stale. (Another instance there, a disocclusion or an edge the jitter crosses,
   // is not: the anti-aliasing's box bounds it, and edges are what it is for.)
-  bool drop = history != 0 && m.w < 0.5;
+  bool drop = history != 0 && !holds;
   vec3 illum = cur;
   float l = tdDenoiseLuminance(cur);
   vec2 moments = vec2(l, l * l);
@@ -207,8 +261,6 @@ void temporal() {
 #endif
 
 // ---- stages 1, 2 and 4: one a-trous iteration, the upsampling ----
-// Pixel q's normalized device coordinates.
-vec2 ndcOf(ivec2 q) { return (vec2(q) + 0.5) / vec2(frameSize) * 2.0 - 1.0; }
 
 // A point's tangent plane, as the a-trous and upsampling taps measure distances off it. The point pixel q
 // shows at view depth zq, relative to the camera, is zq·(F + R·x + U·y) (perspective; F the forward axis, R and
@@ -335,12 +387,19 @@ void antiAlias(ivec2 p) {
   // This frame's neighbourhood (a cross of five) bounds what the history may say (a history outside it is
   // stale: a disocclusion, a change of light).
   vec3 lo = current, hi = current;
+  vec3 across[4];
   for (int k = 0; k < 4; ++k) {
     vec3 c = texelFetch(filteredTex, clamp(p + cross4[k], ivec2(0), frameSize - 1), 0).rgb;
+    across[k] = c;
     lo = min(lo, c);
     hi = max(hi, c);
   }
-  vec3 result = current;
+  // Without a history: the frame's value at the pixel's centre, not at its jittered sample (a sample off the
+  // centre is further from the pixel's mean than the centre's), interpolated along each axis between the
+  // pixel's sample and the neighbour's on the other side of the centre.
+  vec2 toward = step(0.0, jitterPx);  // 1: the neighbour on the negative side
+  vec3 nx = mix(across[0], across[1], toward.x), ny = mix(across[2], across[3], toward.y);
+  vec3 result = current + abs(jitterPx.x) * (nx - current) + abs(jitterPx.y) * (ny - current);
   vec4 m = texelFetch(motionTex, p, 0);
   // The background has no motion of its own (its guide is cleared): its colour is the same wherever it is.
   bool background = tdInstanceTag(texelFetch(guideTex, p, 0).y) == 0u;

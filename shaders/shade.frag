@@ -140,9 +140,7 @@ layout(location = TD_LOC_MOTION_HISTORY) uniform int motionHistory;
 layout(binding = TD_UNIT_MOTION_INSTANCES) uniform samplerBuffer motionInstancesBuf;  // 4 texels an instance: columns
 layout(binding = TD_UNIT_PREVIOUS_IDS) uniform usampler2D previousIdsTex;
 layout(binding = TD_UNIT_PREVIOUS_DEPTH) uniform sampler2D previousDepthTex;
-// The filter's guides: what moved since the last frame (shade_debug.glsl's lightMayHaveChanged).
-layout(location = TD_LOC_MOVED_BOX_COUNT) uniform int movedBoxCount;
-layout(location = TD_LOC_MOVED_BOXES) uniform vec4 movedBoxes[2 * TD_MAX_MOVED_BOXES];
+// The filter's guides: the last frame's view axis (the point's depth then).
 layout(location = TD_LOC_PREVIOUS_CAMERA_FORWARD) uniform vec3 previousCameraForward;
 
 // Variant flags, set by CompositePass for each frame's scene and settings. llvmpipe runs both sides of a

@@ -114,50 +114,15 @@ vec3 motionView(uvec2 id, vec3 posR) {
 
 // ---- the spatiotemporal filter's guides (docs/denoise.md; TD_DENOISE_GUIDES) ----
 // Motion as the motion view measures it (now − before, unjittered, GL rows), the point's view depth in the
-// last frame, and whether the last frame's view of it holds (w): it lay in that frame, and nothing that moved
-// may have changed its light. The filter's reprojection checks the last frame's guide there. The last frame's ids and depth are the filter's own (its previous guide).
-// Whether an instance that moved since the last frame (a box holding where it was and where it is, other than
-// the point's own instance) may stand between the point and an area light (the filter smooths only their
-// light): the shadow rays from the point to a light of radius r stay within r·t of the segment to its centre
-// at the fraction t of the way (a cone from the point), so a box the cone misses cannot have changed the
-// point's shadow. Tested as two slab tests of the segment: against the box grown by r (t in [enter, leave]
-// where the cone may meet it), then grown by r·leave (the cone's widest there). Growing by r alone flagged
-// every point of a floor beside objects resting on it: the cone is narrow near the point.
-bool lightMayHaveChanged(uint instance, vec3 posR) {
-  // Lights outside, boxes inside: a light's segment (and its reciprocal) once, then a few multiplies a box
-  // (on llvmpipe the other order, the light's data read again for every box, cost more than the filter).
-  for (int j = 0; j < TD_LIGHT_COUNT; ++j) {
-    if (!lightIsArea(j)) continue;  // the other lights' light goes past the filter
-    vec3 to = lights[j].posType.xyz - posR;
-    float r = lightType(j) == TD_LIGHT_SPHERE ? lights[j].shapeV.w
-                                              : length(lights[j].shapeU.xyz) + length(lights[j].shapeV.xyz);
-    vec3 inv = 1.0 / to;
-    for (int k = 0; k < movedBoxCount; ++k) {
-      vec4 lo = movedBoxes[2 * k], hi = movedBoxes[2 * k + 1];
-      // (lo.w: the box's instance, -1 for boxes of several merged; the point's own instance is no blocker)
-      if (lo.w >= 0.0 && uint(lo.w + 0.5) == instance) continue;
-      float grow = r;
-      bool meets = true;
-      for (int pass = 0; pass < 2; ++pass) {
-        vec3 t0 = (lo.xyz - grow - posR) * inv, t1 = (hi.xyz + grow - posR) * inv;
-        float enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), max(min(t0.z, t1.z), 0.0));
-        float leave = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), min(max(t0.z, t1.z), 1.0));
-        meets = meets && enter <= leave;
-        grow = r * max(leave, 0.0);
-      }
-      if (meets) return true;
-    }
-  }
-  return false;
-}
-
+// last frame, and whether it lay in that frame (w). The filter's reprojection checks the last frame's guide
+// there (the last frame's ids and depth are the filter's own: its previous guide), and its temporal stage
+// whether an instance that moved may have changed the point's light (denoise.frag's lightMayHaveChanged).
 vec4 denoiseMotion(uvec2 id, vec3 posR) {
   if (motionHistory == 0) return vec4(0.0);
   vec3 now = projectPixel(clipFromViewRotation, cameraPosW, posR);
   vec3 then = previousPoint(id, posR);
   vec3 before = projectPixel(previousClipFromViewRotation, previousCameraPos, then);
   bool inView = before.z > 0.0 && all(greaterThanEqual(before.xy, vec2(0.0))) && all(lessThan(before.xy, vec2(frameSize)));
-  inView = inView && !(movedBoxCount > 0 && lightMayHaveChanged(id.x - 1u, posR));
   // The point's view depth then, as the last frame's guide holds it.
   float depthThen = dot(then - previousCameraPos, previousCameraForward);
   return vec4(now.xy - before.xy, depthThen, inView ? 1.0 : 0.0);

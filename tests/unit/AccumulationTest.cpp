@@ -3,6 +3,9 @@
 // mean. Worked out here from the rules docs/antialiasing.md states.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "core/Sampling.h"
 #include "render/Accumulation.h"
 
@@ -270,6 +273,64 @@ TEST(Accumulation, TheFilterRunsOnTheFirstFrameAloneAndTheSamplesGoOnAlongItsSeq
   Accumulation b;
   b.restart(Camera{}, accumulating(8));
   EXPECT_EQ(b.nextSample(Camera{}).sampleIndex, 0u);
+}
+
+TEST(Accumulation, TheFiltersFirstFrameLosesItsSubPixelOffsetAsTheCameraMovesFaster) {
+  // cameraMotionPx: how far the new camera's target moved on the old camera's screen. A strafe of the eye and
+  // the target together by d at distance D moves it d / D / tan(fov/2) half-heights: here 0.1 at 10 with a
+  // 90-degree fov on a 200-pixel-high frame, 0.01 of the half-height, 1 pixel.
+  Camera still;
+  still.posW = glm::vec3(0.0f, 0.0f, 10.0f);
+  still.targetW = glm::vec3(0.0f);
+  still.yFovDeg = 90.0f;
+  const glm::ivec2 size(300, 200);
+  EXPECT_EQ(cameraMotionPx(still, still, size), 0.0f);
+  auto strafed = [&](float d) {
+    Camera c = still;
+    c.posW.x += d;
+    c.targetW.x += d;
+    return c;
+  };
+  EXPECT_NEAR(cameraMotionPx(still, strafed(0.1f), size), 1.0f, 1e-3f);
+  EXPECT_NEAR(cameraMotionPx(still, strafed(0.5f), size), 5.0f, 5e-3f);
+  // A turn moves it at any depth: 1 degree of yaw is tan(1 deg) / tan(45 deg) half-heights.
+  Camera turned = still;
+  turned.targetW = still.posW + glm::vec3(std::sin(glm::radians(1.0f)), 0.0f, -std::cos(glm::radians(1.0f))) * 10.0f;
+  EXPECT_NEAR(cameraMotionPx(still, turned, size), 100.0f * std::tan(glm::radians(1.0f)), 1e-2f);
+  // Behind the old camera: no finite motion.
+  Camera behind = still;
+  behind.targetW = glm::vec3(0.0f, 0.0f, 20.0f);
+  EXPECT_TRUE(std::isinf(cameraMotionPx(still, behind, size)));
+  // The scale: whole up to 1.5 pixels a frame, none from 3, linear between.
+  EXPECT_EQ(filteredJitterScale(0.0f), 1.0f);
+  EXPECT_EQ(filteredJitterScale(1.5f), 1.0f);
+  EXPECT_NEAR(filteredJitterScale(2.25f), 0.5f, 1e-6f);
+  EXPECT_EQ(filteredJitterScale(3.0f), 0.0f);
+  EXPECT_EQ(filteredJitterScale(std::numeric_limits<float>::infinity()), 0.0f);
+
+  // The accumulation's first frame when filtered: its offset scaled by how far the camera moved since the
+  // last restart; only the first (the samples summed at rest keep theirs), and only when filtered.
+  FrameSettings s = accumulating(8);
+  s.width = size.x;
+  s.height = size.y;
+  s.denoise = true;
+  Accumulation a;
+  a.restart(still, s, 5, true);  // nothing before it: a whole offset
+  EXPECT_EQ(a.nextSample(still).jitterPx, subpixelJitter(5));
+  a.frameDone();
+  a.restart(strafed(0.5f), s, 6, true);  // 5 pixels: none
+  const Camera fast = a.nextSample(strafed(0.5f));
+  EXPECT_EQ(fast.jitterPx, glm::vec2(0.0f));
+  EXPECT_EQ(fast.sampleIndex, 6u) << "the light samples still go on along the sequence";
+  EXPECT_EQ(a.nextSample(strafed(0.5f)).jitterPx, subpixelJitter(7));
+  a.restart(strafed(0.5f), s, 8, true);  // the camera held still since: a whole offset
+  EXPECT_EQ(a.nextSample(strafed(0.5f)).jitterPx, subpixelJitter(8));
+  a.restart(strafed(0.725f), s, 9, true);  // 2.25 pixels: half
+  const glm::vec2 half = a.nextSample(strafed(0.725f)).jitterPx, expected = 0.5f * subpixelJitter(9);
+  EXPECT_NEAR(half.x, expected.x, 1e-4f);
+  EXPECT_NEAR(half.y, expected.y, 1e-4f);
+  a.restart(strafed(1.5f), s, 10, false);  // not filtered: a whole offset however far it moved
+  EXPECT_EQ(a.nextSample(strafed(1.5f)).jitterPx, subpixelJitter(10));
 }
 
 TEST(Accumulation, ReleaseFreesEverything) {

@@ -160,8 +160,9 @@ Result<void> DenoisePass::reserve(int width, int height, int gridScale) {
   return {};
 }
 
-void DenoisePass::filter(const Texture& linear, const Texture& display, const Camera& camera, bool history,
-                         float exposure, ToneMap toneMap, glm::vec3 background, int maxHistory) {
+void DenoisePass::filter(const Texture& linear, const Texture& display, const Texture& ids, const Camera& camera,
+                         bool history, const MovedInstances& moved, float exposure, ToneMap toneMap,
+                         glm::vec3 background, int maxHistory) {
   assert(holds() && "DenoisePass::filter: no targets (reserve first)");
   Targets& t = targets_;
   const int now = current_, before = 1 - current_;
@@ -226,6 +227,7 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Ca
     glBindTextureUnit(TD_UNIT_DENOISE_TAA_HISTORY, t.antiAliased[before].id());
     glBindTextureUnit(TD_UNIT_DENOISE_LENGTH, t.moments[antiAliasing ? now : before].id());
     glBindTextureUnit(TD_UNIT_DENOISE_SKIP, (depth == Depth::Off ? t.skip : t.noisy).id());  // attached: the test's
+    glBindTextureUnit(TD_UNIT_DENOISE_IDS, ids.id());
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glUseProgram(p);
     assertNoFeedbackLoop(what);
@@ -237,6 +239,12 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Ca
   // frame). On a coarser grid the last iteration writes texels too (back into A: where it skips a settled pixel,
   // A holds the temporal stage's value, which is what every iteration left there), and the upsampling takes
   // them to the frame. Then the anti-aliasing, into the frame.
+  // The temporal stage's test of what moved (lightMayHaveChanged): the boxes and the area lights.
+  const GLuint tp = temporal_.id();
+  glProgramUniform3fv(tp, TD_LOC_DENOISE_CAMERA_POS, 1, glm::value_ptr(camera.posW));
+  glProgramUniform2i(tp, TD_LOC_DENOISE_MOVED_COUNTS, moved.boxCount, moved.areaLightCount);
+  glProgramUniform4fv(tp, TD_LOC_DENOISE_MOVED_BOXES, 2 * TD_MAX_MOVED_BOXES, glm::value_ptr(moved.boxes[0].first));
+  glProgramUniform4fv(tp, TD_LOC_DENOISE_AREA_LIGHTS, kMaxLights, glm::value_ptr(moved.areaLights[0]));
   draw(temporal_, t.temporalFbo[now].id(), 0, nullptr, Depth::Write, "denoise: temporal");
   draw(atrous_, t.historyFbo[now].id(), 1, &t.scratchA, Depth::Test, "denoise: a-trous 1");
   draw(atrous_, t.scratchBFbo.id(), 2, &t.history[now], Depth::Test, "denoise: a-trous 2");
@@ -246,6 +254,8 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Ca
     draw(atrous_, t.scratchAFbo.id(), 4, &t.scratchB, Depth::Test, "denoise: a-trous 4");
     draw(upsample_, t.filteredFbo.id(), 0, &t.scratchA, Depth::Off, "denoise: upsampling");
   }
+  // (the rasterizer's offset: x right, y down; the anti-aliasing's pixels are GL rows)
+  glProgramUniform2f(antiAlias_.id(), TD_LOC_DENOISE_JITTER, camera.jitterPx.x, -camera.jitterPx.y);
   draw(antiAlias_, out, 0, nullptr, Depth::Off, "denoise: anti-aliasing");
   glDepthMask(GL_TRUE);
   glDisable(GL_DEPTH_TEST);

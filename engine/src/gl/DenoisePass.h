@@ -9,13 +9,27 @@
 
 #include <glm/glm.hpp>
 
+#include "gl/Bindings.h"
 #include "gl/GlObjects.h"
 #include "gl/Program.h"
 #include "tandem/Camera.h"
 #include "tandem/Result.h"
+#include "tandem/Scene.h"
 #include "tandem/Settings.h"
 
 namespace tandem::gl {
+
+/// What moved since the last frame, for the temporal stage's test of whether an instance that moved may have
+/// changed a point's area light (its history then starts again; docs/denoise.md). Render space.
+struct MovedInstances {
+  /// Boxes holding where each instance was and where it is: lo.xyz + its index in lo.w (-1 for a union of
+  /// several), hi.xyz.
+  std::array<std::pair<glm::vec4, glm::vec4>, TD_MAX_MOVED_BOXES> boxes{};
+  int boxCount = 0;
+  /// The area lights that cast shadows: centre, and the radius of a sphere holding the light.
+  std::array<glm::vec4, kMaxLights> areaLights{};
+  int areaLightCount = 0;
+};
 
 class DenoisePass {
  public:
@@ -35,10 +49,11 @@ class DenoisePass {
   /// Filters the frame the shade pass just drew into the frame's output, `linear` radiance and its `display`
   /// (OutputPass's targets, the frame's size). `camera` in render space, as the shade pass drew with;
   /// `history` false: the last frame is not this frame's past (new scene, size, no motion inputs), nothing of it
-  /// is reused. `background`: the background pixels' radiance. `maxHistory`: frames the temporal mean spans at
-  /// most.
-  void filter(const Texture& linear, const Texture& display, const Camera& camera, bool history, float exposure,
-              ToneMap toneMap, glm::vec3 background, int maxHistory);
+  /// is reused. `ids`: the visibility pass's (the instances the guide's tags stand for); `moved`: what moved
+  /// since the last frame. `background`: the background pixels' radiance. `maxHistory`: frames the temporal
+  /// mean spans at most.
+  void filter(const Texture& linear, const Texture& display, const Texture& ids, const Camera& camera, bool history,
+              const MovedInstances& moved, float exposure, ToneMap toneMap, glm::vec3 background, int maxHistory);
   /// The next frame has no past (a frame was drawn without the filter in between).
   void forget() { historyHeld_ = false; }
   /// What the last filter() left for the next frame to reproject: the filter texels (denoise.glsl) after the

@@ -336,9 +336,7 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
     glBindTextureUnit(kUnitMotionInstances, in.motionInstances ? in.motionInstances->id() : 0);
   }
   if (in.denoiseGuides) {
-    glProgramUniform1i(p, TD_LOC_MOVED_BOX_COUNT, in.movedBoxCount);
     glProgramUniform3fv(p, TD_LOC_PREVIOUS_CAMERA_FORWARD, 1, glm::value_ptr(in.previousCameraForward));
-    glProgramUniform4fv(p, TD_LOC_MOVED_BOXES, 2 * TD_MAX_MOVED_BOXES, glm::value_ptr(in.movedBoxes[0].first));
   }
   if (in.debugView == DebugView::Motion) {
     placeholders_.bindOr(kUnitPreviousIds, in.previousIds ? in.previousIds->id() : 0, P::Uint2D);

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "gl/Bindings.h"
+#include "gl/DenoisePass.h"
 #include "gl/GlObjects.h"
 #include "gl/GpuScene.h"
 #include "gl/Placeholders.h"
@@ -80,11 +81,8 @@ struct ShadeInputs {
   /// With motionHistory: the filter may keep its history (no area light and no setting that shapes the light
   /// changed since the last frame).
   bool denoiseHistory = false;
-  /// The instances that moved since the last frame, as render-space boxes where they were and where they are
-  /// (lo.xyz + the instance's index in lo.w, -1 for a union of several; hi.xyz): a pixel whose way to an area
-  /// light crosses one starts its history again (a shadow that moved; docs/denoise.md).
-  std::array<std::pair<glm::vec4, glm::vec4>, TD_MAX_MOVED_BOXES> movedBoxes{};
-  int movedBoxCount = 0;
+  /// For the filter, not the shade pass: what moved since the last frame (DenoisePass::filter).
+  MovedInstances moved;
 };
 
 /// The visibility pass's projection without the anti-aliasing jitter, times the camera's view rotation: a

@@ -150,8 +150,17 @@ FrameSettings Renderer::Impl::shadingSettings(const FrameSettings& s) {
 // have blocked or unblocked start again.
 void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame& now, gl::ShadeInputs& in) const {
   in.denoiseHistory = before.lights == now.lights && before.shading == now.shading;
-  in.movedBoxCount = 0;
+  in.moved = {};
   if (!in.denoiseHistory) return;
+  // The area lights whose shadows a moving instance may move: each a sphere holding it (render space).
+  for (const Light& l : now.lights) {
+    if (!l.castShadows || in.moved.areaLightCount == kMaxLights) continue;
+    const float r = l.type == LightType::Rect ? 0.5f * (l.size.x + l.size.y)
+                    : l.type == LightType::Disk ? 2.0f * l.radius
+                                                : l.radius;
+    in.moved.areaLights[static_cast<std::size_t>(in.moved.areaLightCount++)] =
+        glm::vec4(glm::vec3(glm::dvec3(l.posW) - glm::dvec3(now.anchor)), r);
+  }
   struct Moved {
     gl::Bounds box;
     std::size_t instance;
@@ -220,7 +229,7 @@ void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame&
     moved.erase(moved.begin() + static_cast<std::ptrdiff_t>(bestB));
   }
   for (const Moved& m : moved)
-    in.movedBoxes[static_cast<std::size_t>(in.movedBoxCount++)] = {
+    in.moved.boxes[static_cast<std::size_t>(in.moved.boxCount++)] = {
         glm::vec4(m.box.lo, m.instance == kNoInstance ? -1.0f : static_cast<float>(m.instance)), glm::vec4(m.box.hi, 0.0f)};
 }
 
