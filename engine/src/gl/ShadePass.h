@@ -12,7 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "gl/Bindings.h"
-#include "gl/DenoisePass.h"
+#include "gl/MovedInstances.h"
 #include "gl/GlObjects.h"
 #include "gl/GpuScene.h"
 #include "gl/Placeholders.h"
