@@ -21,6 +21,7 @@
 #include "gl/Bindings.h"
 #include "gl/DenoisePass.h"
 #include "gl/GlTestUtil.h"
+#include "render/Accumulation.h"
 #include "support/SceneTransform.h"
 #include "tandem/ImageMetrics.h"
 #include "tandem/SceneFile.h"
@@ -322,6 +323,34 @@ TEST(Denoise, ExactAnswersStayAsTheRaysAnsweredThem) {
   // filter blurring across luminance steps as if every pixel were noisy gave 0.036 and 11722.
   EXPECT_LT(eFiltered, 0.85 * eRaw) << "nearer the exact anti-aliased frame than its own centre samples";
   EXPECT_LT(filteredOff, rawOff / 2) << "values the filter moved off the exact ones";
+}
+
+// A filtered frame without a history (the first) shows each pixel at its centre, not at the frame's sub-pixel
+// offset: under point lights (nothing sampled) it is nearer the frame drawn at the pixel centres than a frame
+// drawn at its offset is (the anti-aliasing interpolates between its sample and the neighbour's across the
+// centre).
+TEST(Denoise, AFirstFrameShowsThePixelCentres) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene = areaLights();
+  for (Light& l : scene.lights)
+    if (isAreaLight(l.type)) l.type = LightType::Point;
+  Frame f = load(*glContext_, scene);
+  FrameStats st;
+  const Image first = filterFrames(f, f.camera, 1, &st);
+  ASSERT_TRUE(st.denoised);
+  const FrameSettings exact = settings(f, 1, false);
+  const Image centres = drawFrame(f, f.camera, exact);
+  Camera offset = f.camera;
+  offset.jitterPx = sampleCamera(f.camera, 0).jitterPx;  // a fresh renderer's first filtered frame's
+  ASSERT_GT(glm::length(offset.jitterPx), 0.25f);
+  const Image atOffset = drawFrame(f, offset, exact);
+  const double eFirst = flipMean(first, centres), eOffset = flipMean(atOffset, centres);
+  std::printf("point lights, against the frame at the pixel centres: the first filtered frame %.5f, the frame "
+              "at its offset (%.3f, %.3f) %.5f\n",
+              eFirst, static_cast<double>(offset.jitterPx.x), static_cast<double>(offset.jitterPx.y), eOffset);
+  // Measured: 0.0376 against 0.0407; the sample shown as it is 0.0411, interpolated away from the centre 0.065
+  // (the interpolation is linear across edges: it recovers part of the offset's error, not all).
+  EXPECT_LT(eFirst, 0.95 * eOffset);
 }
 
 TEST(Denoise, FarFromTheOriginTheFramesAreTheOrigins) {
