@@ -38,6 +38,13 @@ Scene sceneFile(const std::string& name) {
 }
 
 Scene areaLights() { return sceneFile("area-lights.json"); }
+// area-lights.json with its area lights made points: nothing sampled, every shadow hard.
+Scene pointLights() {
+  Scene scene = areaLights();
+  for (Light& l : scene.lights)
+    if (isAreaLight(l.type)) l.type = LightType::Point;
+  return scene;
+}
 
 using Frame = gltest::SceneFrame;
 
@@ -297,10 +304,7 @@ TEST(Denoise, ThingsMovingElsewhereLeaveTheRestOfTheFloorItsHistory) {
 // (an exponential mean, not the accumulation's: the two differ at edges by what fewer samples leave).
 TEST(Denoise, ExactAnswersStayAsTheRaysAnsweredThem) {
   TD_REQUIRE_GL_CONTEXT();
-  Scene scene = areaLights();
-  for (Light& l : scene.lights)
-    if (isAreaLight(l.type)) l.type = LightType::Point;
-  Frame f = load(*glContext_, scene);
+  Frame f = load(*glContext_, pointLights());
   FrameStats st;
   const Image filtered = filterFrames(f, f.camera, 32, &st);
   ASSERT_TRUE(st.denoised);
@@ -331,10 +335,7 @@ TEST(Denoise, ExactAnswersStayAsTheRaysAnsweredThem) {
 // centre).
 TEST(Denoise, AFirstFrameShowsThePixelCentres) {
   TD_REQUIRE_GL_CONTEXT();
-  Scene scene = areaLights();
-  for (Light& l : scene.lights)
-    if (isAreaLight(l.type)) l.type = LightType::Point;
-  Frame f = load(*glContext_, scene);
+  Frame f = load(*glContext_, pointLights());
   FrameStats st;
   const Image first = filterFrames(f, f.camera, 1, &st);
   ASSERT_TRUE(st.denoised);
