@@ -133,7 +133,6 @@
 #define TD_UNIT_DENOISE_EXACT 6          // this frame's radiance past the filter, added back by the final stage
 #define TD_UNIT_DENOISE_FILTERED 7       // the filtered frame (linear radiance), the anti-aliasing stage's input
 #define TD_UNIT_DENOISE_TAA_HISTORY 8    // the last frame's anti-aliased radiance (linear filtering: reprojected)
-#define TD_UNIT_DENOISE_LENGTH 9         // this frame's moments: whether the temporal stage dropped the history
 #define TD_UNIT_DENOISE_SKIP 10          // the depth the temporal stage wrote: 1 where the iterations filter
 #define TD_UNIT_DENOISE_IDS 11           // this frame's visibility ids (the temporal stage: the instance, whole)
 #define TD_LOC_DENOISE_STEP 6            // the a-trous iteration's tap spacing in pixels
@@ -197,7 +196,7 @@
 #define TD_CHANNEL_DENOISE_GUIDE GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT  // depth, normal + instance, modulation
 #define TD_SAMPLER_DENOISE_GUIDE usampler2D
 #define TD_OUTPUT_DENOISE_GUIDE uvec4
-#define TD_CHANNEL_DENOISE_MOTION GL_RGBA32F, GL_RGBA, GL_FLOAT  // motion (pixels, GL rows), depth before, 1: in the last frame's view
+#define TD_CHANNEL_DENOISE_MOTION GL_RGBA32F, GL_RGBA, GL_FLOAT  // motion (pixels, GL rows), depth before, 1: in the last frame's view (-1: the background)
 #define TD_SAMPLER_DENOISE_MOTION sampler2D
 #define TD_OUTPUT_DENOISE_MOTION vec4
 #define TD_CHANNEL_DENOISE_EXACT GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT  // radiance past the filter (sharp mirrors, glass)
@@ -206,7 +205,7 @@
 #define TD_CHANNEL_DENOISE_TEXEL GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT  // illumination, variance, depth, normal
 #define TD_SAMPLER_DENOISE_TEXEL usampler2D
 #define TD_OUTPUT_DENOISE_TEXEL uvec4
-#define TD_CHANNEL_DENOISE_MOMENTS GL_RGBA32F, GL_RGBA, GL_FLOAT      // luminance, its square, history length, dropped
+#define TD_CHANNEL_DENOISE_MOMENTS GL_RGBA32F, GL_RGBA, GL_FLOAT      // luminance, its square, history length
 #define TD_SAMPLER_DENOISE_MOMENTS sampler2D
 #define TD_OUTPUT_DENOISE_MOMENTS vec4
 #define TD_CHANNEL_DENOISE_RADIANCE GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT // the filtered frame; the anti-aliased one

@@ -49,7 +49,6 @@ layout(binding = TD_UNIT_DENOISE_INPUT) uniform TD_SAMPLER_DENOISE_TEXEL inputTe
 layout(binding = TD_UNIT_DENOISE_EXACT) uniform TD_SAMPLER_DENOISE_EXACT exactTex;
 layout(binding = TD_UNIT_DENOISE_FILTERED) uniform TD_SAMPLER_DENOISE_RADIANCE filteredTex;
 layout(binding = TD_UNIT_DENOISE_TAA_HISTORY) uniform TD_SAMPLER_DENOISE_RADIANCE taaHistoryTex;  // bilinear
-layout(binding = TD_UNIT_DENOISE_LENGTH) uniform TD_SAMPLER_DENOISE_MOMENTS lengthTex;
 layout(binding = TD_UNIT_DENOISE_SKIP) uniform TD_SAMPLER_DEPTH skipTex;
 
 #if TD_DENOISE_STAGE == 2 || TD_DENOISE_STAGE == 4
@@ -63,7 +62,7 @@ layout(location = 2) out TD_OUTPUT_DENOISE_RADIANCE outTaa;  // the next frame's
 layout(location = 0) out TD_OUTPUT_DENOISE_TEXEL outTexel;   // the filter texel
 #endif
 #if TD_DENOISE_STAGE == 0
-layout(location = 1) out TD_OUTPUT_DENOISE_MOMENTS outMoments;  // luminance, its square, history length, dropped
+layout(location = 1) out TD_OUTPUT_DENOISE_MOMENTS outMoments;  // luminance, its square, history length
 // The texel again into the iterations' other targets: a pixel they skip (gl_FragDepth 0) reads as drawn in
 // every one of them.
 layout(location = 2) out TD_OUTPUT_DENOISE_TEXEL outTexelB;
@@ -103,13 +102,19 @@ ivec2 gridOf(ivec2 p) {
 vec2 ndcOf(ivec2 q) { return (vec2(q) + 0.5) / vec2(frameSize) * 2.0 - 1.0; }
 
 vec3 illumination(uvec4 t) { return vec3(unpackHalf2x16(t.x), unpackHalf2x16(t.y).x); }
-float variance(uvec4 t) { return unpackHalf2x16(t.y).y; }
+// The variance's sign bit (a variance is never negative) says whether the temporal stage dropped the pixel's
+// history (stale, off the last frame, its light changed): the iterations carry it with the centre to the
+// stage that writes the filtered frame, whose alpha takes it to the anti-aliasing (its history goes too).
+const uint kDropped = 0x80000000u;
+float variance(uvec4 t) { return unpackHalf2x16(t.y & ~kDropped).y; }
+bool dropped(uvec4 t) { return (t.y & kDropped) != 0u; }
 // (Clamped under half precision's largest value: an infinity there would turn a zero weight's product into a
 // NaN that reprojection carries on.)
-uvec4 filterTexel(vec3 illum, float var, uint depthBits, uint normalInstance) {
+uvec4 filterTexel(vec3 illum, float var, uint depthBits, uint normalInstance, bool drop) {
   illum = min(illum, vec3(65000.0));
-  var = min(var, 65000.0);
-  return uvec4(packHalf2x16(illum.rg), packHalf2x16(vec2(illum.b, var)), depthBits, normalInstance);
+  var = clamp(var, 0.0, 65000.0);
+  return uvec4(packHalf2x16(illum.rg), packHalf2x16(vec2(illum.b, var)) | (drop ? kDropped : 0u), depthBits,
+               normalInstance);
 }
 
 // ---- stage 0: temporal accumulation ----
@@ -122,35 +127,40 @@ layout(binding = TD_UNIT_DENOISE_IDS) uniform TD_SAMPLER_IDS idsTex;
 
 // Whether an instance that moved since the last frame (a box holding where it was and where it is, other than
 // the point's own instance) may stand between the point and an area light (the filter smooths only their
-// light): the shadow rays from the point to a light of radius r stay within r·t of the segment to its centre
-// at the fraction t of the way (a cone from the point), so a box the cone misses cannot have changed the
-// point's shadow. Tested as slab tests of the segment against the box grown by r (t in [enter, leave] where
-// the cone may meet it), then grown by r·leave (the cone's widest there), and so on while it meets, four
-// times. Growing by r alone flagged every point of a floor beside objects resting on it: the cone is narrow
-// near the point. Run here, on the grid's pixels (a quarter of the frame's at 1/2), not in the shade pass.
+// light): the shadow rays from the point P to a light of radius r at c stay within r·t of the segment at the
+// fraction t of the way (a cone from the point), and so within the square pyramid of half-width r·t about it.
+// The pyramid meets a box [lo, hi] at t where, on every axis, lo - r·t <= P + t·(c - P) <= hi + r·t: two
+// linear bounds on t an axis, lower or upper by the sign of (c - P) ± r, so one pass finds whether some t in
+// [0, 1] meets them all. (Growing the box by r alone flagged every point of a floor beside objects resting on
+// it: the cone is narrow near the point. Four slab tests, the box grown by r times where the last one left
+// the segment, converged towards this bound and cost two and a half times as much on a software GL.) Run
+// here, on the grid's pixels (a quarter of the frame's at 1/2), not in the shade pass.
 bool lightMayHaveChanged(uint instance, vec3 posR) {
-  // Lights outside, boxes inside: a light's segment (and its reciprocal) once, then a few multiplies a box.
+  // Lights outside, boxes inside: the per-axis reciprocals and which bound each gives, once a light.
+  bool mayHave = false;
   for (int j = 0; j < movedCounts.y; ++j) {
     vec3 to = areaLights[j].xyz - posR;
     float r = areaLights[j].w;
-    vec3 inv = 1.0 / to;
+    vec3 inPlus = 1.0 / (to + r), inMinus = 1.0 / (to - r);
+    // lo side: t·(to + r) >= lo - P, a lower bound where to + r > 0, an upper one where < 0; hi side:
+    // t·(to - r) <= hi - P, an upper bound where to - r > 0, a lower one where < 0 (at 0 the side holds or
+    // fails for every t: left out, which only flags more).
+    bvec3 plusLower = greaterThan(to + r, vec3(0.0)), plusUpper = lessThan(to + r, vec3(0.0));
+    bvec3 minusUpper = greaterThan(to - r, vec3(0.0)), minusLower = lessThan(to - r, vec3(0.0));
+    const vec3 none = vec3(1e30);
     for (int k = 0; k < movedCounts.x; ++k) {
       vec4 lo = movedBoxes[2 * k], hi = movedBoxes[2 * k + 1];
+      vec3 tLo = (lo.xyz - posR) * inPlus, tHi = (hi.xyz - posR) * inMinus;
+      vec3 lower = max(mix(-none, tLo, plusLower), mix(-none, tHi, minusLower));
+      vec3 upper = min(mix(none, tLo, plusUpper), mix(none, tHi, minusUpper));
+      float enter = max(max(lower.x, lower.y), max(lower.z, 0.0));
+      float leave = min(min(upper.x, upper.y), min(upper.z, 1.0));
       // (lo.w: the box's instance, -1 for boxes of several merged; the point's own instance is no blocker)
-      if (lo.w >= 0.0 && uint(lo.w + 0.5) == instance) continue;
-      float grow = r;
-      bool meets = true;
-      for (int pass = 0; pass < 4 && meets; ++pass) {
-        vec3 t0 = (lo.xyz - grow - posR) * inv, t1 = (hi.xyz + grow - posR) * inv;
-        float enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), max(min(t0.z, t1.z), 0.0));
-        float leave = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), min(max(t0.z, t1.z), 1.0));
-        meets = enter <= leave;
-        grow = r * leave;
-      }
-      if (meets) return true;
+      bool own = lo.w >= 0.0 && uint(lo.w + 0.5) == instance;
+      mayHave = mayHave || (enter <= leave && !own);
     }
   }
-  return false;
+  return mayHave;
 }
 
 // Frame pixel q's point at view depth z (render space; tangentPlane's reconstruction, from the pixel's centre).
@@ -254,8 +264,8 @@ void temporal() {
   // frames it averages, so a view that holds still filters less and less, towards its exact mean.
   float var = len >= 4.0 ? max(moments.y - moments.x * moments.x, 0.0) : spatialVariance;
   var /= len;
-  outTexel = outTexelB = outHistory = filterTexel(illum, var, g.x, g.y);
-  outMoments = vec4(moments, len, drop ? 1.0 : 0.0);
+  outTexel = outTexelB = outHistory = filterTexel(illum, var, g.x, g.y, drop);
+  outMoments = vec4(moments, len, 0.0);
   gl_FragDepth = settled(illum, var) ? 0.0 : 1.0;
 }
 #endif
@@ -334,7 +344,7 @@ uvec4 atrous(ivec2 p, uvec4 centre) {
       wsum += w;
       vsum += w * w * variance(t);
     }
-  return filterTexel(sum / wsum, vsum / (wsum * wsum), centre.z, centre.w);
+  return filterTexel(sum / wsum, vsum / (wsum * wsum), centre.z, centre.w, dropped(centre));
 }
 
 // ---- stage 4: upsampling from a coarser grid ----
@@ -344,8 +354,9 @@ uvec4 atrous(ivec2 p, uvec4 centre) {
 // weighs anything: the nearest of them that shows p's instance (a crease), else (a thin object, a silhouette)
 // p's own sample, which the shade pass gathered from the nearest grid pixel within one step that shows p's
 // instance: the same grid pixel's light, unfiltered. (A wider search here would be run by every pixel: a
-// software GL runs both sides of the branch, ~40 % of this stage on llvmpipe.)
-vec3 upsample(ivec2 p, uvec4 guide) {
+// software GL runs both sides of the branch, ~40 % of this stage on llvmpipe.) `drop`: whether the temporal
+// stage dropped the history of the grid pixel whose block holds p (always one of the four).
+vec3 upsample(ivec2 p, uvec4 guide, out bool drop) {
   uint tag = tdInstanceTag(guide.y);
   vec2 ndc = ndcOf(p);
   TangentPlane plane = tangentPlane(tdUnpackNormal(guide.y), uintBitsToFloat(guide.x), ndc);
@@ -358,12 +369,15 @@ vec3 upsample(ivec2 p, uvec4 guide) {
   vec3 nearest = texelFetch(noisyTex, p, 0).rgb;
   if (any(isnan(nearest)) || any(isinf(nearest))) nearest = vec3(0.0);  // (a shading fault, as the temporal stage's)
   float nearestD = 1e30;
+  ivec2 block = gridOf(p);
+  drop = false;
   for (int k = 0; k < 4; ++k) {
     ivec2 o = ivec2(k & 1, k >> 1);
     ivec2 want = g0 + o;
     ivec2 q = clamp(want, ivec2(0), gridSize - 1);
     uvec4 t = texelFetch(inputTex, q, 0);
     vec3 c = illumination(t);
+    drop = q == block ? dropped(t) : drop;
     vec2 bilinear = mix(vec2(1.0) - f, f, vec2(o));
     float valid = (q == want && tdInstanceTag(t.w) == tag) ? 1.0 : 0.0;
     float w = bilinear.x * bilinear.y * valid * normalWeight(plane, t.w) *
@@ -383,7 +397,8 @@ vec3 upsample(ivec2 p, uvec4 guide) {
 // ---- stage 3: temporal anti-aliasing ----
 #if TD_DENOISE_STAGE == 3
 void antiAlias(ivec2 p) {
-  vec3 current = texelFetch(filteredTex, p, 0).rgb;
+  vec4 centre = texelFetch(filteredTex, p, 0);
+  vec3 current = centre.rgb;
   // This frame's neighbourhood (a cross of five) bounds what the history may say (a history outside it is
   // stale: a disocclusion, a change of light).
   vec3 lo = current, hi = current;
@@ -401,11 +416,12 @@ void antiAlias(ivec2 p) {
   vec3 nx = mix(across[0], across[1], toward.x), ny = mix(across[2], across[3], toward.y);
   vec3 result = current + abs(jitterPx.x) * (nx - current) + abs(jitterPx.y) * (ny - current);
   vec4 m = texelFetch(motionTex, p, 0);
-  // The background has no motion of its own (its guide is cleared): its colour is the same wherever it is.
-  bool background = tdInstanceTag(texelFetch(guideTex, p, 0).y) == 0u;
+  // The background has no motion of its own (its motion's w is -1): its colour is the same wherever it is.
+  bool background = m.w < -0.5;
   // A pixel whose filter history was dropped as stale (or off the last frame, or its light changed) drops this
-  // one too: the box above is as wide as a fresh pixel's noise, and would let the old colour through.
-  bool fresh = !background && texelFetch(lengthTex, gridOf(p), 0).a > 0.5;
+  // one too: the box above is as wide as a fresh pixel's noise, and would let the old colour through. (The
+  // filtered frame's alpha: the temporal stage's flag, carried by the texels.)
+  bool fresh = !background && centre.a > 0.5;
   if (history != 0 && !fresh && (background || m.w > 0.5)) {
     vec2 motion = background ? vec2(0.0) : m.xy;
     vec3 past = clamp(textureLod(taaHistoryTex, (vec2(p) + 0.5 - motion) / vec2(frameSize), 0.0).rgb, lo, hi);
@@ -433,6 +449,7 @@ void main() {
   // Last: back to radiance (times the modulation).
   uvec4 centre = texelFetch(inputTex, p, 0);
   vec3 linear = background;
+  bool drop = false;
   if (tdInstanceTag(centre.w) != 0u) {
     uvec4 g = texelFetch(guideTex, p, 0);
     vec3 modulation = vec3(unpackHalf2x16(g.z), unpackHalf2x16(g.w).x);
@@ -440,17 +457,19 @@ void main() {
     // Where the temporal stage found the pixel settled, the iterations skipped it: so does the last one.
     if (texelFetch(skipTex, p, 0).r > 0.5) illum = illumination(atrous(p, centre));
     linear = illum * modulation + texelFetch(exactTex, p, 0).rgb;
+    drop = dropped(centre);
   }
-  outFiltered = vec4(linear, 1.0);
+  outFiltered = vec4(linear, drop ? 1.0 : 0.0);
 #elif TD_DENOISE_STAGE == 4
   // Last on a coarser grid: the grid's filtered value at this pixel, times the pixel's own modulation.
   uvec4 g = texelFetch(guideTex, p, 0);
   vec3 linear = background;
+  bool drop = false;
   if (tdInstanceTag(g.y) != 0u) {
     vec3 modulation = vec3(unpackHalf2x16(g.z), unpackHalf2x16(g.w).x);
-    linear = upsample(p, g) * modulation + texelFetch(exactTex, p, 0).rgb;
+    linear = upsample(p, g, drop) * modulation + texelFetch(exactTex, p, 0).rgb;
   }
-  outFiltered = vec4(linear, 1.0);
+  outFiltered = vec4(linear, drop ? 1.0 : 0.0);
 #else
   antiAlias(p);
 #endif

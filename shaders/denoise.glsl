@@ -4,8 +4,8 @@
 // A software GL pays for every texel fetch and every pass (llvmpipe: ~2 ms a full-screen pass at 640x360
 // before any work), so what a tap needs travels in one RGBA32UI texel:
 //   guide (the shade pass's):     x depth (float bits), y normal + instance, z modulation rg (half), w its b
-//   filter texel (the stages'):   x illumination rg (half), y illumination b + variance (half), z depth, w
-//                                 normal + instance
+//   filter texel (the stages'):   x illumination rg (half), y illumination b + variance (half; the sign bit:
+//                                 the history was dropped), z depth, w normal + instance
 // Depth is view depth (along the camera's unjittered axis); the normal is three signed bytes (an edge-stopping
 // weight needs no more, and unpacking it is one instruction); the instance, in the fourth byte, is kept modulo
 // 255 (1-255; 0 is the background, never filtered): two instances 255 apart are told apart by the depth and

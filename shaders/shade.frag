@@ -294,7 +294,7 @@ void writeGuides(uvec2 id, Surface s, vec3 local, vec3 area, vec3 specular, bool
 }
 void writeNoGuides() {
   outGuide = uvec4(0u);
-  outMotion = vec4(0.0);
+  outMotion = vec4(0.0, 0.0, 0.0, -1.0);  // (w -1: the background, as the clear)
   outExact = vec4(0.0);
 }
 #else

@@ -188,8 +188,8 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Te
   enum class Depth { Write, Test, Off };
   const CameraVectors axes = cameraVectors(width_, height_, camera);
   // Every unit a stage's samplers name holds a texture of their type that its framebuffer does not attach:
-  // where a stage reads no iteration's input, the last frame's history; the filtered frame and this frame's
-  // moments only for the anti-aliasing stage (the stages before write them).
+  // where a stage reads no iteration's input, the last frame's history; the filtered frame only for the
+  // anti-aliasing stage (the stages before write it).
   auto draw = [&](const Program& program, GLuint framebuffer, int step, const Texture* input, Depth depth,
                   const char* what) {
     const bool antiAliasing = &program == &antiAlias_;
@@ -225,7 +225,6 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Te
     glBindTextureUnit(TD_UNIT_DENOISE_INPUT, (input != nullptr ? *input : t.history[before]).id());
     glBindTextureUnit(TD_UNIT_DENOISE_FILTERED, (antiAliasing ? t.filtered : t.antiAliased[before]).id());
     glBindTextureUnit(TD_UNIT_DENOISE_TAA_HISTORY, t.antiAliased[before].id());
-    glBindTextureUnit(TD_UNIT_DENOISE_LENGTH, t.moments[antiAliasing ? now : before].id());
     glBindTextureUnit(TD_UNIT_DENOISE_SKIP, (depth == Depth::Off ? t.skip : t.noisy).id());  // attached: the test's
     glBindTextureUnit(TD_UNIT_DENOISE_IDS, ids.id());
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);

@@ -368,12 +368,13 @@ void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& 
     glClearNamedFramebufferfv(framebuffer, GL_COLOR, 1, glm::value_ptr(display));
   }
   if (in.denoiseGuides) {
-    // The sky's guides (instance 0: never filtered), for the pixels the shader skips.
+    // The sky's guides (instance 0: never filtered; its motion's w -1 says so to the stages that read no
+    // guide), for the pixels the shader skips.
     const glm::uvec4 none(0u);
-    const glm::vec4 still(0.0f);
+    const glm::vec4 sky(0.0f, 0.0f, 0.0f, -1.0f), nothing(0.0f);
     glClearNamedFramebufferuiv(framebuffer, GL_COLOR, 2, glm::value_ptr(none));
-    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 3, glm::value_ptr(still));
-    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 4, glm::value_ptr(still));
+    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 3, glm::value_ptr(sky));
+    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 4, glm::value_ptr(nothing));
   }
   if (depthSkipsSky_) glEnable(GL_DEPTH_TEST);
   else glDisable(GL_DEPTH_TEST);
