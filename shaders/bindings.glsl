@@ -148,6 +148,7 @@
 #define TD_LOC_DENOISE_MOVED_BOXES 16    // TD_MAX_MOVED_BOXES pairs of vec4 (lo + instance, hi): locations 16-31
 #define TD_LOC_DENOISE_AREA_LIGHTS 32    // TD_MAX_LIGHTS vec4 (centre, radius): locations 32-39
 #define TD_LOC_DENOISE_JITTER 40         // this frame's sub-pixel offset (pixels, x right, y up: GL rows)
+#define TD_LOC_DENOISE_AXIS 41           // the camera's unjittered forward axis, unit (the guide's depth is along it)
 // The output pass (tonemap.frag; OutputPass).
 #define TD_LOC_EXPOSURE 0
 #define TD_LOC_TONE_MAP 1

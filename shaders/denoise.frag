@@ -26,10 +26,15 @@
 #ifndef TD_DENOISE_STAGE
 #define TD_DENOISE_STAGE 0
 #endif
+#ifndef TD_DENOISE_MOVED
+#define TD_DENOISE_MOVED 1  // the temporal stage tests what moved (a frame where nothing did skips the test:
+                            // a software GL runs even a uniform branch's untaken side, ~2 ms at 640x360)
+#endif
 
 layout(location = TD_LOC_CAMERA_RIGHT) uniform vec3 cameraRight;
 layout(location = TD_LOC_CAMERA_UP) uniform vec3 cameraUp;
 layout(location = TD_LOC_ORTHOGRAPHIC) uniform int orthographic;
+layout(location = TD_LOC_DENOISE_AXIS) uniform vec3 cameraAxis;
 layout(location = TD_LOC_FRAME_SIZE) uniform ivec2 frameSize;
 layout(location = TD_LOC_DENOISE_STEP) uniform int stepPx;
 layout(location = TD_LOC_DENOISE_HISTORY) uniform int history;
@@ -166,9 +171,8 @@ bool lightMayHaveChanged(uint instance, vec3 posR) {
 // Frame pixel q's point at view depth z (render space; tangentPlane's reconstruction, from the pixel's centre).
 vec3 pointAt(ivec2 q, float z) {
   vec2 ndc = ndcOf(q);
-  vec3 F = normalize(cross(cameraUp, cameraRight));
   vec3 across = cameraRight * ndc.x + cameraUp * ndc.y;
-  return cameraPosR + (orthographic != 0 ? across + z * F : z * (F + across));
+  return cameraPosR + (orthographic != 0 ? across + z * cameraAxis : z * (cameraAxis + across));
 }
 
 void temporal() {
@@ -203,12 +207,17 @@ void temporal() {
   // the last frame showed the same instance at the depth the point had then, facing the same way.
   vec4 m = texelFetch(motionTex, at, 0);
   // The point lay in the last frame, and no instance that moved may have changed its light.
-  bool holds = history != 0 && m.w > 0.5 &&
-               !(movedCounts.x > 0 && lightMayHaveChanged(texelFetch(idsTex, at, 0).x - 1u, pointAt(at, uintBitsToFloat(g.x))));
+  bool holds = history != 0 && m.w > 0.5;
+  if (TD_DENOISE_MOVED != 0)
+    holds = holds && !lightMayHaveChanged(texelFetch(idsTex, at, 0).x - 1u, pointAt(at, uintBitsToFloat(g.x)));
   vec3 N = tdUnpackNormal(g.y);
   vec3 past = vec3(0.0);
-  vec3 pastMoments = vec3(0.0);  // luminance, its square, history length
   float weight = 0.0;
+  // The heaviest texel kept: its moments (luminance, its square, history length) are the history's. (A
+  // bilinear blend of the four would widen the spread by their differences across a gradient, and cost four
+  // fetches: ~1.8 ms at 640x360 on a software GL.)
+  float heaviest = 0.0;
+  ivec2 from = ivec2(0);
   if (holds) {
     vec2 before = toGrid(vec2(at) + 0.5 - m.xy);
     vec2 base = floor(before - 0.5);
@@ -222,8 +231,9 @@ void temporal() {
       if (tdInstanceTag(h.w) != tag || abs(depthThen - m.z) > 0.03 * m.z || dot(tdUnpackNormal(h.w), N) < 0.9) continue;
       float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
       past += w * illumination(h);
-      pastMoments += w * texelFetch(momentsTex, q, 0).rgb;
       weight += w;
+      from = w > heaviest ? q : from;
+      heaviest = max(heaviest, w);
     }
   }
   float len = 1.0;
@@ -236,7 +246,7 @@ void temporal() {
   vec2 moments = vec2(l, l * l);
   if (weight > 0.01) {
     past /= weight;
-    pastMoments /= weight;
+    vec3 pastMoments = texelFetch(momentsTex, from, 0).rgb;
     len = min(floor(pastMoments.z + 0.5) + 1.0, maxHistory);
     // Stale history (a shadow that went with the object casting it, a reflection that moved otherwise than its
     // surface) lies outside what this frame's neighbourhood allows: the difference between the two means,
@@ -284,8 +294,7 @@ struct TangentPlane {
 TangentPlane tangentPlane(vec3 N, float z, vec2 ndc) {
   TangentPlane t;
   t.N = N;
-  vec3 F = normalize(cross(cameraUp, cameraRight));
-  t.nf = dot(N, F);
+  t.nf = dot(N, cameraAxis);
   t.nr = dot(N, cameraRight);
   t.nu = dot(N, cameraUp);
   bool ortho = orthographic != 0;

@@ -288,11 +288,11 @@ struct GlFrame {
   std::string error;
 };
 
-GlFrame& glFrame(std::int64_t arg) {
+GlFrame& glFrame(const std::string& spec) {
   static std::unique_ptr<GlContext> context;
   static std::string contextError;
-  static std::map<std::int64_t, std::unique_ptr<GlFrame>> frames;
-  auto& slot = frames[arg];
+  static std::map<std::string, std::unique_ptr<GlFrame>> frames;
+  auto& slot = frames[spec];
   if (slot) return *slot;
   slot = std::make_unique<GlFrame>();
   if (!context && contextError.empty()) {
@@ -304,7 +304,7 @@ GlFrame& glFrame(std::int64_t arg) {
     slot->error = "no GL context: " + contextError;
     return *slot;
   }
-  auto scene = loadBenchScene(sceneSpec(arg));
+  auto scene = loadBenchScene(spec);
   if (!scene) {
     slot->error = scene.error().message;
     return *slot;
@@ -333,7 +333,7 @@ GlFrame& glFrame(std::int64_t arg) {
 }
 
 void BM_VisibilityRaster(benchmark::State& state) {
-  GlFrame& g = glFrame(state.range(0));
+  GlFrame& g = glFrame(sceneSpec(state.range(0)));
   if (!g.renderer) return state.SkipWithError(g.error.c_str());
   FrameSettings base;
   base.width = kWidth;
@@ -349,7 +349,7 @@ void BM_VisibilityRaster(benchmark::State& state) {
 // every frame traced, the camera stepping each frame as a game's does; each iteration's time is the interval
 // between render() calls (FrameStats::intervalMs), with the frame's latency and its wait for its rays beside.
 void BM_FrameInterval(benchmark::State& state) {
-  GlFrame& g = glFrame(state.range(0));
+  GlFrame& g = glFrame(sceneSpec(state.range(0)));
   if (!g.renderer) return state.SkipWithError(g.error.c_str());
   FrameSettings base;
   base.width = kWidth;
@@ -374,6 +374,48 @@ void BM_FrameInterval(benchmark::State& state) {
   (void)g.renderer->finish();
   state.counters["latency_ms"] = summarize(latency).median;
   state.counters["rays_wait_ms"] = summarize(wait).median;
+}
+
+// The spatiotemporal filter's passes alone (FrameStats::denoiseMs, docs/denoise.md) at 640x360, the filter's
+// target size: area-lights.json, one light sample a frame, the camera panning ~2 pixels a frame (the history
+// holds, the moved-instance test has nothing to test); arg fast 0: hybrid-full (rays at every pixel), 1:
+// hybrid-fast (rays on a half-resolution grid, the upsampling stage). Counters: the shade pass with the
+// filter's guides beside it (the composite less the filter), the whole frame; medians.
+void BM_Denoise(benchmark::State& state) {
+  GlFrame& g = glFrame(sourceDir() + "/assets/scenes/area-lights.json");
+  if (!g.renderer) return state.SkipWithError(g.error.c_str());
+  FrameSettings base;
+  base.width = 640;
+  base.height = 360;
+  FrameSettings s = *presetSettings(state.range(0) != 0 ? "hybrid-fast" : "hybrid-full", base);
+  s.denoise = true;
+  s.lightSamples = 1;
+  Camera camera = g.camera;
+  int frame = 0;
+  // (the sweep's pan, tools/bench/Sweep.cpp: 0.004 of the view distance a frame along the camera's right,
+  // here back and forth)
+  const glm::vec3 forward = g.camera.targetW - g.camera.posW;
+  const glm::vec3 right = glm::normalize(glm::cross(forward, g.camera.upW));
+  auto next = [&] {
+    const int k = frame++ % 480;
+    const glm::vec3 shift = right * (0.004f * glm::length(forward) * static_cast<float>(k < 240 ? k : 480 - k));
+    camera.posW = g.camera.posW + shift;
+    camera.targetW = g.camera.targetW + shift;
+    return g.renderer->render(camera, s);
+  };
+  for (int i = 0; i < 4; ++i) (void)next();  // the variants compiled, a history held
+  std::vector<double> shade, total, filter;
+  for (auto _ : state) {
+    const FrameStats st = next();
+    if (!st.denoised) return state.SkipWithError("the frame was not filtered");
+    state.SetIterationTime(st.denoiseMs * 1e-3);
+    filter.push_back(st.denoiseMs);
+    shade.push_back(st.compositeMs - st.denoiseMs);
+    total.push_back(st.totalMs);
+  }
+  state.counters["filter_median_ms"] = summarize(filter).median;
+  state.counters["shade_ms"] = summarize(shade).median;
+  state.counters["frame_ms"] = summarize(total).median;
 }
 
 void BM_VisibilityCastRays(benchmark::State& state) {
@@ -407,6 +449,11 @@ void registerMicroBenchmarks() {
   benchmark::RegisterBenchmark("BM_Flip1280x720", BM_Flip1280x720)->Unit(benchmark::kMillisecond);
   scenes(benchmark::RegisterBenchmark("BM_VisibilityRaster", BM_VisibilityRaster)->UseManualTime());
   scenes(benchmark::RegisterBenchmark("BM_VisibilityCastRays", BM_VisibilityCastRays));
+  benchmark::RegisterBenchmark("BM_Denoise", BM_Denoise)
+      ->ArgName("fast")->Arg(0)->Arg(1)
+      ->UseManualTime()
+      ->MinTime(3.0)
+      ->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark("BM_FrameInterval", BM_FrameInterval)
       ->ArgNames({"heavy", "pipelined"})
       ->Args({0, 0})->Args({0, 1})

@@ -24,9 +24,10 @@ static_assert(texelBytes(kNoisy.internal) > 0 && texelBytes(kExact.internal) > 0
                   texelBytes(kMoments.internal) > 0 && texelBytes(kRadiance.internal) > 0,
               "targetBytes: a filter channel's format is missing");
 
-Result<Program> stage(const char* label, int stage) {
+Result<Program> stage(const char* label, int stage, bool moved = true) {
   return buildProgram(label, {{GL_VERTEX_SHADER, "shaders/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "shaders/denoise.frag"}},
-                      "#define TD_DENOISE_STAGE " + std::to_string(stage) + "\n");
+                      "#define TD_DENOISE_STAGE " + std::to_string(stage) + "\n#define TD_DENOISE_MOVED " +
+                          (moved ? "1" : "0") + "\n");
 }
 
 // A framebuffer of `colours` (attachment index, texture) and, when given, `depth`: complete, or why not.
@@ -51,15 +52,16 @@ Result<Framebuffer> framebuffer(const char* label, std::initializer_list<std::pa
 
 Result<DenoisePass> DenoisePass::create() {
   DenoisePass pass;
-  const std::array<std::tuple<Program*, const char*, int>, 5> stages{{
-      {&pass.temporal_, "denoise: temporal", 0},
-      {&pass.atrous_, "denoise: a-trous", 1},
-      {&pass.last_, "denoise: a-trous, last", 2},
-      {&pass.antiAlias_, "denoise: anti-aliasing", 3},
-      {&pass.upsample_, "denoise: upsampling", 4},
+  const std::array<std::tuple<Program*, const char*, int, bool>, 6> stages{{
+      {&pass.temporal_, "denoise: temporal", 0, true},
+      {&pass.temporalStill_, "denoise: temporal, nothing moved", 0, false},
+      {&pass.atrous_, "denoise: a-trous", 1, true},
+      {&pass.last_, "denoise: a-trous, last", 2, true},
+      {&pass.antiAlias_, "denoise: anti-aliasing", 3, true},
+      {&pass.upsample_, "denoise: upsampling", 4, true},
   }};
-  for (const auto& [program, label, index] : stages) {
-    auto built = stage(label, index);
+  for (const auto& [program, label, index, moved] : stages) {
+    auto built = stage(label, index, moved);
     if (!built) return built.error();
     *program = std::move(*built);
   }
@@ -187,6 +189,8 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Te
   // anti-aliasing run everywhere (they write the frame).
   enum class Depth { Write, Test, Off };
   const CameraVectors axes = cameraVectors(width_, height_, camera);
+  // (unjittered: the jitter tilts axes.forward, not the axis the guide's depth is measured along)
+  const glm::vec3 axis = glm::normalize(glm::cross(axes.up, axes.right));
   // Every unit a stage's samplers name holds a texture of their type that its framebuffer does not attach:
   // where a stage reads no iteration's input, the last frame's history; the filtered frame only for the
   // anti-aliasing stage (the stages before write it).
@@ -194,7 +198,7 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Te
                   const char* what) {
     const bool antiAliasing = &program == &antiAlias_;
     // The temporal stage and the iterations that write filter texels run on the grid, the rest on the frame.
-    const bool onGrid = &program == &temporal_ || &program == &atrous_;
+    const bool onGrid = &program == &temporal_ || &program == &temporalStill_ || &program == &atrous_;
     glViewport(0, 0, onGrid ? gridWidth_ : width_, onGrid ? gridHeight_ : height_);
     if (depth == Depth::Off) {
       glDisable(GL_DEPTH_TEST);
@@ -206,6 +210,7 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Te
     const GLuint p = program.id();
     glProgramUniform3fv(p, TD_LOC_CAMERA_RIGHT, 1, glm::value_ptr(axes.right));
     glProgramUniform3fv(p, TD_LOC_CAMERA_UP, 1, glm::value_ptr(axes.up));
+    glProgramUniform3fv(p, TD_LOC_DENOISE_AXIS, 1, glm::value_ptr(axis));
     glProgramUniform1i(p, TD_LOC_ORTHOGRAPHIC, camera.orthographic ? 1 : 0);
     glProgramUniform2i(p, TD_LOC_FRAME_SIZE, width_, height_);
     glProgramUniform1i(p, TD_LOC_DENOISE_STEP, step);
@@ -238,13 +243,17 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Te
   // frame). On a coarser grid the last iteration writes texels too (back into A: where it skips a settled pixel,
   // A holds the temporal stage's value, which is what every iteration left there), and the upsampling takes
   // them to the frame. Then the anti-aliasing, into the frame.
-  // The temporal stage's test of what moved (lightMayHaveChanged): the boxes and the area lights.
+  // The temporal stage's test of what moved (lightMayHaveChanged): the boxes and the area lights; without
+  // either, the variant without the test.
+  const bool anyMoved = moved.boxCount > 0 && moved.areaLightCount > 0;
   const GLuint tp = temporal_.id();
-  glProgramUniform3fv(tp, TD_LOC_DENOISE_CAMERA_POS, 1, glm::value_ptr(camera.posW));
-  glProgramUniform2i(tp, TD_LOC_DENOISE_MOVED_COUNTS, moved.boxCount, moved.areaLightCount);
-  glProgramUniform4fv(tp, TD_LOC_DENOISE_MOVED_BOXES, 2 * TD_MAX_MOVED_BOXES, glm::value_ptr(moved.boxes[0].first));
-  glProgramUniform4fv(tp, TD_LOC_DENOISE_AREA_LIGHTS, kMaxLights, glm::value_ptr(moved.areaLights[0]));
-  draw(temporal_, t.temporalFbo[now].id(), 0, nullptr, Depth::Write, "denoise: temporal");
+  if (anyMoved) {
+    glProgramUniform3fv(tp, TD_LOC_DENOISE_CAMERA_POS, 1, glm::value_ptr(camera.posW));
+    glProgramUniform2i(tp, TD_LOC_DENOISE_MOVED_COUNTS, moved.boxCount, moved.areaLightCount);
+    glProgramUniform4fv(tp, TD_LOC_DENOISE_MOVED_BOXES, 2 * TD_MAX_MOVED_BOXES, glm::value_ptr(moved.boxes[0].first));
+    glProgramUniform4fv(tp, TD_LOC_DENOISE_AREA_LIGHTS, kMaxLights, glm::value_ptr(moved.areaLights[0]));
+  }
+  draw(anyMoved ? temporal_ : temporalStill_, t.temporalFbo[now].id(), 0, nullptr, Depth::Write, "denoise: temporal");
   draw(atrous_, t.historyFbo[now].id(), 1, &t.scratchA, Depth::Test, "denoise: a-trous 1");
   draw(atrous_, t.scratchBFbo.id(), 2, &t.history[now], Depth::Test, "denoise: a-trous 2");
   if (gridScale_ == 1) {
