@@ -133,7 +133,6 @@
 #define TD_UNIT_DENOISE_EXACT 6          // this frame's radiance past the filter, added back by the final stage
 #define TD_UNIT_DENOISE_FILTERED 7       // the filtered frame (linear radiance), the anti-aliasing stage's input
 #define TD_UNIT_DENOISE_TAA_HISTORY 8    // the last frame's anti-aliased radiance (linear filtering: reprojected)
-#define TD_UNIT_DENOISE_SKIP 10          // the depth the temporal stage wrote: 1 where the iterations filter
 #define TD_UNIT_DENOISE_IDS 11           // this frame's visibility ids (the temporal stage: the instance, whole)
 #define TD_LOC_DENOISE_STEP 6            // the a-trous iteration's tap spacing in pixels
 #define TD_LOC_DENOISE_HISTORY 7         // 1: the last frame's history and moments hold

@@ -8,15 +8,16 @@
 // (TD_DENOISE_STAGE):
 //   0 temporal: reprojection, history rejection and clamping, moments, variance;
 //   1 a-trous: one iteration at tap spacing `stepPx`, filter texels in and out;
-//   2 last: the last iteration, multiplied back by the modulation, with the radiance that went past the
-//     filter (a sharp mirror's or glass's rays) added: the filtered frame;
+//   2 compose: the last iteration's texels (which skipped the pixels the temporal stage found settled, as
+//     every iteration does) multiplied back by the modulation, with the radiance that went past the filter (a
+//     sharp mirror's or glass's rays) added: the filtered frame;
 //   3 anti-aliasing (TAA): the filtered frame blended with the last frame's result reprojected along the
 //     motion vectors and clamped to this frame's neighbourhood (the jittered frames' sub-pixel samples add up
 //     at edges), into the frame's linear radiance and its display, and kept for the next frame;
 //   4 upsampling: with rays on a coarser grid (gridScale > 1) the temporal stage and every a-trous iteration
 //     run on the grid's pixels (each reads the frame pixel the grid traced: its own sample, not the shade
 //     pass's blend of four; a quarter of the pixels at 1/2), and this stage takes each frame pixel's value
-//     from its grid neighbours, edge-aware, then does what stage 2 does for a full-resolution grid.
+//     from its grid neighbours, edge-aware, then composes as stage 2 does for a full-resolution grid.
 // Background pixels (instance 0) are never filtered. Texel layouts: denoise.glsl.
 #define TD_OUT(T) out T
 #include "bindings.glsl"
@@ -54,7 +55,6 @@ layout(binding = TD_UNIT_DENOISE_INPUT) uniform TD_SAMPLER_DENOISE_TEXEL inputTe
 layout(binding = TD_UNIT_DENOISE_EXACT) uniform TD_SAMPLER_DENOISE_EXACT exactTex;
 layout(binding = TD_UNIT_DENOISE_FILTERED) uniform TD_SAMPLER_DENOISE_RADIANCE filteredTex;
 layout(binding = TD_UNIT_DENOISE_TAA_HISTORY) uniform TD_SAMPLER_DENOISE_RADIANCE taaHistoryTex;  // bilinear
-layout(binding = TD_UNIT_DENOISE_SKIP) uniform TD_SAMPLER_DEPTH skipTex;
 
 #if TD_DENOISE_STAGE == 2 || TD_DENOISE_STAGE == 4
 layout(location = 0) out TD_OUTPUT_DENOISE_RADIANCE outFiltered;
@@ -455,7 +455,7 @@ void main() {
   // (Only pixels the temporal stage left unsettled run this: the depth test.)
   outTexel = atrous(p, texelFetch(inputTex, p, 0));
 #elif TD_DENOISE_STAGE == 2
-  // Last: back to radiance (times the modulation).
+  // Compose: back to radiance (times the modulation).
   uvec4 centre = texelFetch(inputTex, p, 0);
   vec3 linear = background;
   bool drop = false;
@@ -463,8 +463,6 @@ void main() {
     uvec4 g = texelFetch(guideTex, p, 0);
     vec3 modulation = vec3(unpackHalf2x16(g.z), unpackHalf2x16(g.w).x);
     vec3 illum = illumination(centre);
-    // Where the temporal stage found the pixel settled, the iterations skipped it: so does the last one.
-    if (texelFetch(skipTex, p, 0).r > 0.5) illum = illumination(atrous(p, centre));
     linear = illum * modulation + texelFetch(exactTex, p, 0).rgb;
     drop = dropped(centre);
   }

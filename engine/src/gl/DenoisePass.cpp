@@ -56,7 +56,7 @@ Result<DenoisePass> DenoisePass::create() {
       {&pass.temporal_, "denoise: temporal", 0, true},
       {&pass.temporalStill_, "denoise: temporal, nothing moved", 0, false},
       {&pass.atrous_, "denoise: a-trous", 1, true},
-      {&pass.last_, "denoise: a-trous, last", 2, true},
+      {&pass.compose_, "denoise: compose", 2, true},
       {&pass.antiAlias_, "denoise: anti-aliasing", 3, true},
       {&pass.upsample_, "denoise: upsampling", 4, true},
   }};
@@ -185,8 +185,8 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Te
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);  // fullscreen.vert's z = 0 lands on depth 0
   glBindVertexArray(emptyVao_.id());
   // The temporal stage writes every pixel and, as depth, whether the a-trous iterations filter it (1) or it
-  // has settled (0); they then run only where the depth test (0 < stored) passes; the last iteration and the
-  // anti-aliasing run everywhere (they write the frame).
+  // has settled (0); they then run only where the depth test (0 < stored) passes; the compose (or upsampling)
+  // and anti-aliasing stages run everywhere (they write the frame).
   enum class Depth { Write, Test, Off };
   const CameraVectors axes = cameraVectors(width_, height_, camera);
   // (unjittered: the jitter tilts axes.forward, not the axis the guide's depth is measured along)
@@ -230,7 +230,6 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Te
     glBindTextureUnit(TD_UNIT_DENOISE_INPUT, (input != nullptr ? *input : t.history[before]).id());
     glBindTextureUnit(TD_UNIT_DENOISE_FILTERED, (antiAliasing ? t.filtered : t.antiAliased[before]).id());
     glBindTextureUnit(TD_UNIT_DENOISE_TAA_HISTORY, t.antiAliased[before].id());
-    glBindTextureUnit(TD_UNIT_DENOISE_SKIP, (depth == Depth::Off ? t.skip : t.noisy).id());  // attached: the test's
     glBindTextureUnit(TD_UNIT_DENOISE_IDS, ids.id());
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
     glUseProgram(p);
@@ -240,9 +239,10 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Te
   // Temporal: into A (and B and the history: see above) and this frame's moments. Then the a-trous
   // iterations; the first one's result is the history the next frame reprojects (SVGF: one iteration smooths
   // it enough to reproject without carrying single-sample noise forward, more would blur it frame after
-  // frame). On a coarser grid the last iteration writes texels too (back into A: where it skips a settled pixel,
-  // A holds the temporal stage's value, which is what every iteration left there), and the upsampling takes
-  // them to the frame. Then the anti-aliasing, into the frame.
+  // frame). The last iteration writes texels too (back into A: where it skips a settled pixel, A holds the
+  // temporal stage's value, which is what every iteration left there), and the compose stage (or on a coarser
+  // grid the upsampling) takes them to the frame: the iteration's 9 taps run only where the depth test lets
+  // them. Then the anti-aliasing, into the frame.
   // The temporal stage's test of what moved (lightMayHaveChanged): the boxes and the area lights; without
   // either, the variant without the test.
   const bool anyMoved = moved.boxCount > 0 && moved.areaLightCount > 0;
@@ -256,12 +256,9 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Te
   draw(anyMoved ? temporal_ : temporalStill_, t.temporalFbo[now].id(), 0, nullptr, Depth::Write, "denoise: temporal");
   draw(atrous_, t.historyFbo[now].id(), 1, &t.scratchA, Depth::Test, "denoise: a-trous 1");
   draw(atrous_, t.scratchBFbo.id(), 2, &t.history[now], Depth::Test, "denoise: a-trous 2");
-  if (gridScale_ == 1) {
-    draw(last_, t.filteredFbo.id(), 4, &t.scratchB, Depth::Off, "denoise: a-trous 4 (last)");
-  } else {
-    draw(atrous_, t.scratchAFbo.id(), 4, &t.scratchB, Depth::Test, "denoise: a-trous 4");
-    draw(upsample_, t.filteredFbo.id(), 0, &t.scratchA, Depth::Off, "denoise: upsampling");
-  }
+  draw(atrous_, t.scratchAFbo.id(), 4, &t.scratchB, Depth::Test, "denoise: a-trous 4");
+  if (gridScale_ == 1) draw(compose_, t.filteredFbo.id(), 0, &t.scratchA, Depth::Off, "denoise: compose");
+  else draw(upsample_, t.filteredFbo.id(), 0, &t.scratchA, Depth::Off, "denoise: upsampling");
   // (the rasterizer's offset: x right, y down; the anti-aliasing's pixels are GL rows)
   glProgramUniform2f(antiAlias_.id(), TD_LOC_DENOISE_JITTER, camera.jitterPx.x, -camera.jitterPx.y);
   draw(antiAlias_, out, 0, nullptr, Depth::Off, "denoise: anti-aliasing");

@@ -49,7 +49,7 @@ class DenoisePass {
 
  private:
   // (temporalStill_: the temporal stage without the moved-instance test, for frames where nothing moved)
-  Program temporal_, temporalStill_, atrous_, last_, upsample_, antiAlias_;
+  Program temporal_, temporalStill_, atrous_, compose_, upsample_, antiAlias_;
   VertexArray emptyVao_;
   // The targets (reserve): of the frame's size, the shade pass's (noisy illumination, the radiance past the
   // filter, guide, motion), the filtered frame and this frame's and the last frame's anti-aliased one; of the
