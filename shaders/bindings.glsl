@@ -121,6 +121,7 @@
 #define TD_LOC_MOTION_HISTORY 29                    // 1: the last frame's ids, depth and transforms are bound
 #define TD_MAX_MOVED_BOXES 8         // the filter's boxes of what moved since the last frame (denoise.frag)
 #define TD_LOC_PREVIOUS_CAMERA_FORWARD 47  // the filter's guides: the last frame's camera axis (unit, render space)
+#define TD_LOC_SAMPLE_OFFSET 48            // the filter's guides: the frame's sub-pixel offset (pixels, GL rows)
 // The spatiotemporal filter (denoise.frag; DenoisePass, docs/denoise.md): its own program's units and
 // locations. The camera's right and up axes, orthographic and the frame size (TD_LOC_CAMERA_RIGHT ..
 // TD_LOC_FRAME_SIZE, 2-5) are shade_hit.glsl's, from the same vectors (ShadePass's cameraVectors).

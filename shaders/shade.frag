@@ -142,6 +142,8 @@ layout(binding = TD_UNIT_PREVIOUS_IDS) uniform usampler2D previousIdsTex;
 layout(binding = TD_UNIT_PREVIOUS_DEPTH) uniform sampler2D previousDepthTex;
 // The filter's guides: the last frame's view axis (the point's depth then).
 layout(location = TD_LOC_PREVIOUS_CAMERA_FORWARD) uniform vec3 previousCameraForward;
+// And where in its pixel this frame's sample lies (the camera's jitter, x right, y up: GL rows).
+layout(location = TD_LOC_SAMPLE_OFFSET) uniform vec2 sampleOffset;
 
 // Variant flags, set by CompositePass for each frame's scene and settings. llvmpipe runs both sides of a
 // branch that diverges inside an 8-pixel SIMD group, so features a frame does not use are compiled out

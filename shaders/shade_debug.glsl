@@ -119,11 +119,13 @@ vec3 motionView(uvec2 id, vec3 posR) {
 // whether an instance that moved may have changed the point's light (denoise.frag's lightMayHaveChanged).
 vec4 denoiseMotion(uvec2 id, vec3 posR) {
   if (motionHistory == 0) return vec4(0.0);
-  vec3 now = projectPixel(clipFromViewRotation, cameraPosW, posR);
+  // Where the point is now, unjittered: where this pixel's sample lies, since the point is on its ray (the
+  // jitter shifts every pixel's ray by the same offset in the image plane). A projection less a pixel.
+  vec2 now = gl_FragCoord.xy + sampleOffset;
   vec3 then = previousPoint(id, posR);
   vec3 before = projectPixel(previousClipFromViewRotation, previousCameraPos, then);
   bool inView = before.z > 0.0 && all(greaterThanEqual(before.xy, vec2(0.0))) && all(lessThan(before.xy, vec2(frameSize)));
   // The point's view depth then, as the last frame's guide holds it.
   float depthThen = dot(then - previousCameraPos, previousCameraForward);
-  return vec4(now.xy - before.xy, depthThen, inView ? 1.0 : 0.0);
+  return vec4(now - before.xy, depthThen, inView ? 1.0 : 0.0);
 }

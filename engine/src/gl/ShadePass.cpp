@@ -337,6 +337,8 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
   }
   if (in.denoiseGuides) {
     glProgramUniform3fv(p, TD_LOC_PREVIOUS_CAMERA_FORWARD, 1, glm::value_ptr(in.previousCameraForward));
+    // (the rasterizer's offset: x right, y down; gl_FragCoord's rows go up)
+    glProgramUniform2f(p, TD_LOC_SAMPLE_OFFSET, camera.jitterPx.x, -camera.jitterPx.y);
   }
   if (in.debugView == DebugView::Motion) {
     placeholders_.bindOr(kUnitPreviousIds, in.previousIds ? in.previousIds->id() : 0, P::Uint2D);
