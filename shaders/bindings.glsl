@@ -138,9 +138,9 @@
 #define TD_LOC_DENOISE_STEP 6            // the a-trous iteration's tap spacing in pixels
 #define TD_LOC_DENOISE_HISTORY 7         // 1: the last frame's history and moments hold
 #define TD_LOC_DENOISE_MAX_HISTORY 8     // frames the temporal mean spans at most
-#define TD_LOC_DENOISE_EXPOSURE 9        // the final iteration writes the display too (tdDisplay)
+#define TD_LOC_DENOISE_EXPOSURE 9        // the anti-aliasing writes the display too (tdDisplay)
 #define TD_LOC_DENOISE_TONE_MAP 10
-#define TD_LOC_DENOISE_BACKGROUND 11     // the final iteration's background pixels
+#define TD_LOC_DENOISE_BACKGROUND 11     // the compose or upsampling stage's background pixels
 #define TD_LOC_DENOISE_GRID_SCALE 12     // the ray grid's divisor (rayScale): the filter's own pixels are the grid's
 #define TD_LOC_DENOISE_GRID_SIZE 13      // the grid's size in pixels
 #define TD_LOC_DENOISE_CAMERA_POS 14     // the camera, render space (the temporal stage rebuilds points)

@@ -265,7 +265,7 @@ layout(location = 0) out TD_OUTPUT_LINEAR outColor;
 #include "shade_debug.glsl"
 
 // The filter's guides (bindings.glsl's TD_CHANNEL_DENOISE_*): what the pixel shows, where it was, what its
-// sampled light is divided by. Zero on the background (instance 0: never filtered).
+// sampled light is divided by. Zero on the background (instance 0: never filtered), but the motion's w: -1.
 #if TD_DENOISE_GUIDES
 layout(location = 2) out TD_OUTPUT_DENOISE_GUIDE outGuide;
 layout(location = 3) out TD_OUTPUT_DENOISE_MOTION outMotion;

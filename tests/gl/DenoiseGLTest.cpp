@@ -138,8 +138,7 @@ struct Change {
   Camera (*camera)(const Camera&);       // where the camera is after it
 };
 
-// `bound`: how much further from the new truth than the fresh start's the fourth frame may be (as a factor, plus
-// 0.005 by default).
+// The fourth frame may be at most `factor` times as far from the new truth as the fresh start's, plus `plus`.
 void expectNoGhost(GlContext& context, const Change& change, double factor = 1.1, double plus = 0.005) {
   Scene scene = sceneFile(change.scene);
   Frame f = load(context, scene);
@@ -240,10 +239,11 @@ TEST(Denoise, NoGhostFourFramesAfterAnObjectIsRemoved) {
 }
 
 // A tighter bound than the others': the change is small, and so is what a test of the light's centre alone
-// leaves behind (measured 0.0556 against the fresh start's 0.0559; testing the centre alone 0.0600).
+// leaves behind (llvmpipe: 0.0556 against the fresh start's 0.0559, bound 0.0587; testing the centre alone
+// 0.0600, the dropped-history flag lost in the iterations 0.0678).
 TEST(Denoise, NoGhostFourFramesAfterAnObjectStepsAsideInASoftShadow) {
   TD_REQUIRE_GL_CONTEXT();
-  expectNoGhost(*glContext_, kObjectStepped, 1.03, 0.0);
+  expectNoGhost(*glContext_, kObjectStepped, 1.05, 0.0);
 }
 
 TEST(Denoise, NoGhostFourFramesAfterTheCameraUncoversARegion) {

@@ -2,8 +2,9 @@
 // The spatiotemporal filter (shaders/denoise.frag, docs/denoise.md; FrameSettings::denoise): the shade pass
 // draws the frame's noisy linear radiance and the filter's guides into shadeFramebuffer(); filter() then
 // accumulates the demodulated illumination over frames along the motion vectors (temporal stage), estimates
-// its variance and runs the edge-aware a-trous iterations, the last one writing linear radiance and the display
-// into the frame's output. It keeps the last frame's guide, filtered illumination and moments: the history.
+// its variance and runs the edge-aware a-trous iterations; a compose stage (or on a coarser ray grid the
+// upsampling) takes them back to radiance, and the anti-aliasing writes linear radiance and the display into
+// the frame's output. It keeps the last frame's guide, filtered illumination and moments: the history.
 #include <array>
 #include <cstddef>
 
