@@ -14,6 +14,9 @@
 # on (interleaved, twice), the game with each, and the GL tests (~5 min).
 # `gpu-measure.sh check` (~4.5 min) runs the pipeline tests, the game at --target-fps 30 pipelined and not, and the
 # GL tests, each into its own file under $OUT (no archive: a run cut short keeps what it finished).
+# `gpu-measure.sh denoise` (~5 min) measures the spatiotemporal filter (docs/denoise.md; its GPU target: 2 ms at
+# 1920x1080): BM_Denoise at 640x360 and 1920x1080, the game at 1920x1080 with one filtered light sample against
+# four raw ones (twice, interleaved), and the Denoise GL tests.
 # `gpu-measure.sh switches` measures Embree's huge pages at 16 threads, twice, interleaved (~2 min): BM_RayPass
 # and BM_RetraceFloor (heavy) with the defaults and TANDEM_EMBREE_CONFIG=hugepages=1, and Whitted 1920x1080
 # with every ray and with the GL's proofs.
@@ -42,6 +45,17 @@ proofs() {  # proofs NAME ARGS...: Whitted 1920x1080 hybrid-full, 15 frames, its
   step "proofs-$name" 90 $B/tandem-render --size 1920x1080 --preset hybrid-full --frames 15 \
     --stats "$out/proofs-$name.json" -o "$out/proofs-$name.png" "$@"
 }
+if [ "$mode" = denoise ]; then
+  step bench-denoise 300 $B/tandem-bench --benchmark_filter='BM_Denoise'
+  for round in 1 2; do
+    game "denoised-$round" --preset hybrid-fast --denoise on --light-samples 1
+    game "raw4-$round" --preset hybrid-fast
+  done
+  step denoise-tests 300 $B/tandem-gl-tests --gtest_filter='Denoise*'
+  kill "$smi" 2>/dev/null
+  cd "$OUT" && tar czf results.tgz r && rm -rf r
+  exit 0
+fi
 if [ "$mode" = switches ]; then
   for round in 1 2; do
     for cfg in default hugepages=1; do

@@ -376,17 +376,18 @@ void BM_FrameInterval(benchmark::State& state) {
   state.counters["rays_wait_ms"] = summarize(wait).median;
 }
 
-// The spatiotemporal filter's passes alone (FrameStats::denoiseMs, docs/denoise.md) at 640x360, the filter's
-// target size: area-lights.json, one light sample a frame, the camera panning ~2 pixels a frame (the history
-// holds, the moved-instance test has nothing to test); arg fast 0: hybrid-full (rays at every pixel), 1:
-// hybrid-fast (rays on a half-resolution grid, the upsampling stage). Counters: the shade pass with the
-// filter's guides beside it (the composite less the filter), the whole frame; medians.
+// The spatiotemporal filter's passes alone (FrameStats::denoiseMs, docs/denoise.md) at its two target sizes,
+// 640x360 (arg hd 0, 2 cores) and 1920x1080 (hd 1, the GPU class): area-lights.json, one light sample a frame,
+// the camera panning ~2 pixels a frame (the history holds, the moved-instance test has nothing to test); arg
+// fast 0: hybrid-full (rays at every pixel), 1: hybrid-fast (rays on a half-resolution grid, the upsampling
+// stage). Counters: the shade pass with the filter's guides beside it (the composite less the filter), the
+// whole frame; medians.
 void BM_Denoise(benchmark::State& state) {
   GlFrame& g = glFrame(sourceDir() + "/assets/scenes/area-lights.json");
   if (!g.renderer) return state.SkipWithError(g.error.c_str());
   FrameSettings base;
-  base.width = 640;
-  base.height = 360;
+  base.width = state.range(1) != 0 ? 1920 : 640;
+  base.height = state.range(1) != 0 ? 1080 : 360;
   FrameSettings s = *presetSettings(state.range(0) != 0 ? "hybrid-fast" : "hybrid-full", base);
   s.denoise = true;
   s.lightSamples = 1;
@@ -450,7 +451,8 @@ void registerMicroBenchmarks() {
   scenes(benchmark::RegisterBenchmark("BM_VisibilityRaster", BM_VisibilityRaster)->UseManualTime());
   scenes(benchmark::RegisterBenchmark("BM_VisibilityCastRays", BM_VisibilityCastRays));
   benchmark::RegisterBenchmark("BM_Denoise", BM_Denoise)
-      ->ArgName("fast")->Arg(0)->Arg(1)
+      ->ArgNames({"fast", "hd"})
+      ->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1})
       ->UseManualTime()
       ->MinTime(3.0)
       ->Unit(benchmark::kMillisecond);
