@@ -9,6 +9,7 @@
 
 #include "core/RenderSpace.h"
 #include "core/Solids.h"
+#include "rt/Parallel.h"
 #include "rt/RayMath.h"
 #include "tandem/Log.h"
 
@@ -289,6 +290,7 @@ namespace {
 // Exact solids as Embree user geometry: one primitive per solid, its crossings found by core/Solids in
 // double precision from the ray Embree hands over (in the instance's object space).
 void solidBounds(const RTCBoundsFunctionArguments* args) {
+  receivedFromBuilder(args->geometryUserPtr);
   const auto& s = *static_cast<const solid::Solid*>(args->geometryUserPtr);
   const solid::Bounds b = solid::bounds(s);
   // Outward by a little more than float rounding, and within what Embree's float boxes hold (a half-space
@@ -351,6 +353,7 @@ Result<void> EmbreeScene::attachSolid(EmbreeDevice& device, const solid::Solid& 
   auto& owned = exactSolids_.emplace_back(std::make_unique<solid::Solid>(s));
   rtcSetGeometryUserPrimitiveCount(geom, 1);
   rtcSetGeometryUserData(geom, owned.get());
+  publishToBuilders(owned.get());  // read by solidBounds on Embree's build threads
   rtcSetGeometryBoundsFunction(geom, &solidBounds, nullptr);
   rtcSetGeometryIntersectFunction(geom, &solidIntersect);
   rtcSetGeometryOccludedFunction(geom, &solidOccluded);

@@ -35,6 +35,26 @@ inline std::size_t tileIndex(int x0, int y0, int width) {
 #endif
 #endif
 
+#ifdef TANDEM_TSAN_THREADS
+#include <sanitizer/tsan_interface.h>
+#endif
+
+// Embree's builders call our user geometry's bounds function from TBB worker threads, which TBB hands
+// the build to through the same uninstrumented queues: TSan sees the callback read an object the main
+// thread wrote with nothing ordering the two. publishToBuilders (before the commit, after the writes)
+// and receivedFromBuilder (first thing in the callback) state that ordering, which TBB's hand-over
+// provides; they compile to nothing outside ThreadSanitizer builds, and our code stays checked.
+inline void publishToBuilders([[maybe_unused]] const void* object) {
+#ifdef TANDEM_TSAN_THREADS
+  __tsan_release(const_cast<void*>(object));
+#endif
+}
+inline void receivedFromBuilder([[maybe_unused]] const void* object) {
+#ifdef TANDEM_TSAN_THREADS
+  __tsan_acquire(const_cast<void*>(object));
+#endif
+}
+
 /// Runs body(i) for i in [0, n) on `threads` threads (TBB: inside the caller's arena), in any order.
 template <class Body>
 void parallelIndices(int threads, std::size_t n, Body&& body) {
