@@ -325,7 +325,7 @@ int main(int argc, char** argv) {
     if (last.budget.active) {
       int changes = 0;
       for (std::size_t i = 1; i < stats.size(); ++i) changes += stats[i].budget.step != stats[i - 1].budget.step;
-      std::printf("  budget %.1f ms: last frame step %d of %d (%s), predicted %.1f ms, expected FLIP +%.4f; "
+      std::printf("  budget %.1f ms: last frame step %d of %d (%s), predicted %.1f ms, expected FLIP %+.4f; "
                   "%d change(s) over the run%s\n",
                   last.budget.targetMs, last.budget.step, last.budget.steps, describeBudget(last.budget).c_str(),
                   last.budget.predictedMs, last.budget.expectedError, changes,

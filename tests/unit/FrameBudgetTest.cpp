@@ -38,6 +38,10 @@ struct Machine {
   double switchSpikeMs = 0;  // added to the first frame of every set of raster fallbacks newly drawn
   std::uint32_t seed = 12345;
   bool pipelined = false;    // throughput mode: a frame costs the slower of its rays and its GL stages
+  SceneFacts facts = everything();
+  // The area lights' shadow rays: this share of the ray work at four samples a light (the filter draws one).
+  double areaShare = 0.0;
+  double filterMs = 14.0;    // the filter's passes at 640x360 (the fixed part)
   std::set<int> setsDrawn;
   double next() {
     seed = seed * 1664525u + 1013904223u;
@@ -52,12 +56,14 @@ struct Machine {
     if (s.shadows != EffectMode::Ray && s.reflections != EffectMode::Ray && s.refraction != EffectMode::Ray)
       return 0.0;
     const double pixels = std::ceil(s.width / double(s.rayScale)) * std::ceil(s.height / double(s.rayScale));
-    return load * effects * pixels * 4e-4 * (s.rayScale == 4 ? 1.2 : 1.0);  // hybrid-full 640×360 ≈ 106 ms
+    const double samples = 1.0 - areaShare * (1.0 - std::min(s.lightSamples, 4) / 4.0);
+    return load * effects * samples * pixels * 4e-4 * (s.rayScale == 4 ? 1.2 : 1.0);  // hybrid-full 640×360 ≈ 106 ms
   }
   double fixedMs(const FrameSettings& s) const {
     double ms = 20.0;
     if (s.refraction == EffectMode::Raster || s.reflections == EffectMode::Raster) ms += 6.0;  // probes
     if (s.shadows == EffectMode::Raster) ms += 3.0;
+    if (s.denoise) ms += filterMs;
     return rasterLoad * ms * (double(s.width) * s.height) / (640.0 * 360.0);
   }
   // Throughput mode: the ray pass beside the GL's stages, the transfers (a tenth of the ray part, the
@@ -68,7 +74,7 @@ struct Machine {
   }
   static int setOf(const FrameSettings& s) {
     return (s.refraction == EffectMode::Raster ? 1 : 0) | (s.reflections == EffectMode::Raster ? 2 : 0) |
-           (s.shadows == EffectMode::Raster ? 4 : 0);
+           (s.shadows == EffectMode::Raster ? 4 : 0) | (s.denoise ? 8 : 0);
   }
   FrameStats frame(const FrameSettings& s) {
     FrameStats f;
@@ -105,7 +111,7 @@ History play(FrameBudget& b, Machine& m, const FrameSettings& requested, int fra
   std::optional<FrameStats> inFlight;
   for (int i = 0; i < frames; ++i) {
     const int before = b.current();
-    const FrameSettings s = b.choose(requested, everything());
+    const FrameSettings s = b.choose(requested, m.facts);
     FrameStats f = m.frame(s);
     f.budget = b.stats();
     if (!m.pipelined) {
@@ -192,6 +198,61 @@ TEST(FrameBudget, ChoicesThatChangeNothingAreDropped) {
   EXPECT_EQ(c.choices().size(), static_cast<std::size_t>(kFallbackSets));
 }
 
+SceneFacts withAreaLight() {
+  SceneFacts f = everything();
+  f.areaLight = true;
+  return f;
+}
+
+TEST(FrameBudget, TheFilterIsAChoiceWhereItReplacesSamples) {
+  FrameBudget b;
+  const FrameSettings r = full(50.0f);
+  (void)b.choose(r, withAreaLight());
+  const auto& c = b.choices();
+  // The request first; then the filter in its place (nearer the truth than four raw samples: the table's
+  // entry is negative), then every other choice by error.
+  ASSERT_GT(c.size(), 2u);
+  EXPECT_EQ(c[0].error, 0.0);
+  EXPECT_FALSE(c[0].filtered);
+  EXPECT_TRUE(c[1].filtered);
+  EXPECT_EQ(c[1].rayScale, r.rayScale);
+  EXPECT_EQ(c[1].depthCap, r.maxDepth);
+  EXPECT_EQ(c[1].fallback, 0);
+  EXPECT_LT(c[1].error, 0.0);
+  for (std::size_t i = 2; i < c.size(); ++i) EXPECT_GE(c[i].error, c[i - 1].error) << i;
+  // Each frame the ladder has without the filter it has with it too (the all-raster frame included: the GL
+  // samples the area lights and the filter smooths them there as well), one sample of each kind a frame.
+  int filtered = 0, raw = 0;
+  for (const BudgetChoice& x : c) {
+    (x.filtered ? filtered : raw) += 1;
+    EXPECT_EQ(x.settings.denoise, x.filtered);
+    EXPECT_EQ(x.settings.lightSamples, x.filtered ? 1 : r.lightSamples);
+    EXPECT_EQ(x.settings.glossSamples, x.filtered ? 1 : r.glossSamples);
+  }
+  EXPECT_EQ(filtered, raw);
+  FrameBudget plain;
+  (void)plain.choose(r, everything());
+  EXPECT_EQ(static_cast<std::size_t>(raw), plain.choices().size());
+  for (const BudgetChoice& x : plain.choices()) EXPECT_FALSE(x.filtered);
+
+  // Not where it would replace nothing: one sample already, the filter already on, or nothing sampled.
+  auto offered = [](const FrameSettings& s, const SceneFacts& f) {
+    FrameBudget k;
+    (void)k.choose(s, f);
+    return std::any_of(k.choices().begin(), k.choices().end(), [](const BudgetChoice& x) { return x.filtered; });
+  };
+  FrameSettings one = r, on = r;
+  one.lightSamples = 1;
+  on.denoise = true;
+  EXPECT_FALSE(offered(one, withAreaLight()));
+  EXPECT_FALSE(offered(on, withAreaLight()));
+  SceneFacts glossy = everything();
+  glossy.glossy = true;
+  EXPECT_TRUE(offered(one, glossy));  // the glossy lobe's four rays
+  one.glossSamples = 1;
+  EXPECT_FALSE(offered(one, glossy));
+}
+
 TEST(FrameBudget, GenerousTargetKeepsTheRequest) {
   FrameBudget b;
   Machine m;
@@ -230,6 +291,29 @@ TEST(FrameBudget, ConvergesToTheLeastWrongChoiceThatFitsAndStays) {
     const History run = play(b, m, full(static_cast<float>(target)), 300);
     expectSettled(b, m, run, target, 0.12);
   }
+}
+
+TEST(FrameBudget, TakesTheFilterWhenTheRequestRunsOverAndReturnsWithHeadroom) {
+  // A scene whose rays are mostly its area lights' shadow rays: one filtered sample costs the filter's passes
+  // and saves most of the rays (area-lights.json: 111 against 163 ms). The request (~126 ms here) runs over a
+  // 110 ms target, the filter (~92) fits: the budget takes it rather than a coarser grid or a raster fallback,
+  // which it expects to be further from the truth.
+  FrameBudget b;
+  Machine m;
+  m.facts = withAreaLight();
+  m.areaShare = 0.6;
+  const FrameSettings r = full(110.0f);
+  History run = play(b, m, r, 120);
+  EXPECT_EQ(b.current(), 1) << describeBudget(b.stats());
+  EXPECT_TRUE(b.stats().denoise);
+  EXPECT_EQ(describeBudget(b.stats()), "1/1 d" + std::to_string(r.maxDepth) + " filtered");
+  EXPECT_LE(run.switches(20), 0);
+  expectSettled(b, m, run, 110.0, 0.12);
+  // The scene gets cheaper (its rays halve): the request fits again and the budget goes back to it.
+  m.load = 0.5;
+  run = play(b, m, r, 80, run);
+  EXPECT_EQ(b.current(), 0);
+  EXPECT_FALSE(b.stats().denoise);
 }
 
 // Throughput mode: the frame costs the slower of its rays and its GL stages, so at a target the sum misses the

@@ -502,7 +502,8 @@ void writeBudgetTable(const std::string& path, const std::vector<Row>& rows) {
                {"hybrid-full-d1", "depth1", engine.depth1},
                {"refraction-raster", "refractionRaster", engine.refractionRaster},
                {"reflections-raster", "reflectionsRaster", engine.reflectionsRaster},
-               {"shadows-raster", "shadowsRaster", engine.shadowsRaster}};
+               {"shadows-raster", "shadowsRaster", engine.shadowsRaster},
+               {"hybrid-full-1-denoised", "filtered", engine.filtered}};
   std::ofstream f(path);
   f << "# The budget's error table\n\nFLIP each knob adds to hybrid-full against the reference, mean [min–max] "
        "over the sweep's scenes × sizes, and the value the engine uses (render/FrameBudget.cpp).\n\n"
@@ -523,7 +524,7 @@ void writeBudgetTable(const std::string& path, const std::vector<Row>& rows) {
     f << "| " << k.field << " | " << k.combo << " | " << fmt("%.4f", mean) << " | "
       << fmt("%.4f", *std::min_element(d.begin(), d.end())) << " | " << fmt("%.4f", *std::max_element(d.begin(), d.end()))
       << " | " << fmt("%.4f", k.engine) << " |\n";
-    std::printf("  %-18s measured %+.4f  engine %.4f\n", k.field, mean, k.engine);
+    std::printf("  %-18s measured %+.4f  engine %+.4f\n", k.field, mean, k.engine);
   }
 }
 

@@ -43,12 +43,15 @@ struct BudgetStats {
   int maxDepth = 0;
   EffectMode shadows = EffectMode::Off, reflections = EffectMode::Off, refraction = EffectMode::Off;
   bool hybridShadows = false;
+  bool denoise = false;      // one light and lobe sample a frame, filtered (FrameSettings::denoise), in place
+                             // of the request's samples raw
   double targetMs = 0;
   double predictedMs = 0;    // what the cost model expected (0 before it had measured a frame)
   double expectedError = 0;  // FLIP this choice adds over the requested settings (the error table)
   bool reachable = true;     // false: even the cheapest choice is predicted over the target
 };
-/// "1/2 d2 refraction raster" for a step > 0, "as requested" for step 0, "" when inactive.
+/// "1/2 d2 refraction raster" for a step > 0 (" filtered" after it where the filter runs in place of the
+/// request's samples), "as requested" for step 0, "" when inactive.
 std::string describeBudget(const BudgetStats& b);
 
 /// The radiosity solution a frame showed (FrameSettings::radiosity; docs/radiosity.md).

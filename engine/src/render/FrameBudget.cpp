@@ -22,7 +22,7 @@ constexpr double kClearlyCheaper = 0.95;  // out of reach: a move must save this
 
 // Priors for a choice not yet run: its ray cost per ray-grid pixel relative to the requested settings.
 // Only the first move down rests on them: each choice's own frames replace them.
-double priorWork(int rayScale, int requestedScale, int depthCap, int requestedDepth, int fallback) {
+double priorWork(int rayScale, int requestedScale, int depthCap, int requestedDepth, int fallback, bool filtered) {
   auto gridOverhead = [](int s) { return s == 4 ? 1.5 : s == 2 ? 1.2 : 1.0; };  // upsampling, fixed costs
   auto depthWork = [](int d) { return d >= 3 ? 1.0 : d == 2 ? 0.8 : d == 1 ? 0.65 : 0.5; };
   // What each effect's rays are of the pass, roughly; a set that leaves no ray effect has no ray pass at
@@ -31,6 +31,9 @@ double priorWork(int rayScale, int requestedScale, int depthCap, int requestedDe
   if (fallback & kRefractionRaster) fallbackWork *= 0.8;
   if (fallback & kReflectionsRaster) fallbackWork *= 0.6;
   if (fallback & kShadowsRaster) fallbackWork *= 0.7;
+  // One light and lobe sample where the request draws more: their rays are much of the pass in a scene the
+  // filter is offered for (hybrid-full on area-lights.json: 4 samples to 1 took the rays from ~120 to ~45 ms).
+  if (filtered) fallbackWork *= 0.4;
   const double w = gridOverhead(rayScale) / gridOverhead(requestedScale) * depthWork(depthCap) /
                    depthWork(requestedDepth) * fallbackWork;
   return std::log(std::max(w, 1e-3));
@@ -44,7 +47,7 @@ double depthError(const BudgetErrorTable& t, int d) { return d >= 3 ? 0.0 : d ==
 // do not read, hybrid shadows without shadow rays).
 bool samePlan(FramePlan a, FramePlan b) {
   if (a.rayPass != b.rayPass || a.rasterShadows != b.rasterShadows || a.probeReflections != b.probeReflections ||
-      a.probeRefraction != b.probeRefraction)
+      a.probeRefraction != b.probeRefraction || a.denoise != b.denoise)
     return false;
   if (!a.rayPass)  // the probes read only whether there is a bounce at all
     return !(a.probeReflections || a.probeRefraction) || (a.settings.maxDepth > 0) == (b.settings.maxDepth > 0);
@@ -96,6 +99,7 @@ const BudgetErrorTable& budgetErrorTable() {
       /*refractionRaster*/ 0.0349,
       /*reflectionsRaster*/ 0.0223,
       /*shadowsRaster*/ 0.0012,
+      /*filtered*/ -0.0101,
   };
   return t;
 }
@@ -110,6 +114,7 @@ std::string describeBudget(const BudgetStats& b) {
   mode("refraction", b.refraction);
   mode("reflections", b.reflections);
   mode("shadows", b.shadows);
+  if (b.denoise) s += " filtered";
   return s;
 }
 
@@ -125,6 +130,9 @@ void FrameBudget::makeLadder(const FrameSettings& r, const SceneFacts& facts) {
   std::vector<int> depths{r.maxDepth};
   for (int d : {2, 1})
     if (d < r.maxDepth) depths.push_back(d);
+  // The filter in place of the request's samples: where the scene samples something it smooths and the
+  // request draws more than one sample of it raw (with one already, the filter would only add its cost).
+  const bool filterable = !r.denoise && ((facts.areaLight && r.lightSamples > 1) || (facts.glossy && r.glossSamples > 1));
   // Each ray-traced effect may fall back to raster on its own: which loses least is the table's to say.
   for (int fallback = 0; fallback < kFallbackSets; ++fallback) {
     FrameSettings f = r;
@@ -146,23 +154,35 @@ void FrameBudget::makeLadder(const FrameSettings& r, const SceneFacts& facts) {
       fallbackError += table.shadowsRaster;
     }
     for (int s : scales)
-      for (int d : depths) {
-        BudgetChoice c;
-        c.settings = f;
-        c.settings.rayScale = s;
-        c.settings.maxDepth = d;
-        c.rayScale = s;
-        c.depthCap = d;
-        c.fallback = fallback;
-        c.error = fallbackError + scaleError(table, s) - scaleError(table, r.rayScale) + depthError(table, d) -
-                  depthError(table, r.maxDepth);
-        c.work = priorWork(s, r.rayScale, d, r.maxDepth, fallback);
-        all.push_back(c);
-      }
+      for (int d : depths)
+        for (bool filtered : {false, true}) {
+          if (filtered && !filterable) continue;
+          BudgetChoice c;
+          c.settings = f;
+          c.settings.rayScale = s;
+          c.settings.maxDepth = d;
+          if (filtered) {
+            c.settings.denoise = true;
+            c.settings.lightSamples = c.settings.glossSamples = 1;
+          }
+          c.rayScale = s;
+          c.depthCap = d;
+          c.fallback = fallback;
+          c.filtered = filtered;
+          c.error = fallbackError + scaleError(table, s) - scaleError(table, r.rayScale) + depthError(table, d) -
+                    depthError(table, r.maxDepth) + (filtered ? table.filtered : 0.0);
+          c.work = priorWork(s, r.rayScale, d, r.maxDepth, fallback, filtered);
+          all.push_back(c);
+        }
   }
-  // Least wrong first; among equals the cheaper by prior. Then drop choices that draw what a kept one
-  // draws: the kept one is as good (a knob that changes nothing saves nothing, so its own prior stays).
-  std::stable_sort(all.begin(), all.end(), [](const BudgetChoice& a, const BudgetChoice& b) {
+  // The request first (a budget with headroom draws what was asked for, though the filter's expected error is
+  // below it), then least wrong first; among equals the cheaper by prior. Then drop choices that draw what a
+  // kept one draws: the kept one is as good (a knob that changes nothing saves nothing, so its own prior stays).
+  auto isRequest = [&](const BudgetChoice& c) {
+    return c.fallback == 0 && !c.filtered && c.rayScale == r.rayScale && c.depthCap == r.maxDepth;
+  };
+  std::stable_sort(all.begin(), all.end(), [&](const BudgetChoice& a, const BudgetChoice& b) {
+    if (isRequest(a) != isRequest(b)) return isRequest(a);
     return a.error != b.error ? a.error < b.error : a.work < b.work;
   });
   choices_.clear();
@@ -190,11 +210,11 @@ double FrameBudget::predictMs(int i) const {
   const BudgetChoice& c = choices_[static_cast<std::size_t>(i)];
   constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
   if (!haveFixedBase_) return kUnknown;
-  double offset = fixedOffset_[c.fallback];
-  if (!fixedKnown_[c.fallback]) {
-    // Not yet drawn: the dearest set seen (a raster fallback adds GL passes; it never removes any).
+  double offset = fixedOffset_[c.fixedSet()];
+  if (!fixedKnown_[c.fixedSet()]) {
+    // Not yet drawn: the dearest set seen (a raster fallback or the filter adds GL passes; neither removes any).
     offset = -std::numeric_limits<double>::infinity();
-    for (int f = 0; f < kFallbackSets; ++f)
+    for (int f = 0; f < kFixedSets; ++f)
       if (fixedKnown_[f]) offset = std::max(offset, fixedOffset_[f]);
   }
   const double fixed = std::exp(logFixedBase_ + offset);
@@ -302,6 +322,7 @@ FrameSettings FrameBudget::choose(const FrameSettings& requested, const SceneFac
   stats_.hybridShadows = s.hybridShadows;
   stats_.reflections = s.reflections;
   stats_.refraction = s.refraction;
+  stats_.denoise = c.filtered;
   stats_.targetMs = targetMs_;
   const double p = predictMs(current_);
   stats_.predictedMs = std::isnan(p) ? 0.0 : p;
@@ -329,7 +350,7 @@ void FrameBudget::observe(const FrameStats& frame) {
   // A choice's first frame is left out of it: it carries the switch (shadow maps and probes drawn for
   // the first time, buffers at a new size), which would otherwise stay in the set's cost for good.
   const double fixedLog = std::log(std::max(total - rayMs, 0.01));
-  const int set = c.fallback;
+  const int set = c.fixedSet();
   if (framesOnCurrent_ == 0) {
     // (the ray part below still learns from it: a first frame over the target is left at once)
   } else if (!haveFixedBase_) {

@@ -5,17 +5,19 @@
 // unit tests feed it synthetic costs.
 //
 // Choices: the requested settings, then every combination of a coarser ray grid (1/2, 1/4), a depth cap
-// (2, 1) and a raster fallback for any set of the ray-traced effects, less those that change nothing the
-// frame would do for this scene. Each has an expected error (the error table, measured
-// by tandem-bench --sweep against the reference) and a predicted cost:
-//   cost = fixed[fallback] + rayMsPerPixel · rayGridPixels · exp(work[choice])
+// (2, 1), a raster fallback for any set of the ray-traced effects and, where the scene samples area lights
+// or glossy lobes with more than one sample, one sample a frame with the spatiotemporal filter
+// (FrameSettings::denoise), less those that change nothing the frame would do for this scene. Each has an
+// expected error (the error table, measured by tandem-bench --sweep against the reference) and a predicted
+// cost:
+//   cost = fixed[set] + rayMsPerPixel · rayGridPixels · exp(work[choice])
 // or, in throughput mode (FrameSettings::pipelined: the rays of one frame beside the GL's stages of the next
 // and the last), max(fixed, rays − transfers) + transfers, the transfers (read-back, upload) being the ray
 // term's learned share that runs between one frame landing and the next launching; there the hysteresis
 // below reads the interval between frames (which, unlike a latency frame's total, holds the application's
 // time between the calls), and a frame drawn with a choice already left is not learned from.
 // fixed = every stage but readback, rays and upload: the scene's load now times a learned factor per set of
-// raster fallbacks; rayMsPerPixel follows the scene from frame to frame; work starts from a prior and is
+// raster fallbacks, with or without the filter (its passes are GL stages); rayMsPerPixel follows the scene from frame to frame; work starts from a prior and is
 // learned from the frames a choice runs: its first sets it, its next two halve the gap (in the logarithm),
 // later ones move rayMsPerPixel, every choice's cost alike, by 0.3 of the gap (the scene's drift). A new
 // size or view re-measures the loads and keeps the factors.
@@ -41,20 +43,29 @@ struct BudgetErrorTable {
   double refractionRaster = 0;              // refraction by probes instead of rays
   double reflectionsRaster = 0;             // reflections by probes instead of rays
   double shadowsRaster = 0;                 // shadow maps instead of shadow rays
+  /// One light and lobe sample a frame with the spatiotemporal filter instead of the request's samples
+  /// raw. Negative: on the scenes it applies to it is nearer the truth than four raw samples (and cheaper in
+  /// rays); the ladder still keeps the request first (the budget cuts only what does not fit).
+  double filtered = 0;
 };
 const BudgetErrorTable& budgetErrorTable();
 
 /// BudgetChoice::fallback: which ray-traced effects this choice draws by raster instead.
 inline constexpr int kRefractionRaster = 1, kReflectionsRaster = 2, kShadowsRaster = 4, kFallbackSets = 8;
+/// The sets whose fixed part is learned apart: a set of fallbacks, and whether the filter runs
+/// (BudgetChoice::fixedSet).
+inline constexpr int kFiltered = kFallbackSets, kFixedSets = 2 * kFallbackSets;
 
 struct BudgetChoice {
   FrameSettings settings;   // the requested settings with this choice's knobs
   int rayScale = 1, depthCap = 0;
   int fallback = 0;          // a set of k*Raster bits
+  bool filtered = false;     // one sample a frame, filtered (settings.denoise), in place of the request's
   double error = 0;          // expected FLIP over the requested settings' own
   bool rays = false;         // the plan has a ray pass
   double work = 0;           // log of the ray cost per ray-grid pixel, relative (learned)
   int framesRun = 0;         // clean frames this choice has run since the ladder was made
+  int fixedSet() const { return fallback | (filtered ? kFiltered : 0); }
 };
 
 class FrameBudget {
@@ -98,12 +109,12 @@ class FrameBudget {
   // Ray part: log ms per ray-grid pixel at work 0 (the scene's load now) and each choice's work.
   bool haveRho_ = false;
   double logRho_ = 0;
-  // Fixed part: log ms of the set of fallbacks at offset 0 (the load now), and each set's offset.
+  // Fixed part: log ms of the fixed set at offset 0 (the load now), and each set's offset.
   bool haveFixedBase_ = false;
   double logFixedBase_ = 0;
-  double fixedOffset_[kFallbackSets]{};
-  bool fixedKnown_[kFallbackSets]{};
-  int fixedFrames_[kFallbackSets]{};
+  double fixedOffset_[kFixedSets]{};
+  bool fixedKnown_[kFixedSets]{};
+  int fixedFrames_[kFixedSets]{};
   BudgetStats stats_;
 };
 

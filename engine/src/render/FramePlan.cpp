@@ -17,7 +17,9 @@ SceneFacts sceneFacts(const Scene& scene) {
     f.reflectiveWeighted = f.reflectiveWeighted || mayReflect(m, true);
     f.reflectiveClassic = f.reflectiveClassic || mayReflect(m, false);
     f.transmissive = f.transmissive || mayTransmit(m);
+    f.glossy = f.glossy || (m.roughness > 0.0f && (mayReflect(m, true) || mayReflect(m, false) || mayTransmit(m)));
   }
+  f.areaLight = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return isAreaLight(l.type); });
   f.exactSolids = std::any_of(scene.instances.begin(), scene.instances.end(), [&](const Instance& inst) {
     return inst.mesh < scene.meshes.size() && scene.meshes[inst.mesh].exact.has_value();
   });

@@ -18,6 +18,8 @@ struct SceneFacts {
   bool reflectiveClassic = false;    // ... under the classic sum (kr only)
   bool transmissive = false;         // a material's wT can be > 0, or BLEND coverage lets light through
   bool exactSolids = false;          // an instance is an exact solid (Mesh::exact): its proxy's pixels need rays
+  bool areaLight = false;            // an area light: its light is sampled (FrameSettings::lightSamples)
+  bool glossy = false;               // a glossy material reflects or transmits: its lobe is sampled (glossSamples)
   bool softwareGl = false;           // the GL rasterizes on the CPU (llvmpipe): its passes share the ray pass's cores
   bool reflective(bool fresnelWeighted) const { return fresnelWeighted ? reflectiveWeighted : reflectiveClassic; }
   bool operator==(const SceneFacts&) const = default;

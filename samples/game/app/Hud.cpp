@@ -121,7 +121,7 @@ void Hud::draw(const HudInfo& info) {
       if (st.budget.active) {
         ImGui::Text("  drawn: %s (step %d of %d)", tandem::describeBudget(st.budget).c_str(), st.budget.step,
                     st.budget.steps);
-        ImGui::Text("  predicted %.1f ms  expected FLIP +%.4f", st.budget.predictedMs, st.budget.expectedError);
+        ImGui::Text("  predicted %.1f ms  expected FLIP %+.4f", st.budget.predictedMs, st.budget.expectedError);
         if (!st.budget.reachable)
           ImGui::TextColored(ImVec4(1, 0.6f, 0.2f, 1), "  out of reach: the cheapest choice is over %.1f ms",
                              st.budget.targetMs);
