@@ -4,6 +4,7 @@
 // no test here depends on how fast this machine is, beyond a target no machine can meet.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "GlTestUtil.h"
@@ -160,7 +161,8 @@ TEST(FrameBudgetGL, WithAreaLightsTheFilterIsAChoiceAndARunIsTheRunOfItsChoices)
   ASSERT_TRUE(budgeted->setScene(scene).ok());
   ASSERT_TRUE(plain->setScene(scene).ok());
   ASSERT_TRUE(noFilter->setScene(scene).ok());
-  // With one sample asked for, the filter would replace nothing: half the choices.
+  // With one sample asked for, the filter would replace nothing: half the choices (but the filtered frames
+  // with every effect by raster at 1/2 and 1/4, whose filter runs on the grid's pixels).
   FrameSettings one = small(1e4f);
   one.lightSamples = one.glossSamples = 1;
   const int withoutFilter = noFilter->render(scene.camera, one).budget.steps;
@@ -174,8 +176,11 @@ TEST(FrameBudgetGL, WithAreaLightsTheFilterIsAChoiceAndARunIsTheRunOfItsChoices)
     EXPECT_EQ(b.denoised, b.budget.denoise) << "frame " << i << ": " << describeBudget(b.budget);
     drawn.push_back(b.budget);
   }
-  EXPECT_EQ(b.budget.steps, 2 * withoutFilter);
+  EXPECT_EQ(b.budget.steps, 2 * withoutFilter + 2);
   EXPECT_GT(b.budget.step, 0);
+  // (on the way down, the filtered frame with every effect by raster: it and its raw twin are predicted alike
+  // before either is drawn, and the filtered one is expected nearer the truth)
+  EXPECT_TRUE(std::any_of(drawn.begin(), drawn.end(), [](const BudgetStats& x) { return x.denoise; }));
   camera = scene.camera;
   FrameStats p;
   for (int i = 0; i < 10; ++i) {
@@ -184,6 +189,17 @@ TEST(FrameBudgetGL, WithAreaLightsTheFilterIsAChoiceAndARunIsTheRunOfItsChoices)
   }
   EXPECT_EQ(p.denoised, b.denoised);
   EXPECT_EQ(plain->readImage().rgba, budgeted->readImage().rgba) << describeBudget(b.budget);
+  // Left for a raw choice, the filter's targets go; under a budget that may take it again its programs stay
+  // (without one, as the plain renderer here, they go too).
+  ASSERT_FALSE(b.denoised) << "the walk ended on a filtered choice: " << describeBudget(b.budget);
+  // (the count is the process's: each renderer's own objects are what its destruction takes away)
+  const std::size_t all = noFilter->resources().glObjects;
+  budgeted.reset();
+  const std::size_t kept = all - noFilter->resources().glObjects;
+  plain.reset();
+  const std::size_t released = all - kept - noFilter->resources().glObjects;
+  EXPECT_GT(kept, released);
+  EXPECT_LT(kept, released + 12) << "its programs only, not its 14 targets and their framebuffers";
 }
 
 TEST(FrameBudgetGL, ANewSceneStartsFromTheRequest) {

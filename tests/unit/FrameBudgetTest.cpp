@@ -221,7 +221,8 @@ TEST(FrameBudget, TheFilterIsAChoiceWhereItReplacesSamples) {
   EXPECT_LT(c[1].error, 0.0);
   for (std::size_t i = 2; i < c.size(); ++i) EXPECT_GE(c[i].error, c[i - 1].error) << i;
   // Each frame the ladder has without the filter it has with it too (the all-raster frame included: the GL
-  // samples the area lights and the filter smooths them there as well), one sample of each kind a frame.
+  // samples the area lights and the filter smooths them there as well), one sample of each kind a frame; and
+  // the filtered all-raster frame at each grid scale (the filter's stages run on the grid's pixels).
   int filtered = 0, raw = 0;
   for (const BudgetChoice& x : c) {
     (x.filtered ? filtered : raw) += 1;
@@ -229,7 +230,7 @@ TEST(FrameBudget, TheFilterIsAChoiceWhereItReplacesSamples) {
     EXPECT_EQ(x.settings.lightSamples, x.filtered ? 1 : r.lightSamples);
     EXPECT_EQ(x.settings.glossSamples, x.filtered ? 1 : r.glossSamples);
   }
-  EXPECT_EQ(filtered, raw);
+  EXPECT_EQ(filtered, raw + 2);
   FrameBudget plain;
   (void)plain.choose(r, everything());
   EXPECT_EQ(static_cast<std::size_t>(raw), plain.choices().size());
@@ -246,9 +247,20 @@ TEST(FrameBudget, TheFilterIsAChoiceWhereItReplacesSamples) {
   on.denoise = true;
   EXPECT_FALSE(offered(one, withAreaLight()));
   EXPECT_FALSE(offered(on, withAreaLight()));
+  SceneFacts lens = withAreaLight();
+  lens.lensOrShutter = true;  // a thin lens, orthographic, or an open shutter: motion the filter does not model
+  EXPECT_FALSE(offered(r, lens));
   SceneFacts glossy = everything();
   glossy.glossy = true;
   EXPECT_TRUE(offered(one, glossy));  // the glossy lobe's four rays
+  {
+    // ... which are rays: with both bounces by probes nothing is left for it to filter.
+    FrameBudget k;
+    (void)k.choose(one, glossy);
+    for (const BudgetChoice& x : k.choices())
+      EXPECT_FALSE(x.filtered && (x.fallback & kReflectionsRaster) && (x.fallback & kRefractionRaster))
+          << "1/" << x.rayScale << " d" << x.depthCap;
+  }
   one.glossSamples = 1;
   EXPECT_FALSE(offered(one, glossy));
 }
@@ -309,6 +321,8 @@ TEST(FrameBudget, TakesTheFilterWhenTheRequestRunsOverAndReturnsWithHeadroom) {
   EXPECT_EQ(describeBudget(b.stats()), "1/1 d" + std::to_string(r.maxDepth) + " filtered");
   EXPECT_LE(run.switches(20), 0);
   expectSettled(b, m, run, 110.0, 0.12);
+  // The request's cost is still known apart from the filter's passes (its fixed part is its own set's).
+  EXPECT_NEAR(b.predictMs(0), m.trueMs(r), 0.07 * m.trueMs(r));
   // The scene gets cheaper (its rays halve): the request fits again and the budget goes back to it.
   m.load = 0.5;
   run = play(b, m, r, 80, run);
@@ -448,6 +462,21 @@ TEST(FrameBudget, UnreachableTargetTakesTheCheapestAndSaysSo) {
   for (const BudgetChoice& c : b.choices()) cheapest = std::min(cheapest, m.trueMs(c.settings));
   EXPECT_LE(m.trueMs(b.choices()[static_cast<std::size_t>(b.current())].settings), 1.05 * cheapest)
       << describeBudget(b.stats());
+  // With the filter among the choices and the rays ten times dearer, the cheapest frame has no rays and no
+  // filter: a raw set not yet drawn is not predicted at the filtered sets' cost (which would keep it from ever
+  // being tried once a filtered one ran).
+  FrameBudget f;
+  Machine heavy;
+  heavy.facts = withAreaLight();
+  heavy.areaShare = 0.6;
+  heavy.load = 10.0;
+  (void)play(f, heavy, full(5.0f), 80);
+  EXPECT_FALSE(f.stats().reachable);
+  cheapest = 1e9;
+  for (const BudgetChoice& c : f.choices()) cheapest = std::min(cheapest, heavy.trueMs(c.settings));
+  EXPECT_LE(heavy.trueMs(f.choices()[static_cast<std::size_t>(f.current())].settings), 1.05 * cheapest)
+      << describeBudget(f.stats());
+  EXPECT_FALSE(f.stats().denoise);
 }
 
 TEST(FrameBudget, NewRequestOrSceneStartsOver) {

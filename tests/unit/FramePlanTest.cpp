@@ -58,6 +58,38 @@ TEST(FramePlan, GlassWithoutKrReflectsUnderTheWeightedSumOnly) {
   EXPECT_FALSE(planFrame(f, rays).rays.reflections) << "the classic sum reflects kr only";
 }
 
+TEST(FramePlan, FactsSayWhatIsSampled) {
+  // What the frame-time budget offers the filter for (render/FrameBudget.h): an area light; a glossy material
+  // that reflects or transmits (a rough one that does neither samples no lobe).
+  Scene s;
+  Material matte, roughMatte, roughMirror, roughGlass;
+  roughMatte.roughness = 0.3f;
+  roughMirror.kr = 0.8f;
+  roughMirror.roughness = 0.2f;
+  roughGlass.kt = 0.9f;
+  roughGlass.ior = 1.5f;
+  roughGlass.roughness = 0.1f;
+  s.materials = {matte, roughMatte};
+  Light point;
+  point.type = LightType::Point;
+  s.lights = {point};
+  SceneFacts f = sceneFacts(s);
+  EXPECT_FALSE(f.areaLight);
+  EXPECT_FALSE(f.glossy);
+  for (LightType t : {LightType::Rect, LightType::Disk, LightType::Sphere}) {
+    s.lights[0].type = t;
+    EXPECT_TRUE(sceneFacts(s).areaLight) << static_cast<int>(t);
+  }
+  s.lights.clear();
+  s.materials = {matte, roughMirror};
+  EXPECT_TRUE(sceneFacts(s).glossy);
+  s.materials = {roughGlass};
+  EXPECT_TRUE(sceneFacts(s).glossy);
+  roughGlass.roughness = 0.0f;  // sharp glass: its rays are exact
+  s.materials = {roughGlass};
+  EXPECT_FALSE(sceneFacts(s).glossy);
+}
+
 TEST(FramePlan, RasterShadowsKeepShadowRaysAtSecondaryHits) {
   const FramePlan p = planFrame(everything(), with(EffectMode::Raster, EffectMode::Ray, EffectMode::Off));
   EXPECT_TRUE(p.rayPass);

@@ -513,6 +513,12 @@ void writeBudgetTable(const std::string& path, const std::vector<Row>& rows) {
     std::vector<double> d;
     for (const Row& full : rows) {
       if (full.combo.name != "hybrid-full") continue;
+      // The budget offers the filter only where the camera is a pinhole with a closed shutter: not on a scene
+      // whose camera has a lens or whose instances move under its shutter (those have the ssaa16 rows).
+      const bool lensOrMotion = std::any_of(rows.begin(), rows.end(), [&](const Row& r) {
+        return r.combo.name == "hybrid-full-ssaa16" && r.scene == full.scene && r.size.label() == full.size.label();
+      });
+      if (lensOrMotion && std::string(k.field) == "filtered") continue;
       for (const Row& r : rows)
         if (r.combo.name == k.combo && r.scene == full.scene && r.size.label() == full.size.label())
           d.push_back(r.flipMean - full.flipMean);

@@ -85,6 +85,13 @@ std::size_t DenoisePass::targetBytes(int width, int height, int gridScale) {
              static_cast<std::size_t>(gridSide(height, gridScale));
 }
 
+void DenoisePass::release() {
+  targets_ = {};
+  width_ = height_ = gridWidth_ = gridHeight_ = 0;
+  gridScale_ = 1;
+  historyHeld_ = false;
+}
+
 Result<void> DenoisePass::reserve(int width, int height, int gridScale) {
   assert(width > 0 && height > 0 && gridScale >= 1 && "DenoisePass::reserve: empty frame");
   if (width == width_ && height == height_ && gridScale == gridScale_) return {};

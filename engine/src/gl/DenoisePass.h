@@ -44,6 +44,8 @@ class DenoisePass {
               const MovedInstances& moved, float exposure, ToneMap toneMap, glm::vec3 background, int maxHistory);
   /// The next frame has no past (a frame was drawn without the filter in between).
   void forget() { historyHeld_ = false; }
+  /// Its targets released (and the history with them), its programs kept: reserve() before the next filter().
+  void release();
   /// What the last filter() left for the next frame to reproject: the filter texels (denoise.glsl) after the
   /// first a-trous iteration, of the grid's size. For tests and debugging.
   const Texture& history() const { return targets_.history[1 - current_]; }

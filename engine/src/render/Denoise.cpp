@@ -23,10 +23,18 @@ Camera Renderer::Impl::denoiseSample(const FramePlan& plan, const Camera& camera
   return filteredSample(camera, denoiseFrames++, filteredJitterScale(motionPx));
 }
 
+void Renderer::Impl::leaveDenoise() {
+  if (!denoisePass) return;
+  // Cost follows the settings: the filter goes, but for its programs while a frame-time budget may take it
+  // again (building them again, and a software GL's first draws of each, cost the next frames ~0.3-0.6 s).
+  if (budget.offersFilter()) denoisePass->release();
+  else denoisePass.reset();
+}
+
 bool Renderer::Impl::shadeDenoised(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in,
                                    const gl::VisibilityPass& pass, FrameStats& sample) {
   if (!plan.settings.denoise) {
-    denoisePass.reset();  // cost follows the settings
+    leaveDenoise();
     return false;
   }
   if (!plan.denoise || denoiseFailed) {

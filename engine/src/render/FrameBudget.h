@@ -44,8 +44,9 @@ struct BudgetErrorTable {
   double reflectionsRaster = 0;             // reflections by probes instead of rays
   double shadowsRaster = 0;                 // shadow maps instead of shadow rays
   /// One light and lobe sample a frame with the spatiotemporal filter instead of the request's samples
-  /// raw. Negative: on the scenes it applies to it is nearer the truth than four raw samples (and cheaper in
-  /// rays); the ladder still keeps the request first (the budget cuts only what does not fit).
+  /// raw. Negative: on the scenes it is offered for it was as near the truth as four raw samples or nearer,
+  /// camera moving (and cheaper in rays); the ladder still keeps the request first (the budget cuts only what
+  /// does not fit).
   double filtered = 0;
 };
 const BudgetErrorTable& budgetErrorTable();
@@ -64,6 +65,7 @@ struct BudgetChoice {
   double error = 0;          // expected FLIP over the requested settings' own
   bool rays = false;         // the plan has a ray pass
   double work = 0;           // log of the ray cost per ray-grid pixel, relative (learned)
+  double prior = 0;          // work's prior (what learning a filtered choice corrects for the others)
   int framesRun = 0;         // clean frames this choice has run since the ladder was made
   int fixedSet() const { return fallback | (filtered ? kFiltered : 0); }
 };
@@ -81,8 +83,12 @@ class FrameBudget {
   const BudgetStats& stats() const { return stats_; }
   const std::vector<BudgetChoice>& choices() const { return choices_; }
   int current() const { return current_; }
+  /// Whether the last choose() had a target and a ladder with filtered choices: the filter may be taken again.
+  bool offersFilter() const { return !idle_ && filterOffered_; }
   /// Predicted frame ms of choice i (NaN before anything was measured).
   double predictMs(int i) const;
+  /// The fixed part's offset of a set (fixedSet): as learned, or for one not yet drawn, from those drawn.
+  double fixedOffsetOf(int set) const;
 
  private:
   void makeLadder(const FrameSettings& requested, const SceneFacts& facts);
@@ -95,6 +101,7 @@ class FrameBudget {
   FrameSettings view_;       // size and view of the last frame (viewPart)
   bool haveLadder_ = false;
   bool idle_ = true;         // the last choose() had no target
+  bool filterOffered_ = false;  // the ladder has filtered choices
   std::vector<BudgetChoice> choices_;
   int current_ = 0;
   int framesOnCurrent_ = 0;  // clean frames on current_ since it was chosen

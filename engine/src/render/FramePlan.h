@@ -20,6 +20,10 @@ struct SceneFacts {
   bool exactSolids = false;          // an instance is an exact solid (Mesh::exact): its proxy's pixels need rays
   bool areaLight = false;            // an area light: its light is sampled (FrameSettings::lightSamples)
   bool glossy = false;               // a glossy material reflects or transmits: its lobe is sampled (glossSamples)
+  /// The frame's camera is a thin lens or orthographic, or its shutter is open: the spatiotemporal filter's
+  /// motion vectors do not model it (docs/motion.md), so the frame-time budget does not offer the filter.
+  /// Set by the Renderer from the frame's camera (sceneFacts leaves it false).
+  bool lensOrShutter = false;
   bool softwareGl = false;           // the GL rasterizes on the CPU (llvmpipe): its passes share the ray pass's cores
   bool reflective(bool fresnelWeighted) const { return fresnelWeighted ? reflectiveWeighted : reflectiveClassic; }
   bool operator==(const SceneFacts&) const = default;

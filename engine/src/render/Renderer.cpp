@@ -58,6 +58,7 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
   FramePlan plan = timed(stats.planMs, [&] {
     SceneFacts facts = sceneFacts(scene);
     facts.softwareGl = limits.software;
+    facts.lensOrShutter = camera.aperture > 0.0f || camera.orthographic || camera.shutter > 0.0f;
     return planFrame(facts, budget.choose(requested.resolved(), facts));
   });
   const FrameSettings& s = plan.settings;
@@ -303,7 +304,7 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
     stats.error = frameError(s, targets.error().message);
     return false;
   }
-  if (!s.denoise && denoisePass) denoisePass.reset();  // cost follows the settings (and see shadeDenoised)
+  if (!s.denoise) leaveDenoise();  // cost follows the settings
   // The GL copy's time is each sample's (drawSample): here only the shutter, leaving the time as it is.
   if (syncGl) caches.syncGpu(scene, s.shadingOverride, camera.shutter, caches.gpuTime());
   if (syncEmbree && plan.needsRayScene() && !caches.syncRays(scene, camera.shutter, *tracer)) plan.withoutRays();

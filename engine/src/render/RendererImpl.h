@@ -300,6 +300,9 @@ struct Renderer::Impl {
   std::uint32_t firstDenoiseSample(const FramePlan& plan) { return plan.denoise ? denoiseFrames++ : 0u; }
   bool shadeDenoised(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in,
                      const gl::VisibilityPass& pass, FrameStats& sample);
+  /// A frame without the filter (FrameSettings::denoise off): its targets go, and its programs unless a
+  /// frame-time budget may take it again.
+  void leaveDenoise();
   void present();
   void remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in);
 };

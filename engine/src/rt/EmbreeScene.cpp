@@ -93,10 +93,12 @@ Result<std::unique_ptr<EmbreeDevice>> EmbreeDevice::create() {
   }
   rtcSetDeviceErrorFunction(d->device_.get(), &EmbreeDevice::onError, d.get());
   rtcSetDeviceMemoryMonitorFunction(d->device_.get(), &EmbreeDevice::onMemory, d.get());
+  publishToBuilders(d.get());  // the callbacks run on Embree's build threads too
   return d;
 }
 
 void EmbreeDevice::onError(void* self, RTCError code, const char* message) {
+  receivedFromBuilder(self);
   auto* d = static_cast<EmbreeDevice*>(self);
   std::string text = std::string("Embree ") + errorName(code) + (message ? std::string(": ") + message : std::string());
   logError(text);
@@ -105,6 +107,7 @@ void EmbreeDevice::onError(void* self, RTCError code, const char* message) {
 }
 
 bool EmbreeDevice::onMemory(void* self, ssize_t bytes, bool /*post*/) {
+  receivedFromBuilder(self);
   auto* d = static_cast<EmbreeDevice*>(self);
   std::size_t limit = d->memoryLimit_.load();
   if (bytes > 0 && limit > 0) {

@@ -9,19 +9,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-namespace tandem::rt {
-
-/// Square tiles of ray-grid pixels: the unit of parallel work, of one batched shadow-ray call, and of
-/// the bench's capture (RayCapture::tiles).
-inline constexpr int kTile = 16;
-
-inline int tileCount(int n) { return (n + kTile - 1) / kTile; }
-/// Row-major index of the tile starting at (x0, y0) on a grid `width` wide: the RayCapture tile order.
-inline std::size_t tileIndex(int x0, int y0, int width) {
-  return static_cast<std::size_t>(y0 / kTile) * static_cast<std::size_t>(tileCount(width)) +
-         static_cast<std::size_t>(x0 / kTile);
-}
-
 // ThreadSanitizer builds (tools/test.sh --tsan) run the parallel loops on plain std::threads: Debian's
 // libtbb is not built with -fsanitize=thread, so TSan never sees the synchronisation inside it and reports
 // every hand-over in TBB's inlined partitioner as a race, burying anything real. std::thread's start and
@@ -39,11 +26,26 @@ inline std::size_t tileIndex(int x0, int y0, int width) {
 #include <sanitizer/tsan_interface.h>
 #endif
 
-// Embree's builders call our user geometry's bounds function from TBB worker threads, which TBB hands
-// the build to through the same uninstrumented queues: TSan sees the callback read an object the main
-// thread wrote with nothing ordering the two. publishToBuilders (before the commit, after the writes)
-// and receivedFromBuilder (first thing in the callback) state that ordering, which TBB's hand-over
-// provides; they compile to nothing outside ThreadSanitizer builds, and our code stays checked.
+namespace tandem::rt {
+
+/// Square tiles of ray-grid pixels: the unit of parallel work, of one batched shadow-ray call, and of
+/// the bench's capture (RayCapture::tiles).
+inline constexpr int kTile = 16;
+
+inline int tileCount(int n) { return (n + kTile - 1) / kTile; }
+/// Row-major index of the tile starting at (x0, y0) on a grid `width` wide: the RayCapture tile order.
+inline std::size_t tileIndex(int x0, int y0, int width) {
+  return static_cast<std::size_t>(y0 / kTile) * static_cast<std::size_t>(tileCount(width)) +
+         static_cast<std::size_t>(x0 / kTile);
+}
+
+// Embree's builders call back into our code from TBB worker threads (a user geometry's bounds, the device's
+// memory and error callbacks), which TBB hands the build to through the same uninstrumented queues: TSan
+// sees the callback read an object the main thread wrote with nothing ordering the two. publishToBuilders
+// (after the writes, before anything is committed) and receivedFromBuilder (first thing in the callback)
+// state that ordering, which TBB's hand-over provides; they compile to nothing outside ThreadSanitizer
+// builds, and our code stays checked. (The ray pass's own loops run on std::threads under TSan, above, but
+// direct EmbreeScene::build calls and the radiosity job's arenas build on TBB's workers.)
 inline void publishToBuilders([[maybe_unused]] const void* object) {
 #ifdef TANDEM_TSAN_THREADS
   __tsan_release(const_cast<void*>(object));
