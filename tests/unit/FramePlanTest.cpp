@@ -88,6 +88,14 @@ TEST(FramePlan, FactsSayWhatIsSampled) {
   roughGlass.roughness = 0.0f;  // sharp glass: its rays are exact
   s.materials = {roughGlass};
   EXPECT_FALSE(sceneFacts(s).glossy);
+  // The frame's camera: a thin lens, orthographic, or an open shutter is motion the filter does not model.
+  Camera pinhole;
+  EXPECT_FALSE(sceneFacts(s, pinhole).lensOrShutter);
+  Camera lens = pinhole, ortho = pinhole, shutter = pinhole;
+  lens.aperture = 0.1f;
+  ortho.orthographic = true;
+  shutter.shutter = 0.02f;
+  for (const Camera& c : {lens, ortho, shutter}) EXPECT_TRUE(sceneFacts(s, c).lensOrShutter);
 }
 
 TEST(FramePlan, RasterShadowsKeepShadowRaysAtSecondaryHits) {

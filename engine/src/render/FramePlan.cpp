@@ -26,6 +26,12 @@ SceneFacts sceneFacts(const Scene& scene) {
   return f;
 }
 
+SceneFacts sceneFacts(const Scene& scene, const Camera& camera) {
+  SceneFacts f = sceneFacts(scene);
+  f.lensOrShutter = camera.aperture > 0.0f || camera.orthographic || camera.shutter > 0.0f;
+  return f;
+}
+
 void FramePlan::withoutRays() {
   rayPass = false;
   reference = false;

@@ -22,13 +22,15 @@ struct SceneFacts {
   bool glossy = false;               // a glossy material reflects or transmits: its lobe is sampled (glossSamples)
   /// The frame's camera is a thin lens or orthographic, or its shutter is open: the spatiotemporal filter's
   /// motion vectors do not model it (docs/motion.md), so the frame-time budget does not offer the filter.
-  /// Set by the Renderer from the frame's camera (sceneFacts leaves it false).
+  /// From the frame's camera (sceneFacts(scene) alone leaves it false).
   bool lensOrShutter = false;
   bool softwareGl = false;           // the GL rasterizes on the CPU (llvmpipe): its passes share the ray pass's cores
   bool reflective(bool fresnelWeighted) const { return fresnelWeighted ? reflectiveWeighted : reflectiveClassic; }
   bool operator==(const SceneFacts&) const = default;
 };
 SceneFacts sceneFacts(const Scene& scene);
+/// The scene's facts with the frame's camera's (lensOrShutter).
+SceneFacts sceneFacts(const Scene& scene, const Camera& camera);
 
 struct FramePlan {
   FrameSettings settings;      // resolved

@@ -56,9 +56,8 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
   FrameClock clock = startFrame(stats);
   // With a frame-time budget, the settings this frame can afford; otherwise the requested ones.
   FramePlan plan = timed(stats.planMs, [&] {
-    SceneFacts facts = sceneFacts(scene);
+    SceneFacts facts = sceneFacts(scene, camera);
     facts.softwareGl = limits.software;
-    facts.lensOrShutter = camera.aperture > 0.0f || camera.orthographic || camera.shutter > 0.0f;
     return planFrame(facts, budget.choose(requested.resolved(), facts));
   });
   const FrameSettings& s = plan.settings;
