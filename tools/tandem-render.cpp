@@ -402,7 +402,8 @@ int main(int argc, char** argv) {
       j["budget"] = {{"target_ms", last.budget.targetMs},       {"steps", last.budget.steps},
                      {"step", last.budget.step},                {"choice", describeBudget(last.budget)},
                      {"predicted_ms", last.budget.predictedMs}, {"expected_flip", last.budget.expectedError},
-                     {"reachable", last.budget.reachable},      {"step_per_frame", steps}};
+                     {"reachable", last.budget.reachable},      {"denoise", last.budget.denoise},
+                     {"step_per_frame", steps}};
     }
     std::ofstream f(statsPath);
     if (!f) return fail("--stats: cannot write " + statsPath);
