@@ -377,6 +377,8 @@ MUTATIONS = [
     ("frame-budget-filter-programs-dropped", "engine/src/render/Denoise.cpp",
      "  if (budget.offersFilter()) denoisePass->release();\n  else denoisePass.reset();", "  denoisePass.reset();",
      "tandem-gl-tests", "FrameBudgetGL.*"),
+    ("frame-budget-filter-prior-not-carried", "engine/src/render/FrameBudget.cpp",
+     "x.work = x.prior + (c.work - c.prior);", "x.work = x.prior;", "tandem-unit-tests", "FrameBudget*"),
     ("frame-budget-filter-keeps-the-samples", "engine/src/render/FrameBudget.cpp",
      "            c.settings.lightSamples = c.settings.glossSamples = 1;\n", "", "tandem-unit-tests", "FrameBudget*"),
     # Render space (tests/unit/CameraTest.cpp).

@@ -189,15 +189,37 @@ TEST(FrameBudgetGL, WithAreaLightsTheFilterIsAChoiceAndARunIsTheRunOfItsChoices)
   }
   EXPECT_EQ(p.denoised, b.denoised);
   EXPECT_EQ(plain->readImage().rgba, budgeted->readImage().rgba) << describeBudget(b.budget);
-  // Left for a raw choice, the filter's targets go; under a budget that may take it again its programs stay
-  // (without one, as the plain renderer here, they go too).
-  ASSERT_FALSE(b.denoised) << "the walk ended on a filtered choice: " << describeBudget(b.budget);
+}
+
+// A frame without the filter releases it; under a budget that may take it again (the ladder has filtered
+// choices) only its targets go and its programs stay, so going back costs no compile.
+TEST(FrameBudgetGL, LeavingTheFilterUnderABudgetKeepsItsPrograms) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto loaded = loadSceneFile(test::sourceDir() + "/assets/scenes/area-lights.json");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  const Scene& scene = *loaded;
+  auto budgeted = gltest::makeRenderer(*glContext_);
+  auto plain = gltest::makeRenderer(*glContext_);
+  auto other = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(budgeted && plain && other);
+  FrameSettings filtered = small(0.0f);
+  filtered.denoise = true;
+  filtered.lightSamples = filtered.glossSamples = 1;
+  for (Renderer* r : {budgeted.get(), plain.get()}) {
+    ASSERT_TRUE(r->setScene(scene).ok());
+    EXPECT_TRUE(r->render(scene.camera, filtered).denoised);
+  }
+  // Then a raw frame each: the budget's first (its request; 10 s a frame always fits), and one without a budget.
+  const FrameStats b = budgeted->render(scene.camera, small(1e4f));
+  EXPECT_EQ(b.budget.step, 0);
+  EXPECT_FALSE(b.denoised);
+  EXPECT_FALSE(plain->render(scene.camera, small(0.0f)).denoised);
   // (the count is the process's: each renderer's own objects are what its destruction takes away)
-  const std::size_t all = noFilter->resources().glObjects;
+  const std::size_t all = other->resources().glObjects;
   budgeted.reset();
-  const std::size_t kept = all - noFilter->resources().glObjects;
+  const std::size_t kept = all - other->resources().glObjects;
   plain.reset();
-  const std::size_t released = all - kept - noFilter->resources().glObjects;
+  const std::size_t released = all - kept - other->resources().glObjects;
   EXPECT_GT(kept, released);
   EXPECT_LT(kept, released + 12) << "its programs only, not its 14 targets and their framebuffers";
 }

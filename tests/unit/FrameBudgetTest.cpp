@@ -330,6 +330,29 @@ TEST(FrameBudget, TakesTheFilterWhenTheRequestRunsOverAndReturnsWithHeadroom) {
   EXPECT_FALSE(b.stats().denoise);
 }
 
+// What one filtered sample saves depends on how much of the rays the sampled lights are: once a filtered choice
+// has run, the filtered choices not yet run are predicted with its correction of the prior (0.4 of the work),
+// not the prior itself (here the truth is 0.325).
+TEST(FrameBudget, AFilteredChoiceTeachesTheOthersWhatTheFilterSaves) {
+  FrameBudget b;
+  Machine m;
+  m.facts = withAreaLight();
+  m.areaShare = 0.9;
+  const FrameSettings r = full(110.0f);
+  (void)play(b, m, r, 60);
+  ASSERT_TRUE(b.stats().denoise) << describeBudget(b.stats());
+  int checked = 0;
+  for (std::size_t i = 0; i < b.choices().size(); ++i) {
+    const BudgetChoice& x = b.choices()[i];
+    // Unrun filtered choices in the same fixed set (known), with another depth: only their ray work is a prior.
+    if (!x.filtered || x.framesRun > 0 || x.fallback != 0 || x.rayScale != 1) continue;
+    const double truth = m.trueMs(x.settings);
+    EXPECT_NEAR(b.predictMs(static_cast<int>(i)), truth, 0.06 * truth) << "1/1 d" << x.depthCap << " filtered";
+    ++checked;
+  }
+  EXPECT_GE(checked, 1);
+}
+
 // Throughput mode: the frame costs the slower of its rays and its GL stages, so at a target the sum misses the
 // budget keeps more of the image than latency mode can, and it still settles within the target.
 TEST(FrameBudget, ThroughputModeChoosesByTheSlowerSideNotTheSum) {

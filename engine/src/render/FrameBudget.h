@@ -6,10 +6,10 @@
 //
 // Choices: the requested settings, then every combination of a coarser ray grid (1/2, 1/4), a depth cap
 // (2, 1), a raster fallback for any set of the ray-traced effects and, where the scene samples area lights
-// or glossy lobes with more than one sample, one sample a frame with the spatiotemporal filter
-// (FrameSettings::denoise), less those that change nothing the frame would do for this scene. Each has an
-// expected error (the error table, measured by tandem-bench --sweep against the reference) and a predicted
-// cost:
+// or glossy lobes with more than one sample through a pinhole camera, one sample a frame with the
+// spatiotemporal filter (FrameSettings::denoise), less those that change nothing the frame would do for this
+// scene. Each has an expected error (the error table, measured by tandem-bench --sweep against the reference)
+// and a predicted cost:
 //   cost = fixed[set] + rayMsPerPixel · rayGridPixels · exp(work[choice])
 // or, in throughput mode (FrameSettings::pipelined: the rays of one frame beside the GL's stages of the next
 // and the last), max(fixed, rays − transfers) + transfers, the transfers (read-back, upload) being the ray
@@ -17,8 +17,9 @@
 // below reads the interval between frames (which, unlike a latency frame's total, holds the application's
 // time between the calls), and a frame drawn with a choice already left is not learned from.
 // fixed = every stage but readback, rays and upload: the scene's load now times a learned factor per set of
-// raster fallbacks, with or without the filter (its passes are GL stages); rayMsPerPixel follows the scene from frame to frame; work starts from a prior and is
-// learned from the frames a choice runs: its first sets it, its next two halve the gap (in the logarithm),
+// raster fallbacks, with or without the filter (its passes are GL stages); rayMsPerPixel follows the scene
+// from frame to frame; work starts from a prior and is learned from the frames a choice runs: its first sets
+// it, its next two halve the gap (in the logarithm),
 // later ones move rayMsPerPixel, every choice's cost alike, by 0.3 of the gap (the scene's drift). A new
 // size or view re-measures the loads and keeps the factors.
 // Hysteresis: frame times are smoothed (m ← (m + t) / 2). A choice is left when m runs over 1.05 × target

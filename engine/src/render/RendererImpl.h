@@ -288,7 +288,8 @@ struct Renderer::Impl {
              FrameStats& sample);
 
   // The spatiotemporal filter (FrameSettings::denoise, docs/denoise.md; render/Denoise.cpp): made on first use,
-  // released when the setting is off (cost follows the settings). Each filtered frame draws the next sample of
+  // released when the setting is off (cost follows the settings; its programs stay while a frame-time budget
+  // may take it again: leaveDenoise). Each filtered frame draws the next sample of
   // one sequence (denoiseSample; an accumulation's first frame starts there: firstDenoiseSample), so the
   // history gathers new samples. shadeDenoised shades the frame into the filter's target and filters it into
   // the output; false when the frame is not filtered (then shaded as usual).
