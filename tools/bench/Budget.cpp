@@ -46,6 +46,17 @@ std::vector<std::string> csvCells(const std::string& line) {
   return cells;
 }
 
+// The index of column `name` in a --frame-log's header (header.size() when it has none).
+std::size_t columnOf(const std::vector<std::string>& header, const char* name) {
+  return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+}
+
+std::vector<std::string> logHeader(const std::string& path) {
+  std::ifstream f(path);
+  std::string line;
+  return std::getline(f, line) ? csvCells(line) : std::vector<std::string>{};
+}
+
 // The game's --frame-log, its columns found by name (docs/game.md lists them).
 std::vector<LogRow> readLog(const std::string& path) {
   std::vector<LogRow> rows;
@@ -53,10 +64,7 @@ std::vector<LogRow> readLog(const std::string& path) {
   std::string line;
   if (!std::getline(f, line)) return rows;
   const std::vector<std::string> header = csvCells(line);
-  auto column = [&](const char* name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    return it == header.end() ? header.size() : static_cast<std::size_t>(it - header.begin());
-  };
+  auto column = [&](const char* name) { return columnOf(header, name); };
   const std::size_t frame = column("frame"), total = column("total_ms"), rays = column("rays"),
                     target = column("target_ms"), step = column("step"), choice = column("choice"), flip = column("flip");
   while (std::getline(f, line)) {
@@ -163,11 +171,20 @@ void plotBudget(const BudgetOptions& o, const std::vector<RunSummary>& runs, con
   s << "set grid lc rgb '#dddddd'\nset key outside right top font ',8'\nset datafile separator ','\n";
   s << "set xlabel 'frame'\nset ylabel 'frame time, ms'\n";
   const char* colours[] = {"#000000", "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
+  // gnuplot numbers columns from 1; the log's are found by name (its stage columns grow).
+  const std::vector<std::string> header = logHeader(runs.empty() ? std::string() : runs[0].logPath);
+  const std::size_t frameColumn = columnOf(header, "frame") + 1, totalColumn = columnOf(header, "total_ms") + 1,
+                    flipColumn = columnOf(header, "flip") + 1;
+  if (std::max({frameColumn, totalColumn, flipColumn}) > header.size()) {
+    std::printf("  no plot: the frame log lacks frame, total_ms or flip\n");
+    return;
+  }
   s << "plot ";
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const RunSummary& r = runs[i];
     const std::string file = fs::path(r.logPath).filename().string();
-    s << (i ? ", " : "") << "'" << file << "' every ::2 using 1:2 with lines lw 1 lc rgb '" << colours[i % 7]
+    s << (i ? ", " : "") << "'" << file << "' every ::2 using " << frameColumn << ":" << totalColumn
+      << " with lines lw 1 lc rgb '" << colours[i % 7]
       << "' title '" << r.name << "'";
     if (r.targetMs > 0)
       s << ", " << r.targetMs << " with lines dt 2 lw 1.5 lc rgb '" << colours[i % 7] << "' notitle";
@@ -180,7 +197,8 @@ void plotBudget(const BudgetOptions& o, const std::vector<RunSummary>& runs, con
     if (r.targetMs <= 0) continue;
     const std::string file = fs::path(r.logPath).filename().string();
     // Points only where the frame was measured; FLIP 0 (the frame was drawn as requested) sits off a log axis.
-    s << (first ? "" : ", ") << "'" << file << "' every ::1 using 1:($18 > 0 ? $18 : 1/0) with linespoints pt 7 ps 0.5 lc rgb '"
+    s << (first ? "" : ", ") << "'" << file << "' every ::1 using " << frameColumn << ":($" << flipColumn << " > 0 ? $"
+      << flipColumn << " : 1/0) with linespoints pt 7 ps 0.5 lc rgb '"
       << colours[i % 7] << "' title '" << r.name << "'";
     first = false;
   }
