@@ -29,6 +29,13 @@ Scene whitted() {
   return std::move(*s);
 }
 
+/// area-lights.json: three area lights, a mirror and a glass ball (the ladder has the filter).
+Scene areaLights() {
+  auto s = loadSceneFile(test::sourceDir() + "/assets/scenes/area-lights.json");
+  EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);
+  return s.ok() ? *s : Scene{};
+}
+
 /// The settings the budget reports it drew, without a budget.
 FrameSettings drawnWith(const BudgetStats& b) {
   FrameSettings s = small(0.0f);
@@ -151,9 +158,8 @@ TEST(FrameBudgetGL, StillFramesReuseTheChoicesRaysAndPixelTracesSeeTheChoice) {
 // machine's costs; tests/unit/FrameBudgetTest.cpp checks that one that fits is taken.)
 TEST(FrameBudgetGL, WithAreaLightsTheFilterIsAChoiceAndARunIsTheRunOfItsChoices) {
   TD_REQUIRE_GL_CONTEXT();
-  auto loaded = loadSceneFile(test::sourceDir() + "/assets/scenes/area-lights.json");
-  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-  const Scene& scene = *loaded;
+  const Scene scene = areaLights();
+  ASSERT_FALSE(scene.lights.empty());
   auto budgeted = gltest::makeRenderer(*glContext_);
   auto plain = gltest::makeRenderer(*glContext_);
   auto noFilter = gltest::makeRenderer(*glContext_);
@@ -195,9 +201,8 @@ TEST(FrameBudgetGL, WithAreaLightsTheFilterIsAChoiceAndARunIsTheRunOfItsChoices)
 // choices) only its targets go and its programs stay, so going back costs no compile.
 TEST(FrameBudgetGL, LeavingTheFilterUnderABudgetKeepsItsPrograms) {
   TD_REQUIRE_GL_CONTEXT();
-  auto loaded = loadSceneFile(test::sourceDir() + "/assets/scenes/area-lights.json");
-  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-  const Scene& scene = *loaded;
+  const Scene scene = areaLights();
+  ASSERT_FALSE(scene.lights.empty());
   auto budgeted = gltest::makeRenderer(*glContext_);
   auto plain = gltest::makeRenderer(*glContext_);
   auto other = gltest::makeRenderer(*glContext_);

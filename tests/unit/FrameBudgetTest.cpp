@@ -204,6 +204,14 @@ SceneFacts withAreaLight() {
   return f;
 }
 
+/// A machine for a scene with an area light whose shadow rays are `share` of the ray work at four samples.
+Machine areaLit(double share) {
+  Machine m;
+  m.facts = withAreaLight();
+  m.areaShare = share;
+  return m;
+}
+
 TEST(FrameBudget, TheFilterIsAChoiceWhereItReplacesSamples) {
   FrameBudget b;
   const FrameSettings r = full(50.0f);
@@ -311,9 +319,7 @@ TEST(FrameBudget, TakesTheFilterWhenTheRequestRunsOverAndReturnsWithHeadroom) {
   // 110 ms target, the filter (~92) fits: the budget takes it rather than a coarser grid or a raster fallback,
   // which it expects to be further from the truth.
   FrameBudget b;
-  Machine m;
-  m.facts = withAreaLight();
-  m.areaShare = 0.6;
+  Machine m = areaLit(0.6);
   const FrameSettings r = full(110.0f);
   History run = play(b, m, r, 120);
   EXPECT_EQ(b.current(), 1) << describeBudget(b.stats());
@@ -335,9 +341,7 @@ TEST(FrameBudget, TakesTheFilterWhenTheRequestRunsOverAndReturnsWithHeadroom) {
 // not the prior itself (here the truth is 0.325).
 TEST(FrameBudget, AFilteredChoiceTeachesTheOthersWhatTheFilterSaves) {
   FrameBudget b;
-  Machine m;
-  m.facts = withAreaLight();
-  m.areaShare = 0.9;
+  Machine m = areaLit(0.9);
   const FrameSettings r = full(110.0f);
   (void)play(b, m, r, 60);
   ASSERT_TRUE(b.stats().denoise) << describeBudget(b.stats());
@@ -489,9 +493,7 @@ TEST(FrameBudget, UnreachableTargetTakesTheCheapestAndSaysSo) {
   // filter: a raw set not yet drawn is not predicted at the filtered sets' cost (which would keep it from ever
   // being tried once a filtered one ran).
   FrameBudget f;
-  Machine heavy;
-  heavy.facts = withAreaLight();
-  heavy.areaShare = 0.6;
+  Machine heavy = areaLit(0.6);
   heavy.load = 10.0;
   (void)play(f, heavy, full(5.0f), 80);
   EXPECT_FALSE(f.stats().reachable);

@@ -89,6 +89,7 @@ void DenoisePass::release() {
   targets_ = {};
   width_ = height_ = gridWidth_ = gridHeight_ = 0;
   gridScale_ = 1;
+  current_ = 0;
   historyHeld_ = false;
 }
 

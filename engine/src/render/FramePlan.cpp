@@ -14,10 +14,11 @@ SceneFacts sceneFacts(const Scene& scene) {
   f.shadowLight = std::any_of(scene.lights.begin(), scene.lights.end(),
                               [](const Light& l) { return l.type != LightType::Ambient && l.castShadows; });
   for (const Material& m : scene.materials) {
-    f.reflectiveWeighted = f.reflectiveWeighted || mayReflect(m, true);
-    f.reflectiveClassic = f.reflectiveClassic || mayReflect(m, false);
-    f.transmissive = f.transmissive || mayTransmit(m);
-    f.glossy = f.glossy || (m.roughness > 0.0f && (mayReflect(m, true) || mayReflect(m, false) || mayTransmit(m)));
+    const bool weighted = mayReflect(m, true), classic = mayReflect(m, false), transmits = mayTransmit(m);
+    f.reflectiveWeighted = f.reflectiveWeighted || weighted;
+    f.reflectiveClassic = f.reflectiveClassic || classic;
+    f.transmissive = f.transmissive || transmits;
+    f.glossy = f.glossy || (m.roughness > 0.0f && (weighted || classic || transmits));
   }
   f.areaLight = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return isAreaLight(l.type); });
   f.exactSolids = std::any_of(scene.instances.begin(), scene.instances.end(), [&](const Instance& inst) {
