@@ -149,6 +149,8 @@
 #define TD_LOC_DENOISE_AREA_LIGHTS 32    // TD_MAX_LIGHTS vec4 (centre, radius): locations 32-39
 #define TD_LOC_DENOISE_JITTER 40         // this frame's sub-pixel offset (pixels, x right, y up: GL rows)
 #define TD_LOC_DENOISE_AXIS 41           // the camera's unjittered forward axis, unit (the guide's depth is along it)
+#define TD_LOC_DENOISE_MOVED_REACH 42    // the farthest corner of a moved box from the camera (render space)
+#define TD_LOC_DENOISE_LOBES_STALE 43    // 1: a light the filter does not smooth changed (glossy lobes' history goes)
 // The output pass (tonemap.frag; OutputPass).
 #define TD_LOC_EXPOSURE 0
 #define TD_LOC_TONE_MAP 1

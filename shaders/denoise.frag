@@ -128,24 +128,39 @@ layout(location = TD_LOC_DENOISE_CAMERA_POS) uniform vec3 cameraPosR;
 layout(location = TD_LOC_DENOISE_MOVED_COUNTS) uniform ivec2 movedCounts;  // boxes, area lights
 layout(location = TD_LOC_DENOISE_MOVED_BOXES) uniform vec4 movedBoxes[2 * TD_MAX_MOVED_BOXES];
 layout(location = TD_LOC_DENOISE_AREA_LIGHTS) uniform vec4 areaLights[TD_MAX_LIGHTS];
+layout(location = TD_LOC_DENOISE_MOVED_REACH) uniform float movedReach;
+layout(location = TD_LOC_DENOISE_LOBES_STALE) uniform int lobesStale;
 layout(binding = TD_UNIT_DENOISE_IDS) uniform TD_SAMPLER_IDS idsTex;
 
 // Whether an instance that moved since the last frame (a box holding where it was and where it is, other than
-// the point's own instance) may stand between the point and an area light (the filter smooths only their
-// light): the shadow rays from the point P to a light of radius r at c stay within r·t of the segment at the
+// the point's own instance) may have changed the light the filter smooths at the point: by standing between
+// the point and an area light, or (a glossy surface, `lobe`: tdLobeOf) in what its lobe reflects or
+// transmits. The shadow rays from the point P to a light of radius r at c stay within r·t of the segment at the
 // fraction t of the way (a cone from the point), and so within the square pyramid of half-width r·t about it.
 // The pyramid meets a box [lo, hi] at t where, on every axis, lo - r·t <= P + t·(c - P) <= hi + r·t: two
 // linear bounds on t an axis, lower or upper by the sign of (c - P) ± r, so one pass finds whether some t in
 // [0, 1] meets them all. (Growing the box by r alone flagged every point of a floor beside objects resting on
 // it: the cone is narrow near the point. Four slab tests, the box grown by r times where the last one left
-// the segment, converged towards this bound and cost two and a half times as much on a software GL.) Run
-// here, on the grid's pixels (a quarter of the frame's at 1/2), not in the shade pass.
-bool lightMayHaveChanged(uint instance, vec3 posR) {
-  // Lights outside, boxes inside: the per-axis reciprocals and which bound each gives, once a light.
+// the segment, converged towards this bound and cost two and a half times as much on a software GL.) A
+// reflection lobe is one more such cone: about the mirror direction, as long as the farthest moved box is
+// from the point (`movedReach` from the camera, plus the point's own distance), as wide as the lobe; a
+// transmitting lobe takes every moved box. Run here, on the grid's pixels (a quarter of the frame's at 1/2),
+// not in the shade pass.
+bool mayHaveChanged(uint instance, vec3 posR, vec3 N, float lobe) {
+  vec3 V = orthographic != 0 ? -cameraAxis : normalize(cameraPosR - posR);
+  float reach = length(cameraPosR - posR) + movedReach;
+  vec4 lobeCone = vec4(posR + reflect(-V, N) * reach, reach * abs(tdLobeSpread(lobe)));
+  // (a loop, not a branch, for the lobe's cone: a software GL skips a loop whose lanes all ended, where it
+  // runs both sides of a branch)
+  int cones = movedCounts.y + (lobe != 0.0 ? 1 : 0);
   bool mayHave = false;
-  for (int j = 0; j < movedCounts.y; ++j) {
-    vec3 to = areaLights[j].xyz - posR;
-    float r = areaLights[j].w;
+  for (int j = 0; j < cones; ++j) {
+    bool isLobe = j == movedCounts.y;
+    vec4 cone = isLobe ? lobeCone : areaLights[min(j, TD_MAX_LIGHTS - 1)];
+    bool every = isLobe && lobe < 0.0;
+    // Lights outside, boxes inside: the per-axis reciprocals and which bound each gives, once a cone.
+    vec3 to = cone.xyz - posR;
+    float r = cone.w;
     vec3 inPlus = 1.0 / (to + r), inMinus = 1.0 / (to - r);
     // lo side: t·(to + r) >= lo - P, a lower bound where to + r > 0, an upper one where < 0; hi side:
     // t·(to - r) <= hi - P, an upper bound where to - r > 0, a lower one where < 0 (at 0 the side holds or
@@ -162,7 +177,7 @@ bool lightMayHaveChanged(uint instance, vec3 posR) {
       float leave = min(min(upper.x, upper.y), min(upper.z, 1.0));
       // (lo.w: the box's instance, -1 for boxes of several merged; the point's own instance is no blocker)
       bool own = lo.w >= 0.0 && uint(lo.w + 0.5) == instance;
-      mayHave = mayHave || (enter <= leave && !own);
+      mayHave = mayHave || ((enter <= leave || every) && !own);
     }
   }
   return mayHave;
@@ -206,11 +221,14 @@ void temporal() {
   // The point's place in the last frame: a bilinear tap of the four texels around it, each kept only where
   // the last frame showed the same instance at the depth the point had then, facing the same way.
   vec4 m = texelFetch(motionTex, at, 0);
-  // The point lay in the last frame, and no instance that moved may have changed its light.
-  bool holds = history != 0 && m.w > 0.5;
-  if (TD_DENOISE_MOVED != 0)
-    holds = holds && !lightMayHaveChanged(texelFetch(idsTex, at, 0).x - 1u, pointAt(at, uintBitsToFloat(g.x)));
+  // The point lay in the last frame, and no instance that moved may have changed its light. A glossy lobe
+  // gathers the light of every kind of light off what it sees: a change of the lights the filter does not
+  // smooth (which go past it where they light the point itself) changes it.
   vec3 N = tdUnpackNormal(g.y);
+  float lobe = unpackHalf2x16(g.w).y;  // (tdLobeOf: the cone's spread only where the test runs)
+  bool holds = history != 0 && m.w > 0.5 && !(lobesStale != 0 && lobe != 0.0);
+  if (TD_DENOISE_MOVED != 0)
+    holds = holds && !mayHaveChanged(texelFetch(idsTex, at, 0).x - 1u, pointAt(at, uintBitsToFloat(g.x)), N, lobe);
   vec3 past = vec3(0.0);
   float weight = 0.0;
   // The heaviest texel kept: its moments (luminance, its square, history length) are the history's. (A

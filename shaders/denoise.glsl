@@ -4,6 +4,8 @@
 // A software GL pays for every texel fetch and every pass (llvmpipe: ~2 ms a full-screen pass at 640x360
 // before any work), so what a tap needs travels in one RGBA32UI texel:
 //   guide (the shade pass's):     x depth (float bits), y normal + instance, z modulation rg (half), w its b
+//                                 and the glossy lobe the filtered light was gathered through (half:
+//                                 shading.glsl's tdLobeOf)
 //   filter texel (the stages'):   x illumination rg (half), y illumination b + variance (half; the sign bit:
 //                                 the history was dropped), z depth, w normal + instance
 // Depth is view depth (along the camera's unjittered axis); the normal is three signed bytes (an edge-stopping

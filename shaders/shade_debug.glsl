@@ -116,7 +116,7 @@ vec3 motionView(uvec2 id, vec3 posR) {
 // Motion as the motion view measures it (now − before, unjittered, GL rows), the point's view depth in the
 // last frame, and whether it lay in that frame (w). The filter's reprojection checks the last frame's guide
 // there (the last frame's ids and depth are the filter's own: its previous guide), and its temporal stage
-// whether an instance that moved may have changed the point's light (denoise.frag's lightMayHaveChanged).
+// whether an instance that moved may have changed the point's light (denoise.frag's mayHaveChanged).
 vec4 denoiseMotion(uvec2 id, vec3 posR) {
   if (motionHistory == 0) return vec4(0.0);
   // Where the point is now, unjittered: where this pixel's sample lies, since the point is on its ray (the

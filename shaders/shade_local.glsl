@@ -119,6 +119,7 @@ vec3 areaLightShare = vec3(0.0);
 // smooths areaLightShare / areaLightUnshadowed, the visible fraction, and multiplies it back), else 0.
 vec3 areaLightUnshadowed = vec3(0.0);
 bool areaLightsAsVisibility = false;
+float surfaceRoughness = 0.0;  // with the filter's guides: the last localLight's material's (0: not glossy)
 
 #if TD_DENOISE_GUIDES
 // The filter's form of area light j's term (docs/denoise.md): the light unshadowed, from kUnshadowedSamples
@@ -149,7 +150,8 @@ vec3 localLight(Surface s, RaySample rays, uvec2 id, ivec2 pTop) {
   areaLightShare = vec3(0.0);
   areaLightUnshadowed = vec3(0.0);
   // (a glossy lobe's samples are filtered with the area lights' light, both divided by the surface colour)
-  areaLightsAsVisibility = kDenoiseGuides && !isGlossy(s.hit.tri.material);
+  surfaceRoughness = kDenoiseGuides ? materialRoughness(s.hit.tri.material) : 0.0;
+  areaLightsAsVisibility = kDenoiseGuides && !(surfaceRoughness > 0.0);
   GpuMaterial m = s.m;
   Triangle tri = s.hit.tri;
   vec3 b = s.hit.b, posW = s.hit.posW, origin = s.hit.origin;

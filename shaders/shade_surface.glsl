@@ -5,7 +5,7 @@
 // orientTwoSided has run.
 // Whether a material has a glossy lobe (docs/glossy.md): its roughness, in the uv-transform record's fourth
 // texel (shade_probes).
-bool isGlossy(uint material) { return texelFetch(uvTransformsBuf, 4 * int(material) + 3).a > 0.0; }
+float materialRoughness(uint material) { return texelFetch(uvTransformsBuf, 4 * int(material) + 3).a; }
 
 struct Surface {
   PrimaryHit hit;

@@ -437,6 +437,30 @@ TD_FN vec3 tdRefractOverFacet(vec3 T, vec3 V, vec3 Ng, float eta) {
   return tdBendOverFacet(T, Ng, -1.0f, m);
 }
 
+// What a glossy material's filtered light may come from, for the spatiotemporal filter's test of what moved
+// (the shade pass writes it into the filter's guide, denoise.frag's mayHaveChanged reads tdLobeSpread of it):
+// 0, nothing beyond the area lights (not glossy, or neither reflecting nor transmitting: a highlight alone);
+// -1, a transmitting lobe, which may see anything behind the surface (a ball's refraction turns the view
+// over); else a reflection lobe, its roughness.
+TD_FN float tdLobeOf(float roughness, float kr, float kt) {
+  return !(roughness > 0.0f) ? 0.0f : kt > 0.0f ? -1.0f : kr > 0.0f ? roughness : 0.0f;
+}
+// A lobe (tdLobeOf) as the cone the filter tests: for a reflection lobe, the tangent of the half-angle of the
+// cone about the mirror direction that holds 99 % of its samples (the Phong lobe cos^e θ of docs/glossy.md,
+// sampled as cos θ = u^(1/(e+1)): a fraction c^(e+1) of them falls outside cos θ = c); 0 and -1 as they are.
+// The C++ twin is tested against the lobe's sampler.
+TD_FN float tdLobeSpread(float lobe) {
+  if (!(lobe > 0.0f)) return lobe;
+  float alpha = lobe * lobe;
+  float e = max(2.0f / (alpha * alpha) - 2.0f, 0.0f);
+  // 1 - cos θ at 99 %: -expm1(ln(0.01) / (e + 1)), its series where the lobe is narrow (cos θ rounds to 1)
+  float x = -4.6051702f / (e + 1.0f);
+  float oneMinusCos = min(x > -1e-3f ? -x * (1.0f + 0.5f * x) : 1.0f - exp(x), 0.99f);
+  // tan θ from 1 - cos θ (sin² = (1 - cos)(1 + cos): no cancellation for the narrow lobes); at least 1e-4, a
+  // lobe narrower than that still reflecting along its ray
+  return max(sqrt(oneMinusCos * (2.0f - oneMinusCos)) / (1.0f - oneMinusCos), 1e-4f);
+}
+
 // ---- Output ----
 TD_FN vec3 tdToneMap(vec3 c, int op) {
   // Bounded first: beyond 65504 (half-float max) every operator is at 1 anyway, and the curves' c² and

@@ -20,6 +20,7 @@ using glm::floor;
 using glm::ivec3;
 using glm::normalize;
 using glm::max;
+using glm::min;
 using glm::mix;
 using glm::pow;
 using glm::reflect;
@@ -33,6 +34,7 @@ using std::pow;
 using std::abs;
 using std::cos;
 using std::sin;
+using std::exp;
 
 #define TD_OUT(T) T&
 #define TD_FN inline

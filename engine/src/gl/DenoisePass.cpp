@@ -251,16 +251,19 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Te
   // temporal stage's value, which is what every iteration left there), and the compose stage (or on a coarser
   // grid the upsampling) takes them to the frame: the iteration's 9 taps run only where the depth test lets
   // them. Then the anti-aliasing, into the frame.
-  // The temporal stage's test of what moved (lightMayHaveChanged): the boxes and the area lights; without
-  // either, the variant without the test.
-  const bool anyMoved = moved.boxCount > 0 && moved.areaLightCount > 0;
+  // The temporal stage's test of what moved (mayHaveChanged): the boxes against the area lights and the glossy
+  // lobes; without boxes or anything to test them against, the variant without the test.
+  const bool anyMoved = moved.boxCount > 0 && (moved.areaLightCount > 0 || moved.lobes);
   const GLuint tp = temporal_.id();
   if (anyMoved) {
     glProgramUniform3fv(tp, TD_LOC_DENOISE_CAMERA_POS, 1, glm::value_ptr(camera.posW));
     glProgramUniform2i(tp, TD_LOC_DENOISE_MOVED_COUNTS, moved.boxCount, moved.areaLightCount);
     glProgramUniform4fv(tp, TD_LOC_DENOISE_MOVED_BOXES, 2 * TD_MAX_MOVED_BOXES, glm::value_ptr(moved.boxes[0].first));
     glProgramUniform4fv(tp, TD_LOC_DENOISE_AREA_LIGHTS, kMaxLights, glm::value_ptr(moved.areaLights[0]));
+    glProgramUniform1f(tp, TD_LOC_DENOISE_MOVED_REACH, moved.reach);
   }
+  for (const Program* temporal : {&temporal_, &temporalStill_})
+    glProgramUniform1i(temporal->id(), TD_LOC_DENOISE_LOBES_STALE, moved.lobesStale ? 1 : 0);
   draw(anyMoved ? temporal_ : temporalStill_, t.temporalFbo[now].id(), 0, nullptr, Depth::Write, "denoise: temporal");
   draw(atrous_, t.historyFbo[now].id(), 1, &t.scratchA, Depth::Test, "denoise: a-trous 1");
   draw(atrous_, t.scratchBFbo.id(), 2, &t.history[now], Depth::Test, "denoise: a-trous 2");

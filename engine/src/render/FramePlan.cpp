@@ -29,7 +29,7 @@ SceneFacts sceneFacts(const Scene& scene) {
 
 SceneFacts sceneFacts(const Scene& scene, const Camera& camera) {
   SceneFacts f = sceneFacts(scene);
-  f.lensOrShutter = camera.aperture > 0.0f || camera.orthographic || camera.shutter > 0.0f;
+  f.lensOrShutter = lensOrShutter(camera);
   return f;
 }
 

@@ -51,8 +51,7 @@ void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera,
   for (const Instance& inst : scene.instances) now.worldFromObject.emplace_back(inst.worldFromObject);
   if (plan.denoise) {
     // The area lights: the filter smooths their light alone (the others' goes past it).
-    for (const Light& l : scene.lights)
-      if (isAreaLight(l.type)) now.lights.push_back(l);
+    for (const Light& l : scene.lights) (isAreaLight(l.type) ? now.lights : now.otherLights).push_back(l);
     now.shading = shadingSettings(s);
   }
   const MotionFrame& before = motionLast;
@@ -152,6 +151,10 @@ void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame&
   in.denoiseHistory = before.lights == now.lights && before.shading == now.shading;
   in.moved = {};
   if (!in.denoiseHistory) return;
+  in.moved.lobesStale = before.otherLights != now.otherLights;
+  in.moved.lobes = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
+    return m.roughness > 0.0f && (m.kr > 0.0f || m.kt > 0.0f);
+  });
   // The area lights whose shadows a moving instance may move: each a sphere holding it (render space).
   for (const Light& l : now.lights) {
     if (!l.castShadows || in.moved.areaLightCount == kMaxLights) continue;
@@ -228,9 +231,12 @@ void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame&
     moved[bestA] = unite(moved[bestA], moved[bestB]);
     moved.erase(moved.begin() + static_cast<std::ptrdiff_t>(bestB));
   }
-  for (const Moved& m : moved)
+  for (const Moved& m : moved) {
     in.moved.boxes[static_cast<std::size_t>(in.moved.boxCount++)] = {
         glm::vec4(m.box.lo, m.instance == kNoInstance ? -1.0f : static_cast<float>(m.instance)), glm::vec4(m.box.hi, 0.0f)};
+    const glm::vec3 far = glm::max(glm::abs(m.box.lo - now.cameraPosR), glm::abs(m.box.hi - now.cameraPosR));
+    in.moved.reach = std::max(in.moved.reach, glm::length(far));
+  }
 }
 
 }  // namespace tandem

@@ -249,6 +249,7 @@ struct Renderer::Impl {
     FrameSettings shading;  // the filter: its settings as they shape the light (shadingSettings)
     std::vector<glm::dmat4> worldFromObject;
     std::vector<Light> lights;  // the area lights: the filter's history does not outlive a change of one
+    std::vector<Light> otherLights;  // the rest: a change of one changes what glossy lobes gather
   };
   // last: the frame the motion is measured against (an earlier call's); next: the last one composited, made
   // `last` by the first frame of a later call; pending: the frame being drawn.
@@ -295,6 +296,7 @@ struct Renderer::Impl {
   // the output; false when the frame is not filtered (then shaded as usual).
   std::optional<gl::DenoisePass> denoisePass;
   bool denoiseFailed = false;  // its programs did not build: frames are drawn without it from then on
+  bool denoiseLensWarned = false;  // a camera its motion vectors do not model was said once
   std::uint32_t denoiseFrames = 0;
   std::optional<Camera> denoiseCamera;  // the last filtered frame's camera without accumulation (denoiseSample)
   Camera denoiseSample(const FramePlan& plan, const Camera& camera);
