@@ -149,7 +149,10 @@ layout(binding = TD_UNIT_DENOISE_IDS) uniform TD_SAMPLER_IDS idsTex;
 bool mayHaveChanged(uint instance, vec3 posR, vec3 N, float lobe) {
   vec3 V = orthographic != 0 ? -cameraAxis : normalize(cameraPosR - posR);
   float reach = length(cameraPosR - posR) + movedReach;
-  vec4 lobeCone = vec4(posR + reflect(-V, N) * reach, reach * abs(tdLobeSpread(lobe)));
+  // The lobe's axis as the ray pass bends it is within ~0.03 rad of the mirror direction rebuilt here (the
+  // guide's normal is three bytes; near a silhouette the rays' axis is bent over the facet): the cone is that
+  // much wider, so that a sharp lobe's small one does not miss what is dead ahead.
+  vec4 lobeCone = vec4(posR + reflect(-V, normalize(N)) * reach, reach * (abs(tdLobeSpread(lobe)) + 0.03));
   // (a loop, not a branch, for the lobe's cone: a software GL skips a loop whose lanes all ended, where it
   // runs both sides of a branch)
   int cones = movedCounts.y + (lobe != 0.0 ? 1 : 0);

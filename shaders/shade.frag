@@ -290,8 +290,13 @@ void writeGuides(uvec2 id, Surface s, vec3 local, vec3 area, vec3 specular, bool
   float depth = dot(s.hit.posW - cameraPosW, normalize(cross(cameraUp, cameraRight)));
   // A toon outline (black, whatever the filter makes of its light) faces no way: the filter's normal weight
   // keeps its zero out of its neighbours'.
-  // The glossy lobe: what its light may come from (the temporal stage's test of what moved).
-  float lobe = glossy ? tdLobeOf(surfaceRoughness, s.m.krKtIorModel.x, s.m.krKtIorModel.y) : 0.0;
+  // The glossy lobe: what its light may come from (the temporal stage's test of what moved), of what the frame
+  // reflects and transmits (by rays, or the probes).
+  bool reflects = (rayInputs & TD_RAY_REFLECTED) != 0 || kProbeReflect;
+  bool transmits = (rayInputs & TD_RAY_TRANSMITTED) != 0 || kProbeRefract;
+  float lobe = glossy ? tdLobeOf(surfaceRoughness, reflects ? s.m.krKtIorModel.x : 0.0,
+                                 transmits ? s.m.krKtIorModel.y : 0.0, transmits ? s.coverage : 1.0)
+                      : 0.0;
   outGuide = uvec4(floatBitsToUint(depth), tdPackNormalInstance(outline ? vec3(0.0) : s.N, id.x),
                    packHalf2x16(modulation.rg), packHalf2x16(vec2(modulation.b, lobe)));
   outMotion = denoiseMotion(id, s.hit.posW);

@@ -439,11 +439,15 @@ TD_FN vec3 tdRefractOverFacet(vec3 T, vec3 V, vec3 Ng, float eta) {
 
 // What a glossy material's filtered light may come from, for the spatiotemporal filter's test of what moved
 // (the shade pass writes it into the filter's guide, denoise.frag's mayHaveChanged reads tdLobeSpread of it):
-// 0, nothing beyond the area lights (not glossy, or neither reflecting nor transmitting: a highlight alone);
-// -1, a transmitting lobe, which may see anything behind the surface (a ball's refraction turns the view
-// over); else a reflection lobe, its roughness.
-TD_FN float tdLobeOf(float roughness, float kr, float kt) {
-  return !(roughness > 0.0f) ? 0.0f : kt > 0.0f ? -1.0f : kr > 0.0f ? roughness : 0.0f;
+// 0, nothing beyond the area lights (not glossy, or neither reflecting nor transmitting what is traced: a
+// highlight alone); -1, a transmitting lobe or a BLEND surface's uncovered part (coverage < 1), which may see
+// anything behind the surface (a ball's refraction turns the view over); else a reflection lobe, its
+// roughness (at least 1e-3: a half float keeps it, a narrower lobe's cone is tdLobeSpread's floor anyway).
+TD_FN float tdLobeOf(float roughness, float kr, float kt, float coverage) {
+  return !(roughness > 0.0f)           ? 0.0f
+         : kt > 0.0f || coverage < 1.0f ? -1.0f
+         : kr > 0.0f                    ? max(roughness, 1e-3f)
+                                        : 0.0f;
 }
 // A lobe (tdLobeOf) as the cone the filter tests: for a reflection lobe, the tangent of the half-angle of the
 // cone about the mirror direction that holds 99 % of its samples (the Phong lobe cos^e θ of docs/glossy.md,

@@ -17,6 +17,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/packing.hpp>
+#include <glm/gtc/type_ptr.hpp>
 
 #include "core/Shading.h"
 #include "gl/Bindings.h"
@@ -230,7 +231,8 @@ const Change kObjectStepped{"object-stepped", "area-lights.json",
                             [](Scene& s) { s.instances[kBlock].worldFromObject[3].z += 0.3f; }, same};
 const Change kDisocclusion{"disocclusion", "area-lights.json", [](Renderer&) {}, [](Scene&) {}, uncovering};
 // A ball taken out of a glossy floor's reflection (the floor's lobe samples are filtered): what its shadow was,
-// the moved instance's box says; what its reflection was, only the statistics can.
+// the moved instance's box against the shadow rays' cone says; what its reflection was, the box against the
+// floor's lobe's cone.
 const Change kReflectionRemoved = removing("reflection-removed", "glossy.json", kSatin);
 // The same with the softbox casting no shadows: no shadow moves, so what drops the old reflection from the
 // floor's and the neighbouring balls' history is the test of what moved against their glossy lobes (the cone
@@ -246,7 +248,8 @@ Change reflectionRemovedNoShadow() {
 }
 // glossy.json with a point lamp beside the softbox, switched off: the point light itself goes past the filter
 // where it lights a point, but what the glossy floor and balls reflect of what it lit is in their filtered
-// light, and the renderer knows that it changed.
+// light, and the renderer knows that it changed. (With the glossy history kept through such a change, left to
+// the statistical test: llvmpipe 0.0672 against the fresh start's 0.0372, bound 0.0459; dropped 0.0430.)
 constexpr std::uint32_t kLamp = 2;  // after glossy.json's two lights
 Change lampOff() {
   Change c{"lamp-off", "glossy.json",
@@ -483,34 +486,43 @@ TEST(Denoise, StatsSayReconstructedAndOffReleasesIt) {
   EXPECT_FALSE(st.denoised);
 }
 
-// A camera the filter's motion vectors do not model (a thin lens, an open shutter, orthographic) is filtered as
-// asked, and the log says once that the frame may be further from the truth than the raw samples; a pinhole
-// says nothing.
+// A camera the filter's motion vectors do not model (a thin lens, an open shutter, orthographic; a lens whose
+// frames accumulate at rest) is filtered as asked, and the log says once that the frame may be further from the
+// truth than the raw samples; a pinhole says nothing.
 TEST(Denoise, ACameraItsMotionDoesNotModelIsSaidOnce) {
   TD_REQUIRE_GL_CONTEXT();
   std::vector<std::string> warnings;
-  LogSink old = setLogSink([&](LogLevel level, std::string_view m) {
+  // (the sink goes back however the test ends: it holds a reference to `warnings`)
+  struct Captured {
+    LogSink old;
+    ~Captured() { setLogSink(old); }
+  } captured{setLogSink([&](LogLevel level, std::string_view m) {
     if (level == LogLevel::Warning && m.find("spatiotemporal filter") != std::string_view::npos) warnings.emplace_back(m);
-  });
+  })};
   Frame pinhole = load(*glContext_, areaLights());
   filterFrames(pinhole, pinhole.camera, 2);
   const std::size_t fromPinhole = warnings.size();
-  std::size_t perCamera[3] = {};
-  for (int kind = 0; kind < 3; ++kind) {
+  std::size_t perCamera[4] = {};
+  for (int kind = 0; kind < 4; ++kind) {
     Frame f = load(*glContext_, areaLights());
     Camera c = f.camera;
-    if (kind == 0) c.aperture = 0.05f;
+    FrameSettings s = settings(f, 1, true);
+    if (kind == 0 || kind == 3) c.aperture = 0.05f;
     if (kind == 1) c.shutter = 0.5f;
     if (kind == 2) c.orthographic = true;
+    if (kind == 3) s.accumulate = 8;  // (its first frame is filtered, the samples after it summed)
     const std::size_t before = warnings.size();
     FrameStats st;
-    for (int k = 0; k < 3; ++k) drawFrame(f, c, settings(f, 1, true), &st);
-    EXPECT_TRUE(st.denoised) << "camera kind " << kind << ": filtered as asked";
+    for (int k = 0; k < 3; ++k) {
+      drawFrame(f, c, s, &st);
+      if (k == 0) {
+        EXPECT_TRUE(st.denoised) << "camera kind " << kind << ": filtered as asked";
+      }
+    }
     perCamera[kind] = warnings.size() - before;
   }
-  setLogSink(old);
   EXPECT_EQ(fromPinhole, 0u);
-  for (int kind = 0; kind < 3; ++kind) EXPECT_EQ(perCamera[kind], 1u) << "camera kind " << kind;
+  for (int kind = 0; kind < 4; ++kind) EXPECT_EQ(perCamera[kind], 1u) << "camera kind " << kind;
 }
 
 TEST(Denoise, FramesOfAnotherSizeInBetweenLeaveTheOutputRight) {
@@ -758,6 +770,9 @@ TEST(Denoise, AGlossyLobeDropsItsHistoryWhereAMovedBoxIsInItsCone) {
   const gl::Texture ids = gl::createTexture2D("test: ids", gl::kChannelIds.internal, kW2, kH2);
   glTextureParameteri(ids.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(ids.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  // (the wall is instance 0, ids 1: not the box's instance, 7)
+  const glm::uvec2 wallIds(1u, 0u);
+  glClearTexImage(ids.id(), 0, gl::kChannelIds.transfer, gl::kChannelIds.type, glm::value_ptr(wallIds));
   const Camera camera = grid::wallCamera();
   const gl::CameraVectors axes = gl::cameraVectors(kW2, kH2, camera);
   const glm::vec3 axis = glm::normalize(glm::cross(axes.up, axes.right));

@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include <glm/gtc/packing.hpp>
+
 #include "core/Shading.h"
 #include "rt/SurfaceShading.h"
 
@@ -72,7 +74,7 @@ TEST(Glossy, TheFiltersConeHoldsNinetyNinePercentOfTheLobe) {
   const glm::vec3 n(0.0f, 0.0f, 1.0f);
   float last = 0.0f;
   for (float roughness : {0.02f, 0.05f, 0.15f, 0.25f, 0.35f, 0.5f, 0.7f}) {
-    const float spread = shading::tdLobeSpread(shading::tdLobeOf(roughness, 0.5f, 0.0f));
+    const float spread = shading::tdLobeSpread(shading::tdLobeOf(roughness, 0.5f, 0.0f, 1.0f));
     ASSERT_GT(spread, last) << "a rougher lobe, a wider cone";
     last = spread;
     const int count = 16384;
@@ -84,10 +86,13 @@ TEST(Glossy, TheFiltersConeHoldsNinetyNinePercentOfTheLobe) {
     }
     EXPECT_NEAR(static_cast<double>(outside) / count, 0.01, 0.002) << "roughness " << roughness;
   }
-  EXPECT_EQ(shading::tdLobeOf(0.0f, 0.5f, 0.0f), 0.0f);
-  EXPECT_EQ(shading::tdLobeOf(0.3f, 0.0f, 0.0f), 0.0f) << "a highlight alone gathers nothing";
-  EXPECT_EQ(shading::tdLobeOf(0.3f, 0.1f, 0.9f), -1.0f);
-  EXPECT_EQ(shading::tdLobeOf(0.3f, 0.0f, 0.9f), -1.0f);
+  EXPECT_EQ(shading::tdLobeOf(0.0f, 0.5f, 0.0f, 1.0f), 0.0f);
+  EXPECT_EQ(shading::tdLobeOf(0.3f, 0.0f, 0.0f, 1.0f), 0.0f) << "a highlight alone gathers nothing";
+  EXPECT_EQ(shading::tdLobeOf(0.3f, 0.1f, 0.9f, 1.0f), -1.0f);
+  EXPECT_EQ(shading::tdLobeOf(0.3f, 0.0f, 0.9f, 1.0f), -1.0f);
+  EXPECT_EQ(shading::tdLobeOf(0.3f, 0.5f, 0.0f, 0.5f), -1.0f) << "a BLEND surface's uncovered part sees through";
+  EXPECT_GT(glm::unpackHalf2x16(glm::packHalf2x16(glm::vec2(shading::tdLobeOf(1e-6f, 0.5f, 0.0f, 1.0f)))).x, 0.0f)
+      << "a lobe however narrow stays a lobe in the guide's half float";
   EXPECT_EQ(shading::tdLobeSpread(0.0f), 0.0f);
   EXPECT_EQ(shading::tdLobeSpread(-1.0f), -1.0f);
 }

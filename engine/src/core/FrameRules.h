@@ -32,6 +32,11 @@ inline bool mayReflect(const Material& m, bool fresnelWeighted) {
 /// Whether transmitted rays from a material can carry weight: kt > 0, or BLEND coverage (its uncovered
 /// fraction passes straight through).
 inline bool mayTransmit(const Material& m) { return m.kt > 0.0f || m.alphaMode == AlphaMode::Blend; }
+/// Whether a material has a glossy lobe that rays sample (roughness, and something reflected or transmitted
+/// under either Fresnel rule): the sampled effect FrameSettings::glossSamples draws, and the filter's lobes.
+inline bool hasGlossyLobe(const Material& m) {
+  return m.roughness > 0.0f && (mayReflect(m, true) || mayReflect(m, false) || mayTransmit(m));
+}
 
 /// The ray effects of a frame: what the ray pass traces.
 struct RayEffects {

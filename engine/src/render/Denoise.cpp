@@ -17,18 +17,23 @@ constexpr int kMaxHistory = 32;
 
 Camera Renderer::Impl::denoiseSample(const FramePlan& plan, const Camera& camera) {
   if (!plan.denoise) return camera;
-  if (!denoiseLensWarned && lensOrShutter(camera)) {
+  const float motionPx =
+      denoiseCamera ? cameraMotionPx(*denoiseCamera, camera, {plan.settings.width, plan.settings.height}) : 0.0f;
+  denoiseCamera = camera;
+  return filteredSample(camera, denoiseFrames++, filteredJitterScale(motionPx));
+}
+
+FramePlan Renderer::Impl::saidIfLensDenoised(FramePlan plan, const SceneFacts& facts) {
+  if (plan.denoise && facts.lensOrShutter && !denoiseLensWarned) {
     // Filtered as asked, but said: the frame is likely further from the truth than the raw samples' (the
-    // frame-time budget never offers the filter for such a camera).
+    // frame-time budget never offers the filter for such a camera). Said at the plan: the frames of an
+    // accumulation and throughput mode's draw from a pinhole of the lens.
     logWarning("the spatiotemporal filter: a thin-lens, orthographic or open-shutter camera; its motion vectors "
                "and guides model a pinhole at the frame's time, and the filtered frame may be further from the "
                "truth than the raw samples (docs/denoise.md, Limits)");
     denoiseLensWarned = true;
   }
-  const float motionPx =
-      denoiseCamera ? cameraMotionPx(*denoiseCamera, camera, {plan.settings.width, plan.settings.height}) : 0.0f;
-  denoiseCamera = camera;
-  return filteredSample(camera, denoiseFrames++, filteredJitterScale(motionPx));
+  return plan;
 }
 
 void Renderer::Impl::leaveDenoise() {

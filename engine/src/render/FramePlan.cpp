@@ -18,7 +18,7 @@ SceneFacts sceneFacts(const Scene& scene) {
     f.reflectiveWeighted = f.reflectiveWeighted || weighted;
     f.reflectiveClassic = f.reflectiveClassic || classic;
     f.transmissive = f.transmissive || transmits;
-    f.glossy = f.glossy || (m.roughness > 0.0f && (weighted || classic || transmits));
+    f.glossy = f.glossy || hasGlossyLobe(m);
   }
   f.areaLight = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return isAreaLight(l.type); });
   f.exactSolids = std::any_of(scene.instances.begin(), scene.instances.end(), [&](const Instance& inst) {
@@ -29,7 +29,7 @@ SceneFacts sceneFacts(const Scene& scene) {
 
 SceneFacts sceneFacts(const Scene& scene, const Camera& camera) {
   SceneFacts f = sceneFacts(scene);
-  f.lensOrShutter = lensOrShutter(camera);
+  f.lensOrShutter = camera.aperture > 0.0f || camera.orthographic || camera.shutter > 0.0f;
   return f;
 }
 

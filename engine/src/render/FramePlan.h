@@ -31,10 +31,6 @@ struct SceneFacts {
 SceneFacts sceneFacts(const Scene& scene);
 /// The scene's facts with the frame's camera's (lensOrShutter).
 SceneFacts sceneFacts(const Scene& scene, const Camera& camera);
-/// A thin lens, an orthographic projection or an open shutter: what SceneFacts::lensOrShutter says.
-inline bool lensOrShutter(const Camera& camera) {
-  return camera.aperture > 0.0f || camera.orthographic || camera.shutter > 0.0f;
-}
 
 struct FramePlan {
   FrameSettings settings;      // resolved

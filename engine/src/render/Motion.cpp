@@ -152,9 +152,7 @@ void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame&
   in.moved = {};
   if (!in.denoiseHistory) return;
   in.moved.lobesStale = before.otherLights != now.otherLights;
-  in.moved.lobes = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
-    return m.roughness > 0.0f && (m.kr > 0.0f || m.kt > 0.0f);
-  });
+  in.moved.lobes = std::any_of(scene.materials.begin(), scene.materials.end(), hasGlossyLobe);
   // The area lights whose shadows a moving instance may move: each a sphere holding it (render space).
   for (const Light& l : now.lights) {
     if (!l.castShadows || in.moved.areaLightCount == kMaxLights) continue;
