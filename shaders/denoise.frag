@@ -146,42 +146,50 @@ layout(binding = TD_UNIT_DENOISE_IDS) uniform TD_SAMPLER_IDS idsTex;
 // from the point (`movedReach` from the camera, plus the point's own distance), as wide as the lobe; a
 // transmitting lobe takes every moved box. Run here, on the grid's pixels (a quarter of the frame's at 1/2),
 // not in the shade pass.
+// Whether a moved box, other than one of the point's own instance, meets the cone from the point to the disk of
+// radius cone.w at cone.xyz (`every`: whether there is such a box at all).
+bool boxInCone(uint instance, vec3 posR, vec4 cone, bool every) {
+  // Lights outside, boxes inside: the per-axis reciprocals and which bound each gives, once a cone.
+  vec3 to = cone.xyz - posR;
+  float r = cone.w;
+  vec3 inPlus = 1.0 / (to + r), inMinus = 1.0 / (to - r);
+  // lo side: t·(to + r) >= lo - P, a lower bound where to + r > 0, an upper one where < 0; hi side:
+  // t·(to - r) <= hi - P, an upper bound where to - r > 0, a lower one where < 0 (at 0 the side holds or
+  // fails for every t: left out, which only flags more).
+  bvec3 plusLower = greaterThan(to + r, vec3(0.0)), plusUpper = lessThan(to + r, vec3(0.0));
+  bvec3 minusUpper = greaterThan(to - r, vec3(0.0)), minusLower = lessThan(to - r, vec3(0.0));
+  const vec3 none = vec3(1e30);
+  bool inside = false;
+  for (int k = 0; k < movedCounts.x; ++k) {
+    vec4 lo = movedBoxes[2 * k], hi = movedBoxes[2 * k + 1];
+    vec3 tLo = (lo.xyz - posR) * inPlus, tHi = (hi.xyz - posR) * inMinus;
+    vec3 lower = max(mix(-none, tLo, plusLower), mix(-none, tHi, minusLower));
+    vec3 upper = min(mix(none, tLo, plusUpper), mix(none, tHi, minusUpper));
+    float enter = max(max(lower.x, lower.y), max(lower.z, 0.0));
+    float leave = min(min(upper.x, upper.y), min(upper.z, 1.0));
+    // (lo.w: the box's instance, -1 for boxes of several merged; the point's own instance is no blocker)
+    bool own = lo.w >= 0.0 && uint(lo.w + 0.5) == instance;
+    inside = inside || ((enter <= leave || every) && !own);
+  }
+  return inside;
+}
 bool mayHaveChanged(uint instance, vec3 posR, vec3 N, float lobe) {
-  vec3 V = orthographic != 0 ? -cameraAxis : normalize(cameraPosR - posR);
-  float reach = length(cameraPosR - posR) + movedReach;
-  // The lobe's axis as the ray pass bends it is within ~0.03 rad of the mirror direction rebuilt here (the
-  // guide's normal is three bytes; near a silhouette the rays' axis is bent over the facet): the cone is that
-  // much wider, so that a sharp lobe's small one does not miss what is dead ahead.
-  vec4 lobeCone = vec4(posR + reflect(-V, normalize(N)) * reach, reach * (abs(tdLobeSpread(lobe)) + 0.03));
-  // (a loop, not a branch, for the lobe's cone: a software GL skips a loop whose lanes all ended, where it
-  // runs both sides of a branch)
-  int cones = movedCounts.y + (lobe != 0.0 ? 1 : 0);
   bool mayHave = false;
-  for (int j = 0; j < cones; ++j) {
-    bool isLobe = j == movedCounts.y;
-    vec4 cone = isLobe ? lobeCone : areaLights[min(j, TD_MAX_LIGHTS - 1)];
-    bool every = isLobe && lobe < 0.0;
-    // Lights outside, boxes inside: the per-axis reciprocals and which bound each gives, once a cone.
-    vec3 to = cone.xyz - posR;
-    float r = cone.w;
-    vec3 inPlus = 1.0 / (to + r), inMinus = 1.0 / (to - r);
-    // lo side: t·(to + r) >= lo - P, a lower bound where to + r > 0, an upper one where < 0; hi side:
-    // t·(to - r) <= hi - P, an upper bound where to - r > 0, a lower one where < 0 (at 0 the side holds or
-    // fails for every t: left out, which only flags more).
-    bvec3 plusLower = greaterThan(to + r, vec3(0.0)), plusUpper = lessThan(to + r, vec3(0.0));
-    bvec3 minusUpper = greaterThan(to - r, vec3(0.0)), minusLower = lessThan(to - r, vec3(0.0));
-    const vec3 none = vec3(1e30);
-    for (int k = 0; k < movedCounts.x; ++k) {
-      vec4 lo = movedBoxes[2 * k], hi = movedBoxes[2 * k + 1];
-      vec3 tLo = (lo.xyz - posR) * inPlus, tHi = (hi.xyz - posR) * inMinus;
-      vec3 lower = max(mix(-none, tLo, plusLower), mix(-none, tHi, minusLower));
-      vec3 upper = min(mix(none, tLo, plusUpper), mix(none, tHi, minusUpper));
-      float enter = max(max(lower.x, lower.y), max(lower.z, 0.0));
-      float leave = min(min(upper.x, upper.y), min(upper.z, 1.0));
-      // (lo.w: the box's instance, -1 for boxes of several merged; the point's own instance is no blocker)
-      bool own = lo.w >= 0.0 && uint(lo.w + 0.5) == instance;
-      mayHave = mayHave || ((enter <= leave || every) && !own);
-    }
+  for (int j = 0; j < movedCounts.y; ++j) {
+    bool inCone = boxInCone(instance, posR, areaLights[j], false);
+    mayHave = mayHave || inCone;
+  }
+  // The lobe's cone in a loop of its own, one trip where the pixel has a lobe: a software GL skips a loop whose
+  // lanes all ended (it runs both sides of a branch), so a frame without glossy surfaces pays nothing for it.
+  for (int once = 0; once < (lobe != 0.0 ? 1 : 0); ++once) {
+    vec3 V = orthographic != 0 ? -cameraAxis : normalize(cameraPosR - posR);
+    float reach = length(cameraPosR - posR) + movedReach;
+    // The lobe's axis as the ray pass bends it is within ~0.03 rad of the mirror direction rebuilt here (the
+    // guide's normal is three bytes; near a silhouette the rays' axis is bent over the facet): the cone is
+    // that much wider, so that a sharp lobe's small one does not miss what is dead ahead.
+    vec4 lobeCone = vec4(posR + reflect(-V, normalize(N)) * reach, reach * (abs(tdLobeSpread(lobe)) + 0.03));
+    bool inCone = boxInCone(instance, posR, lobeCone, lobe < 0.0);
+    mayHave = mayHave || inCone;
   }
   return mayHave;
 }
