@@ -110,11 +110,16 @@ std::uint64_t bound(std::uint64_t inputBytes, std::uint64_t baseline) {
 
 std::uint64_t baselineBytes() {
   static const std::uint64_t b = [] {
-    const fs::path d = fs::path(outputDir()) / "resource" / "baseline";
+    // One folder per process: ctest runs each case as its own process, in parallel, and a shared
+    // folder was removed under another case's child while it wrote its output there.
+    const fs::path d = fs::path(outputDir()) / "resource" / ("baseline-" + std::to_string(::getpid()));
     fs::remove_all(d);
     fs::create_directories(d);
     std::ofstream(d / "a.gltf") << R"({"asset":{"version":"2.0"}})";
-    return load(d / "a.gltf", d, 60).peakBytes;
+    const std::uint64_t peak = load(d / "a.gltf", d, 60).peakBytes;
+    std::error_code ignored;
+    fs::remove_all(d, ignored);
+    return peak;
   }();
   return b;
 }
