@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -667,26 +668,39 @@ GLuint attachment(GLuint framebuffer, int index) {
   return static_cast<GLuint>(name);
 }
 
+// What the shade pass would have written for a frame of w x h pixels (GL rows), nothing past the filter: the
+// filter's synthetic inputs.
+void uploadShadeOutputs(const gl::DenoisePass& pass, int w, int h, const std::vector<glm::vec4>& noisy,
+                        const std::vector<glm::uvec4>& guide, const std::vector<glm::vec4>& motion) {
+  const std::vector<glm::vec4> exact(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), glm::vec4(0.0f));
+  const GLuint fbo = pass.shadeFramebuffer();
+  glTextureSubImage2D(attachment(fbo, 0), 0, 0, 0, w, h, GL_RGBA, GL_FLOAT, noisy.data());
+  glTextureSubImage2D(attachment(fbo, 2), 0, 0, 0, w, h, GL_RGBA_INTEGER, GL_UNSIGNED_INT, guide.data());
+  glTextureSubImage2D(attachment(fbo, 3), 0, 0, 0, w, h, GL_RGBA, GL_FLOAT, motion.data());
+  glTextureSubImage2D(attachment(fbo, 4), 0, 0, 0, w, h, GL_RGBA, GL_FLOAT, exact.data());
+}
+
+// A guide texel of a surface at view depth `depth` facing the camera (+z), of instance tag `tag` (denoise.glsl:
+// instance + 1, then mod 255), modulation 1, glossy lobe `lobe` (tdLobeOf).
+glm::uvec4 facingGuide(float depth, std::uint32_t tag, float lobe = 0.0f) {
+  const std::uint32_t normal = glm::packSnorm4x8(glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)) & 0x00FFFFFFu;
+  return glm::uvec4(glm::floatBitsToUint(depth), normal | (tag << 24), glm::packHalf2x16(glm::vec2(1.0f)),
+                    glm::packHalf2x16(glm::vec2(1.0f, lobe)));
+}
+
 // The shade pass's outputs for the wall moved `shift` pixels since the first frame, `motion` pixels since the
 // last one, its light raised by `rise`: the noisy light (the modulation 1), the guide, the motion, nothing exact.
 void drawWall(const gl::DenoisePass& pass, int shift, int motion, float rise) {
-  std::vector<glm::vec4> noisy, moved, exact(kFw * kFh, glm::vec4(0.0f));
+  std::vector<glm::vec4> noisy, moved;
   std::vector<glm::uvec4> guide;
   for (int y = 0; y < kFh; ++y)
     for (int x = 0; x < kFw; ++x) {
       const float v = light(x, shift) + rise;
       noisy.push_back(glm::vec4(v, v, v, 1.0f));
-      const std::uint32_t tag = x - shift >= kSeam ? 2u : 1u;  // (denoise.glsl: instance + 1, then mod 255)
-      const std::uint32_t normal = glm::packSnorm4x8(glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)) & 0x00FFFFFFu;
-      guide.push_back(glm::uvec4(glm::floatBitsToUint(kDepth), normal | (tag << 24), glm::packHalf2x16(glm::vec2(1.0f)),
-                                 glm::packHalf2x16(glm::vec2(1.0f, 0.0f))));
+      guide.push_back(facingGuide(kDepth, x - shift >= kSeam ? 2u : 1u));
       moved.push_back(glm::vec4(static_cast<float>(motion), 0.0f, kDepth, 1.0f));
     }
-  const GLuint fbo = pass.shadeFramebuffer();
-  glTextureSubImage2D(attachment(fbo, 0), 0, 0, 0, kFw, kFh, GL_RGBA, GL_FLOAT, noisy.data());
-  glTextureSubImage2D(attachment(fbo, 2), 0, 0, 0, kFw, kFh, GL_RGBA_INTEGER, GL_UNSIGNED_INT, guide.data());
-  glTextureSubImage2D(attachment(fbo, 3), 0, 0, 0, kFw, kFh, GL_RGBA, GL_FLOAT, moved.data());
-  glTextureSubImage2D(attachment(fbo, 4), 0, 0, 0, kFw, kFh, GL_RGBA, GL_FLOAT, exact.data());
+  uploadShadeOutputs(pass, kFw, kFh, noisy, guide, moved);
 }
 
 Camera wallCamera() {
@@ -790,17 +804,10 @@ TEST(Denoise, AGlossyLobeDropsItsHistoryWhereAMovedBoxIsInItsCone) {
   moved.lobes = true;
   moved.reach = glm::length(glm::abs(centre - camera.posW) + half);
   auto draw = [&](float lobe) {
-    std::vector<glm::vec4> noisy(kW2 * kH2, glm::vec4(0.5f, 0.5f, 0.5f, 1.0f)), exact(kW2 * kH2, glm::vec4(0.0f));
-    std::vector<glm::vec4> motion(kW2 * kH2, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
-    const std::uint32_t normal = glm::packSnorm4x8(glm::vec4(0.0f, 0.0f, 1.0f, 0.0f)) & 0x00FFFFFFu;
-    std::vector<glm::uvec4> guide(kW2 * kH2, glm::uvec4(glm::floatBitsToUint(kDepth), normal | (1u << 24),
-                                                        glm::packHalf2x16(glm::vec2(1.0f)),
-                                                        glm::packHalf2x16(glm::vec2(1.0f, lobe))));
-    const GLuint fbo = pass.shadeFramebuffer();
-    glTextureSubImage2D(grid::attachment(fbo, 0), 0, 0, 0, kW2, kH2, GL_RGBA, GL_FLOAT, noisy.data());
-    glTextureSubImage2D(grid::attachment(fbo, 2), 0, 0, 0, kW2, kH2, GL_RGBA_INTEGER, GL_UNSIGNED_INT, guide.data());
-    glTextureSubImage2D(grid::attachment(fbo, 3), 0, 0, 0, kW2, kH2, GL_RGBA, GL_FLOAT, motion.data());
-    glTextureSubImage2D(grid::attachment(fbo, 4), 0, 0, 0, kW2, kH2, GL_RGBA, GL_FLOAT, exact.data());
+    const std::vector<glm::vec4> noisy(kW2 * kH2, glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
+    const std::vector<glm::vec4> motion(kW2 * kH2, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
+    grid::uploadShadeOutputs(pass, kW2, kH2, noisy, std::vector<glm::uvec4>(kW2 * kH2, grid::facingGuide(kDepth, 1u, lobe)),
+                             motion);
   };
   // Two frames with lobe `lobe`, the box moved before the second: which pixels dropped their history.
   auto droppedWith = [&](float lobe) {
@@ -838,6 +845,146 @@ TEST(Denoise, AGlossyLobeDropsItsHistoryWhereAMovedBoxIsInItsCone) {
   EXPECT_EQ(std::count(matte.begin(), matte.end(), true), 0) << "no lobe, no area light: nothing to drop";
   EXPECT_EQ(std::count(transmitting.begin(), transmitting.end(), true), kW2 * kH2)
       << "a transmitting lobe may see the box from anywhere";
+}
+
+
+// ---- the temporal stage's statistical test and the anti-aliasing's share, on synthetic inputs ----
+namespace synthetic {
+// gl::DenoisePass alone on a frame of w x h pixels (rays at every pixel) and the output it writes, the ids a
+// wall of instance 0 (ids 1) everywhere.
+struct Filter {
+  gl::DenoisePass pass;
+  gl::Texture linear, display, ids;
+  int w = 0, h = 0;
+  void run(bool history) {
+    pass.filter(linear, display, ids, grid::wallCamera(), history, {}, 1.0f, ToneMap::None, glm::vec3(0.0f), 32);
+  }
+  // The dropped flags of the history the last frame wrote (the temporal stage's, carried by the texels).
+  std::vector<bool> dropped() const {
+    std::vector<glm::uvec4> texels(static_cast<std::size_t>(w * h));
+    glGetTextureImage(pass.history().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                      static_cast<GLsizei>(texels.size() * sizeof(glm::uvec4)), texels.data());
+    std::vector<bool> d;
+    for (const glm::uvec4& t : texels) d.push_back((t.y & 0x80000000u) != 0u);
+    return d;
+  }
+  std::vector<glm::vec4> output() const {
+    std::vector<glm::vec4> out(static_cast<std::size_t>(w * h));
+    glGetTextureImage(linear.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(out.size() * sizeof(glm::vec4)),
+                      out.data());
+    return out;
+  }
+};
+std::optional<Filter> makeFilter(int w, int h) {
+  auto made = gl::DenoisePass::create();
+  if (!made.ok()) {
+    ADD_FAILURE() << made.error().message;
+    return std::nullopt;
+  }
+  Filter f{std::move(*made), gl::createTexture2D("test: linear", gl::kChannelLinear.internal, w, h),
+           gl::createTexture2D("test: display", gl::kChannelDisplay.internal, w, h),
+           gl::createTexture2D("test: ids", gl::kChannelIds.internal, w, h), w, h};
+  if (!f.pass.reserve(w, h, 1).ok()) {
+    ADD_FAILURE() << "DenoisePass::reserve";
+    return std::nullopt;
+  }
+  glTextureParameteri(f.ids.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // (an integer texture: complete so)
+  glTextureParameteri(f.ids.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  const glm::uvec2 wallIds(1u, 0u);
+  glClearTexImage(f.ids.id(), 0, gl::kChannelIds.transfer, gl::kChannelIds.type, glm::value_ptr(wallIds));
+  return f;
+}
+}  // namespace synthetic
+
+// The statistical test of the temporal stage (a history outside what this frame's neighbourhood allows is
+// stale), alone: nothing the renderer knows moved or changed, a wall's light is noise of standard deviation
+// 0.1 about its mean, new each frame. After 8 frames at mean 0.6 the mean drops to 0.2 (four standard
+// deviations): the history goes at nearly every pixel. At the same mean it stays at nearly every pixel; a
+// noiseless light that changes by 1 % keeps it everywhere (the box's floor), one that changes by 10 % loses it.
+TEST(Denoise, TheStatisticalTestDropsAHistoryTheNoiseCannotExplainAndKeepsTheRest) {
+  TD_REQUIRE_GL_CONTEXT();
+  constexpr int kSw = 96, kSh = 64;
+  constexpr float kDepth = 5.0f;
+  auto f = synthetic::makeFilter(kSw, kSh);
+  ASSERT_TRUE(f.has_value());
+  const std::vector<glm::uvec4> guide(kSw * kSh, grid::facingGuide(kDepth, 1u));
+  const std::vector<glm::vec4> still(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
+  // Frame `frame`'s light: uniform noise of standard deviation `sigma` about `mean` (a hash of pixel and frame).
+  auto frameOf = [&](int frame, float mean, float sigma) {
+    std::vector<glm::vec4> noisy;
+    for (int i = 0; i < kSw * kSh; ++i) {
+      std::uint32_t k = static_cast<std::uint32_t>(i) * 747796405u + static_cast<std::uint32_t>(frame) * 2891336453u;
+      k = ((k >> ((k >> 28u) + 4u)) ^ k) * 277803737u;
+      k = (k >> 22u) ^ k;
+      const float u = static_cast<float>(k & 0xFFFFFFu) / 16777216.0f;
+      const float v = mean + sigma * std::sqrt(12.0f) * (u - 0.5f);
+      noisy.push_back(glm::vec4(v, v, v, 1.0f));
+    }
+    return noisy;
+  };
+  // 8 frames at `before`, then one at `after`: the share of pixels whose history the last frame dropped.
+  auto droppedShare = [&](float before, float after, float sigma) {
+    f->pass.forget();
+    for (int frame = 0; frame < 9; ++frame) {
+      grid::uploadShadeOutputs(f->pass, kSw, kSh, frameOf(frame, frame < 8 ? before : after, sigma), guide, still);
+      f->run(frame > 0);
+    }
+    const std::vector<bool> d = f->dropped();
+    return static_cast<double>(std::count(d.begin(), d.end(), true)) / static_cast<double>(d.size());
+  };
+  const double jump = droppedShare(0.6f, 0.2f, 0.1f), same = droppedShare(0.6f, 0.6f, 0.1f);
+  const double small = droppedShare(0.6f, 0.606f, 0.0f), large = droppedShare(0.6f, 0.66f, 0.0f);
+  std::printf("statistical test: dropped after a jump of 4 sigma %.3f, without a change %.4f; noiseless, 1 %% "
+              "change %.3f, 10 %% %.3f\n", jump, same, small, large);
+  EXPECT_GT(jump, 0.95) << "a change the noise cannot explain leaves a ghost";
+  EXPECT_LT(same, 0.01) << "the noise alone throws history away";
+  EXPECT_EQ(small, 0.0) << "a noiseless light's 1 % change is within the box's floor (2 % of the luminance)";
+  EXPECT_EQ(large, 1.0);
+}
+
+// The anti-aliasing's share of the new frame, on synthetic inputs: columns of alternating instances and light
+// (0.25, 0.75; noiseless, the same in both frames: the filtered frame is the input), then a second frame whose
+// motion points each pixel at the other column's value in the last frame's result (one pixel across, k
+// down): inside the neighbourhood's box, so the result is mix(other, own, share). The share is 0.15 up to 1.5
+// pixels of motion a frame, 0.5 from 3 on, linear between (denoise.frag antiAlias).
+TEST(Denoise, TheAntiAliasingsShareOfTheNewFrameRisesWithTheMotion) {
+  TD_REQUIRE_GL_CONTEXT();
+  constexpr int kSw = 64, kSh = 48;
+  constexpr float kDepth = 5.0f;
+  auto f = synthetic::makeFilter(kSw, kSh);
+  ASSERT_TRUE(f.has_value());
+  std::vector<glm::vec4> noisy;
+  std::vector<glm::uvec4> guide;
+  for (int y = 0; y < kSh; ++y)
+    for (int x = 0; x < kSw; ++x) {
+      const float v = x % 2 == 0 ? 0.25f : 0.75f;
+      noisy.push_back(glm::vec4(v, v, v, 1.0f));
+      guide.push_back(grid::facingGuide(kDepth, x % 2 == 0 ? 1u : 2u));
+    }
+  for (const int down : {0, 1, 2, 4}) {
+    f->pass.forget();
+    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, std::vector<glm::vec4>(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f)));
+    f->run(false);
+    const glm::vec2 motion(1.0f, static_cast<float>(down));
+    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, std::vector<glm::vec4>(kSw * kSh, glm::vec4(motion, kDepth, 1.0f)));
+    f->run(true);
+    const std::vector<glm::vec4> out = f->output();
+    const float length = glm::length(motion);
+    const float want = 0.15f + 0.35f * std::clamp((length - 1.5f) / 1.5f, 0.0f, 1.0f);
+    double worst = 0.0;
+    int checked = 0;
+    for (int y = 6; y < kSh - 6; ++y)
+      for (int x = 6; x < kSw - 6; ++x) {
+        const float own = noisy[static_cast<std::size_t>(y * kSw + x)].r, other = 1.0f - own;
+        const float share = (out[static_cast<std::size_t>(y * kSw + x)].r - other) / (own - other);
+        worst = std::max(worst, static_cast<double>(std::abs(share - want)));
+        ++checked;
+      }
+    std::printf("anti-aliasing at %.2f pixels of motion a frame: share %.3f wanted, worst pixel off by %.4f\n",
+                static_cast<double>(length), static_cast<double>(want), worst);
+    EXPECT_GT(checked, 1000);
+    EXPECT_LT(worst, 0.005) << "motion " << length;
+  }
 }
 
 }  // namespace
