@@ -4,7 +4,10 @@ suite must catch every one. For each: copy the pristine file into a scratch tree
 test binary that should catch it there, run its tests, and expect a failure. A mutation the tests pass is a
 survivor: a hole in the tests. A mutation whose text is no longer in its file is stale: update it.
 
-  tools/mutate.py [--build DIR] [--only ID[,ID...]] [--list] [--without-goldens]
+  tools/mutate.py [--build DIR] [--only ID[,ID...]] [--list] [--check-texts] [--without-goldens]
+
+--check-texts only checks that each mutation's text occurs exactly once in its file (no build, a second; the
+default test run does it, so that an edit which leaves a mutation stale fails there, not months later).
 
 --without-goldens leaves every golden-image test out of each mutation's run (gtest filter -*Golden*): a
 golden is a regression net, not an oracle, and no behaviour may be guarded by one alone (docs/testing.md).
@@ -593,8 +596,20 @@ def main():
     ap.add_argument("--list", action="store_true")
     ap.add_argument("--without-goldens", action="store_true",
                     help="leave the golden-image tests out: every mutation must be killed by an oracle")
+    ap.add_argument("--check-texts", action="store_true")
     a = ap.parse_args()
     chosen = [m for m in MUTATIONS if not a.only or m[0] in a.only.split(",")]
+    if a.check_texts:
+        ids = [m[0] for m in MUTATIONS]
+        bad = [f"{m}: listed {ids.count(m)} times" for m in sorted(set(ids)) if ids.count(m) > 1]
+        for mid, rel, old, new, target, gfilter in chosen:
+            n = open(os.path.join(root, rel)).read().count(old) if os.path.isfile(os.path.join(root, rel)) else -1
+            if n != 1:
+                bad.append(f"{mid}: {'no file ' + rel if n < 0 else f'{n} occurrences of its text in {rel}'}")
+        for b in bad:
+            print("mutate: STALE " + b)
+        print(f"mutate: {len(chosen)} mutations, {len(bad)} stale")
+        return 1 if bad else 0
     if a.list:
         for m in chosen:
             f = m[5] + ((":" if "-" in m[5] else "-") + "*Golden*" if a.without_goldens else "")
