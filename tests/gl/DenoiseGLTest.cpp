@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -875,6 +876,13 @@ struct Filter {
     return out;
   }
 };
+// Uniform noise of standard deviation `sigma` about `mean`, new for each pixel i and frame (a hash of both).
+float noise(int i, int frame, float mean, float sigma) {
+  std::uint32_t k = static_cast<std::uint32_t>(i) * 747796405u + static_cast<std::uint32_t>(frame) * 2891336453u;
+  k = ((k >> ((k >> 28u) + 4u)) ^ k) * 277803737u;
+  k = (k >> 22u) ^ k;
+  return mean + sigma * std::sqrt(12.0f) * (static_cast<float>(k & 0xFFFFFFu) / 16777216.0f - 0.5f);
+}
 std::optional<Filter> makeFilter(int w, int h) {
   auto made = gl::DenoisePass::create();
   if (!made.ok()) {
@@ -909,15 +917,11 @@ TEST(Denoise, TheStatisticalTestDropsAHistoryTheNoiseCannotExplainAndKeepsTheRes
   ASSERT_TRUE(f.has_value());
   const std::vector<glm::uvec4> guide(kSw * kSh, grid::facingGuide(kDepth, 1u));
   const std::vector<glm::vec4> still(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
-  // Frame `frame`'s light: uniform noise of standard deviation `sigma` about `mean` (a hash of pixel and frame).
+  // Frame `frame`'s light: uniform noise of standard deviation `sigma` about `mean`.
   auto frameOf = [&](int frame, float mean, float sigma) {
     std::vector<glm::vec4> noisy;
     for (int i = 0; i < kSw * kSh; ++i) {
-      std::uint32_t k = static_cast<std::uint32_t>(i) * 747796405u + static_cast<std::uint32_t>(frame) * 2891336453u;
-      k = ((k >> ((k >> 28u) + 4u)) ^ k) * 277803737u;
-      k = (k >> 22u) ^ k;
-      const float u = static_cast<float>(k & 0xFFFFFFu) / 16777216.0f;
-      const float v = mean + sigma * std::sqrt(12.0f) * (u - 0.5f);
+      const float v = synthetic::noise(i, frame, mean, sigma);
       noisy.push_back(glm::vec4(v, v, v, 1.0f));
     }
     return noisy;
@@ -985,6 +989,164 @@ TEST(Denoise, TheAntiAliasingsShareOfTheNewFrameRisesWithTheMotion) {
     EXPECT_GT(checked, 1000);
     EXPECT_LT(worst, 0.005) << "motion " << length;
   }
+}
+
+
+// The temporal mean spans at most `maxHistory` frames (a light that changes slowly, within the stale test's
+// box, is followed at 1/maxHistory a frame however long the history): 40 frames of a noiseless 0.002, then 16
+// of 0.0028 (inside the box's floor: kept), leave the history at 0.002 + 0.0008 (1 - (1 - 1/cap)^16), for caps
+// 32 and 8 (uncapped 32: 0.00223). (Small values: each frame's step, 1/32 of the difference, is then some 16
+// steps of half precision, which the texels hold; at 0.5 a step below half of one, 2.4e-4, is lost and a
+// noiseless mean stops ~1.6 % short of a change: docs/denoise.md, Limits.)
+TEST(Denoise, TheTemporalMeanSpansAtMostItsCap) {
+  TD_REQUIRE_GL_CONTEXT();
+  constexpr int kSw = 32, kSh = 32;
+  constexpr float kDepth = 5.0f;
+  auto f = synthetic::makeFilter(kSw, kSh);
+  ASSERT_TRUE(f.has_value());
+  const std::vector<glm::uvec4> guide(kSw * kSh, grid::facingGuide(kDepth, 1u));
+  const std::vector<glm::vec4> still(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
+  for (const int cap : {32, 8}) {
+    f->pass.forget();
+    for (int frame = 0; frame < 56; ++frame) {
+      const float v = frame < 40 ? 0.002f : 0.0028f;
+      grid::uploadShadeOutputs(f->pass, kSw, kSh, std::vector<glm::vec4>(kSw * kSh, glm::vec4(v, v, v, 1.0f)), guide,
+                               still);
+      f->pass.filter(f->linear, f->display, f->ids, grid::wallCamera(), frame > 0, {}, 1.0f, ToneMap::None,
+                     glm::vec3(0.0f), cap);
+    }
+    std::vector<glm::uvec4> texels(kSw * kSh);
+    glGetTextureImage(f->pass.history().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                      static_cast<GLsizei>(texels.size() * sizeof(glm::uvec4)), texels.data());
+    const double want = 0.002 + 0.0008 * (1.0 - std::pow(1.0 - 1.0 / cap, 16.0));
+    double worst = 0.0;
+    for (const glm::uvec4& t : texels)
+      worst = std::max(worst, std::abs(static_cast<double>(glm::unpackHalf2x16(t.x).x) - want));
+    std::printf("history cap %d: after 16 frames of the new light the mean is %.6f (worst pixel off by %.6f)\n", cap,
+                want, worst);
+    EXPECT_LT(worst, 1.5e-5) << "cap " << cap;  // (uncapped: 9e-5 off)
+    const std::vector<bool> d = f->dropped();
+    EXPECT_EQ(std::count(d.begin(), d.end(), true), 0) << "a change within the box's floor keeps the history";
+  }
+}
+
+// A shading fault (a NaN or an infinity in the shade pass's output) lives neither in the frame nor in the
+// history: the pixel counts as dark for that frame, and every pixel of that frame and the next is finite.
+TEST(Denoise, AShadingFaultIsNotSpreadOrKept) {
+  TD_REQUIRE_GL_CONTEXT();
+  constexpr int kSw = 32, kSh = 32;
+  constexpr float kDepth = 5.0f;
+  auto f = synthetic::makeFilter(kSw, kSh);
+  ASSERT_TRUE(f.has_value());
+  const std::vector<glm::uvec4> guide(kSw * kSh, grid::facingGuide(kDepth, 1u));
+  const std::vector<glm::vec4> still(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
+  for (int frame = 0; frame < 3; ++frame) {
+    std::vector<glm::vec4> noisy(kSw * kSh, glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
+    if (frame == 0) {
+      noisy[16 * kSw + 16] = glm::vec4(std::nanf(""), 0.5f, 0.5f, 1.0f);
+      noisy[8 * kSw + 8] = glm::vec4(0.5f, std::numeric_limits<float>::infinity(), 0.5f, 1.0f);
+    }
+    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, still);
+    f->run(frame > 0);
+    const std::vector<glm::vec4> out = f->output();
+    const auto bad = std::count_if(out.begin(), out.end(), [](const glm::vec4& c) {
+      return !std::isfinite(c.r) || !std::isfinite(c.g) || !std::isfinite(c.b);
+    });
+    EXPECT_EQ(bad, 0) << "frame " << frame << ": pixels not finite";
+  }
+}
+
+
+// The reprojection takes a texel of the last frame as the point's history only where that frame showed the
+// same instance at the depth the point had then, facing its way (a disocclusion within one instance: its
+// front and its back; a crease): on synthetic inputs of one instance, a noiseless light 0.2, then 0.203 (within
+// the stale test's box: a history kept averages the two), the point's depth then or its normal changed
+// between the frames.
+TEST(Denoise, AHistoryIsThePointsOnlyAtItsDepthThenFacingItsWay) {
+  TD_REQUIRE_GL_CONTEXT();
+  constexpr int kSw = 32, kSh = 32;
+  constexpr float kDepth = 5.0f;
+  auto f = synthetic::makeFilter(kSw, kSh);
+  ASSERT_TRUE(f.has_value());
+  auto frame = [&](float v, float depthThen, glm::vec3 normal) {
+    glm::uvec4 g = grid::facingGuide(kDepth, 1u);
+    g.y = (glm::packSnorm4x8(glm::vec4(normal, 0.0f)) & 0x00FFFFFFu) | (1u << 24);
+    grid::uploadShadeOutputs(f->pass, kSw, kSh, std::vector<glm::vec4>(kSw * kSh, glm::vec4(v, v, v, 1.0f)),
+                             std::vector<glm::uvec4>(kSw * kSh, g),
+                             std::vector<glm::vec4>(kSw * kSh, glm::vec4(0.0f, 0.0f, depthThen, 1.0f)));
+  };
+  // Two frames, the second's point `depthThen` deep in the last frame and facing `normal`: the history's light.
+  const glm::vec3 facing(0.0f, 0.0f, 1.0f);
+  auto second = [&](float depthThen, glm::vec3 normal) {
+    f->pass.forget();
+    frame(0.2f, kDepth, facing);
+    f->run(false);
+    frame(0.203f, depthThen, normal);
+    f->run(true);
+    std::vector<glm::uvec4> texels(kSw * kSh);
+    glGetTextureImage(f->pass.history().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                      static_cast<GLsizei>(texels.size() * sizeof(glm::uvec4)), texels.data());
+    return static_cast<double>(glm::unpackHalf2x16(texels[16 * kSw + 16].x).x);
+  };
+  const double kept = second(kDepth, facing), deeper = second(1.1f * kDepth, facing);
+  const double turned = second(kDepth, glm::normalize(glm::vec3(0.0f, 0.6f, 0.8f)));  // (cos 0.8 < 0.9)
+  const double slightly = second(1.02f * kDepth, glm::normalize(glm::vec3(0.0f, 0.3f, 0.95f)));  // (cos 0.95)
+  std::printf("history: kept %.5f, the point 10 %% deeper then %.5f, turned %.5f, 2 %% deeper and turned a "
+              "little %.5f\n", kept, deeper, turned, slightly);
+  EXPECT_NEAR(kept, 0.2015, 2e-4) << "the same point, the same light: the mean of the two frames";
+  EXPECT_NEAR(deeper, 0.203, 2e-4) << "a point that was 10 % deeper than the texel took its history";
+  EXPECT_NEAR(turned, 0.203, 2e-4) << "a point facing 37 degrees away from the texel took its history";
+  EXPECT_NEAR(slightly, 0.2015, 2e-4) << "within the tolerances (3 % of depth, cos 0.9) the history holds";
+}
+
+
+// The a-trous weights' noise is the temporal mean's (one frame's variance over the frames it averages), and a
+// new pixel's the neighbourhood's: on synthetic inputs of one instance whose light is noise (standard deviation
+// 0.05) about 0.3 left of a line and 0.7 right of it (a hard shadow's edge), the first frame is smoothed in space
+// (its noise under half the input's: the neighbourhood's variance, not one sample's, which is none) and after 32
+// still frames the edge stays sharp (the mean's noise is under a sixth of one frame's: the luminance weight then
+// stops at a step of 0.4, where a frame's noise would let the two sides blend).
+TEST(Denoise, NoiseIsJudgedByTheSamplesItAveragesFirstTheNeighboursThenTheFrames) {
+  TD_REQUIRE_GL_CONTEXT();
+  constexpr int kSw = 64, kSh = 32, kEdge = 32;
+  constexpr float kDepth = 5.0f, kSigma = 0.05f;
+  auto f = synthetic::makeFilter(kSw, kSh);
+  ASSERT_TRUE(f.has_value());
+  const std::vector<glm::uvec4> guide(kSw * kSh, grid::facingGuide(kDepth, 1u));
+  const std::vector<glm::vec4> still(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
+  auto truth = [&](int x) { return x < kEdge ? 0.3f : 0.7f; };
+  std::vector<glm::vec4> first;
+  for (int frame = 0; frame < 32; ++frame) {
+    std::vector<glm::vec4> noisy;
+    for (int i = 0; i < kSw * kSh; ++i) {
+      const float v = synthetic::noise(i, frame, truth(i % kSw), kSigma);
+      noisy.push_back(glm::vec4(v, v, v, 1.0f));
+    }
+    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, still);
+    f->run(frame > 0);
+    if (frame == 0) first = f->output();
+  }
+  const std::vector<glm::vec4> last = f->output();
+  // The first frame's noise away from the edge and the frame's edge; the last frame's error beside the edge.
+  double firstSq = 0.0, edgeErr = 0.0;
+  int firstN = 0, edgeN = 0;
+  for (int y = 4; y < kSh - 4; ++y)
+    for (int x = 4; x < kSw - 4; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y * kSw + x);
+      if (std::abs(x - kEdge) > 10) {
+        firstSq += std::pow(first[i].r - truth(x), 2.0);
+        ++firstN;
+      }
+      if (x == kEdge - 1 || x == kEdge) {
+        edgeErr += std::abs(last[i].r - truth(x));
+        ++edgeN;
+      }
+    }
+  const double firstNoise = std::sqrt(firstSq / firstN), edge = edgeErr / edgeN;
+  std::printf("first frame's noise %.4f (input %.4f); after 32 frames the edge's pixels off by %.4f\n", firstNoise,
+              static_cast<double>(kSigma), edge);
+  EXPECT_LT(firstNoise, 0.5 * kSigma) << "a first frame left as noisy as its samples";
+  EXPECT_LT(edge, 0.012) << "the converged edge blurred as if each frame's noise were still in it";
 }
 
 }  // namespace
