@@ -1031,7 +1031,8 @@ TEST(Denoise, TheTemporalMeanSpansAtMostItsCap) {
 }
 
 // A shading fault (a NaN or an infinity in the shade pass's output) lives neither in the frame nor in the
-// history: the pixel counts as dark for that frame, and every pixel of that frame and the next is finite.
+// history: the pixel counts as dark for that frame, and no pixel of that frame or the next two is brighter than
+// the light (a fault clamped to half precision's largest value instead would be a blob of 65000).
 TEST(Denoise, AShadingFaultIsNotSpreadOrKept) {
   TD_REQUIRE_GL_CONTEXT();
   constexpr int kSw = 32, kSh = 32;
@@ -1053,6 +1054,11 @@ TEST(Denoise, AShadingFaultIsNotSpreadOrKept) {
       return !std::isfinite(c.r) || !std::isfinite(c.g) || !std::isfinite(c.b);
     });
     EXPECT_EQ(bad, 0) << "frame " << frame << ": pixels not finite";
+    float brightest = 0.0f;
+    for (const glm::vec4& c : out) brightest = std::max({brightest, c.r, c.g, c.b});
+    std::printf("frame %d after a shading fault: the brightest pixel %.4f (the light 0.5)\n", frame,
+                static_cast<double>(brightest));
+    EXPECT_LE(brightest, 0.5f + 1e-3f) << "frame " << frame << ": the fault counted as light";
   }
 }
 
