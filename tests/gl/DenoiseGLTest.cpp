@@ -95,35 +95,55 @@ Image filterFrames(Frame& f, const Camera& camera, int frames, FrameStats* stats
 
 using gltest::flipMean;
 
-// 16 frames of the pan with rays on a grid of 1/rayScale: the filtered frame against raw frames of one and
-// four light samples, all against the converged image at that grid; `name` for the images it saves.
-void expectFilteredBeatsRaw(GlContext& context, int rayScale, const std::string& name, float speed = 1.0f) {
+// The camera `k` steps along a dolly towards its target (2 % of the distance a frame: the points' depths change
+// by that much between frames, and the view widens from the centre).
+Camera dollied(const Camera& start, int k) {
+  Camera c = start;
+  c.posW += (start.targetW - start.posW) * (0.02f * static_cast<float>(k));
+  return c;
+}
+
+// 16 frames of the pan (or `path`) with rays on a grid of 1/rayScale: the filtered frame against raw frames of
+// one and four light samples, all against the converged image at that grid; `name` for the images it saves.
+void expectFilteredBeatsRaw(GlContext& context, int rayScale, const std::string& name, float speed = 1.0f,
+                            const std::function<Camera(const Camera&, int)>& path = nullptr, double margin = 0.9) {
   Frame f = load(context, areaLights());
   constexpr int kFrames = 16;
+  auto at = [&](int k) { return path ? path(f.camera, k) : panned(f.camera, k, speed); };
   Image filtered;
   FrameStats st;
-  for (int k = 0; k < kFrames; ++k)
-    filtered = drawFrame(f, panned(f.camera, k, speed), settings(f, 1, true, rayScale), &st);
+  for (int k = 0; k < kFrames; ++k) filtered = drawFrame(f, at(k), settings(f, 1, true, rayScale), &st);
   EXPECT_TRUE(st.denoised);
-  const Camera last = panned(f.camera, kFrames - 1, speed);
+  const Camera last = at(kFrames - 1);
   const Image raw1 = drawFrame(f, last, settings(f, 1, false, rayScale));
   const Image raw4 = drawFrame(f, last, settings(f, 4, false, rayScale));
   const Image converged = truth(f, last, rayScale);
   const double eFiltered = flipMean(filtered, converged), e1 = flipMean(raw1, converged), e4 = flipMean(raw4, converged);
-  std::printf("FLIP vs converged, rays at 1/%d, camera panning x%g, frame %d: filtered 1 sample %.5f, raw 1 "
-              "sample %.5f, raw 4 samples %.5f\n",
-              rayScale, static_cast<double>(speed), kFrames, eFiltered, e1, e4);
+  std::printf("FLIP vs converged, rays at 1/%d, camera %s x%g, frame %d: filtered 1 sample %.5f, raw 1 sample "
+              "%.5f, raw 4 samples %.5f\n",
+              rayScale, path ? "on its path" : "panning", static_cast<double>(speed), kFrames, eFiltered, e1, e4);
   gltest::savePng(name + "-filtered.png", filtered);
   gltest::savePng(name + "-raw4.png", raw4);
   gltest::savePng(name + "-converged.png", converged);
   if (auto r = flip(filtered, converged); r.ok()) gltest::savePng(name + "-flip.png", heatmap(*r));
-  EXPECT_LT(eFiltered, 0.9 * e4);
+  EXPECT_LT(eFiltered, margin * e4);
   EXPECT_LT(eFiltered, 0.5 * e1);
 }
 
 TEST(Denoise, OneFilteredSampleBeatsFourRawOnesWithTheCameraMoving) {
   TD_REQUIRE_GL_CONTEXT();
   expectFilteredBeatsRaw(*glContext_, 1, "denoise-moving");
+}
+
+// A dolly towards the view's centre (the game's camera mostly moves forward): the target stays at the frame's
+// centre while the rest of the view moves outwards, 3.7 to 5 pixels a frame at the corners (cameraMotionPx
+// measures them, and the frames lose their sub-pixel offset). Measured 2026-11-29: filtered 0.0315 against raw
+// four's 0.0333 (one 0.0707); with the offset kept (the motion of the target alone) 0.0342, behind four raw
+// samples. Most of what remains is at edges, which the anti-aliasing's bilinear history blurs as the view
+// widens: the bound is to beat four raw samples, not the pan's 10 %.
+TEST(Denoise, OneFilteredSampleBeatsFourRawOnesWithTheCameraDollying) {
+  TD_REQUIRE_GL_CONTEXT();
+  expectFilteredBeatsRaw(*glContext_, 1, "denoise-dolly", 1.0f, dollied, 1.0);
 }
 
 // Rays on the half-resolution grid (hybrid-fast's): the filter runs on the grid's own samples and upsamples

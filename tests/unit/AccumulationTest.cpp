@@ -276,9 +276,10 @@ TEST(Accumulation, TheFilterRunsOnTheFirstFrameAloneAndTheSamplesGoOnAlongItsSeq
 }
 
 TEST(Accumulation, TheFiltersFirstFrameLosesItsSubPixelOffsetAsTheCameraMovesFaster) {
-  // cameraMotionPx: how far the new camera's target moved on the old camera's screen. A strafe of the eye and
-  // the target together by d at distance D moves it d / D / tan(fov/2) half-heights: here 0.1 at 10 with a
-  // 90-degree fov on a 200-pixel-high frame, 0.01 of the half-height, 1 pixel.
+  // cameraMotionPx: how far the new camera's view moved on the old camera's screen, the most of its target
+  // and the points its corners show at the target's distance. A strafe of the eye and the target together by d
+  // at distance D moves every such point d / D / tan(fov/2) half-heights: here 0.1 at 10 with a 90-degree fov
+  // on a 200-pixel-high frame, 0.01 of the half-height, 1 pixel.
   Camera still;
   still.posW = glm::vec3(0.0f, 0.0f, 10.0f);
   still.targetW = glm::vec3(0.0f);
@@ -293,10 +294,20 @@ TEST(Accumulation, TheFiltersFirstFrameLosesItsSubPixelOffsetAsTheCameraMovesFas
   };
   EXPECT_NEAR(cameraMotionPx(still, strafed(0.1f), size), 1.0f, 1e-3f);
   EXPECT_NEAR(cameraMotionPx(still, strafed(0.5f), size), 5.0f, 5e-3f);
-  // A turn moves it at any depth: 1 degree of yaw is tan(1 deg) / tan(45 deg) half-heights.
+  // A turn moves the view at any depth, the frame's edge most: 1 degree of yaw to the right takes the direction
+  // of the new frame's corner at tangents (t, u) = (1.5, +-1) (a 300x200 frame, 90 degrees high) to (t cos + sin,
+  // u) / (cos - t sin) in the old camera's, 100 pixels a unit of tangent (the centre moves tan(1 deg), 1.75).
   Camera turned = still;
   turned.targetW = still.posW + glm::vec3(std::sin(glm::radians(1.0f)), 0.0f, -std::cos(glm::radians(1.0f))) * 10.0f;
-  EXPECT_NEAR(cameraMotionPx(still, turned, size), 100.0f * std::tan(glm::radians(1.0f)), 1e-2f);
+  const float cosYaw = std::cos(glm::radians(1.0f)), sinYaw = std::sin(glm::radians(1.0f));
+  const glm::vec2 corner(1.5f, 1.0f);
+  const glm::vec2 old = glm::vec2(corner.x * cosYaw + sinYaw, corner.y) / (cosYaw - corner.x * sinYaw);
+  EXPECT_NEAR(cameraMotionPx(still, turned, size), 100.0f * glm::length(old - corner), 1e-2f);
+  // A dolly 2 % of the way to the target moves the centre not at all and the corners' points at the target's
+  // distance (tangents (1.5, 1) at 9.8) to (1.47, 0.98) in the old camera, 10 away: 3.6 pixels.
+  Camera dolly = still;
+  dolly.posW.z = 9.8f;
+  EXPECT_NEAR(cameraMotionPx(still, dolly, size), 100.0f * glm::length(glm::vec2(0.03f, 0.02f)), 1e-2f);
   // Behind the old camera: no finite motion.
   Camera behind = still;
   behind.targetW = glm::vec3(0.0f, 0.0f, 20.0f);

@@ -20,9 +20,11 @@ namespace tandem {
 /// The camera of sample `index` of a sequence: its sub-pixel offset, its index for light and gloss samples, and
 /// where the camera has a lens or a shutter, its lens point and time (core/Sampling.h's sequences).
 Camera sampleCamera(const Camera& camera, std::uint32_t index);
-/// How far a frame of `size` pixels moves on screen from camera `before` to `now`: the pixels `now`'s target
-/// (the centre of its frame) moved since `before`'s view (a rotation's motion at any depth, a translation's at
-/// the target's distance: the points the camera looks at). Infinite when the target was behind `before`.
+/// How far a frame of `size` pixels moves on screen from camera `before` to `now`: the most any of five points
+/// moved since `before`'s view, `now`'s target (the centre of its frame) and the points its frame's corners show
+/// at the target's distance along the view axis (a rotation's motion at any depth, a translation's at the
+/// target's distance: the points the camera looks at; a dolly moves the corners and not the centre).
+/// Infinite when one of them was behind `before`.
 float cameraMotionPx(const Camera& before, const Camera& now, glm::ivec2 size);
 /// The sub-pixel offset's scale for a frame the spatiotemporal filter draws while the camera moves `motionPx`
 /// a frame: 1 up to 1.5 pixels, falling to 0 (the pixel centres) at 3 and beyond. A jittered frame pays only
