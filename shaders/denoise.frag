@@ -221,6 +221,7 @@ void temporal() {
   vec3 m1 = cur, m2 = cur * cur;
   for (int k = 0; k < 4; ++k) {
     vec3 c = texelFetch(noisyTex, standIn(clamp(p + cross4[k], ivec2(0), gridSize - 1)), 0).rgb;
+    if (any(isnan(c)) || any(isinf(c))) c = vec3(0.0);  // (a neighbour's fault: max or clamp of a NaN is undefined)
     m1 += c;
     m2 += c * c;
   }

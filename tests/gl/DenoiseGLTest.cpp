@@ -95,8 +95,8 @@ Image filterFrames(Frame& f, const Camera& camera, int frames, FrameStats* stats
 
 using gltest::flipMean;
 
-// The camera `k` steps along a dolly towards its target (2 % of the distance a frame: the points' depths change
-// by that much between frames, and the view widens from the centre).
+// The camera `k` steps along a dolly towards its target (2 % of the starting distance a frame: the points'
+// depths change by that much between frames or more, and the view widens from the centre).
 Camera dollied(const Camera& start, int k) {
   Camera c = start;
   c.posW += (start.targetW - start.posW) * (0.02f * static_cast<float>(k));
@@ -827,8 +827,8 @@ TEST(Denoise, AGlossyLobeDropsItsHistoryWhereAMovedBoxIsInItsCone) {
   auto draw = [&](float lobe) {
     const std::vector<glm::vec4> noisy(kW2 * kH2, glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
     const std::vector<glm::vec4> motion(kW2 * kH2, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
-    grid::uploadShadeOutputs(pass, kW2, kH2, noisy, std::vector<glm::uvec4>(kW2 * kH2, grid::facingGuide(kDepth, 1u, lobe)),
-                             motion);
+    const std::vector<glm::uvec4> guide(kW2 * kH2, grid::facingGuide(kDepth, 1u, lobe));
+    grid::uploadShadeOutputs(pass, kW2, kH2, noisy, guide, motion);
   };
   // Two frames with lobe `lobe`, the box moved before the second: which pixels dropped their history.
   auto droppedWith = [&](float lobe) {
@@ -871,22 +871,30 @@ TEST(Denoise, AGlossyLobeDropsItsHistoryWhereAMovedBoxIsInItsCone) {
 
 // ---- the temporal stage's statistical test and the anti-aliasing's share, on synthetic inputs ----
 namespace synthetic {
-// gl::DenoisePass alone on a frame of w x h pixels (rays at every pixel) and the output it writes, the ids a
-// wall of instance 0 (ids 1) everywhere.
+// gl::DenoisePass alone on a frame of w x h pixels (rays on a grid of 1/gridScale) and the output it writes,
+// the ids a wall of instance 0 (ids 1) everywhere.
 struct Filter {
   gl::DenoisePass pass;
   gl::Texture linear, display, ids;
   int w = 0, h = 0;
-  void run(bool history) {
-    pass.filter(linear, display, ids, grid::wallCamera(), history, {}, 1.0f, ToneMap::None, glm::vec3(0.0f), 32);
+  void run(bool history, const Camera& camera = grid::wallCamera(), const gl::MovedInstances& moved = {},
+           int maxHistory = 32) {
+    pass.filter(linear, display, ids, camera, history, moved, 1.0f, ToneMap::None, glm::vec3(0.0f), maxHistory);
   }
-  // The dropped flags of the history the last frame wrote (the temporal stage's, carried by the texels).
-  std::vector<bool> dropped() const {
-    std::vector<glm::uvec4> texels(static_cast<std::size_t>(w * h));
+  // The history the last frame wrote (the filter texels after the first a-trous iteration), of the grid's size.
+  std::vector<glm::uvec4> historyTexels() const {
+    GLint gw = 0, gh = 0;
+    glGetTextureLevelParameteriv(pass.history().id(), 0, GL_TEXTURE_WIDTH, &gw);
+    glGetTextureLevelParameteriv(pass.history().id(), 0, GL_TEXTURE_HEIGHT, &gh);
+    std::vector<glm::uvec4> texels(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh));
     glGetTextureImage(pass.history().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
                       static_cast<GLsizei>(texels.size() * sizeof(glm::uvec4)), texels.data());
+    return texels;
+  }
+  // The dropped flags of that history (the temporal stage's, carried by the texels).
+  std::vector<bool> dropped() const {
     std::vector<bool> d;
-    for (const glm::uvec4& t : texels) d.push_back((t.y & 0x80000000u) != 0u);
+    for (const glm::uvec4& t : historyTexels()) d.push_back((t.y & 0x80000000u) != 0u);
     return d;
   }
   std::vector<glm::vec4> output() const {
@@ -903,7 +911,7 @@ float noise(int i, int frame, float mean, float sigma) {
   k = (k >> 22u) ^ k;
   return mean + sigma * std::sqrt(12.0f) * (static_cast<float>(k & 0xFFFFFFu) / 16777216.0f - 0.5f);
 }
-std::optional<Filter> makeFilter(int w, int h) {
+std::optional<Filter> makeFilter(int w, int h, int gridScale = 1) {
   auto made = gl::DenoisePass::create();
   if (!made.ok()) {
     ADD_FAILURE() << made.error().message;
@@ -912,7 +920,7 @@ std::optional<Filter> makeFilter(int w, int h) {
   Filter f{std::move(*made), gl::createTexture2D("test: linear", gl::kChannelLinear.internal, w, h),
            gl::createTexture2D("test: display", gl::kChannelDisplay.internal, w, h),
            gl::createTexture2D("test: ids", gl::kChannelIds.internal, w, h), w, h};
-  if (!f.pass.reserve(w, h, 1).ok()) {
+  if (!f.pass.reserve(w, h, gridScale).ok()) {
     ADD_FAILURE() << "DenoisePass::reserve";
     return std::nullopt;
   }
@@ -987,10 +995,12 @@ TEST(Denoise, TheAntiAliasingsShareOfTheNewFrameRisesWithTheMotion) {
     }
   for (const int down : {0, 1, 2, 4}) {
     f->pass.forget();
-    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, std::vector<glm::vec4>(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f)));
+    const std::vector<glm::vec4> still(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
+    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, still);
     f->run(false);
     const glm::vec2 motion(1.0f, static_cast<float>(down));
-    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, std::vector<glm::vec4>(kSw * kSh, glm::vec4(motion, kDepth, 1.0f)));
+    const std::vector<glm::vec4> moving(kSw * kSh, glm::vec4(motion, kDepth, 1.0f));
+    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, moving);
     f->run(true);
     const std::vector<glm::vec4> out = f->output();
     const float length = glm::length(motion);
@@ -1032,19 +1042,18 @@ TEST(Denoise, TheTemporalMeanSpansAtMostItsCap) {
       const float v = frame < 40 ? 0.002f : 0.0028f;
       grid::uploadShadeOutputs(f->pass, kSw, kSh, std::vector<glm::vec4>(kSw * kSh, glm::vec4(v, v, v, 1.0f)), guide,
                                still);
-      f->pass.filter(f->linear, f->display, f->ids, grid::wallCamera(), frame > 0, {}, 1.0f, ToneMap::None,
-                     glm::vec3(0.0f), cap);
+      f->run(frame > 0, grid::wallCamera(), {}, cap);
     }
-    std::vector<glm::uvec4> texels(kSw * kSh);
-    glGetTextureImage(f->pass.history().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
-                      static_cast<GLsizei>(texels.size() * sizeof(glm::uvec4)), texels.data());
+    const std::vector<glm::uvec4> texels = f->historyTexels();
     const double want = 0.002 + 0.0008 * (1.0 - std::pow(1.0 - 1.0 / cap, 16.0));
     double worst = 0.0;
     for (const glm::uvec4& t : texels)
       worst = std::max(worst, std::abs(static_cast<double>(glm::unpackHalf2x16(t.x).x) - want));
     std::printf("history cap %d: after 16 frames of the new light the mean is %.6f (worst pixel off by %.6f)\n", cap,
                 want, worst);
-    EXPECT_LT(worst, 1.5e-5) << "cap " << cap;  // (uncapped: 9e-5 off)
+    // (measured 1e-6; uncapped 9e-5 off; a half-precision step there is 1.9e-6, and packHalf2x16's rounding
+    // is the driver's: a step lost each frame would be 3e-5)
+    EXPECT_LT(worst, 4e-5) << "cap " << cap;
     const std::vector<bool> d = f->dropped();
     EXPECT_EQ(std::count(d.begin(), d.end(), true), 0) << "a change within the box's floor keeps the history";
   }
@@ -1109,10 +1118,7 @@ TEST(Denoise, AHistoryIsThePointsOnlyAtItsDepthThenFacingItsWay) {
     f->run(false);
     frame(0.203f, depthThen, normal);
     f->run(true);
-    std::vector<glm::uvec4> texels(kSw * kSh);
-    glGetTextureImage(f->pass.history().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
-                      static_cast<GLsizei>(texels.size() * sizeof(glm::uvec4)), texels.data());
-    return static_cast<double>(glm::unpackHalf2x16(texels[16 * kSw + 16].x).x);
+    return static_cast<double>(glm::unpackHalf2x16(f->historyTexels()[16 * kSw + 16].x).x);
   };
   const double kept = second(kDepth, facing), deeper = second(1.1f * kDepth, facing);
   const double turned = second(kDepth, glm::normalize(glm::vec3(0.0f, 0.6f, 0.8f)));  // (cos 0.8 < 0.9)
@@ -1182,7 +1188,9 @@ TEST(Denoise, NoiseIsJudgedByTheSamplesItAveragesFirstTheNeighboursThenTheFrames
   // (Each iteration's variance is its weighted mean's, sum w^2 var / (sum w)^2, so the next iteration's luminance
   // weight is tighter: carried as sum w var / (sum w)^2 the first frame's edge pixels were off by 0.117.)
   EXPECT_LT(firstEdge, 0.09) << "the first frame's edge blurred by a variance the iterations did not reduce";
+  // (measured 0.0007 against the mean's 0.0088, which a pixel whose variance reads 0, settled, keeps)
   EXPECT_LT(lastNoise, 0.6 * meanNoise) << "the temporal mean's own noise no longer smoothed in space";
+  // (measured 0.0022; the edge's pixels beside a 0.4 step)
   EXPECT_LT(edge, 0.012) << "the converged edge blurred as if each frame's noise were still in it";
 }
 
@@ -1218,7 +1226,7 @@ TEST(Denoise, TheSpatialFilterStopsAtADepthStepWithinAnInstance) {
   }
   toward /= n;
   std::printf("beside a depth step within one instance: moved %.4f towards the other side's light\n", toward);
-  EXPECT_LT(toward, 0.01);  // (without the plane's weight 0.021)
+  EXPECT_LT(toward, 0.01);  // (measured -0.006: away, by the noise; without the plane's weight 0.021)
 }
 
 
@@ -1248,12 +1256,12 @@ TEST(Denoise, ASilhouetteIsAntiAliasedOnTheBackgroundsSideToo) {
       motion.push_back(object ? glm::vec4(0.0f, 0.0f, kDepth, 1.0f) : glm::vec4(0.0f, 0.0f, 0.0f, -1.0f));
     }
     grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, motion);
-    f->pass.filter(f->linear, f->display, f->ids, camera, frame > 0, {}, 1.0f, ToneMap::None, glm::vec3(0.0f), 32);
+    f->run(frame > 0, camera);
     const std::vector<glm::vec4> out = f->output();
     float worstRow = 0.0f;
     for (int y = 2; y < kSh - 2; ++y)
       worstRow = std::max(worstRow, std::abs(out[static_cast<std::size_t>(y * kSw + 15)].r - out[8 * kSw + 15].r));
-    EXPECT_EQ(worstRow, 0.0f) << "frame " << frame << ": the rows differ";
+    EXPECT_LT(worstRow, 1e-5f) << "frame " << frame << ": the rows differ";
     pixel15.push_back(out[8 * kSw + 15].r);
   }
   std::printf("pixel 15 over the last four frames: %.3f %.3f %.3f %.3f (the mean of its samples 0.5)\n",
@@ -1287,16 +1295,15 @@ TEST(Denoise, TheMovedTestSkipsThePointsOwnInstance) {
     grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, still);
     f->run(false);
     grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, still);
-    f->pass.filter(f->linear, f->display, f->ids, grid::wallCamera(), true, moved, 1.0f, ToneMap::None,
-                   glm::vec3(0.0f), 32);
+    f->run(true, grid::wallCamera(), moved);
     const std::vector<bool> d = f->dropped();
     return std::count(d.begin(), d.end(), true);
   };
   const auto other = droppedWithBoxOf(7.0f), own = droppedWithBoxOf(0.0f);
   std::printf("a box moved in the light's way: %d pixels dropped when another instance's, %d when the wall's own\n",
               static_cast<int>(other), static_cast<int>(own));
-  EXPECT_GT(other, 40);
-  EXPECT_EQ(own, 0);
+  EXPECT_GT(other, 40);  // (measured 64)
+  EXPECT_EQ(own, 0);     // (with the own instance a blocker: 64)
 }
 
 // On a ray grid, a frame pixel none of whose grid neighbours shows its instance (a thin object between the
@@ -1306,15 +1313,8 @@ TEST(Denoise, OnARayGridAThinObjectBetweenTheGridsPixelsKeepsItsOwnSample) {
   TD_REQUIRE_GL_CONTEXT();
   using namespace grid;
   constexpr int kLine = 20;
-  auto made = gl::DenoisePass::create();
-  ASSERT_TRUE(made.ok()) << made.error().message;
-  gl::DenoisePass pass = std::move(*made);
-  ASSERT_TRUE(pass.reserve(kFw, kFh, kScale).ok());
-  const gl::Texture linear = gl::createTexture2D("test: linear", gl::kChannelLinear.internal, kFw, kFh);
-  const gl::Texture display = gl::createTexture2D("test: display", gl::kChannelDisplay.internal, kFw, kFh);
-  const gl::Texture ids = gl::createTexture2D("test: ids", gl::kChannelIds.internal, kFw, kFh);
-  glTextureParameteri(ids.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(ids.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  auto f = synthetic::makeFilter(kFw, kFh, kScale);
+  ASSERT_TRUE(f.has_value());
   std::vector<glm::vec4> noisy, still(kFw * kFh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
   std::vector<glm::uvec4> guide;
   for (int i = 0; i < kFw * kFh; ++i) {
@@ -1322,12 +1322,12 @@ TEST(Denoise, OnARayGridAThinObjectBetweenTheGridsPixelsKeepsItsOwnSample) {
     noisy.push_back(line ? glm::vec4(0.8f, 0.8f, 0.8f, 1.0f) : glm::vec4(0.3f, 0.3f, 0.3f, 1.0f));
     guide.push_back(facingGuide(kDepth, line ? 2u : 1u));
   }
-  uploadShadeOutputs(pass, kFw, kFh, noisy, guide, still);
-  pass.filter(linear, display, ids, wallCamera(), false, {}, 1.0f, ToneMap::None, glm::vec3(0.0f), 32);
-  std::vector<glm::vec4> out(kFw * kFh);
-  glGetTextureImage(linear.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(out.size() * sizeof(glm::vec4)), out.data());
+  uploadShadeOutputs(f->pass, kFw, kFh, noisy, guide, still);
+  f->run(false);
+  const std::vector<glm::vec4> out = f->output();
   float worst = 0.0f;
-  for (int y = 2; y < kFh - 2; ++y) worst = std::max(worst, std::abs(out[static_cast<std::size_t>(y * kFw + kLine)].r - 0.8f));
+  for (int y = 2; y < kFh - 2; ++y)
+    worst = std::max(worst, std::abs(out[static_cast<std::size_t>(y * kFw + kLine)].r - 0.8f));
   std::printf("a line between the grid's pixels: off its own sample by %.4f at worst\n", static_cast<double>(worst));
   EXPECT_LT(worst, 0.01);
 }

@@ -285,7 +285,14 @@ TEST(Accumulation, TheFiltersFirstFrameLosesItsSubPixelOffsetAsTheCameraMovesFas
   still.targetW = glm::vec3(0.0f);
   still.yFovDeg = 90.0f;
   const glm::ivec2 size(300, 200);
-  EXPECT_EQ(cameraMotionPx(still, still, size), 0.0f);
+  EXPECT_NEAR(cameraMotionPx(still, still, size), 0.0f, 1e-3f);
+  // Far from the origin too (points taken from the old eye: a world-space view matrix rounded them by pixels).
+  for (const float far : {1e4f, 1e6f}) {
+    Camera away = still;
+    away.posW = glm::vec3(far, 0.3f * far, -0.7f * far) + glm::vec3(3.0f, 2.0f, 10.0f);
+    away.targetW = glm::vec3(far, 0.3f * far, -0.7f * far) + glm::vec3(-1.0f, 0.5f, 0.0f);
+    EXPECT_NEAR(cameraMotionPx(away, away, glm::ivec2(1920, 1080)), 0.0f, 0.01f) << far;
+  }
   auto strafed = [&](float d) {
     Camera c = still;
     c.posW.x += d;

@@ -52,27 +52,33 @@ void Accumulation::startSums() {
 float cameraMotionPx(const Camera& before, const Camera& now, glm::ivec2 size) {
   const glm::ivec2 pixels(std::max(size.x, 1), std::max(size.y, 1));
   const glm::vec2 frame(pixels);
-  const glm::mat4 clipFromWorld = before.clipFromView(frame.x / frame.y) * before.viewFromWorld();
-  // Where a point `now` shows at `at` (pixels, y down) lay in `before`'s frame, and so how far it moved.
-  auto moved = [&](glm::vec3 pointW, glm::vec2 at) {
-    const glm::vec4 clip = clipFromWorld * glm::vec4(pointW, 1.0f);
+  // Points relative to `before`'s eye, through its view's rotation alone: far from the origin a world-space
+  // view matrix's translation would round a still camera's points by pixels (37 at 1e6).
+  const glm::mat4 clipFromEye = before.clipFromView(frame.x / frame.y) * glm::mat4(glm::mat3(before.viewFromWorld()));
+  // Where a point `now` shows at `at` (pixels, y down), `fromEye` from `before`'s eye, lay in `before`'s frame,
+  // and so how far it moved.
+  auto moved = [&](glm::vec3 fromEye, glm::vec2 at) {
+    const glm::vec4 clip = clipFromEye * glm::vec4(fromEye, 1.0f);
     if (!(clip.w > 0.0f)) return std::numeric_limits<float>::infinity();
     const glm::vec2 ndc = glm::vec2(clip) / clip.w;
     return glm::length(glm::vec2(0.5f + 0.5f * ndc.x, 0.5f - 0.5f * ndc.y) * frame - at);
   };
   // The target (the frame's centre), and the points the frame's corners show at the target's distance along
   // the view axis: a dolly or a turn moves the corners most, a strafe every point at that distance alike.
-  float most = moved(now.targetW, 0.5f * frame);
+  const glm::vec3 eyeMoved = now.posW - before.posW;
+  float most = moved(now.targetW - before.posW, 0.5f * frame);
   Camera centred = now;
   centred.jitterPx = glm::vec2(0.0f);
   const glm::vec3 forward = glm::normalize(now.targetW - now.posW);
   const float depth = glm::dot(now.targetW - now.posW, forward);
   for (const glm::vec2 corner : {glm::vec2(0.0f), glm::vec2(frame.x, 0.0f), glm::vec2(0.0f, frame.y), frame}) {
     const Ray ray = centred.rayThroughPixel(corner, pixels);
+    // (a perspective ray from the eye: the target's depth along it; an orthographic one from the image plane;
+    // within a field of view under 180 degrees `along` is positive)
+    const glm::vec3 offset = ray.origin - now.posW;
     const float along = glm::dot(ray.dir, forward);
-    // (a perspective ray from the eye: the target's depth along it; an orthographic one from the image plane)
-    const glm::vec3 pointW = ray.origin + ray.dir * ((depth - glm::dot(ray.origin - now.posW, forward)) / along);
-    most = std::max(most, moved(pointW, corner));
+    const glm::vec3 fromNowEye = offset + ray.dir * ((depth - glm::dot(offset, forward)) / along);
+    most = std::max(most, moved(eyeMoved + fromNowEye, corner));
   }
   return most;
 }
