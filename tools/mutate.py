@@ -6,8 +6,9 @@ survivor: a hole in the tests. A mutation whose text is no longer in its file is
 
   tools/mutate.py [--build DIR] [--only ID[,ID...]] [--list] [--check-texts] [--without-goldens]
 
---check-texts only checks that each mutation's text occurs exactly once in its file (no build, a second; the
-default test run does it, so that an edit which leaves a mutation stale fails there, not months later).
+--check-texts only checks that each mutation's text occurs exactly once in its file and that its gtest filter
+names some test (no build, a second; the default test run does it, so that an edit which leaves a mutation
+stale fails there, not months later).
 
 --without-goldens leaves every golden-image test out of each mutation's run (gtest filter -*Golden*): a
 golden is a regression net, not an oracle, and no behaviour may be guarded by one alone (docs/testing.md).
@@ -23,7 +24,9 @@ test binary and the gtest filter of the fast test that kills it.
 """
 import argparse
 import filecmp
+import fnmatch
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -416,6 +419,13 @@ MUTATIONS = [
      "  float depthThen = dot(then - previousCameraPos, previousCameraForward);",
      "  float depthThen = dot(then - cameraPosW, previousCameraForward);", "tandem-gl-tests",
      "Denoise.OneFilteredSampleBeatsFourRawOnesWithTheCameraDollying"),
+    ("denoise-guide-area-light-counted-twice", "shaders/shade.frag",
+     "  outExact = vec4(local - area + (glossy", "  outExact = vec4(local + (glossy", "tandem-gl-tests",
+     "Denoise.OneFilteredSampleBeatsFourRawOnesWithTheCameraMoving"),
+    ("denoise-guide-visibility-ignored", "shaders/shade_local.glsl",
+     "  float vis = rayShadowed ? rays.vis[j] : 1.0;\n  if (kShadowMaps && L.radiance.w > 0.5) vis = rasterShadow",
+     "  float vis = 1.0;\n  if (kShadowMaps && L.radiance.w > 0.5) vis = rasterShadow", "tandem-gl-tests",
+     "Denoise.OneFilteredSampleBeatsFourRawOnesWithTheCameraMoving"),
     ("denoise-taa-share-constant", "shaders/denoise.frag",
      "mix(0.15, 0.5, clamp((length(motion) - 1.5) / 1.5, 0.0, 1.0))", "0.15", "tandem-gl-tests",
      "Denoise.TheAntiAliasingsShare*"),
@@ -660,6 +670,18 @@ def main():
             n = open(os.path.join(root, rel)).read().count(old) if os.path.isfile(os.path.join(root, rel)) else -1
             if n != 1:
                 bad.append(f"{mid}: {'no file ' + rel if n < 0 else f'{n} occurrences of its text in {rel}'}")
+        # Each filter names some test (TEST, TEST_F or TEST_P as Suite.Name; a parameterized test's prefix and
+        # suffix are not checked): a renamed test would leave its mutations with nothing to run.
+        names = set()
+        for folder, _, files in os.walk(os.path.join(root, "tests")):
+            for f in files:
+                if f.endswith(".cpp"):
+                    text = open(os.path.join(folder, f), errors="replace").read()
+                    names.update(a + "." + b for a, b in re.findall(r"\bTEST(?:_F|_P)?\(\s*(\w+)\s*,\s*(\w+)\s*\)", text))
+        for mid, rel, old, new, target, gfilter in chosen:
+            patterns = [p for p in gfilter.split("-")[0].split(":") if p]
+            if not any(fnmatch.fnmatchcase(n, p) for p in patterns for n in names):
+                bad.append(f"{mid}: its filter {gfilter} names no test")
         for b in bad:
             print("mutate: STALE " + b)
         print(f"mutate: {len(chosen)} mutations, {len(bad)} stale")
