@@ -369,7 +369,8 @@ MUTATIONS = [
      "  vec2 ndc = ndcOf(q);\n  vec3 across", "  vec2 ndc = -ndcOf(q);\n  vec3 across", "tandem-gl-tests",
      "Denoise.AGlossyLobe*"),
     ("denoise-history-depth-ignored", "shaders/denoise.frag",
-     "abs(depthThen - m.z) > 0.03 * m.z", "abs(depthThen - m.z) > 1e9 * m.z", "tandem-gl-tests", "Denoise.AHistoryIsThePoints*"),
+     "abs(depthThen - m.z) > 0.03 * m.z", "abs(depthThen - m.z) > 1e9 * m.z", "tandem-gl-tests",
+     "Denoise.AHistoryIsThePoints*"),
     ("denoise-history-normal-ignored", "shaders/denoise.frag",
      "dot(tdUnpackNormal(h.w), N) < 0.9) continue;", "dot(tdUnpackNormal(h.w), N) < -2.0) continue;",
      "tandem-gl-tests", "Denoise.AHistoryIsThePoints*"),
@@ -387,13 +388,15 @@ MUTATIONS = [
      "  float planeScale = 1.4426950 / (plane.footprint * spacing);", "  float planeScale = 0.0;", "tandem-gl-tests",
      "Denoise.TheSpatialFilterStops*"),
     ("denoise-variance-weights-not-squared", "shaders/denoise.frag",
-     "      vsum += w * w * variance(t);", "      vsum += w * variance(t);", "tandem-gl-tests", "Denoise.NoiseIsJudged*"),
+     "      vsum += w * w * variance(t);", "      vsum += w * variance(t);", "tandem-gl-tests",
+     "Denoise.NoiseIsJudged*"),
     ("denoise-atrous-across-instances", "shaders/denoise.frag",
      "      float valid = (q == want && tdInstanceTag(t.w) == tag) ? 1.0 : 0.0;\n      float w = kernel",
      "      float valid = q == want ? 1.0 : 0.0;\n      float w = kernel", "tandem-gl-tests", "Denoise.OnARayGrid*"),
     ("denoise-taa-unclamped", "shaders/denoise.frag",
      "(vec2(p) + 0.5 - motion) / vec2(frameSize), 0.0).rgb, lo, hi);",
-     "(vec2(p) + 0.5 - motion) / vec2(frameSize), 0.0).rgb, vec3(-1e9), vec3(1e9));", "tandem-gl-tests", "Denoise.NoGhostFourFramesAfterAnObjectStepsAside*"),
+     "(vec2(p) + 0.5 - motion) / vec2(frameSize), 0.0).rgb, vec3(-1e9), vec3(1e9));", "tandem-gl-tests",
+     "Denoise.NoGhostFourFramesAfterAnObjectStepsAside*"),
     ("denoise-taa-background-without-history", "shaders/denoise.frag",
      "  bool background = m.w < -0.5;", "  bool background = false;", "tandem-gl-tests", "Denoise.ASilhouette*"),
     ("denoise-shading-fault-kept", "shaders/denoise.frag",
@@ -677,7 +680,8 @@ def main():
             for f in files:
                 if f.endswith(".cpp"):
                     text = open(os.path.join(folder, f), errors="replace").read()
-                    names.update(a + "." + b for a, b in re.findall(r"\bTEST(?:_F|_P)?\(\s*(\w+)\s*,\s*(\w+)\s*\)", text))
+                    found = re.findall(r"\bTEST(?:_F|_P)?\(\s*(\w+)\s*,\s*(\w+)\s*\)", text)
+                    names.update(a + "." + b for a, b in found)
         for mid, rel, old, new, target, gfilter in chosen:
             patterns = [p for p in gfilter.split("-")[0].split(":") if p]
             if not any(fnmatch.fnmatchcase(n, p) for p in patterns for n in names):
