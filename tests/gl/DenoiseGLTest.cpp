@@ -897,6 +897,13 @@ struct Filter {
     for (const glm::uvec4& t : historyTexels()) d.push_back((t.y & 0x80000000u) != 0u);
     return d;
   }
+  // What the shade pass would write for the grid tests' wall (instance 0, facing the camera at depth 5, still)
+  // showing `light` (the modulation 1).
+  void showWall(const std::vector<glm::vec4>& light) const {
+    const std::size_t n = static_cast<std::size_t>(w * h);
+    grid::uploadShadeOutputs(pass, w, h, light, std::vector<glm::uvec4>(n, grid::facingGuide(grid::kDepth, 1u)),
+                             std::vector<glm::vec4>(n, glm::vec4(0.0f, 0.0f, grid::kDepth, 1.0f)));
+  }
   std::vector<glm::vec4> output() const {
     std::vector<glm::vec4> out(static_cast<std::size_t>(w * h));
     glGetTextureImage(linear.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(out.size() * sizeof(glm::vec4)),
@@ -910,6 +917,10 @@ float noise(int i, int frame, float mean, float sigma) {
   k = ((k >> ((k >> 28u) + 4u)) ^ k) * 277803737u;
   k = (k >> 22u) ^ k;
   return mean + sigma * std::sqrt(12.0f) * (static_cast<float>(k & 0xFFFFFFu) / 16777216.0f - 0.5f);
+}
+// n pixels of one grey light `v`.
+std::vector<glm::vec4> grey(int n, float v) {
+  return std::vector<glm::vec4>(static_cast<std::size_t>(n), glm::vec4(v, v, v, 1.0f));
 }
 std::optional<Filter> makeFilter(int w, int h, int gridScale = 1) {
   auto made = gl::DenoisePass::create();
@@ -940,11 +951,8 @@ std::optional<Filter> makeFilter(int w, int h, int gridScale = 1) {
 TEST(Denoise, TheStatisticalTestDropsAHistoryTheNoiseCannotExplainAndKeepsTheRest) {
   TD_REQUIRE_GL_CONTEXT();
   constexpr int kSw = 96, kSh = 64;
-  constexpr float kDepth = 5.0f;
   auto f = synthetic::makeFilter(kSw, kSh);
   ASSERT_TRUE(f.has_value());
-  const std::vector<glm::uvec4> guide(kSw * kSh, grid::facingGuide(kDepth, 1u));
-  const std::vector<glm::vec4> still(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
   // Frame `frame`'s light: uniform noise of standard deviation `sigma` about `mean`.
   auto frameOf = [&](int frame, float mean, float sigma) {
     std::vector<glm::vec4> noisy;
@@ -958,7 +966,7 @@ TEST(Denoise, TheStatisticalTestDropsAHistoryTheNoiseCannotExplainAndKeepsTheRes
   auto droppedShare = [&](float before, float after, float sigma) {
     f->pass.forget();
     for (int frame = 0; frame < 9; ++frame) {
-      grid::uploadShadeOutputs(f->pass, kSw, kSh, frameOf(frame, frame < 8 ? before : after, sigma), guide, still);
+      f->showWall(frameOf(frame, frame < 8 ? before : after, sigma));
       f->run(frame > 0);
     }
     const std::vector<bool> d = f->dropped();
@@ -1031,17 +1039,13 @@ TEST(Denoise, TheAntiAliasingsShareOfTheNewFrameRisesWithTheMotion) {
 TEST(Denoise, TheTemporalMeanSpansAtMostItsCap) {
   TD_REQUIRE_GL_CONTEXT();
   constexpr int kSw = 32, kSh = 32;
-  constexpr float kDepth = 5.0f;
   auto f = synthetic::makeFilter(kSw, kSh);
   ASSERT_TRUE(f.has_value());
-  const std::vector<glm::uvec4> guide(kSw * kSh, grid::facingGuide(kDepth, 1u));
-  const std::vector<glm::vec4> still(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
   for (const int cap : {32, 8}) {
     f->pass.forget();
     for (int frame = 0; frame < 56; ++frame) {
       const float v = frame < 40 ? 0.002f : 0.0028f;
-      grid::uploadShadeOutputs(f->pass, kSw, kSh, std::vector<glm::vec4>(kSw * kSh, glm::vec4(v, v, v, 1.0f)), guide,
-                               still);
+      f->showWall(synthetic::grey(kSw * kSh, v));
       f->run(frame > 0, grid::wallCamera(), {}, cap);
     }
     const std::vector<glm::uvec4> texels = f->historyTexels();
@@ -1065,18 +1069,15 @@ TEST(Denoise, TheTemporalMeanSpansAtMostItsCap) {
 TEST(Denoise, AShadingFaultIsNotSpreadOrKept) {
   TD_REQUIRE_GL_CONTEXT();
   constexpr int kSw = 32, kSh = 32;
-  constexpr float kDepth = 5.0f;
   auto f = synthetic::makeFilter(kSw, kSh);
   ASSERT_TRUE(f.has_value());
-  const std::vector<glm::uvec4> guide(kSw * kSh, grid::facingGuide(kDepth, 1u));
-  const std::vector<glm::vec4> still(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
   for (int frame = 0; frame < 3; ++frame) {
-    std::vector<glm::vec4> noisy(kSw * kSh, glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
+    std::vector<glm::vec4> noisy = synthetic::grey(kSw * kSh, 0.5f);
     if (frame == 0) {
       noisy[16 * kSw + 16] = glm::vec4(std::nanf(""), 0.5f, 0.5f, 1.0f);
       noisy[8 * kSw + 8] = glm::vec4(0.5f, std::numeric_limits<float>::infinity(), 0.5f, 1.0f);
     }
-    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, still);
+    f->showWall(noisy);
     f->run(frame > 0);
     const std::vector<glm::vec4> out = f->output();
     const auto bad = std::count_if(out.begin(), out.end(), [](const glm::vec4& c) {
@@ -1106,8 +1107,7 @@ TEST(Denoise, AHistoryIsThePointsOnlyAtItsDepthThenFacingItsWay) {
   auto frame = [&](float v, float depthThen, glm::vec3 normal) {
     glm::uvec4 g = grid::facingGuide(kDepth, 1u);
     g.y = (glm::packSnorm4x8(glm::vec4(normal, 0.0f)) & 0x00FFFFFFu) | (1u << 24);
-    grid::uploadShadeOutputs(f->pass, kSw, kSh, std::vector<glm::vec4>(kSw * kSh, glm::vec4(v, v, v, 1.0f)),
-                             std::vector<glm::uvec4>(kSw * kSh, g),
+    grid::uploadShadeOutputs(f->pass, kSw, kSh, synthetic::grey(kSw * kSh, v), std::vector<glm::uvec4>(kSw * kSh, g),
                              std::vector<glm::vec4>(kSw * kSh, glm::vec4(0.0f, 0.0f, depthThen, 1.0f)));
   };
   // Two frames, the second's point `depthThen` deep in the last frame and facing `normal`: the history's light.
@@ -1143,11 +1143,9 @@ TEST(Denoise, AHistoryIsThePointsOnlyAtItsDepthThenFacingItsWay) {
 TEST(Denoise, NoiseIsJudgedByTheSamplesItAveragesFirstTheNeighboursThenTheFrames) {
   TD_REQUIRE_GL_CONTEXT();
   constexpr int kSw = 64, kSh = 32, kEdge = 32;
-  constexpr float kDepth = 5.0f, kSigma = 0.05f;
+  constexpr float kSigma = 0.05f;
   auto f = synthetic::makeFilter(kSw, kSh);
   ASSERT_TRUE(f.has_value());
-  const std::vector<glm::uvec4> guide(kSw * kSh, grid::facingGuide(kDepth, 1u));
-  const std::vector<glm::vec4> still(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
   auto truth = [&](int x) { return x < kEdge ? 0.3f : 0.7f; };
   std::vector<glm::vec4> first;
   for (int frame = 0; frame < 32; ++frame) {
@@ -1156,7 +1154,7 @@ TEST(Denoise, NoiseIsJudgedByTheSamplesItAveragesFirstTheNeighboursThenTheFrames
       const float v = synthetic::noise(i, frame, truth(i % kSw), kSigma);
       noisy.push_back(glm::vec4(v, v, v, 1.0f));
     }
-    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, still);
+    f->showWall(noisy);
     f->run(frame > 0);
     if (frame == 0) first = f->output();
   }
@@ -1279,12 +1277,9 @@ TEST(Denoise, ASilhouetteIsAntiAliasedOnTheBackgroundsSideToo) {
 TEST(Denoise, TheMovedTestSkipsThePointsOwnInstance) {
   TD_REQUIRE_GL_CONTEXT();
   constexpr int kSw = 32, kSh = 32;
-  constexpr float kDepth = 5.0f;
   auto f = synthetic::makeFilter(kSw, kSh);
   ASSERT_TRUE(f.has_value());
-  const std::vector<glm::uvec4> guide(kSw * kSh, grid::facingGuide(kDepth, 1u));  // (ids 1: instance 0)
-  const std::vector<glm::vec4> noisy(kSw * kSh, glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
-  const std::vector<glm::vec4> still(kSw * kSh, glm::vec4(0.0f, 0.0f, kDepth, 1.0f));
+  const std::vector<glm::vec4> light = synthetic::grey(kSw * kSh, 0.5f);  // (the wall: ids 1, instance 0)
   auto droppedWithBoxOf = [&](float instance) {
     gl::MovedInstances moved;
     moved.areaLights[0] = glm::vec4(0.0f, 0.0f, -2.0f, 0.2f);
@@ -1292,9 +1287,9 @@ TEST(Denoise, TheMovedTestSkipsThePointsOwnInstance) {
     moved.boxes[0] = {glm::vec4(-0.25f, -0.25f, -4.1f, instance), glm::vec4(0.25f, 0.25f, -3.9f, 0.0f)};
     moved.boxCount = 1;
     f->pass.forget();
-    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, still);
+    f->showWall(light);
     f->run(false);
-    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, still);
+    f->showWall(light);
     f->run(true, grid::wallCamera(), moved);
     const std::vector<bool> d = f->dropped();
     return std::count(d.begin(), d.end(), true);
