@@ -96,13 +96,31 @@ vec3 previousPoint(uvec2 id, vec3 posR) {
   return (previousFromCurrent * vec4(posR, 1.0)).xyz;
 }
 
+// Where the point lay in the last frame (`pointR`, render space), where that frame saw it (`window`:
+// projectPixel's), and whether that was within its view (in front of its camera, inside its frame): the motion
+// view and the filter's motion (denoiseMotion) both from here.
+struct PointBefore {
+  vec3 pointR;
+  vec3 window;
+  bool inView;
+};
+PointBefore pointBefore(uvec2 id, vec3 posR) {
+  PointBefore b;
+  b.pointR = previousPoint(id, posR);
+  b.window = projectPixel(previousClipFromViewRotation, previousCameraPos, b.pointR);
+  b.inView = b.window.z > 0.0 && all(greaterThanEqual(b.window.xy, vec2(0.0))) &&
+             all(lessThan(b.window.xy, vec2(frameSize)));
+  return b;
+}
+
 vec3 motionView(uvec2 id, vec3 posR) {
   vec3 now = projectPixel(clipFromViewRotation, cameraPosW, posR);
   if (motionHistory == 0) return vec3(0.5, 0.5, 1.0);
-  vec3 before = projectPixel(previousClipFromViewRotation, previousCameraPos, previousPoint(id, posR));
+  PointBefore then = pointBefore(id, posR);
+  vec3 before = then.window;
   vec2 motion = now.xy - before.xy;
   ivec2 at = ivec2(floor(before.xy));
-  bool seen = all(greaterThanEqual(at, ivec2(0))) && all(lessThan(at, frameSize)) && before.z > 0.0;
+  bool seen = then.inView;
   if (seen) {
     seen = texelFetch(previousIdsTex, at, 0).x == id.x;
     // Reversed-Z depth is 1/z-like: a relative tolerance for the surface's slope across the texel.
@@ -122,10 +140,8 @@ vec4 denoiseMotion(uvec2 id, vec3 posR) {
   // Where the point is now, unjittered: where this pixel's sample lies, since the point is on its ray (the
   // jitter shifts every pixel's ray by the same offset in the image plane). A projection less a pixel.
   vec2 now = gl_FragCoord.xy + sampleOffset;
-  vec3 then = previousPoint(id, posR);
-  vec3 before = projectPixel(previousClipFromViewRotation, previousCameraPos, then);
-  bool inView = before.z > 0.0 && all(greaterThanEqual(before.xy, vec2(0.0))) && all(lessThan(before.xy, vec2(frameSize)));
+  PointBefore then = pointBefore(id, posR);
   // The point's view depth then, as the last frame's guide holds it.
-  float depthThen = dot(then - previousCameraPos, previousCameraForward);
-  return vec4(now - before.xy, depthThen, inView ? 1.0 : 0.0);
+  float depthThen = dot(then.pointR - previousCameraPos, previousCameraForward);
+  return vec4(now - then.window.xy, depthThen, then.inView ? 1.0 : 0.0);
 }

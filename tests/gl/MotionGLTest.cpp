@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <functional>
+#include <string>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -304,6 +307,93 @@ TEST(MotionGLTest, AnInstanceTurningAboutItsCentreMovesAsItsPointsDo) {
       }
     EXPECT_GT(checked, 150);
   }
+}
+
+// The motion the spatiotemporal filter reads (FrameSettings::denoise: the shade pass writes it into the
+// filter's target, shade_debug.glsl's denoiseMotion) against the same closed forms: a sideways camera move
+// shifts each point by its depth's pixels, its view depth then is the distance along the camera's axis, and it
+// lay in the last frame's view unless it came in at the frame's edge. The target is found by the label the
+// renderer gives it (the renderer has no accessor for a filter's internals).
+GLuint textureLabelled(const std::string& label) {
+  GLuint found = 0;
+  for (GLuint name = 1; name < 65536; ++name) {
+    if (glIsTexture(name) == GL_FALSE) continue;
+    char text[128] = {};
+    GLsizei length = 0;
+    glGetObjectLabel(GL_TEXTURE, name, sizeof text, &length, text);
+    if (std::string(text, static_cast<std::size_t>(length)) == label) {
+      EXPECT_EQ(found, 0u) << "two textures labelled " << label;
+      found = name;
+    }
+  }
+  return found;
+}
+
+std::vector<glm::vec4> filtersMotion() {
+  const GLuint motion = textureLabelled("denoise: motion");
+  EXPECT_NE(motion, 0u) << "no texture labelled 'denoise: motion'";
+  std::vector<glm::vec4> texels(static_cast<std::size_t>(kW) * kH, glm::vec4(-7.0f));
+  if (motion != 0)
+    glGetTextureImage(motion, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(texels.size() * sizeof(glm::vec4)),
+                      texels.data());
+  return texels;
+}
+
+TEST(MotionGLTest, TheFiltersMotionHasTheDepthThenAndSaysWhatCameIntoTheFrame) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto r = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(r);
+  Scene scene = wallAndBox(glm::dvec3(0.0));
+  ASSERT_TRUE(r->setScene(scene).ok());
+  FrameSettings s = *presetSettings("hybrid-full");
+  s.width = kW;
+  s.height = kH;
+  s.denoise = true;
+  Camera camera = scene.camera;
+  ASSERT_TRUE(r->render(camera, s).error.empty());
+  for (const glm::vec4& m : filtersMotion()) {
+    ASSERT_EQ(m.w, 0.0f) << "the first frame: no last frame, nothing in its view";
+  }
+  constexpr double dx = 0.1;
+  camera.posW.x += static_cast<float>(dx);
+  camera.targetW.x += static_cast<float>(dx);
+  ASSERT_TRUE(r->render(camera, s).error.empty());
+  const std::vector<glm::vec4> motion = filtersMotion();
+  gltest::savePng("motion-filter.png", r->readImage());
+  const double stepX = static_cast<double>(static_cast<float>(dx));
+  const double wallShift = -stepX * pixelsPerUnit(kCameraZ - kWallZ), boxShift = -stepX * pixelsPerUnit(kCameraZ - kBoxFront);
+  const glm::dvec4 box = boxRect(stepX, 0.0), boxBefore = boxRect(0.0, 0.0);
+  int wall = 0, front = 0, cameIn = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const glm::vec4 m = motion[static_cast<std::size_t>(y) * kW + x];
+      if (inside(box, x, y, 1.0)) {
+        EXPECT_NEAR(m.x, boxShift, 2e-3) << x << "," << y;
+        EXPECT_NEAR(m.y, 0.0, 2e-3) << x << "," << y;
+        EXPECT_NEAR(m.z, kCameraZ - kBoxFront, 1e-4) << x << "," << y;
+        EXPECT_EQ(m.w, 1.0f) << x << "," << y;
+        ++front;
+      } else if (!near(box, x, y, 1.0) && !near(boxBefore, x, y, 1.0)) {
+        EXPECT_NEAR(m.x, wallShift, 2e-3) << x << "," << y;
+        EXPECT_NEAR(m.y, 0.0, 2e-3) << x << "," << y;
+        EXPECT_NEAR(m.z, kCameraZ - kWallZ, 1e-4) << x << "," << y;
+        // Where the point lay then: the pixel's centre less the shift, within the frame's sub-pixel offset
+        // (half a pixel at most): decided only a margin clear of the frame's edge.
+        const double then = x + 0.5 - wallShift;
+        if (then > kW + 0.6) {
+          EXPECT_EQ(m.w, 0.0f) << "came into the frame but said to be in the last one's view: " << x << "," << y;
+          ++cameIn;
+        } else if (then < kW - 0.6) {
+          EXPECT_EQ(m.w, 1.0f) << x << "," << y;
+          ++wall;
+        }
+      }
+    }
+  EXPECT_GT(front, 100);
+  EXPECT_GT(wall, 10000);
+  std::printf("the filter's motion: %d box front, %d wall pixels in the last view, %d came into the frame\n", front,
+              wall, cameIn);
+  EXPECT_GE(cameIn, kH) << "the move brings in a column or two at the frame's right edge";
 }
 
 // Without a last frame to measure from every pixel is new: after the scene is set again, at a new size, and
