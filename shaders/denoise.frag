@@ -54,7 +54,7 @@ layout(binding = TD_UNIT_DENOISE_MOMENTS) uniform TD_SAMPLER_DENOISE_MOMENTS mom
 layout(binding = TD_UNIT_DENOISE_INPUT) uniform TD_SAMPLER_DENOISE_TEXEL inputTex;
 layout(binding = TD_UNIT_DENOISE_EXACT) uniform TD_SAMPLER_DENOISE_EXACT exactTex;
 layout(binding = TD_UNIT_DENOISE_FILTERED) uniform TD_SAMPLER_DENOISE_RADIANCE filteredTex;
-layout(binding = TD_UNIT_DENOISE_TAA_HISTORY) uniform TD_SAMPLER_DENOISE_RADIANCE taaHistoryTex;  // bilinear
+layout(binding = TD_UNIT_DENOISE_TAA_HISTORY) uniform TD_SAMPLER_DENOISE_RADIANCE taaHistoryTex;  // linear: the spline's taps
 
 #if TD_DENOISE_STAGE == 2 || TD_DENOISE_STAGE == 4
 layout(location = 0) out TD_OUTPUT_DENOISE_RADIANCE outFiltered;
@@ -435,6 +435,32 @@ vec3 upsample(ivec2 p, uvec4 guide, out bool drop) {
 
 // ---- stage 3: temporal anti-aliasing ----
 #if TD_DENOISE_STAGE == 3
+// The last frame's anti-aliased radiance at window position `at` (pixels, centres at .5) through a Catmull-Rom
+// spline along each axis (the 4×4 texels around it), which keeps an edge as sharp as the texels hold it where a
+// bilinear tap blurs it by up to half a pixel each frame. Its two middle weights along an axis are both positive,
+// so one bilinear tap between their texels, at their weights' ratio, gives their sum: 3 taps an axis, and of
+// the 3×3 the four corners (each the product of two outer weights, at most 0.07² of the whole) are left out and
+// the rest renormalized: 5 bilinear taps. Its outer weights are negative: it overshoots at a step, which the
+// neighbourhood's clamp takes back.
+vec3 historyCatmullRom(vec2 at) {
+  vec2 texel = at - 0.5;
+  vec2 i = floor(texel), f = texel - i;
+  // The spline's weights for texels i - 1, i, i + 1 and i + 2 at the fraction f between i and i + 1.
+  vec2 wBefore = f * (-0.5 + f * (1.0 - 0.5 * f));
+  vec2 wNear = 1.0 + f * f * (-2.5 + 1.5 * f);
+  vec2 wFar = f * (0.5 + f * (2.0 - 1.5 * f));
+  vec2 wAfter = f * f * (-0.5 + 0.5 * f);
+  vec2 wMiddle = wNear + wFar;
+  vec2 size = vec2(frameSize);
+  vec2 before = (i - 0.5) / size, middle = (i + 0.5 + wFar / wMiddle) / size, after = (i + 2.5) / size;
+  vec3 sum = textureLod(taaHistoryTex, middle, 0.0).rgb * (wMiddle.x * wMiddle.y) +
+             textureLod(taaHistoryTex, vec2(before.x, middle.y), 0.0).rgb * (wBefore.x * wMiddle.y) +
+             textureLod(taaHistoryTex, vec2(after.x, middle.y), 0.0).rgb * (wAfter.x * wMiddle.y) +
+             textureLod(taaHistoryTex, vec2(middle.x, before.y), 0.0).rgb * (wMiddle.x * wBefore.y) +
+             textureLod(taaHistoryTex, vec2(middle.x, after.y), 0.0).rgb * (wMiddle.x * wAfter.y);
+  return sum / (wMiddle.x * (wMiddle.y + wBefore.y + wAfter.y) + wMiddle.y * (wBefore.x + wAfter.x));
+}
+
 void antiAlias(ivec2 p) {
   vec4 centre = texelFetch(filteredTex, p, 0);
   vec3 current = centre.rgb;
@@ -463,12 +489,15 @@ void antiAlias(ivec2 p) {
   bool fresh = !background && centre.a > 0.5;
   if (history != 0 && !fresh && (background || m.w > 0.5)) {
     vec2 motion = background ? vec2(0.0) : m.xy;
-    vec3 past = clamp(textureLod(taaHistoryTex, (vec2(p) + 0.5 - motion) / vec2(frameSize), 0.0).rgb, lo, hi);
+    // (A bilinear tap's blur adds up over the history: with it, area-lights.json's floor with alpha stripes,
+    // panning, was FLIP 0.032 from the truth, behind four raw samples' 0.027; with the spline 0.024.)
+    vec3 past = clamp(historyCatmullRom(vec2(p) + 0.5 - motion), lo, hi);
     // The new frame's share: 0.15 up to 1.5 pixels of motion a frame (the jittered frames' sub-pixel samples
-    // add up over ~12 frames), rising to 0.5 at 3 and beyond (each frame's bilinear tap of the history blurs
-    // it, and over a long history the blur costs more than the averaging gains; the camera's jitter fades over
-    // the same range: render/Accumulation.h's filteredJitterScale). In the game's run, 2 to 16 pixels a frame,
-    // FLIP 0.037 at 0.15 throughout, 0.030 so.
+    // add up over ~12 frames), rising to 0.5 at 3 and beyond (each frame's resampling of the history blurs it,
+    // the spline less than a bilinear tap but still, and over a long history the blur costs more than the
+    // averaging gains; the camera's jitter fades over the same range: render/Accumulation.h's
+    // filteredJitterScale). In the game's run, 2 to 16 pixels a frame, FLIP 0.037 at 0.15 throughout, 0.030 so
+    // (with a bilinear tap; with the spline, 0.3 beyond 3 pixels measured 0.0365 against 0.5's 0.0351).
     result = mix(past, current, mix(0.15, 0.5, clamp((length(motion) - 1.5) / 1.5, 0.0, 1.0)));
   }
   outLinear = vec4(result, 1.0);
