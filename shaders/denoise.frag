@@ -439,9 +439,10 @@ vec3 upsample(ivec2 p, uvec4 guide, out bool drop) {
 // spline along each axis (the 4×4 texels around it), which keeps an edge as sharp as the texels hold it where a
 // bilinear tap blurs it by up to half a pixel each frame. Its two middle weights along an axis are both positive,
 // so one bilinear tap between their texels, at their weights' ratio, gives their sum: 3 taps an axis, and of
-// the 3×3 the four corners (each the product of two outer weights, at most 0.07² of the whole) are left out and
-// the rest renormalized: 5 bilinear taps. Its outer weights are negative: it overshoots at a step, which the
-// neighbourhood's clamp takes back.
+// the 3×3 the four corners (each the product of two outer weights: 1.6 % of the whole together at most) are left
+// out and the rest renormalized: 5 bilinear taps. Its outer weights are negative: it overshoots at a step, which
+// the neighbourhood's clamp takes back; and an infinity in the history (a filtered value past half precision's
+// largest) would meet them as inf - inf: such a history counts as none.
 vec3 historyCatmullRom(vec2 at) {
   vec2 texel = at - 0.5;
   vec2 i = floor(texel), f = texel - i;
@@ -490,8 +491,10 @@ void antiAlias(ivec2 p) {
   if (history != 0 && !fresh && (background || m.w > 0.5)) {
     vec2 motion = background ? vec2(0.0) : m.xy;
     // (A bilinear tap's blur adds up over the history: with it, area-lights.json's floor with alpha stripes,
-    // panning, was FLIP 0.032 from the truth, behind four raw samples' 0.027; with the spline 0.024.)
-    vec3 past = clamp(historyCatmullRom(vec2(p) + 0.5 - motion), lo, hi);
+    // panning, was FLIP 0.032 from the truth, behind four raw samples' 0.027; with the spline 0.0245.)
+    vec3 past = historyCatmullRom(vec2(p) + 0.5 - motion);
+    if (any(isnan(past)) || any(isinf(past))) past = current;  // (a GLSL clamp of a NaN is undefined)
+    past = clamp(past, lo, hi);
     // The new frame's share: 0.15 up to 1.5 pixels of motion a frame (the jittered frames' sub-pixel samples
     // add up over ~12 frames), rising to 0.5 at 3 and beyond (each frame's resampling of the history blurs it,
     // the spline less than a bilinear tap but still, and over a long history the blur costs more than the

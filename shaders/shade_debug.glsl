@@ -84,10 +84,6 @@ vec3 projectPixel(mat4 clipFromViewRot, vec3 camPos, vec3 p) {
   return vec3((ndc.xy * 0.5 + 0.5) * vec2(frameSize), ndc.z);
 }
 
-// The pixel's motion since the last frame, the point it shows moved back by its instance's previous-from-
-// current transform (identity for what did not move): red and green 0.5 + motion / 64 pixels (this frame's
-// position less the last's, unjittered), blue 1 where the last frame did not see this point (off screen,
-// another instance there, or the same instance at another depth: disoccluded) or no last frame is known.
 // Where instance id.x - 1 had the render-space point posR in the last frame (render space).
 vec3 previousPoint(uvec2 id, vec3 posR) {
   uint i = id.x - 1u;
@@ -113,6 +109,10 @@ PointBefore pointBefore(uvec2 id, vec3 posR) {
   return b;
 }
 
+// The pixel's motion since the last frame, the point it shows moved back by its instance's previous-from-
+// current transform (identity for what did not move): red and green 0.5 + motion / 64 pixels (this frame's
+// position less the last's, unjittered), blue 1 where the last frame did not see this point (off screen,
+// another instance there, or the same instance at another depth: disoccluded) or no last frame is known.
 vec3 motionView(uvec2 id, vec3 posR) {
   vec3 now = projectPixel(clipFromViewRotation, cameraPosW, posR);
   if (motionHistory == 0) return vec3(0.5, 0.5, 1.0);
