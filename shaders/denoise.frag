@@ -442,7 +442,7 @@ vec3 upsample(ivec2 p, uvec4 guide, out bool drop) {
 // the 3×3 the four corners (each the product of two outer weights: 1.6 % of the whole together at most) are left
 // out and the rest renormalized: 5 bilinear taps. Its outer weights are negative: it overshoots at a step, which
 // the neighbourhood's clamp takes back; and an infinity in the history (a filtered value past half precision's
-// largest) would meet them as inf - inf: such a history counts as none.
+// largest) would meet them as inf - inf: this frame's own sample then stands in for the history.
 vec3 historyCatmullRom(vec2 at) {
   vec2 texel = at - 0.5;
   vec2 i = floor(texel), f = texel - i;

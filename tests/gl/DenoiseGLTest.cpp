@@ -1089,18 +1089,18 @@ TEST(Denoise, TheAntiAliasingsShareOfTheNewFrameRisesWithTheMotion) {
 
 
 // The anti-aliasing's history is resampled through a spline that holds a linear ramp (a Catmull-Rom spline
-// reproduces linear functions; its five-tap form, corners left out and the rest renormalized, within 1e-4 of the
-// ramp here): a noiseless ramp of 0.02 a pixel along x and 0.006 along y (GL rows), then a second frame whose
-// motion (0.67, 0.67) points each pixel a third of the way between texels (where the spline's outer weights
-// are largest), its guide of another instance so that the filter's own history is not found and the filtered
+// reproduces linear functions; its five-tap form, corners left out and the rest renormalized, within 1.1e-4 of
+// the ramp here): a noiseless ramp of 0.02 a pixel along x and 0.006 along y (GL rows), then a second frame whose
+// motion (0.67, 0.67) points each pixel a third of the way between texels (where the spline's weight before
+// is largest and a middle tap halfway is wrong), its guide of another instance so that the filter's own history is not found and the filtered
 // frame is the ramp again (the anti-aliasing's history does not look at instances). Each pixel is then 0.85 of
 // the ramp 0.67 pixel back on each axis plus 0.15 of the ramp (the share under 1.5 pixels a frame), inside the
 // neighbourhood's box (the ramp's larger step each side). Worked out for the mutations: the weights left
-// unnormalized at least 0.0019 off at every pixel checked, an outer weight dropped 0.0021, the middle taps
+// unnormalized at least 0.0018 off at every pixel checked, an outer weight dropped 0.0021, the middle taps
 // halfway between their texels 0.0052.
 TEST(Denoise, TheAntiAliasingsHistoryIsResampledWithoutLosingARamp) {
   TD_REQUIRE_GL_CONTEXT();
-  constexpr int kSw = 32, kSh = 24;  // (values under 0.66: half precision's steps 5e-4 at most)
+  constexpr int kSw = 32, kSh = 24;  // (values under 1, 0.81 at most: half precision's steps 5e-4 at most)
   constexpr float kDepth = 5.0f;
   auto f = synthetic::makeFilter(kSw, kSh);
   ASSERT_TRUE(f.has_value());
