@@ -14,6 +14,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "GlTestUtil.h"
+#include "gl/GlObjects.h"
 #include "tandem/Primitives.h"
 
 namespace tandem {
@@ -318,10 +319,7 @@ GLuint textureLabelled(const std::string& label) {
   GLuint found = 0;
   for (GLuint name = 1; name < 65536; ++name) {
     if (glIsTexture(name) == GL_FALSE) continue;
-    char text[128] = {};
-    GLsizei length = 0;
-    glGetObjectLabel(GL_TEXTURE, name, sizeof text, &length, text);
-    if (std::string(text, static_cast<std::size_t>(length)) == label) {
+    if (gl::objectLabel(GL_TEXTURE, name) == label) {
       EXPECT_EQ(found, 0u) << "two textures labelled " << label;
       found = name;
     }

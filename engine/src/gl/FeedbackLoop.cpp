@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "gl/Gl.h"
+#include "gl/GlObjects.h"
 #include "tandem/Log.h"
 
 namespace tandem::gl {
@@ -48,13 +49,6 @@ GLenum bindingOf(GLenum samplerType) {
       return GL_TEXTURE_BINDING_2D_MULTISAMPLE_ARRAY;
     default: return 0;  // not a sampler, or a buffer texture
   }
-}
-
-std::string objectLabel(GLenum kind, GLuint id) {
-  char buf[256] = {};
-  GLsizei length = 0;
-  glGetObjectLabel(kind, id, sizeof buf, &length, buf);
-  return std::string(buf, static_cast<std::size_t>(std::max(length, 0)));
 }
 
 std::string describeObject(GLenum kind, GLuint id) {

@@ -213,4 +213,11 @@ void setSampling(const Texture& texture, GLenum minFilter, GLenum magFilter) {
   glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
+std::string objectLabel(GLenum kind, GLuint id) {
+  char buf[256] = {};
+  GLsizei length = 0;
+  glGetObjectLabel(kind, id, sizeof buf, &length, buf);
+  return std::string(buf, static_cast<std::size_t>(std::max(length, 0)));
+}
+
 }  // namespace tandem::gl

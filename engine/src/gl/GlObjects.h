@@ -120,6 +120,8 @@ constexpr std::size_t transferBytes(ChannelFormat format) {
 Result<void> checkFramebufferComplete(const Framebuffer& framebuffer, std::string_view label);
 /// "GL_OUT_OF_MEMORY", ..., or the value in hex for an error GL 4.5 does not define.
 std::string glErrorName(GLenum error);
+/// The label GL object `id` of `kind` (GL_TEXTURE, GL_FRAMEBUFFER, ...) was given, empty without one.
+std::string objectLabel(GLenum kind, GLuint id);
 /// "2048.1 MiB": memory sizes in messages.
 std::string formatBytes(std::size_t bytes);
 Texture createTexture2DArray(std::string_view label, GLenum internalFormat, int width, int height, int layers,
