@@ -248,23 +248,24 @@ void temporal() {
   // fetches: ~1.8 ms at 640x360 on a software GL.)
   float heaviest = 0.0;
   ivec2 from = ivec2(0);
-  if (holds) {
-    vec2 before = toGrid(vec2(at) + 0.5 - m.xy);
-    vec2 base = floor(before - 0.5);
-    vec2 f = before - 0.5 - base;
-    for (int k = 0; k < 4; ++k) {
-      ivec2 o = ivec2(k & 1, k >> 1);
-      ivec2 q = ivec2(base) + o;
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, gridSize))) continue;
-      uvec4 h = texelFetch(historyTex, q, 0);
-      float depthThen = uintBitsToFloat(h.z);
-      if (tdInstanceTag(h.w) != tag || abs(depthThen - m.z) > 0.03 * m.z || dot(tdUnpackNormal(h.w), N) < 0.9) continue;
-      float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y);
-      past += w * illumination(h);
-      weight += w;
-      from = w > heaviest ? q : from;
-      heaviest = max(heaviest, w);
-    }
+  // (Without branches: a software GL runs every side of one its lanes disagree on, and a branch inside a loop
+  // costs it masks besides; a tap off the grid reads the edge and weighs nothing.)
+  vec2 before = toGrid(vec2(at) + 0.5 - m.xy);
+  vec2 base = floor(before - 0.5);
+  vec2 f = before - 0.5 - base;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 o = ivec2(k & 1, k >> 1);
+    ivec2 want = ivec2(base) + o;
+    ivec2 q = clamp(want, ivec2(0), gridSize - 1);
+    uvec4 h = texelFetch(historyTex, q, 0);
+    float depthThen = uintBitsToFloat(h.z);
+    bool keep = holds && q == want && tdInstanceTag(h.w) == tag && abs(depthThen - m.z) <= 0.03 * m.z &&
+                dot(tdUnpackNormal(h.w), N) >= 0.9;
+    float w = keep ? (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y) : 0.0;
+    past += w * illumination(h);
+    weight += w;
+    from = w > heaviest ? q : from;
+    heaviest = max(heaviest, w);
   }
   float len = 1.0;
   // Whether the anti-aliasing's history must go too: the point was not in the last frame, its light may have
