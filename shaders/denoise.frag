@@ -248,8 +248,9 @@ void temporal() {
   // fetches: ~1.8 ms at 640x360 on a software GL.)
   float heaviest = 0.0;
   ivec2 from = ivec2(0);
-  // (Without branches: a software GL runs every side of one its lanes disagree on, and a branch inside a loop
-  // costs it masks besides; a tap off the grid reads the edge and weighs nothing.)
+  // (Without branches: a software GL runs both sides of a branch its SIMD lanes disagree on, and a branch in a
+  // loop costs it masks besides. Every pixel fetches the four taps; a tap off the grid (it reads the edge), one
+  // not kept and every tap of a pixel without a history weigh nothing, which costs it less than the masks.)
   vec2 before = toGrid(vec2(at) + 0.5 - m.xy);
   vec2 base = floor(before - 0.5);
   vec2 f = before - 0.5 - base;
