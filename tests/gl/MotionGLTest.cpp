@@ -259,7 +259,9 @@ TEST(MotionGLTest, EachFrameMovesFromTheOneJustBeforeIt) {
       c.targetW.x = x;
       ASSERT_TRUE(r->render(c, s).error.empty());
     }
-    if (pipelined) ASSERT_TRUE(r->finish().has_value());
+    if (pipelined) {
+      ASSERT_TRUE(r->finish().has_value());
+    }
     const Motion m = decode(*r);
     const double step = static_cast<double>(0.3f) - static_cast<double>(0.1f);
     EXPECT_NEAR(m.at(10, 10).x, -step * pixelsPerUnit(kCameraZ - kWallZ), 2e-3);

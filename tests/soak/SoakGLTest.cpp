@@ -61,7 +61,9 @@ TEST(Soak, TwoThousandFramesWithReloadsKeepResourcesFlat) {
     bob(frame);
     FrameStats stats = renderer->render(original.camera, settings);
     ASSERT_TRUE(stats.pipelined) << "frame " << frame;
-    if (!stats.pipelineFilling) ASSERT_GT(stats.rays.shadow, 0u) << "frame " << frame << " showed no shadow rays";
+    if (!stats.pipelineFilling) {
+      ASSERT_GT(stats.rays.shadow, 0u) << "frame " << frame << " showed no shadow rays";
+    }
     if (frame % kReloadEvery != 0) continue;
     if (frame == kFailingReload) {
       // A scene that fails validation: the renderer must refuse it and keep the previous one.

@@ -47,6 +47,9 @@ struct ToonStep {
   float level = 0.0f;      // diffuse factor, usually in [0, 1]
 };
 
+/// A material's ramp unless it names its own: dark, mid and lit bands.
+inline constexpr ToonStep kDefaultToonRamp[] = {{-1.0f, 0.15f}, {0.1f, 0.55f}, {0.6f, 1.0f}};
+
 /// Whitted / Phong material. Colours are linear RGB.
 /// Local shading: I = ka·Ia + Σj vis_j·[kd·Idj·max(N·Lj,0) + ks·Isj·max(Rj·V,0)^ns] + emission.
 /// Whitted sum:   I = local + kr·S + kt·T (or the Fresnel-weighted form, see FrameSettings::fresnelWeighted).
@@ -66,7 +69,8 @@ struct Material {
   float roughness = 0.0f;
   glm::vec3 emission{0.0f};
   ShadingModel shading = ShadingModel::Phong;
-  std::vector<ToonStep> toonRamp{{-1.0f, 0.15f}, {0.1f, 0.55f}, {0.6f, 1.0f}};
+  // (From a named array: GCC 12 at -O1 takes the temporary array behind a braced list for uninitialized.)
+  std::vector<ToonStep> toonRamp = std::vector<ToonStep>(std::begin(kDefaultToonRamp), std::end(kDefaultToonRamp));
   // Procedural checkerboard (the Whitted floor): kd and kd2 alternate in squares of 1/checkerFrequency
   // texture units; 0 turns it off.
   glm::vec3 kd2{0.0f};
