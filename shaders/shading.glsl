@@ -114,11 +114,13 @@ TD_FN vec2 tdSobol02(uint index, uint shiftX, uint shiftY) {
   uint y = 0u;
   uint vx = 0x80000000u;
   uint vy = 0x80000000u;
+  // The index's set bits select the direction numbers through a mask, not a branch: a CPU mispredicts a
+  // branch on each bit of a hashed index about half the time (the ray pass spent twice as long per sample so),
+  // and a software GL runs both sides where its lanes disagree.
   for (uint i = index; i != 0u; i >>= 1u) {
-    if ((i & 1u) != 0u) {
-      x ^= vx;
-      y ^= vy;
-    }
+    uint take = 0u - (i & 1u);
+    x ^= vx & take;
+    y ^= vy & take;
     vx >>= 1u;
     vy ^= vy >> 1u;
   }

@@ -14,8 +14,11 @@ namespace tandem {
 inline glm::uvec2 sobol02(std::uint32_t i) {
   std::uint32_t x = 0, y = 0;
   std::uint32_t vx = 1u << 31, vy = 1u << 31;
-  for (; i != 0; i >>= 1, vx >>= 1, vy ^= vy >> 1)
-    if ((i & 1u) != 0) x ^= vx, y ^= vy;
+  for (; i != 0; i >>= 1, vx >>= 1, vy ^= vy >> 1) {
+    const std::uint32_t take = 0u - (i & 1u);  // a mask, not a branch (shading.glsl's tdSobol02 says why)
+    x ^= vx & take;
+    y ^= vy & take;
+  }
   return {x, y};
 }
 
