@@ -47,6 +47,12 @@ MUTATIONS = [
     ("aces-curve-constant", "shaders/shading.glsl",
      "vec3 num = c * (2.51f * c + vec3(0.03f));", "vec3 num = c * (2.41f * c + vec3(0.03f));",
      "tandem-numerics-tests", "Oracles.*"),
+    ("light-samples-sobol-mask-one-bit", "shaders/shading.glsl",
+     "uint take = 0u - (i & 1u);", "uint take = i & 1u;",
+     "tandem-unit-tests", "AreaLight.EachFramesSamplesAreStratified*"),
+    ("jitter-sobol-mask-one-bit", "engine/src/core/Sampling.h",
+     "const std::uint32_t take = 0u - (i & 1u);", "const std::uint32_t take = i & 1u;",
+     "tandem-unit-tests", "Sampling.*"),
     # Rays: media, Snell, offsets, shadow-ray sides.
     ("inside-outside-ignored", "engine/src/rt/Whitted.cpp",
      "float etaI = hit.backFace ? ior : 1.0f;\n    float etaT = hit.backFace ? 1.0f : ior;",
