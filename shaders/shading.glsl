@@ -114,9 +114,10 @@ TD_FN vec2 tdSobol02(uint index, uint shiftX, uint shiftY) {
   uint y = 0u;
   uint vx = 0x80000000u;
   uint vy = 0x80000000u;
-  // The index's set bits select the direction numbers through a mask, not a branch: a CPU mispredicts a
-  // branch on each bit of a hashed index about half the time (the ray pass spent twice as long per sample so),
-  // and a software GL runs both sides where its lanes disagree.
+  // The index's set bits select the direction numbers through a mask, not a branch: the bits change from one
+  // sample's index to the next, a CPU mispredicts a branch on them often (with the branch, the ray pass's
+  // light sample took 26 % of an area-light frame's time, 21.6 % without), and a software GL runs both sides
+  // where its lanes disagree.
   for (uint i = index; i != 0u; i >>= 1u) {
     uint take = 0u - (i & 1u);
     x ^= vx & take;
