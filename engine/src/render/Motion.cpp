@@ -189,9 +189,9 @@ void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame&
   // it small; merging far-apart things into slabs flagged every point of a floor). Quadratic in the boxes
   // per merge: above kGreedy of them, first runs of neighbours along the axis their centres spread most,
   // each run's union one box. The instance becomes unknown (-1) when boxes of two merge.
-  constexpr std::size_t kNoInstance = ~std::size_t{0};
+  static constexpr std::size_t kNoInstance = ~std::size_t{0};
   constexpr std::size_t kGreedy = 32;
-  auto unite = [kNoInstance](Moved a, const Moved& b) {
+  auto unite = [](Moved a, const Moved& b) {
     a.box.add(b.box);
     if (a.instance != b.instance) a.instance = kNoInstance;
     return a;
