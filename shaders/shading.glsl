@@ -114,10 +114,10 @@ TD_FN vec2 tdSobol02(uint index, uint shiftX, uint shiftY) {
   uint y = 0u;
   uint vx = 0x80000000u;
   uint vy = 0x80000000u;
-  // The index's set bits select the direction numbers through a mask, not a branch: the bits change from one
-  // sample's index to the next, a CPU mispredicts a branch on them often (with the branch, the ray pass's
-  // light sample took 26 % of an area-light frame's time, 21.6 % without), and a software GL runs both sides
-  // where its lanes disagree.
+  // The index's set bits select the direction numbers through a mask, not a branch: over an accumulation the
+  // indices run to hundreds and a CPU mispredicts a branch on their bits often (the ray pass's light sample took
+  // 26 % of 64 accumulated frames' time with it, 21.6 % without; one frame's few indices it predicts), and a
+  // software GL runs both sides where its lanes disagree.
   for (uint i = index; i != 0u; i >>= 1u) {
     uint take = 0u - (i & 1u);
     x ^= vx & take;
