@@ -7,11 +7,12 @@ target_compile_options(tandem_warnings INTERFACE
 
 add_library(tandem_sanitize INTERFACE)
 if(TANDEM_SANITIZE)
-  # -g1 (clang's -gline-tables-only; last after the build type's -g, so it wins): the files, lines and inlined
-  # frames a sanitizer's report names, without the types and locals a debugger needs, which made a file of the
-  # sanitizer builds up to 30 % longer to compile (clang 14 with ASan: RayTracer.cpp 20.0 -> 16.9 s,
-  # DenoiseGLTest.cpp at -O1 26.0 -> 19.9 s).
-  target_compile_options(tandem_sanitize INTERFACE -fsanitize=${TANDEM_SANITIZE} -fno-omit-frame-pointer -g1)
+  # -g1 (line tables with gcc and clang, clang's -gline-tables-only; after the build type's -g, so it wins): the
+  # files, lines and inlined frames a sanitizer's report names, without the types and locals a debugger needs,
+  # which made a file of the sanitizer builds up to 30 % longer to compile (clang 14 with ASan: RayTracer.cpp
+  # 16.9 -> 20.0 s, DenoiseGLTest.cpp at -O1 19.9 -> 26.0 s). A Debug build keeps them: it is for a debugger.
+  target_compile_options(tandem_sanitize INTERFACE -fsanitize=${TANDEM_SANITIZE} -fno-omit-frame-pointer
+                                                   $<IF:$<CONFIG:Debug>,-g,-g1>)
   target_link_options(tandem_sanitize INTERFACE -fsanitize=${TANDEM_SANITIZE})
 endif()
 

@@ -1,6 +1,6 @@
 // The spatiotemporal filter (FrameSettings::denoise, docs/denoise.md) on assets/scenes/area-lights.json
 // (three area lights, a mirror and a glass ball), against the converged image of the same view (64 jittered
-// frames of 8 light samples each): with the camera moving, one light sample a frame filtered beats four raw
+// frames of 8 light samples each; fewer for the no-ghost tests: expectNoGhost): with the camera moving, one light sample a frame filtered beats four raw
 // ones; a light switched off, an object removed and a region the camera uncovers are, 4 frames later, as near
 // the new truth as a filter that never saw the old state (no ghost); what is exact (point lights: hard
 // shadows, mirrors) stays what the rays answered; 1e6 from the origin the frames are the origin's; the stats
@@ -68,9 +68,9 @@ FrameSettings settings(const Frame& f, int lightSamples, bool denoise, int raySc
 using gltest::drawFrame;
 
 // The converged image of `camera`'s view of what `f` holds now: `frames` jittered frames of 8 light samples (at
-// 64, 512 per light and pixel, the pixel's area sampled as the filter's jitter samples it). The tests that
-// measure a filtered frame against it take 64; the no-ghost tests' two truths, which are a quarter and half of
-// the default suite's time at 64, take fewer (expectNoGhost says why that is enough).
+// 64, 512 per light and pixel, the pixel's area sampled as the filter's jitter samples it). Most tests take
+// 64; the no-ghost tests 16 for the old state and 32 for the new (expectNoGhost says why), the spinning blocks'
+// test 32 for both: the truths were most of those tests' time.
 Image truth(Frame& f, const Camera& camera, int rayScale = 1, int frames = 64) {
   FrameSettings s = settings(f, 8, false, rayScale);
   s.accumulate = frames;
@@ -228,8 +228,8 @@ struct Change {
 // The fourth frame may be at most `factor` times as far from the new truth as the fresh start's, plus `plus`.
 // The old state's truth only marks where the change shows (the old and the new state are 0.24-0.61 apart there,
 // the threshold 0.1): 16 frames. The new truth, against which the ghost and the fresh start are both measured
-// (its own noise adds to both alike): 32. Measured 2026-11-29 on llvmpipe against 64-frame truths, every
-// region's size and every figure the tests print moved by less than 1.5 %, at less than half the time.
+// (its own noise adds to both alike): 32. Against 64-frame truths (llvmpipe, 2026-11-29) every region's size and
+// every figure these tests print moved by less than 1.5 %; the tests take less than half the time.
 void expectNoGhost(GlContext& context, const Change& change, double factor = 1.1, double plus = 0.005) {
   Scene scene = sceneFile(change.scene);
   if (change.setUp) change.setUp(scene);
@@ -371,7 +371,7 @@ TEST(Denoise, NoGhostFourFramesAfterAnObjectIsRemoved) {
 // A tighter bound than the others': the change is small, and so is what a test of the light's centre alone
 // leaves behind (llvmpipe: 0.0557 against the fresh start's 0.0562, bound 0.0590; testing the centre alone
 // 0.0603, the dropped-history flag lost in the iterations 0.0682, the anti-aliasing's history unclamped 0.0635
-// against 0.0627).
+// against its bound 0.0627, its fresh start 0.0598).
 TEST(Denoise, NoGhostFourFramesAfterAnObjectStepsAsideInASoftShadow) {
   TD_REQUIRE_GL_CONTEXT();
   expectNoGhost(*glContext_, kObjectStepped, 1.05, 0.0);
