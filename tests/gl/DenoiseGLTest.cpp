@@ -1,9 +1,9 @@
 // The spatiotemporal filter (FrameSettings::denoise, docs/denoise.md) on assets/scenes/area-lights.json
 // (three area lights, a mirror and a glass ball), against the converged image of the same view (64 jittered
-// frames of 8 light samples each; fewer for the no-ghost tests: expectNoGhost): with the camera moving, one light sample a frame filtered beats four raw
-// ones; a light switched off, an object removed and a region the camera uncovers are, 4 frames later, as near
-// the new truth as a filter that never saw the old state (no ghost); what is exact (point lights: hard
-// shadows, mirrors) stays what the rays answered; 1e6 from the origin the frames are the origin's; the stats
+// frames of 8 light samples each; fewer for the no-ghost tests: expectNoGhost): with the camera moving, one
+// light sample a frame filtered beats four raw ones; a light switched off, an object removed and a region the
+// camera uncovers are, 4 frames later, as near the new truth as a filter that never saw the old state (no
+// ghost); what is exact (point lights: hard shadows, mirrors) stays what the rays answered; 1e6 from the origin the frames are the origin's; the stats
 // say what was reconstructed; an accumulation at rest still converges on the exact mean; switching the filter
 // off releases it. On a ray grid coarser than the frame, gl::DenoisePass alone on synthetic inputs: the history
 // is found where the grid pixel's point was, and the upsampling keeps each instance's light to itself.
@@ -324,7 +324,8 @@ const Change kReflectionRemoved = removing("reflection-removed", "glossy.json", 
 // floor's and the neighbouring balls' history is the test of what moved against their glossy lobes (the cone
 // about the mirror direction that holds the lobe; for the frosted ball's transmission, every moved box).
 // (Without it, left to the statistical test: llvmpipe 0.0702 against the fresh start's 0.0532, bound 0.0635;
-// with it 0.0591; against the truths expectNoGhost now draws, with it 0.0598 against 0.0528, bound 0.0631.)
+// with it 0.0591, all against 64-frame truths; against expectNoGhost's, with it 0.0598 against 0.0528, bound
+// 0.0631.)
 Change reflectionRemovedNoShadow() {
   Change c = removing("reflection-removed-no-shadow", "glossy.json", kSatin);
   c.setUp = [](Scene& s) {
@@ -335,8 +336,8 @@ Change reflectionRemovedNoShadow() {
 // glossy.json with a point lamp beside the softbox, switched off: the point light itself goes past the filter
 // where it lights a point, but what the glossy floor and balls reflect of what it lit is in their filtered
 // light, and the renderer knows that it changed. (With the glossy history kept through such a change, left to
-// the statistical test: llvmpipe 0.0672 against the fresh start's 0.0372, bound 0.0459; dropped 0.0430; against
-// the truths expectNoGhost now draws, dropped 0.0429 against 0.0370, bound 0.0457.)
+// the statistical test: llvmpipe 0.0672 against the fresh start's 0.0372, bound 0.0459; dropped 0.0430, all
+// against 64-frame truths; against expectNoGhost's, dropped 0.0429 against 0.0370, bound 0.0457.)
 constexpr std::uint32_t kLamp = 2;  // after glossy.json's two lights
 Change lampOff() {
   Change c{"lamp-off", "glossy.json",
