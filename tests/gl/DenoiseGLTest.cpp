@@ -5,8 +5,9 @@
 // camera uncovers are, 4 frames later, as near the new truth as a filter that never saw the old state (no
 // ghost); what is exact (point lights: hard shadows, mirrors) stays what the rays answered; 1e6 from the
 // origin the frames are the origin's; the stats say what was reconstructed; an accumulation at rest still
-// converges on the exact mean; switching the filter off releases it. On a ray grid coarser than the frame, gl::DenoisePass alone on synthetic inputs: the history
-// is found where the grid pixel's point was, and the upsampling keeps each instance's light to itself.
+// converges on the exact mean; switching the filter off releases it. On a ray grid coarser than the frame,
+// gl::DenoisePass alone on synthetic inputs: the history is found where the grid pixel's point was, and the
+// upsampling keeps each instance's light to itself.
 #include <gtest/gtest.h>
 
 #include <algorithm>
