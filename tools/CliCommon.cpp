@@ -71,6 +71,10 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
   app.add_option("--light-samples", o.lightSamples,
                  "Area lights: samples per light per shaded point and frame, each with its own shadow ray when shadows "
                  "are by rays (accumulated frames add new ones); 1..32 (default " + std::to_string(d.lightSamples) + ")");
+  app.add_option("--light-samples-past-filter", o.lightSamplesPastFilter,
+                 "With --denoise on: area-light samples, at least --light-samples, at the points whose light the filter "
+                 "does not smooth (a mirror's or glass's ray hits, the reflection probes); 1..32 (default " +
+                     std::to_string(d.lightSamplesPastFilter) + ")");
   app.add_option("--gloss-samples", o.glossSamples,
                  "Glossy materials (roughness > 0): reflection and refraction rays per primary hit and frame, sampled "
                  "from the lobe (deeper bounces take one; accumulated frames draw new ones); 1..32 (default " +
@@ -212,6 +216,12 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
       return Error{"--light-samples: must be 1..32 samples per light per frame (accumulate frames for more), got " +
                    std::to_string(*o.lightSamples)};
     s.lightSamples = *o.lightSamples;
+  }
+  if (o.lightSamplesPastFilter) {
+    if (*o.lightSamplesPastFilter < 1 || *o.lightSamplesPastFilter > 32)
+      return Error{"--light-samples-past-filter: must be 1..32 samples per light per frame, got " +
+                   std::to_string(*o.lightSamplesPastFilter)};
+    s.lightSamplesPastFilter = *o.lightSamplesPastFilter;
   }
   if (o.glossSamples) {
     if (*o.glossSamples < 1 || *o.glossSamples > 32)

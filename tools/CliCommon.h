@@ -34,6 +34,7 @@ struct FrameOptions {
   std::optional<float> aaThreshold;
   std::optional<int> accumulate;
   std::optional<int> lightSamples;
+  std::optional<int> lightSamplesPastFilter;
   std::optional<int> glossSamples;
   std::optional<std::string> gi;  // none | path
   std::optional<std::string> radiosity;  // off | on

@@ -301,8 +301,13 @@ int main(int argc, char** argv) {
       std::printf("\n");
     }
     if (areaLights > 0)
-      std::printf("  area lights: %d, %d sample(s) each per point and frame%s\n", areaLights, settings.lightSamples,
-                  settings.shadows == EffectMode::Ray ? ", a shadow ray each" : "");
+      std::printf("  area lights: %d, %d sample(s) each per point and frame%s%s\n", areaLights, settings.lightSamples,
+                  settings.shadows == EffectMode::Ray ? ", a shadow ray each" : "",
+                  settings.unfilteredLightSamples() != settings.lightSamples
+                      ? (", " + std::to_string(settings.unfilteredLightSamples()) +
+                         " past the primary hit and in the probes (the light the filter does not smooth)")
+                            .c_str()
+                      : "");
     if (last.radiosity.active)
       std::printf("  radiosity: %d patches, %llu shots, unshot light %.4f of what entered, solved in %.0f ms (in "
                   "the first frame's prepare)\n",
@@ -372,7 +377,10 @@ int main(int argc, char** argv) {
                            {"samples_drawn", samples},             {"refined_pixel_samples", refined},
                            {"accumulated", last.accumulated}};
     }
-    if (areaLights > 0) j["area_lights"] = {{"count", areaLights}, {"light_samples", settings.lightSamples}};
+    if (areaLights > 0)
+      j["area_lights"] = {{"count", areaLights},
+                          {"light_samples", settings.lightSamples},
+                          {"light_samples_past_filter", settings.unfilteredLightSamples()}};
     if (last.radiosity.active)
       j["radiosity"] = {{"patches", last.radiosity.patches},
                         {"shots", last.radiosity.shots},

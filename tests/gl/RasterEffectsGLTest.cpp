@@ -315,6 +315,48 @@ TEST(RasterEffectsGLTest, ProbeReflectionMatchesRayTracedMirror) {
   EXPECT_GE(d.changedFromOff, d.compared * 9 / 10);
 }
 
+// With the spatiotemporal filter on, a probe's area lights are drawn with lightSamplesPastFilter samples (at
+// least lightSamples): what a probe shows goes past the filter. A filtered frame of one sample draws the
+// probes of a filtered frame of four, to the bit, and not those of one sample past the filter. The reflection
+// view (the filter off) shows the probes as the filtered frame drew them: nothing changed, none is redrawn.
+TEST(RasterEffectsGLTest, WithTheFilterTheProbesDrawTheLightSamplesPastIt) {
+  TD_REQUIRE_GL_CONTEXT();
+  Material mirror = gltest::plainMaterial({0.02f, 0.02f, 0.02f});
+  mirror.ka = glm::vec3(0.0f);
+  mirror.kr = 0.9f;
+  Scene scene = smallObjectOverCheckers(mirror);
+  scene.lights[1].type = LightType::Sphere;  // its samples' points on the sphere light the floor differently
+  scene.lights[1].radius = 2.0f;
+  scene.lights[1].posW = {1.0f, 3.0f, 1.0f};
+  auto probes = [&](int samples, int pastFilter) {
+    auto renderer = gltest::makeRenderer(*glContext_);
+    EXPECT_TRUE(renderer && renderer->setScene(scene).ok());
+    if (!renderer) return Image{};
+    FrameSettings s = gltest::rasterOnly(160, 160);
+    s.reflections = EffectMode::Raster;
+    s.maxDepth = 1;
+    s.denoise = true;
+    s.lightSamples = samples;
+    s.lightSamplesPastFilter = pastFilter;
+    EXPECT_TRUE(renderer->render(scene.camera, s).denoised);
+    s.debugView = DebugView::Reflection;
+    renderer->render(scene.camera, s);
+    return renderer->readImage();
+  };
+  const Image one = probes(1, 4), four = probes(4, 4), onePast = probes(1, 1);
+  gltest::savePng("probe-past-filter-one.png", one);
+  gltest::savePng("probe-past-filter-one-past-one.png", onePast);
+  auto differing = [](const Image& a, const Image& b) {
+    int n = 0;
+    for (std::size_t i = 0; i + 3 < std::min(a.rgba.size(), b.rgba.size()); i += 4)
+      n += a.rgba[i] != b.rgba[i] || a.rgba[i + 1] != b.rgba[i + 1] || a.rgba[i + 2] != b.rgba[i + 2] ? 1 : 0;
+    return n;
+  };
+  ASSERT_EQ(one.rgba.size(), four.rgba.size());
+  EXPECT_EQ(differing(one, four), 0) << "the probes of four samples";
+  EXPECT_GT(differing(one, onePast), 500) << "one sample past the filter draws other probes";
+}
+
 TEST(RasterEffectsGLTest, ProbeRefractionWithIorNearOneSeesStraightThrough) {
   TD_REQUIRE_GL_CONTEXT();
   // IOR ≈ 1: the refracted ray goes (nearly) straight on and F ≈ 0 but at the very rim, so one interface

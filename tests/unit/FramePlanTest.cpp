@@ -257,10 +257,55 @@ TEST(FramePlan, TheFilterRunsOnHybridFramesOfOneSampleInTheFinalView) {
   aa.aa = AntiAlias::Ssaa;
   EXPECT_FALSE(aa.resolved().denoise) << "a frame of several samples has its own";
   EXPECT_FALSE(planFrame(everything(), aa).denoise);
-  // The filter is not a ray input: a frame with it traces what one without it would.
+  // The filter is a ray input only by the light samples it leaves to the points past it: with four at every
+  // point a frame with it traces what one without it would.
   FrameSettings off = s;
   off.denoise = false;
   EXPECT_TRUE(sameRayInputs(planFrame(everything(), s), planFrame(everything(), off)));
+}
+
+// The light the filter does not smooth (a mirror's or glass's ray hits, the probes) is drawn with
+// lightSamplesPastFilter samples, at least lightSamples, where the filter runs; every other frame draws
+// lightSamples at every point.
+TEST(FramePlan, TheLightPastTheFilterDrawsItsOwnSamplesWhereTheFilterRuns) {
+  FrameSettings s = *presetSettings("hybrid-full");
+  s.lightSamples = 1;
+  EXPECT_EQ(s.lightSamplesPastFilter, 4) << "as many as an unfiltered frame's default";
+  EXPECT_EQ(s.unfilteredLightSamples(), 1) << "no filter";
+  s.denoise = true;
+  EXPECT_EQ(s.unfilteredLightSamples(), 4);
+  s.lightSamples = 8;
+  EXPECT_EQ(s.unfilteredLightSamples(), 8) << "at least lightSamples";
+  s.lightSamples = 1;
+  s.lightSamplesPastFilter = 99;
+  EXPECT_EQ(s.resolved().lightSamplesPastFilter, 32);
+  s.lightSamplesPastFilter = 0;
+  EXPECT_EQ(s.resolved().lightSamplesPastFilter, 1);
+  s.lightSamplesPastFilter = 4;
+  // The plan's ray settings say whether the filter runs: not in a debug view, nor for an accumulation's
+  // samples summed as drawn (Accumulation::samplePlan).
+  FramePlan filtered = planFrame(everything(), s);
+  EXPECT_TRUE(filtered.raySettings.denoise);
+  EXPECT_EQ(filtered.raySettings.unfilteredLightSamples(), 4);
+  FrameSettings view = s;
+  view.debugView = DebugView::Reflection;
+  EXPECT_EQ(planFrame(everything(), view).raySettings.unfilteredLightSamples(), 1);
+  FramePlan summed = filtered;
+  summed.withoutFilter();
+  EXPECT_FALSE(summed.denoise);
+  EXPECT_EQ(summed.raySettings.unfilteredLightSamples(), 1);
+  // So a frame's rays are reused across a switch of the filter only where the samples past it stay.
+  FrameSettings off = s;
+  off.denoise = false;
+  EXPECT_FALSE(sameRayInputs(filtered, planFrame(everything(), off)));
+  EXPECT_FALSE(sameRayInputs(filtered, summed));
+  off.lightSamples = 4;
+  FrameSettings four = s;
+  four.lightSamples = 4;
+  EXPECT_TRUE(sameRayInputs(planFrame(everything(), four), planFrame(everything(), off)));
+  FrameSettings more = s;
+  more.lightSamplesPastFilter = 8;
+  EXPECT_FALSE(sameRayInputs(filtered, planFrame(everything(), more)));
 }
 
 }  // namespace

@@ -22,6 +22,7 @@ FrameSettings FrameSettings::resolved() const {
   s.aaThreshold = std::isfinite(s.aaThreshold) ? std::clamp(s.aaThreshold, 0.0f, 1.0f) : 0.05f;
   s.accumulate = std::clamp(s.accumulate, 0, 65536);
   s.lightSamples = std::clamp(s.lightSamples, 1, 32);
+  s.lightSamplesPastFilter = std::clamp(s.lightSamplesPastFilter, 1, 32);
   s.glossSamples = std::clamp(s.glossSamples, 1, 32);
   if (s.reference || s.targetMs > 0.0f) s.aa = AntiAlias::Off;
   if (s.targetMs > 0.0f) s.accumulate = 0;

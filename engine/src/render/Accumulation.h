@@ -87,7 +87,7 @@ class Accumulation {
   FramePlan samplePlan(const FramePlan& plan, bool probesCurrent) const {
     if (singleSample(plan.settings)) return plan;
     FramePlan sample = plan;
-    sample.denoise = false;
+    sample.withoutFilter();
     if (!probesCurrent) sample.settings.probesPerFrame = 0;
     return sample;
   }

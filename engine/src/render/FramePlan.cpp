@@ -59,7 +59,7 @@ FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested) {
   p.rayPass = wantsRays && !p.reference;
   p.rays = p.reference ? referenceRayEffects(s) : p.rayPass ? hybridRayEffects(r) : RayEffects{};
   p.resolve = facts.exactSolids && !p.reference;
-  p.denoise = s.denoise && !p.reference && s.debugView == DebugView::Final;
+  p.denoise = p.raySettings.denoise = s.denoise && !p.reference && s.debugView == DebugView::Final;
   p.glShadowProofs = p.rayPass && p.rays.primaryShadows && r.hybridShadows &&
                      (r.shadowProofs == ShadowProofs::Gl || (r.shadowProofs == ShadowProofs::Auto && !facts.softwareGl));
   // Raster effects only for what the scene can show (a glass object reflects through its Fresnel term).
@@ -85,7 +85,10 @@ bool sameRayInputs(const FramePlan& a, const FramePlan& b) {
     s.probeSize = FrameSettings{}.probeSize;
     s.reuseRays = FrameSettings{}.reuseRays;
     s.targetMs = FrameSettings{}.targetMs;  // the budget's choice is in the other fields
-    s.denoise = FrameSettings{}.denoise;    // the filter works on the shaded frame, after the rays
+    // The filter works on the shaded frame, after the rays; they read only how many light samples it leaves
+    // to the points past it.
+    s.lightSamplesPastFilter = s.unfilteredLightSamples();
+    s.denoise = FrameSettings{}.denoise;
     return s;
   };
   return rayPart(a) == rayPart(b);

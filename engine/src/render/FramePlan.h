@@ -53,6 +53,7 @@ struct FramePlan {
   bool probeRefraction = false;  // ... and for refraction rays
   /// The spatiotemporal filter runs on this frame (FrameSettings::denoise in the final hybrid view; a frame of
   /// an accumulation going on at rest has it off: its samples are summed as drawn, Accumulation::samplePlan).
+  /// raySettings.denoise says the same: the light past the filter draws unfilteredLightSamples() there.
   bool denoise = false;
   bool needsRayScene() const { return rayPass || reference || resolve; }
   /// Whether the visibility ids are read back: the ray pass and the resolve step start from them.
@@ -60,6 +61,8 @@ struct FramePlan {
   /// The frame when Embree cannot take the scene: no ray pass, no reference, no resolve (the GL shades it,
   /// exact solids as their proxies).
   void withoutRays();
+  /// The frame drawn unfiltered: every point draws lightSamples.
+  void withoutFilter() { denoise = raySettings.denoise = false; }
 };
 
 FramePlan planFrame(const SceneFacts& facts, const FrameSettings& requested);

@@ -62,8 +62,7 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   FrameStats sample;
   const Camera glCamera = toRenderSpace(sampleCamera, caches.gpu().anchor());
   gl::ShadeInputs in;
-  in.lightSamples = s.lightSamples;
-  in.sampleBase = sampleCamera.sampleIndex * static_cast<std::uint32_t>(s.lightSamples);
+  in.setLightSampling(s.lightSamples, sampleCamera.sampleIndex);
   localInputs(plan, in);
   rasterVisibility(plan, glCamera, sample);
   // Whether it reuses the last frame's rays whole is known now (the last frame was remembered by the call

@@ -128,6 +128,8 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     // The probes see local shading only (no ray results, no probes): one bounce.
     gl::ShadeInputs local = in;
     local.softShadows = false;  // a probe's area lights cast hard shadows (ShadeInputs::softShadows)
+    // What a probe shows goes past the spatiotemporal filter: its light drawn as an unfiltered frame's.
+    local.setLightSampling(plan.raySettings.unfilteredLightSamples(), in.sampleIndex);
     const int budget = plan.settings.probesPerFrame;
     // A new radiosity solution changes what they show as a change of the GL copy does (probesPerFrame
     // spreads their re-rendering over frames alike: a background solve publishes ~10 times a second).

@@ -22,7 +22,7 @@ void compositeOnCpu(const Scene& scene, const Camera& camera, const FrameSetting
   const glm::vec3 anchor = camera.posW;
   const Camera cam = toRenderSpace(camera, anchor);
   FrameShading frame(scene, settings.shadingOverride, anchor);
-  frame.setLightSampling(settings.lightSamples, camera.sampleIndex);
+  frame.setLightSampling(settings.lightSamples, settings.unfilteredLightSamples(), camera.sampleIndex);
   const std::size_t plane = rays.lightMask.size();
   for (int gy = 0; gy < out.height; ++gy)
     for (int gx = 0; gx < out.width; ++gx) {

@@ -42,9 +42,9 @@ glm::vec3 PathTracer::radiance(SurfaceHit hit, int x, int y, std::uint32_t sampl
     // Next-event estimation: the local term, each light behind its shadow rays (Whitted::shade's).
     const bool shadowRays = bounce == 0 ? modes.primaryShadowRays : modes.secondaryShadowRays;
     AreaSampleBits area{};
-    const std::uint32_t mask = shadowRays ? w_.lightMask(hit, counts, NoRecorder{}, &area) : ~0u;
+    const std::uint32_t mask = shadowRays ? w_.lightMask(hit, counts, NoRecorder{}, &area, bounce) : ~0u;
     radiance += beta * shadeLocal(scene, frame, embree.transformAt(hit.instance, hit.time), hit, mask,
-                                  shadowRays ? &area : nullptr);
+                                  shadowRays ? &area : nullptr, bounce);
     if (bounce >= kMaxBounces) break;
 
     // The continuation's weights: diffuse (unlit materials have none), reflection, refraction.

@@ -119,9 +119,11 @@ glm::vec3 glossyDirection(glm::vec3 axis, float roughness, glm::vec2 u, glm::vec
   return len > 0.0 && std::isfinite(len) ? glm::vec3(d / len) : axis;
 }
 
-void FrameShading::setLightSampling(int samples, std::uint32_t sampleIndex) {
-  lightSamples = std::clamp(samples, 1, TD_MAX_LIGHT_SAMPLES);
-  sampleBase = sampleIndex * static_cast<std::uint32_t>(lightSamples);
+void FrameShading::setLightSampling(int primary, int deeper, std::uint32_t sampleIndex) {
+  for (auto [sampling, count] : {std::pair{&primaryLight, primary}, std::pair{&deeperLight, deeper}}) {
+    sampling->count = std::clamp(count, 1, TD_MAX_LIGHT_SAMPLES);
+    sampling->base = sampleIndex * static_cast<std::uint32_t>(sampling->count);
+  }
 }
 
 namespace {
@@ -368,7 +370,7 @@ SurfaceHit resolveHit(const Scene& scene, const InstanceTransform& transform, st
 FrameShading FrameShading::forFrame(const Scene& scene, const FrameSettings& settings, std::uint32_t sampleIndex,
                                    glm::vec3 anchor, const RadiosityField* radiosity) {
   FrameShading frame(scene, settings.shadingOverride, anchor);
-  frame.setLightSampling(settings.lightSamples, sampleIndex);
+  frame.setLightSampling(settings.lightSamples, settings.unfilteredLightSamples(), sampleIndex);
   frame.setGlossSampling(settings.glossSamples, sampleIndex);
   if (settings.gi == GlobalIllumination::Path) {
     frame.ambient = glm::vec3(0.0f);  // docs/path-tracing.md
@@ -379,7 +381,7 @@ FrameShading FrameShading::forFrame(const Scene& scene, const FrameSettings& set
 }
 
 glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const InstanceTransform& transform,
-                     const SurfaceHit& hit, std::uint32_t visibleLights, const AreaSampleBits* areaSamples) {
+                     const SurfaceHit& hit, std::uint32_t visibleLights, const AreaSampleBits* areaSamples, int depth) {
   const GpuMaterial& m = frame.materials[hit.material];
   glm::vec3 emission = glm::vec3(m.emissionFlags) * hit.emissionTint;
   glm::vec3 c = tdSurfaceColor(m, hit.uv, hit.pattern, hit.tint);
@@ -429,23 +431,24 @@ glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const Instan
     if (frame.isArea(j)) {
       // The mean over the frame's samples, each where its shadow ray got through (shade.frag's twin).
       const std::uint32_t bits = areaSamples ? (*areaSamples)[static_cast<std::size_t>(frame.areaSlot(j))] : ~0u;
+      const LightSampling& sampling = frame.lightAt(depth);
       glm::vec3 sum(0.0f);
-      for (int k = 0; k < frame.lightSamples; ++k) {
+      for (int k = 0; k < sampling.count; ++k) {
         if (!((bits >> k) & 1u)) continue;
         glm::vec3 toLight;
         float dist;
         if (model == TD_MODEL_GOURAUD) {
           for (int i = 0; i < 3; ++i) {
-            glm::vec3 e = areaLightSample(frame, j, hit.lightSeed, hit.vertexW[i], k, toLight, dist);
+            glm::vec3 e = areaLightSample(frame, sampling, j, hit.lightSeed, hit.vertexW[i], k, toLight, dist);
             sum += hit.bary[i] * tdShadeLight(c, ks, ns, model, vertexNormalW[i], vertexToEye[i], e, toLight, 0.0f);
           }
           continue;
         }
-        glm::vec3 e = areaLightSample(frame, j, hit.lightSeed, hit.posW, k, toLight, dist);
+        glm::vec3 e = areaLightSample(frame, sampling, j, hit.lightSeed, hit.posW, k, toLight, dist);
         float toon = model == TD_MODEL_TOON ? ramp[static_cast<std::size_t>(toonRampIndex(glm::dot(n, toLight)))] : 0.0f;
         sum += tdShadeLight(c, ks, ns, model, n, hit.toEyeW, e, toLight, toon);
       }
-      color += sum * (1.0f / static_cast<float>(frame.lightSamples));
+      color += sum * (1.0f / static_cast<float>(sampling.count));
       continue;
     }
     if (model == TD_MODEL_GOURAUD) {

@@ -134,6 +134,14 @@ struct InstanceTransform {
 /// step) takes anchor 0 and gets its `anchor` field set after.
 InstanceTransform makeInstanceTransform(const glm::mat4& worldFromObject, glm::vec3 anchor = glm::vec3(0.0f));
 
+/// A point's area-light samples: `count` a light, sample k being point base + k of the point's sequence
+/// (base = the accumulation's sample index · count: the frames of an accumulation, Camera::sampleIndex, draw
+/// new points of one stratified sequence).
+struct LightSampling {
+  int count = 1;
+  std::uint32_t base = 0;
+};
+
 /// Per-frame shading records: lights and materials packed as GL packs them (override applied), toon
 /// ramps baked, Ia. Built once per frame, read by every thread.
 struct FrameShading {
@@ -146,20 +154,20 @@ struct FrameShading {
   const RadiosityField* radiosity = nullptr;
   glm::vec3 background{0.0f};  // radiance of escaped rays
   int areaLights = 0;          // area lights among `lights` (GpuLight::shapeU.w numbers them)
-  /// Area-light samples per point this frame (FrameSettings::lightSamples), and the sequence index of the
-  /// first: sample k of the frame is point sampleBase + k of each point's sequence, so the frames of an
-  /// accumulation (Camera::sampleIndex) draw new points of one stratified sequence.
-  int lightSamples = 1;
-  std::uint32_t sampleBase = 0;
+  /// Area-light samples per point this frame at the primary hits (FrameSettings::lightSamples) and at the
+  /// hits past them, the light the spatiotemporal filter leaves as drawn (unfilteredLightSamples()).
+  LightSampling primaryLight, deeperLight;
+  /// The sampling at a hit `depth` bounces past the camera's ray.
+  const LightSampling& lightAt(int depth) const { return depth == 0 ? primaryLight : deeperLight; }
   /// Glossy rays per primary hit this frame (FrameSettings::glossSamples) and their sequence index's start
   /// (sampleIndex · glossSamples), as for the light samples.
   int glossSamples = 1;
   std::uint32_t glossBase = 0;
   /// Light positions in render space (see toRenderSpace).
   FrameShading(const Scene& scene, std::optional<ShadingModel> shadingOverride, glm::vec3 anchor = glm::vec3(0.0f));
-  /// Sets lightSamples and sampleBase for a frame drawing `samples` area-light samples per point, its
-  /// accumulation sample `sampleIndex` (Camera::sampleIndex).
-  void setLightSampling(int samples, std::uint32_t sampleIndex);
+  /// Sets primaryLight and deeperLight for a frame drawing `primary` and `deeper` area-light samples per
+  /// point, its accumulation sample `sampleIndex` (Camera::sampleIndex).
+  void setLightSampling(int primary, int deeper, std::uint32_t sampleIndex);
   /// Sets glossSamples and glossBase likewise.
   void setGlossSampling(int samples, std::uint32_t sampleIndex);
   /// Material m's roughness (Material::roughness; 0: mirror reflection and sharp refraction).
@@ -227,11 +235,11 @@ struct SurfaceHit : ShadowPoint {
   float coverage = 1.0f;             // BLEND: tdCoverage of the kd texture's alpha; 1 otherwise
 };
 
-/// Sample k of area light `light` seen from `posW` for a point with `seed`: tdAreaLightSample at the frame's
-/// sequence point sampleBase + k. The shadow rays and the shading of that sample both come from here.
-inline glm::vec3 areaLightSample(const FrameShading& frame, std::size_t light, std::uint32_t seed, glm::vec3 posW,
-                                 int k, glm::vec3& toLight, float& dist) {
-  const glm::vec2 u = shading::tdLightSampleU(seed, static_cast<int>(light), frame.sampleBase + static_cast<std::uint32_t>(k));
+/// Sample k of area light `light` seen from `posW` for a point with `seed` drawing `sampling`: tdAreaLightSample
+/// at sequence point sampling.base + k. The shadow rays and the shading of that sample both come from here.
+inline glm::vec3 areaLightSample(const FrameShading& frame, const LightSampling& sampling, std::size_t light,
+                                 std::uint32_t seed, glm::vec3 posW, int k, glm::vec3& toLight, float& dist) {
+  const glm::vec2 u = shading::tdLightSampleU(seed, static_cast<int>(light), sampling.base + static_cast<std::uint32_t>(k));
   return shading::tdAreaLightSample(frame.lights[light], frame.lightType(light), posW, u, toLight, dist);
 }
 
@@ -277,11 +285,13 @@ inline glm::vec3 spawnOrigin(const ShadowPoint& hit, glm::vec3 side) {
 }
 
 /// Local shading (docs/shading.md "Local shading"): emission + ambient + Σj visj·Lj, where visj is bit j
-/// of `visibleLights`; unlit materials give C + emission. An area light's Lj is the mean over its
-/// frame.lightSamples samples, each counted where its bit in `areaSamples` (by area slot) is set; without
-/// `areaSamples`, every sample of a visible area light counts (no shadows, or none traced).
+/// of `visibleLights`; unlit materials give C + emission. An area light's Lj is the mean over the samples of
+/// frame.lightAt(depth) (`depth`: bounces past the camera's ray), each counted where its bit in `areaSamples`
+/// (by area slot) is set; without `areaSamples`, every sample of a visible area light counts (no shadows, or
+/// none traced).
 glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const InstanceTransform& transform,
-                     const SurfaceHit& hit, std::uint32_t visibleLights, const AreaSampleBits* areaSamples = nullptr);
+                     const SurfaceHit& hit, std::uint32_t visibleLights, const AreaSampleBits* areaSamples = nullptr,
+                     int depth = 0);
 
 /// Bilinear sample of level 0 with repeat wrapping; sRGB texels are decoded before filtering, as GL's
 /// sRGB textures do. Row 0 of the data is v = 0.

@@ -28,20 +28,21 @@ void ShadowBatch::clear() {
 template <class Capture>
 std::uint32_t ShadowBatch::add(const Whitted& whitted, std::size_t lights, const ShadowPoint& hit, std::size_t slot,
                                Capture& capture, const ShadowKeep* keep, std::uint32_t* area, std::size_t areaStride,
-                               std::uint32_t proof) {
+                               std::uint32_t proof, int depth) {
   std::uint32_t visible = 0;
   SpawnOrigins origins;
   // The lights towards which the point's tile shaft is clear (prepareShafts; none without shafts).
   const std::uint32_t shaftLit = groups_.empty() ? 0u : litByShaft(hit);
   const FrameShading& frame = whitted.frame();
+  const LightSampling& sampling = frame.lightAt(depth);
   for (std::size_t j = 0; j < lights; ++j) {
     if (frame.isArea(j)) {
       assert(area && "ShadowBatch::add: a frame with area lights needs their sample words");
       std::uint32_t& word = area[static_cast<std::size_t>(frame.areaSlot(j)) * areaStride];
       word = 0;
       const bool keepable = keep && ((keep->lights >> j) & 1u);
-      for (int k = 0; k < frame.lightSamples; ++k) {
-        ShadowRay s = whitted.areaShadowRay(hit, j, k, origins, NoRecorder{});
+      for (int k = 0; k < sampling.count; ++k) {
+        ShadowRay s = whitted.areaShadowRay(hit, j, sampling, k, origins, NoRecorder{});
         if (!s.needed) {
           if (s.visibleWithoutRay) word |= 1u << k;
           continue;
@@ -348,14 +349,15 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
       b_.shadows.prepareShafts(whitted_, b_.hits.size(), [&](std::size_t h) -> const ShadowPoint& { return b_.hits[h]; });
       b_.area.resize(b_.hits.size());  // add() writes every area word it reads
       for (std::size_t h = 0; h < b_.hits.size(); ++h)
-        b_.masks[h] = static_cast<LightMask>(b_.shadows.add(whitted_, lights, b_.hits[h], h, capture, nullptr, b_.area[h].data()));
+        b_.masks[h] = static_cast<LightMask>(
+            b_.shadows.add(whitted_, lights, b_.hits[h], h, capture, nullptr, b_.area[h].data(), 1, 0, depth));
       b_.shadows.trace(embree.top(), b_.masks.data(), counts, capture);
     }
     for (std::size_t h = 0; h < b_.hits.size(); ++h) {
       const SurfaceHit& hit = b_.hits[h];
       std::size_t node = b_.hitNodes[h];
       b_.nodes[node].local = shadeLocal(whitted_.scene(), frame, embree.transformAt(hit.instance, hit.time), hit, b_.masks[h],
-                                        modes.secondaryShadowRays ? &b_.area[h] : nullptr);
+                                        modes.secondaryShadowRays ? &b_.area[h] : nullptr, depth);
       spawn(hit, depth, b_.nodes[node].throughput, static_cast<std::int64_t>(node), b_.nodes[node].pixel, counts, capture);
     }
     begin = end;
@@ -401,9 +403,9 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
 
 // The frame's instantiation and the bench's; no others.
 template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const ShadowPoint&, std::size_t, NoCapture&,
-                                        const ShadowKeep*, std::uint32_t*, std::size_t, std::uint32_t);
+                                        const ShadowKeep*, std::uint32_t*, std::size_t, std::uint32_t, int);
 template std::uint32_t ShadowBatch::add(const Whitted&, std::size_t, const ShadowPoint&, std::size_t, TileCapture&,
-                                        const ShadowKeep*, std::uint32_t*, std::size_t, std::uint32_t);
+                                        const ShadowKeep*, std::uint32_t*, std::size_t, std::uint32_t, int);
 template void ShadowBatch::trace(RTCScene, LightMask*, RayCounts&, NoCapture&);
 template void ShadowBatch::trace(RTCScene, LightMask*, RayCounts&, TileCapture&);
 template void Wavefront::addPrimary(const SurfaceHit&, std::size_t, RayCounts&, NoCapture&);

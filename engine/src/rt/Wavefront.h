@@ -44,11 +44,12 @@ class ShadowBatch {
   /// Area lights: a ray per sample (Whitted::areaShadowRay), whose bit goes to area[slot · areaStride]
   /// for the light's area slot; add() sets those words to the samples visible without a ray.
   /// `proof`: the GL's shadow proofs of this (primary) hit (VisibilityBuffer::proofs): where bit 8 + j is
-  /// set, light j's ray is answered by bit j without being traced (counted in shadowByMap).
+  /// set, light j's ray is answered by bit j without being traced (counted in shadowByMap). `depth`: the
+  /// hit's bounces past the camera's ray (its area-light samples: FrameShading::lightAt).
   template <class Capture>
   std::uint32_t add(const Whitted& whitted, std::size_t lights, const ShadowPoint& hit, std::size_t slot,
                     Capture& capture, const ShadowKeep* keep = nullptr, std::uint32_t* area = nullptr,
-                    std::size_t areaStride = 1, std::uint32_t proof = 0);
+                    std::size_t areaStride = 1, std::uint32_t proof = 0, int depth = 0);
   /// Traces the queued rays and ORs the bit of every unoccluded one into masks[its slot].
   template <class Capture>
   void trace(RTCScene scene, LightMask* masks, RayCounts& counts, Capture& capture);

@@ -78,12 +78,12 @@ ShadowRay Whitted::shadowRayUnanswered(const ShadowPoint& hit, std::size_t light
 }
 
 template <class Recorder>
-ShadowRay Whitted::areaShadowRay(const ShadowPoint& hit, std::size_t light, int k, SpawnOrigins& origins,
-                                 Recorder rec) const {
+ShadowRay Whitted::areaShadowRay(const ShadowPoint& hit, std::size_t light, const LightSampling& sampling, int k,
+                                 SpawnOrigins& origins, Recorder rec) const {
   if (!frame_.castsShadows(light)) return noShadowRay(light, NoShadowRay::CastsNoShadows, rec);
   glm::vec3 toLight;
   float dist;
-  const glm::vec3 e = areaLightSample(frame_, light, hit.lightSeed, hit.posW, k, toLight, dist);
+  const glm::vec3 e = areaLightSample(frame_, sampling, light, hit.lightSeed, hit.posW, k, toLight, dist);
   return rayTowards(hit, light, e, toLight, dist, origins, rec);
 }
 
@@ -132,7 +132,9 @@ void Whitted::answerByMap(const ShadowPoint& hit, std::size_t light, ShadowRay& 
 }
 
 template <class Recorder>
-std::uint32_t Whitted::lightMask(const ShadowPoint& hit, RayCounts& counts, Recorder rec, AreaSampleBits* area) const {
+std::uint32_t Whitted::lightMask(const ShadowPoint& hit, RayCounts& counts, Recorder rec, AreaSampleBits* area,
+                                 int depth) const {
+  const LightSampling& sampling = frame_.lightAt(depth);
   std::uint32_t mask = 0;
   SpawnOrigins origins;
   auto occluded = [&](const ShadowRay& s) {
@@ -147,8 +149,8 @@ std::uint32_t Whitted::lightMask(const ShadowPoint& hit, RayCounts& counts, Reco
   for (std::size_t j = 0; j < frame_.lights.size(); ++j) {
     if (frame_.isArea(j)) {
       std::uint32_t bits = 0;
-      for (int k = 0; k < frame_.lightSamples; ++k) {
-        ShadowRay s = areaShadowRay(hit, j, k, origins, rec);
+      for (int k = 0; k < sampling.count; ++k) {
+        ShadowRay s = areaShadowRay(hit, j, sampling, k, origins, rec);
         bool visible = s.visibleWithoutRay;
         if (s.needed) {
           visible = !occluded(s);
@@ -267,9 +269,9 @@ template <class Recorder>
 glm::vec3 Whitted::shade(const SurfaceHit& hit, int depth, float throughput, RayCounts& counts, Recorder rec) const {
   bool shadowRays = depth == 0 ? modes_.primaryShadowRays : modes_.secondaryShadowRays;
   AreaSampleBits area{};
-  std::uint32_t mask = shadowRays ? lightMask(hit, counts, rec, &area) : ~0u;
+  std::uint32_t mask = shadowRays ? lightMask(hit, counts, rec, &area, depth) : ~0u;
   glm::vec3 color = shadeLocal(scene_, frame_, embree_.transformAt(hit.instance, hit.time), hit, mask,
-                               shadowRays ? &area : nullptr);
+                               shadowRays ? &area : nullptr, depth);
   rec.local(color, mask, shadowRays);
   glm::vec3 reflected, transmitted;
   bool tracedR, tracedT;
@@ -318,10 +320,12 @@ template ShadowRay Whitted::shadowRayUnanswered(const ShadowPoint&, std::size_t,
 template ShadowRay Whitted::shadowRayUnanswered(const ShadowPoint&, std::size_t, SpawnOrigins&, Recording) const;
 template void Whitted::answerByMap(const ShadowPoint&, std::size_t, ShadowRay&, NoRecorder) const;
 template void Whitted::answerByMap(const ShadowPoint&, std::size_t, ShadowRay&, Recording) const;
-template std::uint32_t Whitted::lightMask(const ShadowPoint&, RayCounts&, NoRecorder, AreaSampleBits*) const;
-template std::uint32_t Whitted::lightMask(const ShadowPoint&, RayCounts&, Recording, AreaSampleBits*) const;
-template ShadowRay Whitted::areaShadowRay(const ShadowPoint&, std::size_t, int, SpawnOrigins&, NoRecorder) const;
-template ShadowRay Whitted::areaShadowRay(const ShadowPoint&, std::size_t, int, SpawnOrigins&, Recording) const;
+template std::uint32_t Whitted::lightMask(const ShadowPoint&, RayCounts&, NoRecorder, AreaSampleBits*, int) const;
+template std::uint32_t Whitted::lightMask(const ShadowPoint&, RayCounts&, Recording, AreaSampleBits*, int) const;
+template ShadowRay Whitted::areaShadowRay(const ShadowPoint&, std::size_t, const LightSampling&, int, SpawnOrigins&,
+                                          NoRecorder) const;
+template ShadowRay Whitted::areaShadowRay(const ShadowPoint&, std::size_t, const LightSampling&, int, SpawnOrigins&,
+                                          Recording) const;
 template void Whitted::secondary(const SurfaceHit&, int, float, glm::vec3&, glm::vec3&, bool&, bool&, RayCounts&,
                                  NoRecorder) const;
 template void Whitted::secondary(const SurfaceHit&, int, float, glm::vec3&, glm::vec3&, bool&, bool&, RayCounts&,

@@ -208,14 +208,17 @@ class Whitted {
     return shadowRay(hit, light, origins, NoRecorder{});
   }
   /// All direct lights' visibility bits at hit, one rtcOccluded1 per needed ray. An area light's bit is set
-  /// where any of its samples is visible; `area` (when given) gets each area light's sample bits.
-  std::uint32_t lightMask(const ShadowPoint& hit, RayCounts& counts, AreaSampleBits* area = nullptr) const {
-    return lightMask(hit, counts, NoRecorder{}, area);
+  /// where any of its samples (FrameShading::lightAt(depth)) is visible; `area` (when given) gets each area
+  /// light's sample bits.
+  std::uint32_t lightMask(const ShadowPoint& hit, RayCounts& counts, AreaSampleBits* area = nullptr, int depth = 0) const {
+    return lightMask(hit, counts, NoRecorder{}, area, depth);
   }
-  /// The shadow ray from hit towards sample k of area light j (areaLightSample), or why none is needed.
-  /// No map answers it: a shadow map from the light's centre proves nothing about its other points.
+  /// The shadow ray from hit towards sample k of area light j drawing `sampling` (areaLightSample), or why
+  /// none is needed. No map answers it: a shadow map from the light's centre proves nothing about its other
+  /// points.
   template <class Recorder>
-  ShadowRay areaShadowRay(const ShadowPoint& hit, std::size_t light, int k, SpawnOrigins& origins, Recorder rec) const;
+  ShadowRay areaShadowRay(const ShadowPoint& hit, std::size_t light, const LightSampling& sampling, int k,
+                          SpawnOrigins& origins, Recorder rec) const;
   WhittedWeights weights(const SurfaceHit& hit) const;
   /// S and T of the Whitted sum at `hit` (depth = bounces so far, throughput = product of weights so
   /// far), already multiplied by wR and wT; zero where the ray is not traced.
@@ -249,7 +252,8 @@ class Whitted {
   template <class Recorder>
   void answerByMap(const ShadowPoint& hit, std::size_t light, ShadowRay& r, Recorder rec) const;
   template <class Recorder>
-  std::uint32_t lightMask(const ShadowPoint& hit, RayCounts& counts, Recorder rec, AreaSampleBits* area = nullptr) const;
+  std::uint32_t lightMask(const ShadowPoint& hit, RayCounts& counts, Recorder rec, AreaSampleBits* area = nullptr,
+                          int depth = 0) const;
   template <class Recorder>
   void secondary(const SurfaceHit& hit, int depth, float throughput, glm::vec3& reflected, glm::vec3& transmitted,
                  bool& tracedReflection, bool& tracedRefraction, RayCounts& counts, Recorder rec) const;

@@ -59,6 +59,7 @@ struct Options {
   std::vector<std::string> aa{"off"};
   int accumulate = 16;
   int lightSamples = tandem::FrameSettings{}.lightSamples;
+  int lightSamplesPastFilter = tandem::FrameSettings{}.lightSamplesPastFilter;
   std::string radiosity = "off";
   std::string denoise = "off";
   std::string frameLog;
@@ -745,6 +746,12 @@ int run(int argc, char** argv) {
                  "FrameSettings::lightSamples)")
       ->check(CLI::Range(1, 32))
       ->capture_default_str();
+  app.add_option("--light-samples-past-filter", o.lightSamplesPastFilter,
+                 "With --denoise on: samples per area light, at least --light-samples, at the points whose light the "
+                 "filter does not smooth (the mirrors' ray hits, the probes the marble refracts; "
+                 "FrameSettings::lightSamplesPastFilter)")
+      ->check(CLI::Range(1, 32))
+      ->capture_default_str();
   app.add_option("--radiosity", o.radiosity,
                  "off | on: the hall's diffuse interreflection from a radiosity solution solved in the background, "
                  "the HUD showing its progress (key G; FrameSettings::radiosity, radiosityBackground)")
@@ -856,6 +863,7 @@ int run(int argc, char** argv) {
     return fail("--denoise: a frame of several samples (--aa) is not filtered (drop --aa or --denoise)");
   view.settings.accumulate = o.accumulate;
   view.settings.lightSamples = o.lightSamples;
+  view.settings.lightSamplesPastFilter = o.lightSamplesPastFilter;
   // The hall's radiosity is solved on a thread of its own while the game runs: the frames never wait for it.
   view.settings.radiosity = o.radiosity == "on";
   view.settings.radiosityBackground = true;
