@@ -72,8 +72,9 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
                  "Area lights: samples per light per shaded point and frame, each with its own shadow ray when shadows "
                  "are by rays (accumulated frames add new ones); 1..32 (default " + std::to_string(d.lightSamples) + ")");
   app.add_option("--light-samples-past-filter", o.lightSamplesPastFilter,
-                 "With --denoise on: area-light samples, at least --light-samples, at the points whose light the filter "
-                 "does not smooth (a mirror's or glass's ray hits, the reflection probes); 1..32 (default " +
+                 "With --denoise on: area-light samples, at least --light-samples, at every ray hit past the "
+                 "primary hit (a mirror's or glass's, whose light the filter does not smooth; a glossy lobe's) and "
+                 "in the reflection probes; 1..32 (default " +
                      std::to_string(d.lightSamplesPastFilter) + ")");
   app.add_option("--gloss-samples", o.glossSamples,
                  "Glossy materials (roughness > 0): reflection and refraction rays per primary hit and frame, sampled "

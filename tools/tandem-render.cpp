@@ -303,9 +303,9 @@ int main(int argc, char** argv) {
     if (areaLights > 0)
       std::printf("  area lights: %d, %d sample(s) each per point and frame%s%s\n", areaLights, settings.lightSamples,
                   settings.shadows == EffectMode::Ray ? ", a shadow ray each" : "",
-                  settings.unfilteredLightSamples() != settings.lightSamples
+                  denoised > 0 && settings.unfilteredLightSamples() != settings.lightSamples
                       ? (", " + std::to_string(settings.unfilteredLightSamples()) +
-                         " past the primary hit and in the probes (the light the filter does not smooth)")
+                         " past the primary hit and in the probes in the filtered frames")
                             .c_str()
                       : "");
     if (last.radiosity.active)
@@ -380,7 +380,8 @@ int main(int argc, char** argv) {
     if (areaLights > 0)
       j["area_lights"] = {{"count", areaLights},
                           {"light_samples", settings.lightSamples},
-                          {"light_samples_past_filter", settings.unfilteredLightSamples()}};
+                          {"light_samples_past_filter", denoised > 0 ? settings.unfilteredLightSamples()
+                                                                                     : settings.lightSamples}};
     if (last.radiosity.active)
       j["radiosity"] = {{"patches", last.radiosity.patches},
                         {"shots", last.radiosity.shots},

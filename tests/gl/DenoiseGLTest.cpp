@@ -155,10 +155,10 @@ TEST(Denoise, OneFilteredSampleBeatsFourRawOnesWithTheCameraMoving) {
 // A dolly towards the view's centre (the game's camera mostly moves forward): the target stays at the frame's
 // centre while the rest of the view moves outwards, 3.7 to 5 pixels a frame at the corners (cameraMotionPx
 // measures them, and the frames lose their sub-pixel offset). Measured 2026-11-30: filtered 0.0291 against raw
-// four's 0.0333 (one 0.0707; 0.0297 while the mirror and glass balls' hits drew one light sample); with the offset kept (the motion of the target alone) 0.0342, behind four raw
-// samples; with the anti-aliasing's history through a bilinear tap instead of the spline 0.0315. What remains
-// is mostly at edges, which the history's resampling still softens as the view widens: the bound is 5 %, not
-// the pan's 10 %.
+// four's 0.0333 (one 0.0707; 0.0297 while the mirror and glass balls' hits drew one light sample); with the
+// offset kept (the motion of the target alone) 0.0342, behind four raw samples; with the anti-aliasing's
+// history through a bilinear tap instead of the spline 0.0315. What remains is mostly at edges, which the
+// history's resampling still softens as the view widens: the bound is 5 %, not the pan's 10 %.
 TEST(Denoise, OneFilteredSampleBeatsFourRawOnesWithTheCameraDollying) {
   TD_REQUIRE_GL_CONTEXT();
   expectFilteredBeatsRaw(*glContext_, 1, "denoise-dolly", 1.0f, dollied, 0.95);

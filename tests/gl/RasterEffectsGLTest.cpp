@@ -318,7 +318,9 @@ TEST(RasterEffectsGLTest, ProbeReflectionMatchesRayTracedMirror) {
 // With the spatiotemporal filter on, a probe's area lights are drawn with lightSamplesPastFilter samples (at
 // least lightSamples): what a probe shows goes past the filter. A filtered frame of one sample draws the
 // probes of a filtered frame of four, to the bit, and not those of one sample past the filter. The reflection
-// view (the filter off) shows the probes as the filtered frame drew them: nothing changed, none is redrawn.
+// view (the filter still asked for) shows the probes as the filtered frame drew them: the probes follow the
+// settings, so nothing changed and none is redrawn. Switching the filter off draws them again with
+// lightSamples, as a renderer that never filtered draws them.
 TEST(RasterEffectsGLTest, WithTheFilterTheProbesDrawTheLightSamplesPastIt) {
   TD_REQUIRE_GL_CONTEXT();
   Material mirror = gltest::plainMaterial({0.02f, 0.02f, 0.02f});
@@ -328,22 +330,24 @@ TEST(RasterEffectsGLTest, WithTheFilterTheProbesDrawTheLightSamplesPastIt) {
   scene.lights[1].type = LightType::Sphere;  // its samples' points on the sphere light the floor differently
   scene.lights[1].radius = 2.0f;
   scene.lights[1].posW = {1.0f, 3.0f, 1.0f};
-  auto probes = [&](int samples, int pastFilter) {
+  // The reflection view after a frame with the filter `denoise`, then (`off`) after one more without it.
+  auto probes = [&](bool denoise, int samples, int pastFilter, bool off = false) {
     auto renderer = gltest::makeRenderer(*glContext_);
     EXPECT_TRUE(renderer && renderer->setScene(scene).ok());
     if (!renderer) return Image{};
     FrameSettings s = gltest::rasterOnly(160, 160);
     s.reflections = EffectMode::Raster;
     s.maxDepth = 1;
-    s.denoise = true;
+    s.denoise = denoise;
     s.lightSamples = samples;
     s.lightSamplesPastFilter = pastFilter;
-    EXPECT_TRUE(renderer->render(scene.camera, s).denoised);
+    EXPECT_EQ(renderer->render(scene.camera, s).denoised, denoise);
     s.debugView = DebugView::Reflection;
+    s.denoise = denoise && !off;
     renderer->render(scene.camera, s);
     return renderer->readImage();
   };
-  const Image one = probes(1, 4), four = probes(4, 4), onePast = probes(1, 1);
+  const Image one = probes(true, 1, 4), four = probes(true, 4, 4), onePast = probes(true, 1, 1);
   gltest::savePng("probe-past-filter-one.png", one);
   gltest::savePng("probe-past-filter-one-past-one.png", onePast);
   auto differing = [](const Image& a, const Image& b) {
@@ -355,6 +359,9 @@ TEST(RasterEffectsGLTest, WithTheFilterTheProbesDrawTheLightSamplesPastIt) {
   ASSERT_EQ(one.rgba.size(), four.rgba.size());
   EXPECT_EQ(differing(one, four), 0) << "the probes of four samples";
   EXPECT_GT(differing(one, onePast), 500) << "one sample past the filter draws other probes";
+  const Image switchedOff = probes(true, 1, 4, true), neverFiltered = probes(false, 1, 4);
+  EXPECT_EQ(differing(switchedOff, neverFiltered), 0) << "drawn again with lightSamples";
+  EXPECT_GT(differing(switchedOff, one), 500);
 }
 
 TEST(RasterEffectsGLTest, ProbeRefractionWithIorNearOneSeesStraightThrough) {

@@ -641,9 +641,8 @@ TEST(RayPassWhitted, WavefrontEqualsTheRecursionBitForBit) {
 
 // With the spatiotemporal filter on, the light it does not smooth (a mirror's hits) is drawn with
 // lightSamplesPastFilter samples, the primary hits with lightSamples: one filtered sample a pixel leaves the
-// mirror as a frame of four raw samples has it, bit for bit, and the primary hits as a frame of one, by the
-// breadth-first pass (the frame's) and by the recursion alike. Without the filter every point draws
-// lightSamples.
+// mirror as a frame of four raw samples has it, bit for bit, and the primary hits as a frame of one; the
+// recursion draws the frame's mirror. Without the filter every point draws lightSamples.
 TEST(RayPassWhitted, WithTheFilterTheMirrorsHitsDrawTheLightSamplesPastIt) {
   Scene scene;
   const std::uint32_t matte = addMaterial(scene, diffuse(glm::vec3(0.8f)));
@@ -651,7 +650,8 @@ TEST(RayPassWhitted, WithTheFilterTheMirrorsHitsDrawTheLightSamplesPastIt) {
   mirror.kr = 0.9f;
   addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 4)), matte, glm::mat4(1.0f));
   addInstance(scene, addMesh(scene, makeBox({1.0f, 1.0f, 1.0f})), matte, translate({0.0f, 0.5f, 0.0f}));
-  addInstance(scene, addMesh(scene, makeBox({8.0f, 4.0f, 0.1f})), addMaterial(scene, mirror), translate({0.0f, 2.0f, -3.0f}));
+  addInstance(scene, addMesh(scene, makeBox({8.0f, 4.0f, 0.1f})), addMaterial(scene, mirror),
+              translate({0.0f, 2.0f, -3.0f}));
   Light lamp = pointLight({0.5f, 4.0f, 1.0f});
   lamp.type = LightType::Sphere;
   lamp.radius = 0.8f;
@@ -692,6 +692,33 @@ TEST(RayPassWhitted, WithTheFilterTheMirrorsHitsDrawTheLightSamplesPastIt) {
     // At least lightSamples: a filtered frame of four samples draws four past the filter too.
     EXPECT_EQ(differing(trace(true, 4, 1, batched).reflected, four.reflected), 0);
   }
+  // The recursion (Whitted::secondary: the reference's, PixelTrace's) draws the frame's mirror, bit for bit.
+  auto embree = EmbreeScene::build(sharedTestDevice(), scene);
+  ASSERT_TRUE(embree.ok());
+  FrameSettings s = settingsFor(w, h);
+  s.denoise = true;
+  s.lightSamples = 1;
+  const RayOutputs filtered = trace(true, 1, 4, true);
+  const FrameShading frame =
+      FrameShading::forFrame(scene, s, scene.camera.sampleIndex, (*embree)->anchor(), nullptr);
+  const Whitted whitted(scene, **embree, frame, TraceModes::hybrid(s));
+  const Camera cam = toRenderSpace(scene.camera, (*embree)->anchor());
+  RayCounts counts;
+  int mirrored = 0, recursionDiffers = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const glm::uvec2 id = vis.ids[at(x, y, w)];
+      if (id.x == 0) continue;
+      const Ray ray = cam.rayThroughPixel(glm::vec2(x, y) + 0.5f, {w, h});
+      const SurfaceHit hit = resolveHit(scene, (*embree)->transform(id.x - 1), id.x - 1, id.y, ray);
+      glm::vec3 reflected, transmitted;
+      bool tracedR, tracedT;
+      whitted.secondary(hit, 0, 1.0f, reflected, transmitted, tracedR, tracedT, counts);
+      mirrored += tracedR ? 1 : 0;
+      recursionDiffers += glm::vec4(reflected, tracedR ? 1.0f : 0.0f) != filtered.reflected[at(x, y, w)] ? 1 : 0;
+    }
+  EXPECT_GT(mirrored, 500);
+  EXPECT_EQ(recursionDiffers, 0);
 }
 
 // BLEND (docs/gltf.md "Alpha modes"): a quad of coverage a with no kt in front of nothing transmits

@@ -112,11 +112,12 @@ struct FrameSettings {
   /// Area lights (docs/area-lights.md): samples per light per shaded point and frame, each with its own
   /// shadow ray when shadows are by rays; the frames of an accumulation draw new ones. [1, 32]
   int lightSamples = 4;
-  /// With the spatiotemporal filter on (denoise): area-light samples, at least lightSamples, at the points
-  /// whose light the filter does not smooth: the hits of a mirror's or glass's rays past the primary hit, and
-  /// the reflection probes' texels. One filtered sample a pixel then leaves what goes past the filter as an
-  /// unfiltered frame of this many samples has it. A frame drawn unfiltered draws lightSamples at every point
-  /// (unfilteredLightSamples()). [1, 32]
+  /// With the spatiotemporal filter on (denoise): area-light samples, at least lightSamples, at every ray hit
+  /// past the primary hit (a mirror's or glass's, whose light goes past the filter; a glossy lobe's or a
+  /// blended surface's, whose light it smooths from less noise) and in the reflection probes (what they show
+  /// goes past it). One filtered sample a pixel then leaves mirrors, glass and probes as an unfiltered frame
+  /// of this many samples has them. A frame drawn unfiltered (a debug view, an accumulation's samples at rest)
+  /// traces lightSamples at every hit; the probes follow the settings (unfilteredLightSamples()). [1, 32]
   int lightSamplesPastFilter = 4;
   /// Glossy materials (Material::roughness > 0; docs/glossy.md): reflection and refraction rays per primary
   /// hit and frame, sampled from the lobe (deeper bounces take one); accumulated frames draw new ones. [1, 32]
@@ -172,7 +173,9 @@ struct FrameSettings {
   FrameSettings resolved() const;
   /// The area-light samples at the points past the filter (lightSamplesPastFilter): with the filter on, at
   /// least lightSamples; without it, lightSamples.
-  int unfilteredLightSamples() const { return denoise ? std::max(lightSamples, lightSamplesPastFilter) : lightSamples; }
+  int unfilteredLightSamples() const {
+    return denoise ? std::max(lightSamples, lightSamplesPastFilter) : lightSamples;
+  }
   /// Every field compared; sameRayInputs (render/FramePlan.h) compares only what the ray pass reads.
   bool operator==(const FrameSettings&) const = default;
 };

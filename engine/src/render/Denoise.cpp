@@ -23,7 +23,8 @@ Camera Renderer::Impl::denoiseSample(const FramePlan& plan, const Camera& camera
   return filteredSample(camera, denoiseFrames++, filteredJitterScale(motionPx));
 }
 
-FramePlan Renderer::Impl::saidIfLensDenoised(FramePlan plan, const SceneFacts& facts) {
+FramePlan Renderer::Impl::denoisePlan(FramePlan plan, const SceneFacts& facts) {
+  if (denoiseFailed) plan.withoutFilter();
   if (plan.denoise && facts.lensOrShutter && !denoiseLensWarned) {
     // Filtered as asked, but said: the frame is likely further from the truth than the raw samples' (the
     // frame-time budget never offers the filter for such a camera). Said at the plan: the frames of an

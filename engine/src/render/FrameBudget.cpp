@@ -32,7 +32,9 @@ double priorWork(int rayScale, int requestedScale, int depthCap, int requestedDe
   if (fallback & kReflectionsRaster) fallbackWork *= 0.6;
   if (fallback & kShadowsRaster) fallbackWork *= 0.7;
   // One light and lobe sample where the request draws more: their rays are much of the pass in a scene the
-  // filter is offered for (hybrid-full on area-lights.json: 4 samples to 1 took the rays from ~120 to ~45 ms).
+  // filter is offered for (hybrid-full on area-lights.json: 4 samples to 1 took the rays from ~120 to ~45 ms,
+  // before the hits past the primary hit kept their four, FrameSettings::lightSamplesPastFilter; the budget
+  // corrects the guess by what it measures).
   if (filtered) fallbackWork *= 0.4;
   const double w = gridOverhead(rayScale) / gridOverhead(requestedScale) * depthWork(depthCap) /
                    depthWork(requestedDepth) * fallbackWork;

@@ -58,7 +58,7 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
   FramePlan plan = timed(stats.planMs, [&] {
     SceneFacts facts = sceneFacts(scene, camera);
     facts.softwareGl = limits.software;
-    return saidIfLensDenoised(planFrame(facts, budget.choose(requested.resolved(), facts)), facts);
+    return denoisePlan(planFrame(facts, budget.choose(requested.resolved(), facts)), facts);
   });
   const FrameSettings& s = plan.settings;
   const bool sampled = s.aa != AntiAlias::Off || s.accumulate > 1;

@@ -297,8 +297,9 @@ struct Renderer::Impl {
   std::optional<gl::DenoisePass> denoisePass;
   bool denoiseFailed = false;  // its programs did not build: frames are drawn without it from then on
   bool denoiseLensWarned = false;  // a camera its motion vectors do not model was said once
-  // The plan as it is, the filter on a camera its motion vectors do not model logged (once).
-  FramePlan saidIfLensDenoised(FramePlan plan, const SceneFacts& facts);
+  // The plan as the filter takes it: without it once its programs failed (the rays then draw lightSamples at
+  // every point); the filter on a camera its motion vectors do not model logged (once).
+  FramePlan denoisePlan(FramePlan plan, const SceneFacts& facts);
   std::uint32_t denoiseFrames = 0;
   std::optional<Camera> denoiseCamera;  // the last filtered frame's camera without accumulation (denoiseSample)
   Camera denoiseSample(const FramePlan& plan, const Camera& camera);

@@ -128,8 +128,15 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     // The probes see local shading only (no ray results, no probes): one bounce.
     gl::ShadeInputs local = in;
     local.softShadows = false;  // a probe's area lights cast hard shadows (ShadeInputs::softShadows)
-    // What a probe shows goes past the spatiotemporal filter: its light drawn as an unfiltered frame's.
-    local.setLightSampling(plan.raySettings.unfilteredLightSamples(), in.sampleIndex);
+    // What a probe shows goes past the spatiotemporal filter: with the filter asked for, its area lights draw
+    // the samples past it. The settings', not the frame's (a debug view's, an accumulation's samples at rest):
+    // the probes are a cache, drawn again (as probesPerFrame says) when that count changes.
+    const int samples = plan.settings.unfilteredLightSamples();
+    local.setLightSampling(samples, in.sampleIndex);
+    if (samples != probesLightSamples_) {
+      probesLightSamples_ = samples;
+      ++lightSampleChanges_;
+    }
     const int budget = plan.settings.probesPerFrame;
     // A new radiosity solution changes what they show as a change of the GL copy does (probesPerFrame
     // spreads their re-rendering over frames alike: a background solve publishes ~10 times a second).

@@ -80,8 +80,11 @@ class SceneCaches {
   bool probesShadowed_ = false;
   std::uint64_t probesRadiosity_ = 0;  // the radiosity solution the probes last saw (0: none)
   std::uint64_t radiosityChanges_ = 0;  // how often it changed
-  /// What the probes show changed: the GL copy or the radiosity solution (both counters only grow).
-  std::uint64_t probeInputs() const { return gpuVersion_ + radiosityChanges_; }
+  int probesLightSamples_ = 0;           // the area-light samples the probes are drawn with (0: none yet)
+  std::uint64_t lightSampleChanges_ = 0;  // how often that changed
+  /// What the probes show changed: the GL copy, the radiosity solution or their area-light samples (the
+  /// counters only grow).
+  std::uint64_t probeInputs() const { return gpuVersion_ + radiosityChanges_ + lightSampleChanges_; }
   // What decides which probes exist and how they shade (a new GL copy, the shading override): a change
   // re-renders every probe whatever FrameSettings::probesPerFrame says.
   std::uint64_t gpuLayoutVersion_ = 1, probeLayoutVersion_ = 0;

@@ -239,7 +239,8 @@ struct SurfaceHit : ShadowPoint {
 /// at sequence point sampling.base + k. The shadow rays and the shading of that sample both come from here.
 inline glm::vec3 areaLightSample(const FrameShading& frame, const LightSampling& sampling, std::size_t light,
                                  std::uint32_t seed, glm::vec3 posW, int k, glm::vec3& toLight, float& dist) {
-  const glm::vec2 u = shading::tdLightSampleU(seed, static_cast<int>(light), sampling.base + static_cast<std::uint32_t>(k));
+  const glm::vec2 u =
+      shading::tdLightSampleU(seed, static_cast<int>(light), sampling.base + static_cast<std::uint32_t>(k));
   return shading::tdAreaLightSample(frame.lights[light], frame.lightType(light), posW, u, toLight, dist);
 }
 

@@ -210,7 +210,8 @@ class Whitted {
   /// All direct lights' visibility bits at hit, one rtcOccluded1 per needed ray. An area light's bit is set
   /// where any of its samples (FrameShading::lightAt(depth)) is visible; `area` (when given) gets each area
   /// light's sample bits.
-  std::uint32_t lightMask(const ShadowPoint& hit, RayCounts& counts, AreaSampleBits* area = nullptr, int depth = 0) const {
+  std::uint32_t lightMask(const ShadowPoint& hit, RayCounts& counts, AreaSampleBits* area = nullptr,
+                          int depth = 0) const {
     return lightMask(hit, counts, NoRecorder{}, area, depth);
   }
   /// The shadow ray from hit towards sample k of area light j drawing `sampling` (areaLightSample), or why

@@ -289,6 +289,7 @@ class Session {
       << " budget=" << (view_.targetFps > 0.0f ? fpsText(view_.targetFps) : std::string("off"))
       << " aa=" << tandem::toString(s.aa) << (s.aa != tandem::AntiAlias::Off ? std::to_string(s.aaSamples) : std::string())
       << " accumulate=" << s.accumulate << " light-samples=" << s.lightSamples
+      << (s.denoise ? " past-filter=" + std::to_string(s.unfilteredLightSamples()) : std::string())
       << " radiosity=" << (s.radiosity ? "on" : "off") << " denoise=" << (s.denoise ? "on" : "off")
       << " pipeline=" << (s.pipelined ? "on" : "off");
     return o.str();
@@ -747,9 +748,9 @@ int run(int argc, char** argv) {
       ->check(CLI::Range(1, 32))
       ->capture_default_str();
   app.add_option("--light-samples-past-filter", o.lightSamplesPastFilter,
-                 "With --denoise on: samples per area light, at least --light-samples, at the points whose light the "
-                 "filter does not smooth (the mirrors' ray hits, the probes the marble refracts; "
-                 "FrameSettings::lightSamplesPastFilter)")
+                 "With --denoise on: samples per area light, at least --light-samples, at every ray hit past the "
+                 "primary hit (the mirrors', whose light the filter does not smooth) and in the probes the marble "
+                 "refracts (FrameSettings::lightSamplesPastFilter)")
       ->check(CLI::Range(1, 32))
       ->capture_default_str();
   app.add_option("--radiosity", o.radiosity,
