@@ -320,7 +320,7 @@ MUTATIONS = [
      "lightMask(hit, counts, rec, &area, depth) : ~0u;", "lightMask(hit, counts, rec, &area, 0) : ~0u;",
      "tandem-rt-tests", "RayPassWhitted.WithTheFilter*"),
     ("denoise-past-filter-probes-ignored", "engine/src/render/SceneCaches.cpp",
-     "    local.setLightSampling(samples, in.sampleIndex);", "",
+     "    local.lightSamples = samples;", "",
      "tandem-gl-tests", "RasterEffectsGLTest.WithTheFilter*"),
     ("denoise-past-filter-probes-kept-when-it-changes", "engine/src/render/SceneCaches.cpp",
      "      ++lightSampleChanges_;\n", "", "tandem-gl-tests", "RasterEffectsGLTest.WithTheFilter*"),

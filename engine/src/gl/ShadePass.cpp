@@ -301,8 +301,9 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
   setCameraUniforms(p, width, height, camera);
   glProgramUniform3fv(p, TD_LOC_BACKGROUND, 1, glm::value_ptr(in.background));
   glProgramUniform3fv(p, TD_LOC_AMBIENT, 1, glm::value_ptr(in.ambient));
-  glProgramUniform1i(p, TD_LOC_LIGHT_SAMPLES, std::clamp(in.lightSamples, 1, TD_MAX_LIGHT_SAMPLES));
-  glProgramUniform1ui(p, TD_LOC_SAMPLE_BASE, in.sampleBase);
+  const int lightSamples = std::clamp(in.lightSamples, 1, TD_MAX_LIGHT_SAMPLES);
+  glProgramUniform1i(p, TD_LOC_LIGHT_SAMPLES, lightSamples);
+  glProgramUniform1ui(p, TD_LOC_SAMPLE_BASE, in.sampleIndex * static_cast<std::uint32_t>(lightSamples));
   glProgramUniform1i(p, TD_LOC_RAY_SCALE, in.rayScale);
   glProgramUniform3fv(p, TD_LOC_RENDER_ANCHOR, 1, glm::value_ptr(scene.anchor()));
   glProgramUniform2i(p, TD_LOC_RAY_GRID_SIZE, std::max(in.rayWidth, 1), std::max(in.rayHeight, 1));

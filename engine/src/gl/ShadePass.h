@@ -51,17 +51,11 @@ struct ShadeInputs {
   int probeEffects = 0;                    // ProbeEffect bits (with probeCubes)
   FresnelMode fresnel = FresnelMode::Exact;
   bool fresnelWeighted = true;             // wR = kr + kt·F, wT = kt·(1 − F); else wR = kr, wT = kt
-  /// Area lights: samples per pixel and the sequence index of the first (rt::FrameShading's primaryLight, so
-  /// the shade pass draws the samples the ray pass traced), for the accumulation's sample `sampleIndex`
-  /// (Camera::sampleIndex): setLightSampling.
+  /// Area lights: samples per pixel at the accumulation's sample `sampleIndex` (Camera::sampleIndex); the
+  /// pass draws sequence points sampleIndex · lightSamples + k, rt::FrameShading's primaryLight, so the samples
+  /// the ray pass traced.
   int lightSamples = 1;
-  std::uint32_t sampleBase = 0;
   std::uint32_t sampleIndex = 0;
-  void setLightSampling(int samples, std::uint32_t index) {
-    lightSamples = samples;
-    sampleIndex = index;
-    sampleBase = index * static_cast<std::uint32_t>(samples);
-  }
   /// The frame's pass (not the probes'): the target has the display at colour attachment 1 too, which
   /// the shader fills with tdDisplay(exposure, toneMap) of what it writes (OutputPass::fusedFramebuffer).
   bool fusedOutput = false;

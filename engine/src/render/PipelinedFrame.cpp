@@ -62,7 +62,8 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   FrameStats sample;
   const Camera glCamera = toRenderSpace(sampleCamera, caches.gpu().anchor());
   gl::ShadeInputs in;
-  in.setLightSampling(s.lightSamples, sampleCamera.sampleIndex);
+  in.lightSamples = s.lightSamples;
+  in.sampleIndex = sampleCamera.sampleIndex;
   localInputs(plan, in);
   rasterVisibility(plan, glCamera, sample);
   // Whether it reuses the last frame's rays whole is known now (the last frame was remembered by the call

@@ -133,7 +133,8 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
   // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
   const Camera glCamera = toRenderSpace(camera, caches.gpu().anchor());
   gl::ShadeInputs in;
-  in.setLightSampling(plan.settings.lightSamples, camera.sampleIndex);
+  in.lightSamples = plan.settings.lightSamples;
+  in.sampleIndex = camera.sampleIndex;
   raster(plan, glCamera, in, sample);
   // Nothing the rays depend on changed since the last frame drawn: its ids and ray results still hold.
   const bool reuse = last.reusesRays(plan, camera, lastDrawn, only != nullptr);

@@ -132,7 +132,7 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     // the samples past it. The settings', not the frame's (a debug view's, an accumulation's samples at rest):
     // the probes are a cache, drawn again (as probesPerFrame says) when that count changes.
     const int samples = plan.settings.unfilteredLightSamples();
-    local.setLightSampling(samples, in.sampleIndex);
+    local.lightSamples = samples;
     if (samples != probesLightSamples_) {
       probesLightSamples_ = samples;
       ++lightSampleChanges_;
