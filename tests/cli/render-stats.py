@@ -3,8 +3,8 @@
 --stats JSON that holds what the frame did, checked against counts made independently:
 - the PNG has the requested size (its IHDR), the summary names the preset, the exit status is 0;
 - every stage has min <= median <= max, all finite and >= 0, and the settings and preset are those asked for;
-  every frame's stages make its total within 2 % (what is left is `untimed`), for every preset; the GL stages
-  carry their GPU time (gpu_ms);
+  every frame's stages make its total within 2 % (what is left is `untimed`), for every preset, in one of
+  three draws (a preemption between two stages is the machine's time); the GL stages carry their GPU time;
 - hybrid-full's primary rays equal the pixels the frame shows a surface at (the instance-id view's non-black
   pixels, decoded here), at --scale 2 the grid pixels whose stand-in pixel shows one; the reference's are
   width x height x spp^2; the raster preset traces nothing; without shadows no shadow ray, with depth 0 no
@@ -89,7 +89,26 @@ STAGES = ("plan", "prepare", "sync", "shadows", "probes", "raster", "readback", 
 GPU_STAGES = ("shadows", "probes", "raster", "upload", "composite", "accumulate")
 
 
-def check_stages(name, stats):
+def untimed_share(stats):
+    """What of the frame's total lies outside its stages, as a fraction of the total."""
+    total = stats["stages_ms"]["total"]["median"]
+    summed = sum(stats["stages_ms"][s]["median"] for s in STAGES if s in stats["stages_ms"])
+    return abs(total - summed) / total if total > 0 else 0.0
+
+
+def check_stages(name, stats, args):
+    # A frame whose stages leave more than 2 % untimed is drawn again, twice at most: on 2 cores shared with
+    # other tests the scheduler can take the render thread between two stages for a time slice (14 ms of a
+    # 98 ms frame seen in CI), which is the machine's time, not the frame's; work done outside the stages
+    # leaves the same gap every time it is drawn.
+    for attempt in range(2):
+        if untimed_share(stats) <= 0.02:
+            break
+        print(f"{name}: {untimed_share(stats):.1%} of the frame untimed, drawn again")
+        _, again, _ = run(f"{name}-again{attempt}", *args)
+        if again is None:
+            return
+        stats = again
     for stage in STAGES + ("total",):
         s = stats["stages_ms"].get(stage)
         if s is None:
@@ -111,7 +130,7 @@ def check_stages(name, stats):
 
 
 if full:
-    check_stages("hybrid-full", full)
+    check_stages("hybrid-full", full, ("--preset", "hybrid-full"))
 
 # What the frame shows, independently: the instance-id view's pixels (black is the sky).
 png, ids, _ = run("ids", "--preset", "hybrid-full", "--debug-view", "instance")
@@ -139,9 +158,9 @@ if ref and ref["rays"]["primary"] != W * H * 4:
     fail.append(f"reference --spp 2: {ref['rays']['primary']} primary rays, not {W * H * 4}")
 _, raster, _ = run("raster", "--preset", "raster")
 if raster:
-    check_stages("raster", raster)
+    check_stages("raster", raster, ("--preset", "raster"))
 if ref:
-    check_stages("reference", ref)
+    check_stages("reference", ref, ("--preset", "reference", "--spp", "2"))
 if raster and any(raster["rays"][k] for k in ("primary", "shadow", "reflection", "refraction", "resolved")):
     fail.append(f"the raster preset traced rays: {raster['rays']}")
 _, noshadow, _ = run("noshadow", "--preset", "hybrid-full", "--shadows", "off")
