@@ -106,10 +106,11 @@ TD_FN uint tdPixelSeed(int x, int y, uint pixelSample) {
   return tdHash(uint(x) * 0x9E3779B1u ^ tdHash(uint(y) ^ tdHash(pixelSample + 0x68E31DA4u)));
 }
 
-// Point `index` of the (0, 2)-sequence in base 2 (Sobol's first two dimensions, as core/Sampling.h), under
-// the digital shift (XOR) by `shiftX`, `shiftY`, as 24-bit fractions in [0, 1): every aligned block of 2^k
-// points stays a (0, k, 2)-net, so K samples of a frame are stratified, and so are the frames' samples together.
-TD_FN vec2 tdSobol02(uint index, uint shiftX, uint shiftY) {
+// Point `index` of the (0, 2)-sequence in base 2 (Sobol's first two dimensions) as 32-bit fixed point: x is
+// the index with its bits mirrored (van der Corput), y the second Sobol dimension, whose generator is Pascal's
+// triangle mod 2. Every aligned block of 2^k points is a (0, k, 2)-net. The C++ twin (core/Sampling.h's
+// sobol02) is this text: the anti-aliasing jitter and the radiosity's shots read it there.
+TD_FN uvec2 tdSobol02Bits(uint index) {
   uint x = 0u;
   uint y = 0u;
   uint vx = 0x80000000u;
@@ -125,8 +126,16 @@ TD_FN vec2 tdSobol02(uint index, uint shiftX, uint shiftY) {
     vx >>= 1u;
     vy ^= vy >> 1u;
   }
-  x ^= shiftX;
-  y ^= shiftY;
+  return uvec2(x, y);
+}
+
+// The sequence's point `index` under the digital shift (XOR) by `shiftX`, `shiftY`, as 24-bit fractions in
+// [0, 1): every aligned block of 2^k points stays a (0, k, 2)-net, so K samples of a frame are stratified, and
+// so are the frames' samples together.
+TD_FN vec2 tdSobol02(uint index, uint shiftX, uint shiftY) {
+  uvec2 u = tdSobol02Bits(index);
+  uint x = u.x ^ shiftX;
+  uint y = u.y ^ shiftY;
   return vec2(float(x >> 8u), float(y >> 8u)) * (1.0f / 16777216.0f);
 }
 

@@ -49,10 +49,7 @@ MUTATIONS = [
      "tandem-numerics-tests", "Oracles.*"),
     ("light-samples-sobol-mask-one-bit", "shaders/shading.glsl",
      "uint take = 0u - (i & 1u);", "uint take = i & 1u;",
-     "tandem-unit-tests", "AreaLight.EachFramesSamplesAreStratified*"),
-    ("jitter-sobol-mask-one-bit", "engine/src/core/Sampling.h",
-     "const std::uint32_t take = 0u - (i & 1u);", "const std::uint32_t take = i & 1u;",
-     "tandem-unit-tests", "Sampling.*"),
+     "tandem-unit-tests", "AreaLight.EachFramesSamplesAreStratified*:Sampling.*"),
     # Rays: media, Snell, offsets, shadow-ray sides.
     ("inside-outside-ignored", "engine/src/rt/Whitted.cpp",
      "float etaI = hit.backFace ? ior : 1.0f;\n    float etaT = hit.backFace ? 1.0f : ior;",

@@ -5,22 +5,15 @@
 
 #include <glm/glm.hpp>
 
+#include "core/Shading.h"
+
 namespace tandem {
 
-/// The (0, 2)-sequence in base 2 (Sobol's first two dimensions) as 32-bit fixed point: x is i with its
-/// bits mirrored (van der Corput), y the second Sobol dimension, whose generator is Pascal's triangle
-/// mod 2. Every aligned block of 2^k points is a (0, k, 2)-net: one point in each of the 2^k dyadic boxes
+/// The (0, 2)-sequence in base 2 (Sobol's first two dimensions) as 32-bit fixed point, point i: its one
+/// definition is shaders/shading.glsl's tdSobol02Bits (the area lights' samples in the GL and the ray pass read
+/// it there). Every aligned block of 2^k points is a (0, k, 2)-net: one point in each of the 2^k dyadic boxes
 /// of any shape (2^k × 1 columns, 1 × 2^k rows, 2 × 2^(k-1) cells, ...).
-inline glm::uvec2 sobol02(std::uint32_t i) {
-  std::uint32_t x = 0, y = 0;
-  std::uint32_t vx = 1u << 31, vy = 1u << 31;
-  for (; i != 0; i >>= 1, vx >>= 1, vy ^= vy >> 1) {
-    const std::uint32_t take = 0u - (i & 1u);  // a mask, not a branch (shading.glsl's tdSobol02 says why)
-    x ^= vx & take;
-    y ^= vy & take;
-  }
-  return {x, y};
-}
+inline glm::uvec2 sobol02(std::uint32_t i) { return shading::tdSobol02Bits(i); }
 
 /// The sub-pixel offset of anti-aliasing sample `index` (Camera::jitterPx), within ±0.5 pixel: the
 /// (0, 2)-sequence under the digital shift (XOR) by (5/8, 7/8), which keeps the net property and moves the

@@ -26,6 +26,7 @@ using glm::pow;
 using glm::reflect;
 using glm::smoothstep;
 using glm::sqrt;
+using glm::uvec2;
 using glm::vec2;
 using glm::vec3;
 using glm::vec4;
