@@ -225,33 +225,42 @@ void FrameBudget::reanchor() {
 
 double FrameBudget::predictMs(int i) const {
   const BudgetChoice& c = choices_[static_cast<std::size_t>(i)];
-  constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
-  if (!haveFixedBase_) return kUnknown;
-  const double fixed = std::exp(logFixedBase_ + fixedOffsetOf(c.fixedSet()));
-  if (!c.rays) return fixed;
-  if (!haveRho_) return kUnknown;
+  if (!c.rays) return costMs(i, 0.0);
+  if (!haveRho_) return std::numeric_limits<double>::quiet_NaN();
   const double pixels = static_cast<double>((width_ + c.rayScale - 1) / c.rayScale) *
                         static_cast<double>((height_ + c.rayScale - 1) / c.rayScale);
-  const double rays = std::exp(logRho_ + c.work) * pixels;
+  return costMs(i, std::exp(logRho_ + c.work) * pixels);
+}
+
+double FrameBudget::costMs(int i, double rayMs) const {
+  const BudgetChoice& c = choices_[static_cast<std::size_t>(i)];
+  if (!haveFixedBase_) return std::numeric_limits<double>::quiet_NaN();
+  const double fixed = std::exp(logFixedBase_ + fixedOffsetOf(c.fixedSet()));
+  if (!c.rays) return fixed;
   // Throughput mode: the ray pass runs beside the GL's stages of the frames around it, so a frame costs the
   // slower of the two sides rather than their sum; the transfers (the ids read out, the results uploaded) lie
   // between one frame's landing and the next one's launch, on neither side.
-  if (!(pipelined_ && overlapping_)) return fixed + rays;
-  const double transfers = transferShare_ * rays;
-  return std::max(fixed, rays - transfers) + transfers;
+  if (!(pipelined_ && overlapping_)) return fixed + rayMs;
+  const double transfers = transferShare_ * rayMs;
+  return std::max(fixed, rayMs - transfers) + transfers;
 }
 
 double FrameBudget::fixedOffsetOf(int set) const {
   if (fixedKnown_[set]) return fixedOffset_[set];
   constexpr double kNone = -std::numeric_limits<double>::infinity();
   // Not yet drawn, with the filter: its raw twin's part plus the most the filter was seen to add to a set
-  // drawn both ways (the filter's passes and guides, less the shading of one sample instead of several).
-  if (set & kFiltered) {
-    double added = kNone;
-    for (int f = kFiltered; f < kFixedSets; ++f)
-      if (fixedKnown_[f] && fixedKnown_[f & ~kFiltered])
-        added = std::max(added, fixedOffset_[f] - fixedOffset_[f & ~kFiltered]);
-    if (added > kNone) return fixedOffsetOf(set & ~kFiltered) + added;
+  // drawn both ways (the filter's passes and guides, less the shading of one sample instead of several), on
+  // this ray grid where it was drawn on it, else on any.
+  if (isFilteredSet(set)) {
+    double sameGrid = kNone, anyGrid = kNone;
+    for (int f = kFallbackSets; f < kFixedSets; ++f) {
+      if (!fixedKnown_[f] || !fixedKnown_[rawTwin(f)]) continue;
+      const double added = fixedOffset_[f] - fixedOffset_[rawTwin(f)];
+      anyGrid = std::max(anyGrid, added);
+      if (f / kFallbackSets == set / kFallbackSets) sameGrid = std::max(sameGrid, added);
+    }
+    const double added = sameGrid > kNone ? sameGrid : anyGrid;
+    if (added > kNone) return fixedOffsetOf(rawTwin(set)) + added;
   }
   // Otherwise the dearest set seen (a raster fallback or the filter adds GL passes): for a raw set, the
   // dearest raw one, so that it never takes on the filter's cost; the dearest of all where none is seen.
@@ -259,9 +268,9 @@ double FrameBudget::fixedOffsetOf(int set) const {
   for (int f = 0; f < kFixedSets; ++f) {
     if (!fixedKnown_[f]) continue;
     any = std::max(any, fixedOffset_[f]);
-    if (!(f & kFiltered)) raw = std::max(raw, fixedOffset_[f]);
+    if (!isFilteredSet(f)) raw = std::max(raw, fixedOffset_[f]);
   }
-  return !(set & kFiltered) && raw > kNone ? raw : any;
+  return !isFilteredSet(set) && raw > kNone ? raw : any;
 }
 
 int FrameBudget::pick(double meanMs) {
@@ -427,7 +436,17 @@ void FrameBudget::observe(const FrameStats& frame) {
   // what the player gets). In throughput mode that is the interval between frames; its stages above still
   // teach the two sides' costs.
   // A drained frame did not overlap (its interval holds the frame before it too): its own stages count.
-  const double shown = frame.pipelined && !frame.pipelineDrained && frame.intervalMs > 0 ? frame.intervalMs : total;
+  double shown = frame.pipelined && !frame.pipelineDrained && frame.intervalMs > 0 ? frame.intervalMs : total;
+  // A choice's first frame carries the switch in its GL part, which the fixed part above leaves out: on a
+  // software GL the first draws in a new state compile the shaders' variants for it (1.2-1.6 s at 640x360 on 2
+  // cores in the sweep's budget runs, with no program built, and again when a state comes back), besides the
+  // maps, probes and buffers first drawn. It counts as its own rays with the fixed part the model predicts, where
+  // that is less: far over by these it is still left at once, and its next frames show the rest.
+  if (framesOnCurrent_ == 0) {
+    const bool traced = c.rays && !frame.raysReused && rayMs > 0;
+    const double steady = traced ? costMs(current_, rayMs) : predictMs(current_);
+    if (!std::isnan(steady)) shown = std::min(shown, steady);
+  }
   meanMs_ = framesOnCurrent_ == 0 ? shown : 0.5 * meanMs_ + 0.5 * shown;
   ++framesOnCurrent_;
 }

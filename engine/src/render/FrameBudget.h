@@ -54,9 +54,16 @@ const BudgetErrorTable& budgetErrorTable();
 
 /// BudgetChoice::fallback: which ray-traced effects this choice draws by raster instead.
 inline constexpr int kRefractionRaster = 1, kReflectionsRaster = 2, kShadowsRaster = 4, kFallbackSets = 8;
-/// The sets whose fixed part is learned apart: a set of fallbacks, and whether the filter runs
-/// (BudgetChoice::fixedSet).
-inline constexpr int kFiltered = kFallbackSets, kFixedSets = 2 * kFallbackSets;
+/// The sets whose fixed part is learned apart (BudgetChoice::fixedSet): a set of fallbacks raw, and with the
+/// filter on each ray grid, 1/1, 1/2 and 1/4 (its temporal and a-trous passes run on the grid, its upsampling
+/// from it at full size: on area-lights.json it added 53 ms to the frame at every pixel and 68 on the 1/2 grid,
+/// 2 cores, 2026-11-30).
+inline constexpr int kFilterGrids = 3, kFixedSets = (1 + kFilterGrids) * kFallbackSets;
+inline constexpr int filteredSet(int fallback, int rayScale) {
+  return fallback + kFallbackSets * (rayScale >= 4 ? 3 : rayScale == 2 ? 2 : 1);
+}
+inline constexpr bool isFilteredSet(int set) { return set >= kFallbackSets; }
+inline constexpr int rawTwin(int set) { return set % kFallbackSets; }
 
 struct BudgetChoice {
   FrameSettings settings;   // the requested settings with this choice's knobs
@@ -68,7 +75,7 @@ struct BudgetChoice {
   double work = 0;           // log of the ray cost per ray-grid pixel, relative (learned)
   double prior = 0;          // work's prior (what learning a filtered choice corrects for the others)
   int framesRun = 0;         // clean frames this choice has run since the ladder was made
-  int fixedSet() const { return fallback | (filtered ? kFiltered : 0); }
+  int fixedSet() const { return filtered ? filteredSet(fallback, rayScale) : fallback; }
 };
 
 class FrameBudget {
@@ -88,6 +95,9 @@ class FrameBudget {
   bool offersFilter() const { return !idle_ && filterOffered_; }
   /// Predicted frame ms of choice i (NaN before anything was measured).
   double predictMs(int i) const;
+  /// Choice i's frame ms with a ray part of `rayMs` (its readback, ray pass and upload) and the fixed part
+  /// as predicted (NaN before anything was measured).
+  double costMs(int i, double rayMs) const;
   /// The fixed part's offset of a set (fixedSet): as learned, or for one not yet drawn, from those drawn.
   double fixedOffsetOf(int set) const;
 
