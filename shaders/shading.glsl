@@ -109,7 +109,8 @@ TD_FN uint tdPixelSeed(int x, int y, uint pixelSample) {
 // Point `index` of the (0, 2)-sequence in base 2 (Sobol's first two dimensions) as 32-bit fixed point: x is
 // the index with its bits mirrored (van der Corput), y the second Sobol dimension, whose generator is Pascal's
 // triangle mod 2. Every aligned block of 2^k points is a (0, k, 2)-net. The C++ twin (core/Sampling.h's
-// sobol02) is this text: the anti-aliasing jitter and the radiosity's shots read it there.
+// sobol02) is this text: the anti-aliasing jitter, the lens points, the shutter times and the
+// radiosity's shots read it there.
 TD_FN uvec2 tdSobol02Bits(uint index) {
   uint x = 0u;
   uint y = 0u;

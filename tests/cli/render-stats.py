@@ -91,8 +91,9 @@ GPU_STAGES = ("shadows", "probes", "raster", "upload", "composite", "accumulate"
 
 def untimed_share(stats):
     """What of the frame's total lies outside its stages, as a fraction of the total."""
-    total = stats["stages_ms"]["total"]["median"]
-    summed = sum(stats["stages_ms"][s]["median"] for s in STAGES if s in stats["stages_ms"])
+    stages = stats.get("stages_ms", {})
+    total = stages.get("total", {}).get("median", 0.0)
+    summed = sum(stages[s]["median"] for s in STAGES if s in stages)
     return abs(total - summed) / total if total > 0 else 0.0
 
 

@@ -365,8 +365,9 @@ TEST(FrameBudget, AFilteredChoiceTeachesTheOthersWhatTheFilterSaves) {
 
 // The filter's passes cost what its grid makes them: on area-lights.json it added 53 ms to the frame at every
 // pixel and 68 on the 1/2 grid (its upsampling at full size; 2 cores, 2026-11-30). Learned as one cost, either
-// grid's frame was mispredicted by the other's (the 1/2 grid's by 15 % here, the budget took it where it ran
-// over). Each grid's filtered choices learn their own.
+// grid's frame was mispredicted by the other's (in the sweep the budget moved up to the 1/2 grid's filtered
+// frame predicted at 166 ms, and it ran 207; here one cost would put the 1/2 grid's 17 % under). Each grid's
+// filtered choices learn their own.
 TEST(FrameBudget, TheFiltersCostIsLearnedOnEachRayGrid) {
   FrameBudget b;
   Machine m = areaLit(0.6);
@@ -475,9 +476,9 @@ TEST(FrameBudget, ASwitchSpikeOrAResizeDoesNotTrapIt) {
 
 TEST(FrameBudget, ASwitchThatCostsSecondsOnASoftwareGlIsNotTheChoicesCost) {
   // llvmpipe compiles shader variants on the first draws in a new state, with no program built (the sweep's
-  // budget runs on area-lights.json: 1.2-1.6 s on the first frame after a switch, at a 285 ms target, and again
+  // budget runs on area-lights.json: 0.9-1.6 s on the first frame after a switch, at a 285 ms target, and again
   // when a state comes back). Each such frame taken for the choice's cost sent the budget further down, to a
-  // 1/4 grid at depth 1 (FLIP 0.055) where 1/2 filtered (0.029) fitted. Here every switch adds 5 x the target
+  // 1/4 grid (FLIP 0.037-0.055) where 1/2 filtered (0.029) fitted. Here every switch adds 5 x the target
   // to its first frame: the budget still settles on the best choice that fits, and stays.
   for (double target : {60.0, 80.0}) {
     SCOPED_TRACE(target);

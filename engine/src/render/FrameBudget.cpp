@@ -438,7 +438,7 @@ void FrameBudget::observe(const FrameStats& frame) {
   // A drained frame did not overlap (its interval holds the frame before it too): its own stages count.
   double shown = frame.pipelined && !frame.pipelineDrained && frame.intervalMs > 0 ? frame.intervalMs : total;
   // A choice's first frame carries the switch in its GL part, which the fixed part above leaves out: on a
-  // software GL the first draws in a new state compile the shaders' variants for it (1.2-1.6 s at 640x360 on 2
+  // software GL the first draws in a new state compile the shaders' variants for it (0.9-1.6 s at 640x360 on 2
   // cores in the sweep's budget runs, with no program built, and again when a state comes back), besides the
   // maps, probes and buffers first drawn. It counts as its own rays with the fixed part the model predicts, where
   // that is less: far over by these it is still left at once, and its next frames show the rest.

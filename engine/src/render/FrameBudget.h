@@ -17,16 +17,17 @@
 // below reads the interval between frames (which, unlike a latency frame's total, holds the application's
 // time between the calls), and a frame drawn with a choice already left is not learned from.
 // fixed = every stage but readback, rays and upload: the scene's load now times a learned factor per set of
-// raster fallbacks, with or without the filter (its passes are GL stages); rayMsPerPixel follows the scene
-// from frame to frame; work starts from a prior and is learned from the frames a choice runs: its first sets
-// it, its next two halve the gap (in the logarithm),
-// later ones move rayMsPerPixel, every choice's cost alike, by 0.3 of the gap (the scene's drift). A new
-// size or view re-measures the loads and keeps the factors.
+// raster fallbacks, raw or with the filter on each ray grid (its passes are GL stages); rayMsPerPixel follows
+// the scene from frame to frame; work starts from a prior and is learned from the frames a choice runs: its
+// first sets it, its next two halve the gap (in the logarithm), later ones move rayMsPerPixel, every choice's
+// cost alike, by 0.3 of the gap (the scene's drift). A new size or view re-measures the loads and keeps the
+// factors.
 // Hysteresis: frame times are smoothed (m ← (m + t) / 2). A choice is left when m runs over 1.05 × target
-// (on its first frame, which carries the switch, only over 1.5 ×): one frame a little slow is no reason to
-// leave, two in a row are. A better one is taken only after 10 frames on the current one running under
-// 0.95 × target, and only when predicted to fit in 0.85 × target — so a choice that ran over is not taken
-// again until the scene got cheaper by that margin. tests/unit/FrameBudgetTest.cpp scripts each rule.
+// (on its first frame, which carries the switch and counts as at most its own rays with the fixed part
+// predicted, only over 1.5 ×): one frame a little slow is no reason to leave, two in a row are. A better one
+// is taken only after 10 frames on the current one running under 0.95 × target, and only when predicted to
+// fit in 0.85 × target — so a choice that ran over is not taken again until the scene got cheaper by that
+// margin. tests/unit/FrameBudgetTest.cpp scripts each rule.
 #include <cstdint>
 #include <vector>
 
