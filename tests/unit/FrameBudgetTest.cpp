@@ -663,6 +663,13 @@ class ScriptedBudget {
     f.rayHeight = (drawn_.height + drawn_.rayScale - 1) / drawn_.rayScale;
     budget_.observe(f);
   }
+  /// `frames` frames drawn as requested (the budget keeps the request throughout), each of `fixedMs` + `rayMs`.
+  void runRequest(int frames, double fixedMs, double rayMs) {
+    for (int i = 0; i < frames; ++i) {
+      EXPECT_EQ(next(), 0) << i;
+      ran(fixedMs, rayMs);
+    }
+  }
   /// Predicted ray ms of choice i: its prediction less the fixed part (kept at `fixedMs` by the script).
   double rayPrediction(int i, double fixedMs) const { return budget_.predictMs(i) - fixedMs; }
   const FrameBudget& budget() const { return budget_; }
@@ -707,10 +714,7 @@ TEST(FrameBudget, OneSlowFrameIsNoReasonToLeaveSustainedOnesAre) {
   EXPECT_LT(b.next(), down) << "no move up after 10 quiet frames";
   // A first frame far over (1.6 × the target) is left at once.
   ScriptedBudget far(kTarget);
-  for (int i = 0; i < 3; ++i) {
-    ASSERT_EQ(far.next(), 0);
-    far.ran(kFixed, 60.0);
-  }
+  far.runRequest(3, kFixed, 60.0);
   ASSERT_EQ(far.next(), 0);
   far.ran(kFixed, 120.0);  // m = 120
   const int fresh = far.next();
@@ -725,12 +729,8 @@ TEST(FrameBudget, OneSlowFrameIsNoReasonToLeaveSustainedOnesAre) {
 TEST(FrameBudget, AChoiceBackFarOverByItsOwnRaysIsLeftAtOnce) {
   constexpr double kFixed = 30.0, kTarget = 100.0;
   ScriptedBudget b(kTarget);
-  for (int i = 0; i < 3; ++i) {
-    ASSERT_EQ(b.next(), 0);
-    b.ran(kFixed, 60.0);
-  }
-  ASSERT_EQ(b.next(), 0);
-  b.ran(kFixed, 100.0);  // m = 110: down
+  b.runRequest(3, kFixed, 60.0);
+  b.runRequest(1, kFixed, 100.0);  // m = 110: down
   const int down = b.next();
   ASSERT_GT(down, 0);
   // Its frames cheap, then cheaper (the scene's load falls, the rays' scale learns it): after 10 quiet frames
@@ -751,13 +751,9 @@ TEST(FrameBudget, AChoiceLearnsItsCostFromItsOwnFramesThenTheScenesDrift) {
   ScriptedBudget b(kTarget);
   // Three frames of the request teach its cost; then one of 130 ms (m = 110) sends the budget down to a
   // choice it has never drawn. (The fixed part stays 30 ms: its prediction, for any set of fallbacks, too.)
-  for (int i = 0; i < 3; ++i) {
-    ASSERT_EQ(b.next(), 0);
-    b.ran(kFixed, 60.0);
-  }
+  b.runRequest(3, kFixed, 60.0);
   EXPECT_NEAR(b.rayPrediction(0, kFixed), 60.0, 1e-9) << "the request's frames teach its own cost";
-  ASSERT_EQ(b.next(), 0);
-  b.ran(kFixed, 100.0);
+  b.runRequest(1, kFixed, 100.0);
   const int k = b.next();
   ASSERT_GT(k, 0);
   ASSERT_EQ(b.budget().choices()[static_cast<std::size_t>(k)].framesRun, 0);
