@@ -372,6 +372,12 @@ FrameSettings FrameBudget::choose(const FrameSettings& requested, const SceneFac
   return s;
 }
 
+void FrameBudget::observeShown(FrameStats shown, double intervalMs) {
+  shown.totalMs = shown.stagesMs();
+  shown.intervalMs = intervalMs;
+  observe(shown);
+}
+
 void FrameBudget::observe(const FrameStats& frame) {
   if (!stats_.active || !haveLadder_) return;
   // Throughput mode shows a frame a call after its choice was made: one drawn with a choice the budget has

@@ -86,6 +86,11 @@ class FrameBudget {
   FrameSettings choose(const FrameSettings& requested, const SceneFacts& facts);
   /// What the frame drawn with choose()'s last answer cost.
   void observe(const FrameStats& frame);
+  /// Throughput mode: the frame a render() call showed, a call after its choice was made. Its totalMs is its
+  /// latency (from the call that began it to its show), which also holds the next frame's raster and whatever
+  /// the application did between the calls: the budget learns from its own stages instead, and reads
+  /// `intervalMs` (this call's, up to now) as what the player gets.
+  void observeShown(FrameStats shown, double intervalMs);
   /// A new scene: what was learned belonged to the old one.
   void reset();
   /// The last choice, for FrameStats.

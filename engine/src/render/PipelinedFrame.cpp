@@ -164,16 +164,11 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   glFinish();  // the timestamp queries of this call's GL work (as finishFrame)
   result.gpu = gpuTimers.endFrame();
   result.shaderCompiles = static_cast<int>(gl::programsBuilt() - clock.compiledBefore);
-  // This frame's budget choice goes with it; the budget learns from the frame shown, its two sides' costs by
-  // its own stages (the latency in its totalMs also holds the next frame's raster and the application's
-  // time), and what the player gets by the interval up to now (Renderer::render sets the call's own).
+  // This frame's budget choice goes with it; the budget learns from the frame shown (by its own stages, not its
+  // latency: observeShown) and what the player gets by the interval up to now (Renderer::render sets the
+  // call's own).
   stats.budget = budget.stats();
-  if (shown) {
-    FrameStats own = result;
-    own.totalMs = own.stagesMs();
-    own.intervalMs = sinceLastCall ? sinceLastCall->ms() : 0.0;
-    budget.observe(own);
-  }
+  if (shown) budget.observeShown(result, sinceLastCall ? sinceLastCall->ms() : 0.0);
   stats.prepareMs += effects.prepareMs;
   stats.shadowsMs += effects.shadowsMs;
   stats.probesMs += effects.probesMs;
