@@ -351,6 +351,49 @@ TEST(Accumulation, TheFiltersFirstFrameLosesItsSubPixelOffsetAsTheCameraMovesFas
   EXPECT_EQ(a.nextSample(strafed(1.5f)).jitterPx, subpixelJitter(10));
 }
 
+// Frame to frame without accumulation (FilteredSequence): each filtered frame's offset is scaled by how far the
+// view moved since the filtered frame just before it, not since the first one: a steady strafe of 2 pixels a
+// frame keeps two thirds of every frame's offset however far it has gone, a camera that stops gets whole ones
+// back at once, a faster one loses them, and the light samples go on along one sequence throughout.
+TEST(Accumulation, TheFiltersOffsetScaleFollowsEachFramesOwnMotion) {
+  Camera start;
+  start.posW = glm::vec3(0.0f, 0.0f, 10.0f);
+  start.targetW = glm::vec3(0.0f);
+  start.yFovDeg = 90.0f;
+  const glm::ivec2 size(300, 200);  // 10 pixels a unit at the target's distance: 0.1 a pixel
+  auto at = [&](float x) {
+    Camera c = start;
+    c.posW.x += x;
+    c.targetW.x += x;
+    return c;
+  };
+  FilteredSequence seq;
+  Camera c = seq.next(at(0.0f), size);
+  EXPECT_EQ(seq.lastScale(), 1.0f) << "nothing before it: a whole offset";
+  EXPECT_EQ(c.jitterPx, subpixelJitter(0));
+  float x = 0.0f;
+  const float twoThirds = filteredJitterScale(2.0f);
+  ASSERT_NEAR(twoThirds, 2.0f / 3.0f, 1e-6f);
+  for (std::uint32_t k = 1; k <= 12; ++k) {
+    x += 0.2f;  // 2 pixels a frame
+    c = seq.next(at(x), size);
+    EXPECT_NEAR(seq.lastScale(), twoThirds, 1e-3f) << "frame " << k << ", " << 10.0f * x << " pixels from the start";
+    EXPECT_EQ(c.sampleIndex, k);
+    EXPECT_NEAR(c.jitterPx.x, seq.lastScale() * subpixelJitter(k).x, 1e-6f);
+    EXPECT_NEAR(c.jitterPx.y, seq.lastScale() * subpixelJitter(k).y, 1e-6f);
+  }
+  c = seq.next(at(x), size);  // stopped
+  EXPECT_EQ(seq.lastScale(), 1.0f);
+  EXPECT_EQ(c.jitterPx, subpixelJitter(13));
+  x += 0.5f;  // 5 pixels
+  EXPECT_EQ(seq.next(at(x), size).jitterPx, glm::vec2(0.0f));
+  EXPECT_EQ(seq.take(), 15u) << "an accumulation's first frame takes the next index";
+  x += 0.1f;  // 1 pixel since the last filtered frame
+  c = seq.next(at(x), size);
+  EXPECT_EQ(seq.lastScale(), 1.0f);
+  EXPECT_EQ(c.sampleIndex, 16u);
+}
+
 TEST(Accumulation, ReleaseFreesEverything) {
   Accumulation a;
   a.restart(Camera{}, accumulating(8));

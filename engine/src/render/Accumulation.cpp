@@ -91,6 +91,14 @@ Camera filteredSample(const Camera& camera, std::uint32_t index, float jitterSca
   return sample;
 }
 
+Camera FilteredSequence::next(const Camera& camera, glm::ivec2 size) {
+  const float motionPx = haveLast_ ? cameraMotionPx(last_, camera, size) : 0.0f;
+  last_ = camera;
+  haveLast_ = true;
+  lastScale_ = filteredJitterScale(motionPx);
+  return filteredSample(camera, frames_++, lastScale_);
+}
+
 Camera sampleCamera(const Camera& camera, std::uint32_t index) {
   Camera jittered = camera;
   jittered.sampleIndex = index;  // new light samples with each new sub-pixel offset

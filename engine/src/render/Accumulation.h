@@ -36,6 +36,26 @@ float filteredJitterScale(float motionPx);
 /// sampleCamera with its sub-pixel offset scaled by `jitterScale` (filteredJitterScale).
 Camera filteredSample(const Camera& camera, std::uint32_t index, float jitterScale);
 
+/// The filter's samples (FrameSettings::denoise): each filtered frame draws the next sample of one sequence, so
+/// that its history gathers new ones, with its sub-pixel offset scaled by how far the view moved since the last
+/// filtered frame (filteredJitterScale of cameraMotionPx, frame to frame: a camera that slows down gets its
+/// offsets back). An accumulation's first frame takes its index from the same sequence (take()).
+class FilteredSequence {
+ public:
+  /// The next filtered frame's camera, from `camera` (as the application gave it) at `size` pixels.
+  Camera next(const Camera& camera, glm::ivec2 size);
+  /// The next index without a camera (an accumulation's first frame: Accumulation::restart scales its offset).
+  std::uint32_t take() { return frames_++; }
+  /// The scale next() gave the last sample's offset.
+  float lastScale() const { return lastScale_; }
+
+ private:
+  std::uint32_t frames_ = 0;
+  bool haveLast_ = false;
+  Camera last_;  // the last filtered frame's camera, as given (not jittered)
+  float lastScale_ = 1.0f;
+};
+
 class Accumulation {
  public:
   /// What a frame does with the samples so far.

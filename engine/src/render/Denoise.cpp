@@ -15,14 +15,6 @@ namespace {
 constexpr int kMaxHistory = 32;
 }  // namespace
 
-Camera Renderer::Impl::denoiseSample(const FramePlan& plan, const Camera& camera) {
-  if (!plan.denoise) return camera;
-  const float motionPx =
-      denoiseCamera ? cameraMotionPx(*denoiseCamera, camera, {plan.settings.width, plan.settings.height}) : 0.0f;
-  denoiseCamera = camera;
-  return filteredSample(camera, denoiseFrames++, filteredJitterScale(motionPx));
-}
-
 FramePlan Renderer::Impl::denoisePlan(FramePlan plan, const SceneFacts& facts) {
   if (denoiseFailed) plan.withoutFilter();
   if (plan.denoise && facts.lensOrShutter && !denoiseLensWarned) {

@@ -300,10 +300,11 @@ struct Renderer::Impl {
   // The plan as the filter takes it: without it once its programs failed (the rays then draw lightSamples at
   // every point); the filter on a camera its motion vectors do not model logged (once).
   FramePlan denoisePlan(FramePlan plan, const SceneFacts& facts);
-  std::uint32_t denoiseFrames = 0;
-  std::optional<Camera> denoiseCamera;  // the last filtered frame's camera without accumulation (denoiseSample)
-  Camera denoiseSample(const FramePlan& plan, const Camera& camera);
-  std::uint32_t firstDenoiseSample(const FramePlan& plan) { return plan.denoise ? denoiseFrames++ : 0u; }
+  FilteredSequence denoiseSamples;
+  Camera denoiseSample(const FramePlan& plan, const Camera& camera) {
+    return plan.denoise ? denoiseSamples.next(camera, {plan.settings.width, plan.settings.height}) : camera;
+  }
+  std::uint32_t firstDenoiseSample(const FramePlan& plan) { return plan.denoise ? denoiseSamples.take() : 0u; }
   bool shadeDenoised(const FramePlan& plan, const Camera& glCamera, const gl::ShadeInputs& in,
                      const gl::VisibilityPass& pass, FrameStats& sample);
   /// A frame without the filter (FrameSettings::denoise off): its targets go, and its programs unless a
