@@ -1013,6 +1013,201 @@ std::optional<Filter> makeFilter(int w, int h, int gridScale = 1) {
 }
 }  // namespace synthetic
 
+// A rect light turned 45 degrees in its plane (a 2x2 square, its corners sqrt(2) from its centre along the
+// frame's axes), on synthetic inputs: the grid tests' wall at depth 5, the light 4.5 in front of it facing it, and
+// a small box moved between two frames where it crosses only the rays from the frame's middle towards the
+// light's right corner (the ray to the light's centre, and every ray within half the light's longer side of
+// it, pass clear). The light's shadows there may have changed, so every pixel one of whose rays to
+// the light the box crosses drops its history (the moved-instance test's cone to the sphere of
+// areaLightReach); pixels whose rays it cannot meet keep theirs.
+TEST(Denoise, AMovedObjectCrossingOnlyARectLightsCornerRaysDropsTheHistory) {
+  TD_REQUIRE_GL_CONTEXT();
+  constexpr int kSw = 64, kSh = 48;
+  auto f = synthetic::makeFilter(kSw, kSh);
+  ASSERT_TRUE(f.has_value());
+  const Camera camera = grid::wallCamera();
+  const gl::CameraVectors axes = gl::cameraVectors(kSw, kSh, camera);
+  const glm::vec3 axis = glm::normalize(glm::cross(axes.up, axes.right));
+  auto pointOf = [&](int x, int y) {  // pixel (x, y)'s point on the wall (GL rows)
+    const glm::vec2 ndc = (glm::vec2(x, y) + 0.5f) / glm::vec2(kSw, kSh) * 2.0f - 1.0f;
+    return camera.posW + grid::kDepth * (axis + axes.right * ndc.x + axes.up * ndc.y);
+  };
+  Light light;
+  light.type = LightType::Rect;
+  light.posW = glm::vec3(0.0f, 0.0f, -0.5f);
+  light.dirW = glm::vec3(0.0f, 0.0f, -1.0f);
+  light.size = glm::vec2(2.0f);
+  light.upW = glm::normalize(glm::vec3(1.0f, 1.0f, 0.0f));
+  // The light's points, from its packing (the ray pass's samples): a grid over it, corners included.
+  const shading::GpuLight packed = shading::packLight(light);
+  std::vector<glm::vec3> points;
+  for (int i = 0; i <= 16; ++i)
+    for (int j = 0; j <= 16; ++j)
+      points.push_back(glm::vec3(packed.posType) + glm::vec3(packed.shapeU) * (static_cast<float>(i) / 8.0f - 1.0f) +
+                       glm::vec3(packed.shapeV) * (static_cast<float>(j) / 8.0f - 1.0f));
+  const glm::vec3 corner = light.posW + glm::vec3(std::sqrt(2.0f), 0.0f, 0.0f);
+  // The box, 0.6 of the way from the wall's middle to that corner: of the ~600 pixels whose rays to the light it
+  // crosses, 9 about the middle have only rays towards that corner through it, outside half the longer side's
+  // pyramid (the test's cone had it that radius).
+  const glm::vec3 mid = pointOf(kSw / 2, kSh / 2), at = mid + 0.6f * (corner - mid);
+  const glm::vec3 lo = at - glm::vec3(0.02f, 0.02f, 0.04f), hi = at + glm::vec3(0.02f, 0.02f, 0.04f);
+  auto crosses = [&](glm::vec3 from, glm::vec3 to) {  // the segment from -> to meets the box
+    float enter = 0.0f, leave = 1.0f;
+    for (int k = 0; k < 3; ++k) {
+      const float d = to[k] - from[k];
+      if (std::abs(d) < 1e-9f) {
+        if (from[k] < lo[k] || from[k] > hi[k]) return false;
+        continue;
+      }
+      float t0 = (lo[k] - from[k]) / d, t1 = (hi[k] - from[k]) / d;
+      if (t0 > t1) std::swap(t0, t1);
+      enter = std::max(enter, t0);
+      leave = std::min(leave, t1);
+    }
+    return enter <= leave;
+  };
+  ASSERT_TRUE(crosses(mid, corner)) << "the box stands in the middle's ray to the corner";
+  ASSERT_FALSE(crosses(mid, light.posW)) << "... and not in its ray to the light's centre";
+  // Nor within half the longer side's pyramid about that ray (what the test would take with that radius).
+  for (float t = 0.0f; t <= 1.0f; t += 0.01f) {
+    const glm::vec3 c = mid + t * (light.posW - mid);
+    const float r = 0.5f * std::max(light.size.x, light.size.y) * t;
+    ASSERT_FALSE(c.x + r >= lo.x && c.x - r <= hi.x && c.y + r >= lo.y && c.y - r <= hi.y && c.z + r >= lo.z &&
+                 c.z - r <= hi.z)
+        << "the box within half the longer side of the ray to the centre at " << t;
+  }
+  // Two frames of the same light, the box moved before the second: which pixels dropped their history.
+  auto droppedWith = [&](glm::vec3 boxLo, glm::vec3 boxHi) {
+    gl::MovedInstances moved;
+    moved.boxes[0] = {glm::vec4(boxLo, 7.0f), glm::vec4(boxHi, 0.0f)};
+    moved.boxCount = 1;
+    moved.areaLights[0] = glm::vec4(light.posW, shading::areaLightReach(light));
+    moved.areaLightCount = 1;
+    const std::vector<glm::vec4> wall = synthetic::grey(kSw * kSh, 0.5f);
+    f->pass.forget();
+    f->showWall(wall);
+    f->run(false);
+    f->showWall(wall);
+    f->run(true, camera, moved);
+    return f->dropped();
+  };
+  const std::vector<bool> dropped = droppedWith(lo, hi);
+  int crossed = 0, crossedDropped = 0;
+  for (int y = 0; y < kSh; ++y)
+    for (int x = 0; x < kSw; ++x) {
+      const glm::vec3 P = pointOf(x, y);
+      bool any = false;
+      for (const glm::vec3& q : points) any = any || crosses(P, q);
+      if (any) ++crossed, crossedDropped += dropped[static_cast<std::size_t>(y * kSw + x)] ? 1 : 0;
+    }
+  std::printf("a rect light's corner rays: %d of %d pixels whose rays the box crosses dropped their history\n",
+              crossedDropped, crossed);
+  EXPECT_GT(crossed, 20);
+  EXPECT_EQ(crossedDropped, crossed);
+  // The same box moved where it meets no ray to the light (behind it, off to the side): no pixel drops.
+  const glm::vec3 away(6.0f, 0.0f, 2.0f);
+  const std::vector<bool> none = droppedWith(lo + away, hi + away);
+  EXPECT_EQ(std::count(none.begin(), none.end(), true), 0);
+}
+
+// The a-trous weights at known taps, on synthetic inputs (one frame, no history: the first iteration's result is
+// the history). A plane tilted about 40 degrees to the view along both of the frame's axes, its normal exactly
+// what the guide's three bytes hold. Every third pixel each way is a centre of one colour among taps of
+// another of the same luminance, so the luminance weight is 1 but for the halves' rounding (which the closed form
+// takes in), and a tap's weight is its kernel weight times the normals' (the same for every tap) times
+// exp(-distance off the centre's tangent plane / (the pixel's footprint at the centre's depth · the tap's
+// distance in pixels)). On the plane every distance is 0: a tap's point rebuilt from its depth at its own
+// pixel's ndc lies on it (rebuilt elsewhere, a tilted plane's points are off it by a share of a footprint, which
+// a plane facing the camera cannot show). With the column right of each centre on a parallel plane 0.03 nearer,
+// those taps weigh their closed form's fraction less.
+TEST(Denoise, TheATrousWeightsOnATiltedPlaneAreTheirClosedForm) {
+  TD_REQUIRE_GL_CONTEXT();
+  constexpr int kSw = 48, kSh = 36;
+  auto f = synthetic::makeFilter(kSw, kSh);
+  ASSERT_TRUE(f.has_value());
+  const Camera camera = grid::wallCamera();
+  const gl::CameraVectors axes = gl::cameraVectors(kSw, kSh, camera);
+  const glm::vec3 axis = glm::normalize(glm::cross(axes.up, axes.right));
+  // The normal as the guide stores it (snorm bytes) and as the filter unpacks it.
+  const glm::ivec3 bytes(67, 50, 95);
+  const glm::vec3 N = glm::vec3(bytes) / 127.0f;
+  const std::uint32_t normalWord = static_cast<std::uint32_t>(bytes.x) | static_cast<std::uint32_t>(bytes.y) << 8 |
+                                   static_cast<std::uint32_t>(bytes.z) << 16;
+  auto ndcOf = [&](int x, int y) { return (glm::dvec2(x, y) + 0.5) / glm::dvec2(kSw, kSh) * 2.0 - 1.0; };
+  const double planeAt = 5.0 * glm::dot(glm::dvec3(N), glm::dvec3(axis));  // N·P of the plane through 5 ahead
+  // The view depth of pixel (x, y)'s point on the plane N·P = plane (P = z·(axis + right·x + up·y)).
+  auto depthOn = [&](int x, int y, double plane) {
+    const glm::dvec2 ndc = ndcOf(x, y);
+    const glm::dvec3 ray = glm::dvec3(axis) + glm::dvec3(axes.right) * ndc.x + glm::dvec3(axes.up) * ndc.y;
+    return static_cast<float>(plane / glm::dot(glm::dvec3(N), ray));
+  };
+  const glm::vec3 A(1.0f), B(1.5f, (1.0f - 0.2126f * 1.5f - 0.0722f) / 0.7152f, 1.0f);  // luminance 1 both
+  auto isCentre = [](int x, int y) { return x % 3 == 1 && y % 3 == 1; };
+  constexpr float kNearer = 0.03f;
+  auto frame = [&](bool stepped) {
+    std::vector<glm::vec4> noisy, motion;
+    std::vector<glm::uvec4> guide;
+    for (int y = 0; y < kSh; ++y)
+      for (int x = 0; x < kSw; ++x) {
+        noisy.push_back(glm::vec4(isCentre(x, y) ? A : B, 1.0f));
+        const float z = depthOn(x, y, stepped && x % 3 == 2 ? planeAt + kNearer : planeAt);
+        guide.push_back(glm::uvec4(glm::floatBitsToUint(z), normalWord | (1u << 24), glm::packHalf2x16(glm::vec2(1.0f)),
+                                   glm::packHalf2x16(glm::vec2(1.0f, 0.0f))));
+        motion.push_back(glm::vec4(0.0f, 0.0f, z, 1.0f));
+      }
+    grid::uploadShadeOutputs(f->pass, kSw, kSh, noisy, guide, motion);
+    f->pass.forget();
+    f->run(false);
+    return f->historyTexels();
+  };
+  auto half = [](float v) { return glm::unpackHalf2x16(glm::packHalf2x16(glm::vec2(v))).x; };
+  auto halves = [&](glm::vec3 c) { return glm::vec3(half(c.x), half(c.y), half(c.z)); };
+  auto lum = [](glm::vec3 c) { return glm::dot(c, glm::vec3(0.2126f, 0.7152f, 0.0722f)); };
+  // The centre's variance: its cross of five's (the first frame's bootstrap), as the temporal stage stores it.
+  const glm::vec3 m1 = A + 4.0f * B, m2 = A * A + 4.0f * B * B;
+  const float lMean = lum(m1 / 5.0f), v0 = half(std::max(lum(m2 / 5.0f) - lMean * lMean, 0.0f));
+  const float lumScale = 1.4426950f / (4.0f * std::sqrt(v0) + 1e-6f);
+  float normals = std::max(glm::dot(N, N), 0.0f);
+  for (int k = 0; k < 4; ++k) normals *= normals;
+  normals *= normals;  // (cos)^32, as the filter squares it
+  const float kernel[3] = {0.25f, 0.5f, 0.25f};
+  for (const bool stepped : {false, true}) {
+    SCOPED_TRACE(stepped ? "the right column 0.03 nearer" : "all on the plane");
+    const std::vector<glm::uvec4> texels = frame(stepped);
+    int checked = 0;
+    float worst = 0.0f;
+    for (int y = 1; y < kSh - 1; ++y)
+      for (int x = 1; x < kSw - 1; ++x) {
+        if (!isCentre(x, y)) continue;
+        const float z = depthOn(x, y, planeAt);
+        const float footprint = 2.0f * glm::length(axes.up) * z / static_cast<float>(kSh);
+        glm::vec3 sum = 0.25f * halves(A);
+        float wsum = 0.25f;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            if (dx == 0 && dy == 0) continue;
+            const float d = dx == 0 || dy == 0 ? 1.0f : 1.41421356f;
+            const float off = stepped && dx == 1 ? kNearer : 0.0f;
+            const float e = off * 1.4426950f / footprint / d + std::abs(lum(halves(B)) - lum(halves(A))) * lumScale;
+            const float w = kernel[dx + 1] * kernel[dy + 1] * normals * std::exp2(-e);
+            sum += w * halves(B);
+            wsum += w;
+          }
+        const glm::vec3 want = sum / wsum;
+        const glm::uvec4 t = texels[static_cast<std::size_t>(y * kSw + x)];
+        const glm::vec3 got(glm::unpackHalf2x16(t.x), glm::unpackHalf2x16(t.y).x);
+        const float off = glm::length(got - want);
+        worst = std::max(worst, off);
+        EXPECT_LT(off, 2e-3f) << "centre (" << x << ", " << y << "): " << got.x << " " << got.y << " " << got.z
+                              << " against the closed form's " << want.x << " " << want.y << " " << want.z;
+        ++checked;
+      }
+    std::printf("a-trous weights on a tilted plane (%s): %d centres, worst %.5f off the closed form\n",
+                stepped ? "right column nearer" : "on the plane", checked, static_cast<double>(worst));
+    EXPECT_EQ(checked, (kSw / 3) * (kSh / 3));
+  }
+}
+
 // The statistical test of the temporal stage (a history outside what this frame's neighbourhood allows is
 // stale), alone: nothing the renderer knows moved or changed, a wall's light is noise of standard deviation
 // 0.1 about its mean, new each frame. After 8 frames at mean 0.6 the mean drops to 0.2 (four standard

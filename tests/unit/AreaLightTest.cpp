@@ -185,5 +185,54 @@ TEST(AreaLight, PackingKeepsTheShapeAndItsSlot) {
   EXPECT_GT(glm::length(glm::vec3(h.shapeV)), 0.5f);
 }
 
+// areaLightReach (the filter's test of what moved takes each area light as a sphere of that radius): every
+// point the light is sampled at, its rect's corners and its disk's rim included, lies within it of posW, for
+// rects long and square, turned in their plane (a square turned 45 degrees puts its corners where half its
+// longer side does not reach), facing any way. The sphere from points around it.
+TEST(AreaLight, EveryPointOfTheLightIsWithinItsReach) {
+  const glm::vec3 c(1.0f, 2.0f, -3.0f);
+  int checked = 0;
+  for (const glm::vec3 dir : {glm::vec3(0, -1, 0), glm::normalize(glm::vec3(1, -2, 0.5f)), glm::vec3(0, 0, 1)})
+    for (const float turn : {0.0f, 0.3f, 0.785398163f, 1.2f})
+      for (const glm::vec2 size : {glm::vec2(2.0f), glm::vec2(4.0f, 0.5f), glm::vec2(0.01f, 3.0f)})
+        for (const LightType type : {LightType::Rect, LightType::Disk}) {
+          Light l = areaLight(type, c, dir, size.x, glm::vec3(1, 0, 0));
+          l.size = size;
+          // up turned in the light's plane by `turn` from a fixed perpendicular
+          const glm::vec3 a = glm::normalize(glm::cross(dir, std::abs(dir.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0)));
+          const glm::vec3 b = glm::cross(dir, a);
+          l.upW = std::cos(turn) * a + std::sin(turn) * b;
+          const float reach = areaLightReach(l);
+          const GpuLight g = packLight(l);
+          const int code = type == LightType::Rect ? TD_LIGHT_RECT : TD_LIGHT_DISK;
+          // From a point in front of the light (the side it faces), the samples over a grid of u, its corners in.
+          const glm::vec3 from = c + 5.0f * dir;
+          float most = 0.0f;
+          for (int i = 0; i <= 8; ++i)
+            for (int j = 0; j <= 8; ++j) {
+              glm::vec3 toLight;
+              float dist;
+              (void)tdAreaLightSample(g, code, from, glm::vec2(static_cast<float>(i) / 8.0f, static_cast<float>(j) / 8.0f), toLight, dist);
+              most = std::max(most, glm::length(from + toLight * dist - c));
+              ++checked;
+            }
+          EXPECT_LE(most, reach * (1.0f + 1e-5f)) << (type == LightType::Rect ? "rect " : "disk ") << size.x << "x"
+                                                  << size.y << " turned " << turn << ": a point " << most << " away";
+        }
+  Light sphere = areaLight(LightType::Sphere, c, glm::vec3(0, -1, 0), 0.7f, glm::vec3(1, 0, 0));
+  for (const glm::vec3 from : {c + glm::vec3(3, 0, 0), c + glm::vec3(-1, 0.5f, 0.2f), c + glm::vec3(0, 0, 40)})
+    for (int i = 0; i <= 8; ++i)
+      for (int j = 0; j <= 8; ++j) {
+        glm::vec3 toLight;
+        float dist;
+        (void)tdAreaLightSample(packLight(sphere), TD_LIGHT_SPHERE, from, glm::vec2(static_cast<float>(i) / 8.0f, static_cast<float>(j) / 8.0f), toLight, dist);
+        EXPECT_LE(glm::length(from + toLight * dist - c), areaLightReach(sphere) * (1.0f + 1e-4f));
+        ++checked;
+      }
+  EXPECT_EQ(checked, 3 * 4 * 3 * 2 * 81 + 3 * 81);
+  Light point;
+  EXPECT_EQ(areaLightReach(point), 0.0f);
+}
+
 }  // namespace
 }  // namespace tandem

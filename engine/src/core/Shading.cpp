@@ -49,6 +49,15 @@ GpuLight packLight(const Light& l, int areaSlot) {
   return g;
 }
 
+float areaLightReach(const Light& l) {
+  switch (l.type) {
+    case LightType::Rect: return 0.5f * (l.size.x + l.size.y);
+    case LightType::Disk: return 2.0f * l.radius;
+    case LightType::Sphere: return l.radius;
+    default: return 0.0f;
+  }
+}
+
 GpuMaterial packMaterial(const Material& m, int index, std::optional<ShadingModel> override) {
   GpuMaterial g{};
   ShadingModel model = override ? *override : m.shading;

@@ -156,11 +156,8 @@ void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame&
   // The area lights whose shadows a moving instance may move: each a sphere holding it (render space).
   for (const Light& l : now.lights) {
     if (!l.castShadows || in.moved.areaLightCount == kMaxLights) continue;
-    const float r = l.type == LightType::Rect ? 0.5f * (l.size.x + l.size.y)
-                    : l.type == LightType::Disk ? 2.0f * l.radius
-                                                : l.radius;
     in.moved.areaLights[static_cast<std::size_t>(in.moved.areaLightCount++)] =
-        glm::vec4(glm::vec3(glm::dvec3(l.posW) - glm::dvec3(now.anchor)), r);
+        glm::vec4(glm::vec3(glm::dvec3(l.posW) - glm::dvec3(now.anchor)), shading::areaLightReach(l));
   }
   struct Moved {
     gl::Bounds box;
