@@ -2,8 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <set>
+#include <string>
+#include <vector>
 
 #include "GlTestUtil.h"
 #include "core/Shading.h"
@@ -271,6 +274,61 @@ TEST(RendererGLTest, DynamicInstanceMoves) {
   renderer->render(scene.camera, s);
   Image after = renderer->readImage();
   EXPECT_EQ(after.at(32, 24), after.at(1, 1));  // moved out of view: background everywhere
+}
+
+// The ids' read-back memory (gl/PixelReadback, mapped once and made again when a frame needs more) follows the
+// frame's size both ways: a renderer that draws small, then large, then small and larger still, in latency and in
+// throughput mode (whose two visibility buffers each read back), shows at each size the frame a fresh renderer
+// draws there, to the bit, and leaves no GL error. (A read past a mapping the GL did not fill is not ASan's to
+// see: it shows in the frame.)
+TEST(RendererGLTest, TheIdReadBackFollowsTheFrameSizeBothWays) {
+  TD_REQUIRE_GL_CONTEXT();
+  Scene scene;
+  auto r = gltest::whittedRenderer(*glContext_, scene);
+  ASSERT_TRUE(r);
+  const std::vector<glm::ivec2> sizes{{64, 36}, {160, 90}, {64, 36}, {200, 120}};
+  auto settingsAt = [](glm::ivec2 size, bool pipelined) {
+    FrameSettings s = *presetSettings("hybrid-full");
+    s.width = size.x;
+    s.height = size.y;
+    s.pipelined = pipelined;
+    return s;
+  };
+  // The camera of the k-th size's frames (each frame at a size a little further along: every one traces).
+  auto cameraAt = [&](std::size_t k, int frame) {
+    Camera c = scene.camera;
+    c.posW.x += 0.02f * static_cast<float>(2 * k + static_cast<std::size_t>(frame));
+    return c;
+  };
+  std::vector<Image> fresh;
+  for (std::size_t k = 0; k < sizes.size(); ++k) {
+    Scene copy;
+    auto f = gltest::whittedRenderer(*glContext_, copy);
+    ASSERT_TRUE(f);
+    ASSERT_TRUE(f->render(cameraAt(k, 1), settingsAt(sizes[k], false)).error.empty());
+    fresh.push_back(f->readImage());
+  }
+  for (const bool pipelined : {false, true}) {
+    for (std::size_t k = 0; k < sizes.size(); ++k) {
+      SCOPED_TRACE(std::string(pipelined ? "throughput" : "latency") + " mode, " + std::to_string(sizes[k].x) + "x" +
+                   std::to_string(sizes[k].y));
+      for (int frame = 0; frame < 2; ++frame) {
+        const FrameStats st = r->render(cameraAt(k, frame), settingsAt(sizes[k], pipelined));
+        EXPECT_TRUE(st.error.empty()) << st.error;
+      }
+      if (pipelined) {
+        ASSERT_TRUE(r->finish());
+      }
+      const Image got = r->readImage();
+      EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+      ASSERT_EQ(got.width, fresh[k].width);
+      ASSERT_EQ(got.height, fresh[k].height);
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < got.rgba.size(); i += 4)
+        differ += std::memcmp(&got.rgba[i], &fresh[k].rgba[i], 4) != 0 ? 1 : 0;
+      EXPECT_EQ(differ, 0u) << "pixels unlike the fresh renderer's frame";
+    }
+  }
 }
 
 TEST(RendererGLTest, ReferenceModeUsesTheSameOutputPath) {

@@ -23,10 +23,14 @@ PixelReadback& PixelReadback::operator=(PixelReadback&& other) noexcept {
   return *this;
 }
 
-void PixelReadback::drop() {
+void PixelReadback::cancel() {
   if (fence_) glDeleteSync(fence_);
   fence_ = nullptr;
   pending_ = false;
+}
+
+void PixelReadback::drop() {
+  cancel();
   if (buffer_ && mapped_) glUnmapNamedBuffer(buffer_.id());
   mapped_ = nullptr;
   buffer_.reset();
@@ -62,8 +66,7 @@ bool PixelReadback::makeBuffer(std::size_t bytes) {
 
 void PixelReadback::start(const Framebuffer& fbo, const ChannelFormat& channel, int width, int height) {
   assert(width > 0 && height > 0 && "PixelReadback::start: an empty target");
-  if (fence_) glDeleteSync(fence_);
-  fence_ = nullptr;
+  cancel();
   texelBytes_ = texelBytes(channel.internal);
   width_ = width;
   height_ = height;

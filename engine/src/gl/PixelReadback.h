@@ -45,6 +45,8 @@ class PixelReadback {
   }
   /// Frees the buffer (a pending read-back is dropped).
   void drop();
+  /// Drops a pending read-back, keeping the buffer.
+  void cancel();
   /// The mapped buffer's size (0 when none is held).
   std::size_t bytes() const { return bytes_; }
 

@@ -28,7 +28,7 @@ Result<VisibilityPass> VisibilityPass::create() {
 Result<void> VisibilityPass::resize(int width, int height) {
   assert(width > 0 && height > 0 && "VisibilityPass::resize: empty frame");
   if (width == width_ && height == height_) return {};
-  release();  // the old targets first: they may be what keeps the new ones from fitting
+  releaseTargets();  // the old targets first: they may be what keeps the new ones from fitting
   auto ids = tryCreateTexture2D("gbuffer ids", kChannelIds.internal, width, height);
   if (!ids) return ids.error();
   auto depth = tryCreateTexture2D("gbuffer depth", kChannelDepth.internal, width, height);
@@ -51,6 +51,11 @@ Result<void> VisibilityPass::resize(int width, int height) {
 
 void VisibilityPass::release() {
   idReadback_.drop();
+  releaseTargets();
+}
+
+void VisibilityPass::releaseTargets() {
+  idReadback_.cancel();
   resolveFbo_.reset();
   exactHits_.reset();
   fbo_.reset();

@@ -23,9 +23,10 @@ class VisibilityPass {
 
   /// Reallocates the targets when the frame size changes. An error names the target the GL refused
   /// (out of memory, an incomplete framebuffer); the pass then holds no targets (width() 0) until a
-  /// resize succeeds.
+  /// resize succeeds. The ids' read-back memory stays (a pending read-back is dropped): a dynamic resolution
+  /// that steps down and back up does not map it again, and a larger frame makes it again larger.
   Result<void> resize(int width, int height);
-  /// Drops the targets (width() 0).
+  /// Drops the targets (width() 0) and the read-back memory.
   void release();
   /// The GL memory resize(width, height) allocates.
   static std::size_t targetBytes(int width, int height);
@@ -80,6 +81,7 @@ class VisibilityPass {
   Framebuffer resolveFbo_;
   VertexArray emptyVao_;
   PixelReadback idReadback_;  // the ids' read-back memory (8 bytes a pixel), made by the first read
+  void releaseTargets();      // release() but for the read-back memory
   int width_ = 0, height_ = 0;
 };
 
