@@ -434,6 +434,19 @@ TEST(MotionGLTest, ANewSceneSizeOrViewHasNoLastFrame) {
   ASSERT_TRUE(r->render(scene.camera, final).error.empty());
   ASSERT_TRUE(r->render(scene.camera, smaller).error.empty());
   EXPECT_TRUE(allNew("the view back after a frame without it"));
+  // Every direction of a resize: the height alone (the last frame's ids and depth would be read at another
+  // size and projection with the width the same), the width alone, both; smaller and larger.
+  FrameSettings sized = smaller;
+  for (const glm::ivec2 change : {glm::ivec2(0, -12), glm::ivec2(0, 20), glm::ivec2(24, 0), glm::ivec2(-8, -8),
+                                  glm::ivec2(16, 12), glm::ivec2(-16, 12)}) {
+    ASSERT_TRUE(r->render(scene.camera, sized).error.empty());
+    ASSERT_TRUE(someSeen()) << "a still frame after one of its size: seen";
+    sized.width += change.x;
+    sized.height += change.y;
+    ASSERT_TRUE(r->render(scene.camera, sized).error.empty());
+    const std::string what = "resized by " + std::to_string(change.x) + "x" + std::to_string(change.y);
+    EXPECT_TRUE(allNew(what.c_str()));
+  }
 }
 
 // A face of the same instance turning into view: the camera swings round to see the box's side, whose points
