@@ -28,12 +28,10 @@ struct Whitted {
 Whitted whitted(GlContext& context, int threads = 0) {
   Whitted w;
   auto scene = loadSceneFile(test::sourceDir() + "/assets/scenes/whitted.json");
-  EXPECT_TRUE(scene.ok()) << scene.error().message;
+  if (!scene.ok()) gltest::endTest("whitted.json: " + scene.error().message);
   RendererDesc desc;
   desc.threads = threads;
-  auto renderer = Renderer::create(context, desc);
-  EXPECT_TRUE(renderer.ok()) << renderer.error().message;
-  w.renderer = std::move(*renderer);
+  w.renderer = gltest::madeOrEnd(Renderer::create(context, desc));
   w.camera = scene->camera;
   w.base.width = kW;
   w.base.height = kH;

@@ -84,6 +84,62 @@ TEST(ContextGLTest, OsMesaRendersTheSameBoxAsEgl) {
   EXPECT_EQ(differing, 0);
 }
 
+// A game that makes and drops contexts on one thread, as a test binary run in one process does: the shared
+// EGL context drawing, then an OSMesa context made, drawn with and dropped, a second EGL context made and
+// dropped, and the two kept side by side with each made current in turn. After each, the first context's
+// renderers are made and draw what they drew before. (EGL kept its own record of its context as current while
+// OSMesa's was bound, skipped the rebind, and the next renderer's first shader failed with an empty log.)
+TEST(ContextGLTest, ContextsMadeAndDroppedOnOneThreadLeaveTheOthersDrawing) {
+  TD_REQUIRE_GL_CONTEXT();
+  const Scene scene = gltest::boxScene();
+  auto draw = [&](GlContext& context) {
+    context.makeCurrent();
+    auto r = gltest::makeRenderer(context);
+    EXPECT_TRUE(r->setScene(scene).ok());
+    EXPECT_TRUE(r->render(scene.camera, gltest::rasterOnly(64, 48)).error.empty());
+    return r->readImage();
+  };
+  const Image first = draw(*glContext_);
+  int covered = 0;
+  for (std::size_t i = 0; i < first.rgba.size(); i += 4) covered += first.rgba[i] != first.at(0, 0).r ? 1 : 0;
+  ASSERT_GT(covered, 100) << "the box is drawn";
+  {
+    auto osmesa = createGlContext({.kind = ContextKind::OSMesa});
+    TD_SKIP_WITHOUT_OSMESA(osmesa);
+    ASSERT_TRUE(osmesa.ok()) << osmesa.error().message;
+    EXPECT_EQ(draw(**osmesa).width, 64);
+  }
+  EXPECT_TRUE(gltest::sameImage(draw(*glContext_), first)) << "after an OSMesa context was dropped";
+  {
+    auto egl = createGlContext({.kind = ContextKind::EglSurfaceless});
+    ASSERT_TRUE(egl.ok()) << egl.error().message;
+    EXPECT_TRUE(gltest::sameImage(draw(**egl), first));
+  }
+  EXPECT_TRUE(gltest::sameImage(draw(*glContext_), first)) << "after a second EGL context was dropped";
+  // Both alive, each renderer drawing on its own context in turn.
+  auto osmesa = createGlContext({.kind = ContextKind::OSMesa});
+  ASSERT_TRUE(osmesa.ok()) << osmesa.error().message;
+  const Image onOsMesa = draw(**osmesa);
+  (*osmesa)->makeCurrent();
+  auto there = gltest::makeRenderer(**osmesa);
+  ASSERT_TRUE(there->setScene(scene).ok());
+  glContext_->makeCurrent();
+  auto here = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(here->setScene(scene).ok());
+  for (int round = 0; round < 2; ++round) {
+    (*osmesa)->makeCurrent();
+    EXPECT_TRUE(there->render(scene.camera, gltest::rasterOnly(64, 48)).error.empty());
+    EXPECT_TRUE(gltest::sameImage(there->readImage(), onOsMesa)) << "round " << round;
+    glContext_->makeCurrent();
+    EXPECT_TRUE(here->render(scene.camera, gltest::rasterOnly(64, 48)).error.empty());
+    EXPECT_TRUE(gltest::sameImage(here->readImage(), first)) << "round " << round;
+  }
+  (*osmesa)->makeCurrent();
+  there.reset();
+  osmesa->reset();
+  EXPECT_TRUE(gltest::sameImage(draw(*glContext_), first)) << "after the OSMesa context in use was dropped";
+}
+
 // What this machine's EGL offers the device platform, read here with EGL itself (not through the code
 // under test): whether the client can enumerate devices at all, and whether any listed device is not
 // Mesa's software renderer.

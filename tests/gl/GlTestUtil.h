@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -134,24 +135,34 @@ inline void savePng(const std::string& name, const Image& image) {
   EXPECT_TRUE(ok.ok()) << name;
 }
 
-inline std::unique_ptr<Renderer> makeRenderer(GlContext& context) {
-  auto r = Renderer::create(context);
-  EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-  return r.ok() ? std::move(*r) : nullptr;
+/// What ends a test whose renderer, or the scene its helper sets, could not be made: the helpers below record
+/// the failure and throw this, which gtest reports as the test's failure (and goes on with the next test), so
+/// that no helper hands a test a null renderer to dereference.
+struct NotMade : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+[[noreturn]] inline void endTest(const std::string& why) {
+  ADD_FAILURE() << why;
+  throw NotMade(why);
 }
 
-/// A renderer holding the embedded Whitted scene, and that scene (for its camera and instances); a null
-/// renderer (with the failure recorded) when either cannot be made.
+/// The renderer `made`, or the test's end.
+inline std::unique_ptr<Renderer> madeOrEnd(Result<std::unique_ptr<Renderer>> made) {
+  if (!made.ok()) endTest("Renderer::create: " + made.error().message);
+  return std::move(*made);
+}
+
+inline std::unique_ptr<Renderer> makeRenderer(GlContext& context) { return madeOrEnd(Renderer::create(context)); }
+
+/// A renderer holding the embedded Whitted scene, and that scene (for its camera and instances).
 inline std::unique_ptr<Renderer> whittedRenderer(GlContext& context, Scene& scene) {
   auto loaded = loadDefaultScene();
-  EXPECT_TRUE(loaded.ok()) << (loaded.ok() ? "" : loaded.error().message);
-  if (!loaded.ok()) return nullptr;
+  if (!loaded.ok()) endTest("loadDefaultScene: " + loaded.error().message);
   scene = std::move(*loaded);
   auto renderer = makeRenderer(context);
-  if (!renderer) return nullptr;
   auto set = renderer->setScene(scene);
-  EXPECT_TRUE(set.ok()) << (set.ok() ? "" : set.error().message);
-  return set.ok() ? std::move(renderer) : nullptr;
+  if (!set.ok()) endTest("setScene: " + set.error().message);
+  return renderer;
 }
 
 /// A renderer holding one scene, its camera and the frame size its tests draw at.
@@ -164,18 +175,15 @@ struct SceneFrame {
 /// `scene` (loaded or failed) in a renderer of its own with `threads` ray threads (0: all).
 inline SceneFrame sceneFrame(GlContext& context, Result<Scene> scene, int width, int height, int threads = 0) {
   SceneFrame f;
-  EXPECT_TRUE(scene.ok()) << (scene.ok() ? "" : scene.error().message);
-  if (!scene.ok()) return f;
+  if (!scene.ok()) endTest("the scene: " + scene.error().message);
   RendererDesc desc;
   desc.threads = threads;
-  auto renderer = Renderer::create(context, desc);
-  EXPECT_TRUE(renderer.ok()) << (renderer.ok() ? "" : renderer.error().message);
-  if (!renderer.ok()) return f;
-  f.renderer = std::move(*renderer);
+  f.renderer = madeOrEnd(Renderer::create(context, desc));
   f.camera = scene->camera;
   f.base.width = width;
   f.base.height = height;
-  EXPECT_TRUE(f.renderer->setScene(std::move(*scene)).ok());
+  auto set = f.renderer->setScene(std::move(*scene));
+  if (!set.ok()) endTest("setScene: " + set.error().message);
   return f;
 }
 

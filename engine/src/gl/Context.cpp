@@ -147,6 +147,14 @@ std::string describeCurrent(const std::string& platform) {
   return platform + ", " + glString(GL_RENDERER) + ", OpenGL " + glString(GL_VERSION);
 }
 
+// The context of ours last bound on this thread (nullptr: none, or it was destroyed). EGL, OSMesa and GLX all
+// bind through Mesa's one GL dispatch, but each keeps its own record of what is current: binding an OSMesa
+// context leaves EGL still believing its own is current, and eglMakeCurrent of that one is then skipped as a
+// no-op, leaving the thread's GL on the OSMesa context, or on none once that is destroyed (every call fails
+// silently: a shader compile fails with an empty log). Each make-current below first releases a context its
+// API still records as current when another of ours was bound since.
+thread_local GlContext* tBound = nullptr;
+
 // ---------------------------------------------------------------------------------------------------
 // EGL (device and surfaceless platforms)
 // ---------------------------------------------------------------------------------------------------
@@ -176,10 +184,15 @@ class EglContext final : public GlContext {
   EglContext(ContextKind kind, std::string platform) : GlContext(kind), platform_(std::move(platform)) {}
   ~EglContext() override {
     gl::forgetGlLoader(this);
+    GlContext* other = tBound != this ? tBound : nullptr;
+    if (tBound == this) tBound = nullptr;
     if (display_ == EGL_NO_DISPLAY) return;
-    if (eglGetCurrentContext() == context_) eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    const bool released = eglGetCurrentContext() == context_;
+    if (released) eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
     releaseDisplay(display_);
+    // EGL's release unbound the thread's GL, which was another of ours (bound since): bound again.
+    if (released && other != nullptr) other->makeCurrent();
   }
 
   // Takes an initialised display (retained) and makes a configless, surfaceless core context on it.
@@ -213,6 +226,7 @@ class EglContext final : public GlContext {
                                        std::to_string(desc.glMinor) + " core)");
     if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
       return eglFailure(platform_, "eglMakeCurrent");
+    tBound = this;
     auto done = finishGlSetup(platform_, gl::loadGl(this, eglLoader), desc);
     if (!done) return done;
     description_ = describeCurrent(platform_);
@@ -220,7 +234,13 @@ class EglContext final : public GlContext {
   }
 
   void makeCurrent() override {
-    eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_);
+    if (tBound != this && eglGetCurrentContext() == context_)
+      eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);  // (tBound: EGL's record is stale)
+    if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) {
+      logError(eglFailure(platform_, "eglMakeCurrent").message);
+      return;
+    }
+    tBound = this;
     gl::loadGl(this, eglLoader);
   }
   std::string describe() const override { return description_; }
@@ -374,6 +394,7 @@ class OsMesaContext final : public GlContext {
   explicit OsMesaContext(const OsMesaApi& api) : GlContext(ContextKind::OSMesa), api_(api) {}
   ~OsMesaContext() override {
     gl::forgetGlLoader(this);
+    if (tBound == this) tBound = nullptr;
     if (context_ != nullptr) api_.destroyContext(context_);
   }
 
@@ -387,6 +408,7 @@ class OsMesaContext final : public GlContext {
       return Error{"OSMesa: OSMesaCreateContextAttribs(OpenGL " + std::to_string(desc.glMajor) + "." +
                    std::to_string(desc.glMinor) + " core) returned no context"};
     if (!makeCurrentNoLoad()) return Error{"OSMesa: OSMesaMakeCurrent failed"};
+    tBound = this;
     gOsMesa = &api_;
     auto done = finishGlSetup("OSMesa", gl::loadGl(this, osMesaLoader), desc);
     if (!done) return done;
@@ -395,7 +417,12 @@ class OsMesaContext final : public GlContext {
   }
 
   void makeCurrent() override {
-    makeCurrentNoLoad();
+    // (OSMesaMakeCurrent binds whatever OSMesa records as current: no release needed first)
+    if (!makeCurrentNoLoad()) {
+      logError("OSMesa: OSMesaMakeCurrent failed");
+      return;
+    }
+    tBound = this;
     gOsMesa = &api_;
     gl::loadGl(this, osMesaLoader);
   }
@@ -440,6 +467,7 @@ class GlfwContext final : public GlContext {
   GlfwContext() : GlContext(ContextKind::Window) {}
   ~GlfwContext() override {
     gl::forgetGlLoader(this);
+    if (tBound == this) tBound = nullptr;
     if (window_ != nullptr) glfwDestroyWindow(window_);
     if (initialised_) {
       std::lock_guard lock(glfwMutex);
@@ -467,6 +495,7 @@ class GlfwContext final : public GlContext {
       return Error{"GLFW: glfwCreateWindow (OpenGL " + std::to_string(desc.glMajor) + "." +
                    std::to_string(desc.glMinor) + " core) failed: " + glfwLastError};
     glfwMakeContextCurrent(window_);
+    tBound = this;
     auto done = finishGlSetup("GLFW window", gl::loadGl(this, glfwLoader), desc);
     if (!done) return done;
     glfwSwapInterval(desc.vsync ? 1 : 0);
@@ -475,14 +504,16 @@ class GlfwContext final : public GlContext {
   }
 
   void makeCurrent() override {
+    if (tBound != this && glfwGetCurrentContext() == window_) glfwMakeContextCurrent(nullptr);  // (as EGL's)
     glfwMakeContextCurrent(window_);
+    tBound = this;
     gl::loadGl(this, glfwLoader);
   }
   void swapBuffers() override { glfwSwapBuffers(window_); }
   GLFWwindow* window() override { return window_; }
   void framebufferSize(int& width, int& height) override { glfwGetFramebufferSize(window_, &width, &height); }
   void setVsync(bool on) override {
-    glfwMakeContextCurrent(window_);
+    makeCurrent();
     glfwSwapInterval(on ? 1 : 0);
   }
   std::string describe() const override { return description_; }

@@ -83,6 +83,29 @@ Result<std::string> expandShaderSource(std::string_view path, std::string_view d
 }
 
 namespace {
+const char* stageName(GLenum stage) {
+  switch (stage) {
+    case GL_VERTEX_SHADER: return "vertex stage";
+    case GL_FRAGMENT_SHADER: return "fragment stage";
+    case GL_GEOMETRY_SHADER: return "geometry stage";
+    case GL_COMPUTE_SHADER: return "compute stage";
+    default: return "another stage";
+  }
+}
+
+// A compile that fails without a log is not the source's fault: say what the GL itself says (no context bound
+// to this thread's GL, the shader object never made, an error pending).
+std::string whyNoLog(GLuint shader) {
+  std::string why;
+  const GLubyte* version = glGetString(GL_VERSION);
+  if (version == nullptr) why += "the thread's GL answers no GL_VERSION (is a context current on this thread?); ";
+  else why += std::string("GL ") + reinterpret_cast<const char*>(version) + "; ";
+  if (shader == 0) why += "glCreateShader returned 0; ";
+  else if (glIsShader(shader) != GL_TRUE) why += "shader " + std::to_string(shader) + " is not a shader object; ";
+  why += "glGetError: " + glErrorName(glGetError());
+  return why;
+}
+
 // Per thread: GL work happens on the thread whose context is current, so a Renderer counts its own.
 thread_local std::uint64_t tProgramsBuilt = 0;
 }  // namespace
@@ -109,6 +132,9 @@ Result<Program> buildProgram(std::string_view label, std::initializer_list<Shade
       glGetShaderiv(shader.id(), GL_INFO_LOG_LENGTH, &length);
       std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
       glGetShaderInfoLog(shader.id(), length, nullptr, log.data());
+      if (log.c_str()[0] == '\0')
+        return Error{"program '" + std::string(label) + "': compiling " + std::string(s.path) + " (" +
+                     stageName(s.stage) + ") failed with no info log: " + whyNoLog(shader.id())};
       return Error{"program '" + std::string(label) + "': compiling " + std::string(s.path) + " failed:\n" +
                    nameFiles(log.c_str(), files)};
     }

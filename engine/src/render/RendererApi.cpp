@@ -12,6 +12,11 @@ namespace tandem {
 
 Result<std::unique_ptr<Renderer>> Renderer::create(GlContext& context, const RendererDesc& desc) {
   context.makeCurrent();
+  // (a thread whose GL is bound to no context answers every call with nothing: say so here, not as a failed
+  // shader compile)
+  if (glGetString(GL_VERSION) == nullptr)
+    return Error{"Renderer: the GL context (" + context.describe() + ") is not current on this thread after "
+                 "makeCurrent(): the GL answers no GL_VERSION"};
   auto impl = std::make_unique<Impl>();
   impl->context = &context;
   auto tracer = rt::RayTracer::create(desc.threads);
