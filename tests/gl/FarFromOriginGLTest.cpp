@@ -7,8 +7,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "GlTestUtil.h"
+#include "core/RenderSpace.h"
 #include "support/SceneTransform.h"
 #include "tandem/ImageMetrics.h"
 #include "tandem/SceneFile.h"
@@ -88,6 +91,149 @@ TEST(FarFromOrigin, TenMillionIsMeasured) {
     const double f = flipAtOffset({d, d, d}, preset, "diag1e7");
     std::printf("[far] diag1e7 %s: FLIP %.5f against the origin copy\n", preset, f);
     EXPECT_LT(f, kFlipSameScene) << preset;
+  }
+}
+
+// ---- the floating origin (core/RenderSpace.h: the anchor moves to a camera farther from it than anchorReach) ----
+
+// The Whitted scene with the camera's near plane at 0.01 (the anchor's reach 10.24 units), looking from `pos`
+// at the scene's middle through a target a thousandth of a unit ahead (an oblique angle to every axis).
+Camera lookingIn(const Scene& scene, glm::vec3 pos) {
+  Camera c = scene.camera;
+  c.nearZ = 0.01f;
+  c.posW = pos;
+  c.targetW = pos + 1e-3f * glm::normalize(glm::vec3(0.0f, 0.9f, 0.0f) - pos);
+  return c;
+}
+
+// The scene set with its camera 1e6 units away along the diagonal (the anchor there), then drawn from its own
+// viewpoint and along a path about it that crosses the anchor's reach twice: sideways by 2.8 units a frame,
+// out to 11.2 and back. Each frame against the frame of a renderer whose scene was set around that viewpoint
+// (anchored at the camera from the start): FLIP at most 0.005 in raster and hybrid-full, the frames just
+// before and just after each move of the anchor included (no step where it moves). With the anchor left where
+// the scene was set, the same frames are drawn in coordinates of 1e6 (FLIP 0.02 to 0.08: the far tests above).
+// The view direction as the double-precision one: RenderSpace tests (tests/unit/CameraTest.cpp).
+TEST(FarFromOrigin, ACameraFarFromWhereTheSceneWasSetRendersAsTheSceneSetAroundIt) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto loaded = loadDefaultScene();
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  const Scene scene = *loaded;
+  const glm::vec3 home = scene.camera.posW;
+  std::vector<Camera> path;
+  for (const float k : {0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 3.0f, 2.0f, 1.0f, 0.0f})
+    path.push_back(lookingIn(scene, home + glm::vec3(2.8f * k, 0.0f, 0.0f)));
+  ASSERT_GT(anchorReach(path[0]), 10.0);
+  Scene far = scene;
+  const double d = 1e6 / std::sqrt(3.0);
+  far.camera.posW = glm::vec3(glm::dvec3(home) + glm::dvec3(d, d, d));
+  far.camera.targetW = glm::vec3(glm::dvec3(scene.camera.targetW) + glm::dvec3(d, d, d));
+  auto flying = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(flying->setScene(far).ok());
+  auto around = gltest::makeRenderer(*glContext_);
+  for (const char* preset : {"raster", "hybrid-full"}) {
+    FrameSettings s = *presetSettings(preset);
+    s.width = kW;
+    s.height = kH;
+    double worst = 0.0;
+    for (std::size_t k = 0; k < path.size(); ++k) {
+      SCOPED_TRACE(std::string(preset) + ", frame " + std::to_string(k));
+      ASSERT_TRUE(flying->render(path[k], s).error.empty());
+      const Image got = flying->readImage();
+      Scene set = scene;
+      set.camera = path[k];
+      ASSERT_TRUE(around->setScene(set).ok());
+      ASSERT_TRUE(around->render(path[k], s).error.empty());
+      const Image want = around->readImage();
+      const double f = gltest::flipMean(got, want);
+      worst = std::max(worst, f);
+      EXPECT_LE(f, kFlipSameScene);
+      if (k == 4) {
+        gltest::savePng(std::string("floating-origin-") + preset + ".png", got);
+        gltest::savePng(std::string("floating-origin-") + preset + "-set-there.png", want);
+      }
+    }
+    std::printf("[far] floating origin, %s: the worst of %zu frames FLIP %.5f against the scene set there\n", preset,
+                path.size(), worst);
+  }
+}
+
+// What a frame carries from the last across a move of the anchor: two renderers of area-lights.json drawing one
+// path, a sideways strafe of 0.15 a frame with the near plane at 5e-4 (reach 0.512): one with the anchor where
+// the path starts (it moves once, at the fifth frame), the other anchored in the path's middle (which every
+// frame is within reach of: it never moves). The motion view (what is new, and how far each point moved) and
+// one filtered sample a frame (the filter's history) are each frame the other renderer's but for rounding at
+// another anchor; a still frame after the path reuses the last frame's rays in both.
+TEST(FarFromOrigin, TheMotionAndTheFiltersHistoriesGoOnAcrossAMoveOfTheAnchor) {
+  TD_REQUIRE_GL_CONTEXT();
+  auto loaded = loadSceneFile(test::sourceDir() + "/assets/scenes/area-lights.json");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  Scene scene = *loaded;
+  scene.camera.nearZ = 5e-4f;
+  const glm::vec3 side = glm::normalize(glm::cross(scene.camera.targetW - scene.camera.posW, scene.camera.upW));
+  std::vector<Camera> path;
+  for (int k = 0; k <= 6; ++k) {
+    Camera c = scene.camera;
+    c.posW += 0.15f * static_cast<float>(k) * side;
+    c.targetW += 0.15f * static_cast<float>(k) * side;
+    path.push_back(c);
+  }
+  ASSERT_LT(glm::length(path[3].posW - path[0].posW), anchorReach(path[0]));
+  ASSERT_GT(glm::length(path[4].posW - path[0].posW), anchorReach(path[0]));
+  auto start = gltest::makeRenderer(*glContext_), middle = gltest::makeRenderer(*glContext_);
+  Scene atStart = scene, atMiddle = scene;
+  atStart.camera = path[0];
+  atMiddle.camera = path[3];
+  ASSERT_TRUE(start->setScene(atStart).ok());
+  ASSERT_TRUE(middle->setScene(atMiddle).ok());
+  FrameSettings motion = *presetSettings("hybrid-full");
+  motion.width = kW;
+  motion.height = kH;
+  motion.debugView = DebugView::Motion;
+  FrameSettings filtered = *presetSettings("hybrid-full");
+  filtered.width = kW;
+  filtered.height = kH;
+  filtered.denoise = true;
+  filtered.lightSamples = 1;
+  for (const bool denoise : {false, true}) {
+    const FrameSettings& s = denoise ? filtered : motion;
+    double worst = 0.0;
+    for (std::size_t k = 0; k < path.size(); ++k) {
+      SCOPED_TRACE(std::string(denoise ? "filtered" : "motion view") + ", frame " + std::to_string(k));
+      ASSERT_TRUE(start->render(path[k], s).error.empty());
+      ASSERT_TRUE(middle->render(path[k], s).error.empty());
+      const ImageF a = start->readLinear(), b = middle->readLinear();
+      ASSERT_EQ(a.rgb.size(), b.rgb.size());
+      if (!denoise) {
+        // (blue: not in the last frame; red and green: the motion, pixels)
+        std::size_t newA = 0, newB = 0, far = 0;
+        for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+          newA += a.rgb[i].z > 0.5f ? 1 : 0;
+          newB += b.rgb[i].z > 0.5f ? 1 : 0;
+          far += glm::length(glm::vec2(a.rgb[i]) - glm::vec2(b.rgb[i])) > 0.05f ? 1 : 0;
+        }
+        if (k > 0) {
+          EXPECT_LT(newB, a.rgb.size() / 2) << "the path's steps leave most of the view seen";
+        }
+        EXPECT_LE(std::max(newA, newB) - std::min(newA, newB), a.rgb.size() / 200) << newA << " new against " << newB;
+        EXPECT_LE(far, a.rgb.size() / 200) << "pixels whose motion differs by more than 0.05 pixels";
+      } else {
+        const double f = gltest::flipMean(start->readImage(), middle->readImage());
+        worst = std::max(worst, f);
+        EXPECT_LE(f, 0.004);
+      }
+    }
+    if (denoise) std::printf("[far] filtered across a move of the anchor: worst FLIP %.5f between the two\n", worst);
+  }
+  // Still, after the move: the second of two frames reuses the first one's rays, in both.
+  FrameSettings still = motion;
+  still.debugView = DebugView::Final;
+  still.reuseRays = true;
+  for (Renderer* r : {start.get(), middle.get()}) {
+    ASSERT_TRUE(r->render(path.back(), still).error.empty());
+    const Image first = r->readImage();
+    const FrameStats again = r->render(path.back(), still);
+    EXPECT_TRUE(again.raysReused);
+    EXPECT_TRUE(gltest::sameImage(r->readImage(), first));
   }
 }
 

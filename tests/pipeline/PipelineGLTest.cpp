@@ -152,8 +152,8 @@ void checkSequence(GlContext& ctx, const Scene& scene, FrameSettings& s, Camera&
 
 // The steps every sequence runs: the camera moving, standing still (reuse), the scene changing under it (a
 // light, an instance: the next frame drawn while the rays of the last see the scene as it was, keeping some
-// answers), all of it overlapped; the settings changing and the scene set again (drains); a new size and a
-// frame of two samples (latency mode).
+// answers), all of it overlapped; the camera moving the render anchor, the settings changing and the scene set
+// again (drains); a new size and a frame of two samples (latency mode).
 std::vector<Step> movingSteps(Scene& scene, FrameSettings& s, Camera& camera) {
   const auto lastInstance = static_cast<std::uint32_t>(scene.instances.size() - 1);
   const std::uint32_t light = scene.lights[0].type == LightType::Ambient ? 1u : 0u;
@@ -182,6 +182,16 @@ std::vector<Step> movingSteps(Scene& scene, FrameSettings& s, Camera& camera) {
        },
        [&] { camera.posW.x += 0.05f; }, false},
       {"camera moves after the changes", {}, [&] { camera.posW.x -= 0.1f; }, false},
+      // The floating origin (core/RenderSpace.h): a camera past the anchor's reach moves it, the frame in flight
+      // first completed with the old one.
+      {"the camera travels past the anchor's reach", {}, [&] {
+         camera.posW.x += 60.0f;
+         camera.targetW.x += 60.0f;
+       }, true},
+      {"and back, past it again", {}, [&] {
+         camera.posW.x -= 60.0f;
+         camera.targetW.x -= 60.0f;
+       }, true},
       {"tone map", {}, [&] { s.toneMap = ToneMap::Reinhard; }, true},
       {"two samples", {}, [&] { s.aa = AntiAlias::Ssaa, s.aaSamples = 2; }, false, true},
       {"one sample again", {}, [&] { s.aa = AntiAlias::Off; }, false},

@@ -4,7 +4,11 @@
 // motion reaches the steps without a rebuild.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
 #include "core/Motion.h"
+#include "core/RenderSpace.h"
 #include "rt/EmbreeScene.h"
 #include "rt/RtTestScenes.h"
 #include "rt/Wavefront.h"
@@ -120,6 +124,49 @@ TEST(MotionBlurRays, ShutterAndMotionChangesReachTheSteps) {
   (*embree)->updateTransforms(r.scene, 0.5f);
   EXPECT_FALSE((*embree)->hasMotion());
   EXPECT_FALSE(EmbreeScene::build(**device, r.scene, 0.5f).ok());
+}
+
+// The floating origin (core/RenderSpace.h): a new anchor handed to updateTransforms re-reads every instance,
+// still or moving, as a scene built at that anchor has it, to the bit, with the anchor the rays are given in;
+// the same anchor again changes nothing.
+TEST(MotionBlurRays, ANewAnchorReadsEveryInstanceAsABuildThereWould) {
+  Rolling r = rolling();
+  auto device = EmbreeDevice::create();
+  ASSERT_TRUE(device.ok());
+  auto moved = EmbreeScene::build(**device, r.scene, 0.5f);
+  ASSERT_TRUE(moved.ok());
+  EXPECT_EQ((*moved)->anchor(), r.scene.camera.posW);
+  const glm::vec3 there(1234.5f, -67.25f, 89.0f);
+  (*moved)->updateTransforms(r.scene, 0.5f, there);
+  auto built = EmbreeScene::build(**device, r.scene, 0.5f, there);
+  ASSERT_TRUE(built.ok());
+  EXPECT_EQ((*moved)->anchor(), there);
+  for (std::size_t i = 0; i < r.scene.instances.size(); ++i)
+    for (const float u : {0.0f, 0.3f, 0.5f, 1.0f}) {
+      EXPECT_EQ((*moved)->transformAt(i, u).worldFromObject, (*built)->transformAt(i, u).worldFromObject) << i << " " << u;
+      EXPECT_EQ((*moved)->transformAt(i, u).anchor, there);
+    }
+  EXPECT_EQ((*moved)->transform(r.floor).worldFromObject, (*built)->transform(r.floor).worldFromObject);
+  // The same ray (render space of `there`) meets the same triangle at the same distance in both.
+  std::vector<float> distances;
+  for (EmbreeScene* e : {moved->get(), built->get()}) {
+    RTCRayHit hit{};
+    const glm::vec3 from = toRenderSpace(glm::vec3(0.3f, 5.0f, 0.2f), there);
+    hit.ray.org_x = from.x, hit.ray.org_y = from.y, hit.ray.org_z = from.z;
+    hit.ray.dir_x = 0.0f, hit.ray.dir_y = -1.0f, hit.ray.dir_z = 0.0f;
+    hit.ray.tnear = 0.0f, hit.ray.tfar = 1e30f, hit.ray.time = 0.5f, hit.ray.mask = ~0u;
+    hit.hit.geomID = hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect1(e->top(), &context, &hit);
+    EXPECT_EQ(hit.hit.instID[0], r.ball);
+    distances.push_back(hit.ray.tfar);
+  }
+  EXPECT_EQ(distances[0], distances[1]);
+  EXPECT_NEAR(distances[0], 5.0f - std::sqrt(1.0f - 0.09f - 0.04f) - 1.0f, 0.02f) << "the ball's top, near height 2";
+  const glm::mat4 before = (*moved)->transform(r.ball).worldFromObject;
+  (*moved)->updateTransforms(r.scene, 0.5f, there);
+  EXPECT_EQ((*moved)->transform(r.ball).worldFromObject, before);
 }
 
 }  // namespace

@@ -176,5 +176,60 @@ TEST(RenderSpace, ACameraFarFromTheOriginLooksAlongItsWorldDirection) {
       }
 }
 
+// The same far from the anchor, not only far from the origin: a camera the floating origin has not yet caught
+// up with (up to anchorReach away, and beyond it for a caller that never moves the anchor), its target a
+// thousandth of a unit off at an oblique angle. Its render-space view direction is the double-precision one of
+// its world points to float rounding (rounded separately at |posR| = 1e3, the two points would tilt it by
+// ulp(1e3) / 1e-3, a hundredth of a radian; at 1e6, by more than a radian). A camera at the anchor keeps its
+// target as it was, and a thin lens its plane in focus.
+TEST(RenderSpace, ACameraFarFromTheAnchorLooksAlongItsWorldDirection) {
+  // (the camera near the world's origin, where a float holds a target 1e-3 away; the anchor far from it)
+  const glm::vec3 position(1.5f, -0.25f, 2.0f);
+  for (const double away : {51.2, 1e3, 1e6})
+    for (const glm::vec3 d : {glm::vec3(0.3f, -0.7f, 1.1f), glm::vec3(-1.0f, 0.05f, -0.2f)})
+      for (const float distance : {1e-3f, 0.5f}) {
+        SCOPED_TRACE(testing::Message() << away << " from the anchor, target " << distance << " away");
+        const glm::vec3 anchor(glm::dvec3(position) - away * glm::normalize(glm::dvec3(1.0, 0.4, -0.6)));
+        Camera camera;
+        camera.posW = position;
+        camera.targetW = camera.posW + distance * glm::normalize(d);
+        camera.aperture = 0.1f;
+        const glm::dvec3 expected = glm::normalize(glm::dvec3(camera.targetW) - glm::dvec3(camera.posW));
+        const Camera rebased = toRenderSpace(camera, anchor);
+        const glm::dvec3 got = glm::normalize(glm::dvec3(rebased.targetW) - glm::dvec3(rebased.posW));
+        EXPECT_LT(glm::length(got - expected), 1e-6) << "the rebased view direction";
+        const glm::mat4 view = rebased.viewFromWorld();
+        EXPECT_LT(glm::length(-glm::dvec3(view[0][2], view[1][2], view[2][2]) - expected), 2e-6) << "viewFromWorld's -z";
+        EXPECT_NEAR(rebased.focusPlane(), glm::length(glm::dvec3(camera.targetW) - glm::dvec3(camera.posW)),
+                    1e-6 * distance)
+            << "the plane in focus";
+      }
+  const glm::vec3 anchor(12.0f, -3.0f, 40.0f);
+  Camera at;
+  at.posW = anchor;
+  at.targetW = anchor + glm::vec3(0.3f, -0.2f, -1.0f);
+  const Camera same = toRenderSpace(at, anchor);
+  EXPECT_EQ(same.posW, glm::vec3(0.0f));
+  EXPECT_EQ(same.targetW, glm::vec3(glm::dvec3(at.targetW) - glm::dvec3(at.posW))) << "a camera at the anchor";
+  EXPECT_EQ(same.focusDistance, at.focusDistance);
+}
+
+// The floating origin's rule: the anchor moves to a camera farther from it than 1024 near distances (a finite
+// one: a camera with a non-finite position, which the scene checks refuse, never moves it).
+TEST(RenderSpace, TheAnchorMovesToACameraFartherThanItsReach) {
+  Camera c;
+  c.nearZ = 0.05f;
+  EXPECT_DOUBLE_EQ(anchorReach(c), 1024.0 * 0.05f);
+  const glm::vec3 anchor(1e6f, 0.0f, -2e5f);
+  c.posW = anchor + glm::vec3(30.0f, 40.0f, 0.0f);  // 50 away: within 51.2
+  EXPECT_FALSE(anchorDue(anchor, c));
+  c.posW = anchor + glm::vec3(30.0f, 42.0f, 0.0f);  // 51.6 away
+  EXPECT_TRUE(anchorDue(anchor, c));
+  c.nearZ = 0.1f;  // reach 102.4: within again
+  EXPECT_FALSE(anchorDue(anchor, c));
+  c.posW = glm::vec3(std::numeric_limits<float>::infinity(), 0.0f, 0.0f);
+  EXPECT_FALSE(anchorDue(anchor, c));
+}
+
 }  // namespace
 }  // namespace tandem

@@ -15,7 +15,21 @@ namespace tandem {
 
 /// The anchor for a scene: its camera's position when finite (where precision matters most), else the origin.
 glm::vec3 renderAnchor(const Scene& scene);
+/// A floating origin: the renderer moves the anchor to the camera's position once the camera is farther from
+/// it than anchorReach(camera), 1024 times its near distance. Render space then resolves at the camera, to
+/// within 2^-13 of the near distance (ulp(1024 · near) = near / 8192), and a ray's origin offset (~64 ULPs of
+/// its coordinates) stays under 1 % of it, however far the camera travels. A move re-packs the instance
+/// transforms and lights (GL and Embree's top level; no mesh is uploaded or rebuilt) and redraws the raster
+/// effects: it happens once every 1024 near distances travelled, not every frame.
+double anchorReach(const Camera& camera);
+/// Whether a frame from `camera` moves the anchor to it (camera.posW finite and farther than anchorReach).
+bool anchorDue(glm::vec3 anchor, const Camera& camera);
 glm::vec3 toRenderSpace(glm::vec3 posW, glm::vec3 anchor);
+/// The camera in render space. Its view direction is the world-space one to float precision wherever the
+/// camera is from the anchor: the target is placed along the double-precision difference, scaled by a power of
+/// two (exact) so that it lies at least as far from the camera as the camera lies from the anchor (rounding the
+/// two points separately would tilt it by ulp(|posR|) over the target's distance: a degree and more for a target
+/// close to a camera far from the anchor). A thin lens keeps its plane in focus (focusDistance).
 Camera toRenderSpace(const Camera& camera, glm::vec3 anchor);
 /// worldFromObject with its translation rebased: renderFromObject.
 glm::mat4 toRenderSpace(const glm::mat4& worldFromObject, glm::vec3 anchor);

@@ -168,8 +168,9 @@ PackedGeometry packGeometry(const Scene& scene) {
 
 }  // namespace
 
-void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOverride) {
-  anchor_ = renderAnchor(scene);
+void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOverride,
+                      std::optional<glm::vec3> anchor) {
+  anchor_ = anchor ? *anchor : renderAnchor(scene);
   const PackedGeometry g = packGeometry(scene);
   features_.uvs = g.anyUvs;
   features_.colors = g.anyColors;

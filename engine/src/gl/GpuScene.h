@@ -53,7 +53,12 @@ std::vector<std::uint32_t> probeInstances(const Scene& scene);
 
 class GpuScene {
  public:
-  void upload(const Scene& scene, std::optional<ShadingModel> shadingOverride);
+  /// `anchor`: the origin of render space (core/RenderSpace.h; none: the scene camera's position).
+  void upload(const Scene& scene, std::optional<ShadingModel> shadingOverride,
+              std::optional<glm::vec3> anchor = std::nullopt);
+  /// A new origin of render space (the floating origin: anchorDue): instances and lights are held relative to
+  /// the anchor, so the caller re-packs both (updateInstances, updateLights) before the next draw.
+  void setAnchor(glm::vec3 anchor) { anchor_ = anchor; }
   /// Rewrites every instance record (a few hundred bytes each): cheaper than tracking which moved. With a
   /// shutter (Camera::shutter), instances that move while it is open are drawn where time u ∈ [0, 1] of it
   /// puts them (core/Motion.h motionAt, the transform the ray scene gives rays of that time).
@@ -99,8 +104,8 @@ class GpuScene {
   int lightCount() const { return lightCount_; }
   bool hasKdTextures() const { return static_cast<bool>(kdTextures_); }
   std::optional<ShadingModel> shadingOverride() const { return override_; }
-  /// The render-space anchor (core/RenderSpace.h), fixed at upload(): instance transforms and lights are
-  /// held relative to it, so cameras, bounds and lights handed to the passes must be too.
+  /// The render-space anchor (core/RenderSpace.h), upload()'s or setAnchor()'s: instance transforms and lights
+  /// are held relative to it, so cameras, bounds and lights handed to the passes must be too.
   glm::vec3 anchor() const { return anchor_; }
   const SceneFeatures& features() const { return features_; }
   std::size_t gpuBytes() const { return bytes_; }

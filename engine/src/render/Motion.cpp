@@ -13,7 +13,7 @@
 
 namespace tandem {
 
-void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in) {
+void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& camera, gl::ShadeInputs& in) {
   const FrameSettings& s = plan.settings;
   const bool view = s.debugView == DebugView::Motion;
   if (!view && !plan.denoise) {
@@ -44,9 +44,7 @@ void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera,
   now.anchor = caches.gpu().anchor();
   now.width = s.width;
   now.height = s.height;
-  now.clipFromViewRotation = gl::clipFromViewRotation(glCamera, s.width, s.height);
-  now.cameraPosR = glCamera.posW;
-  now.forwardR = glm::normalize(glCamera.targetW - glCamera.posW);
+  now.camera = camera;
   now.worldFromObject.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances) now.worldFromObject.emplace_back(inst.worldFromObject);
   if (plan.denoise) {
@@ -55,7 +53,9 @@ void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera,
     now.shading = shadingSettings(s);
   }
   const MotionFrame& before = motionLast;
-  const bool history = before.held && before.sceneGeneration == now.sceneGeneration && before.anchor == now.anchor &&
+  // (a new anchor keeps it: what the last frame was is held in world space and taken to this frame's render
+  // space below, as a renderer anchored here from the start would have it)
+  const bool history = before.held && before.sceneGeneration == now.sceneGeneration &&
                        before.width == now.width && before.height == now.height &&
                        before.worldFromObject.size() == now.worldFromObject.size() &&
                        (!view || (previousIds && previousDepth));
@@ -86,9 +86,10 @@ void Renderer::Impl::motionInputs(const FramePlan& plan, const Camera& glCamera,
   if (history && plan.denoise) denoiseInputs(before, now, in);
   in.previousIds = history && view ? &previousIds : nullptr;
   in.previousDepth = history && view ? &previousDepth : nullptr;
-  in.previousClipFromViewRotation = history ? before.clipFromViewRotation : glm::mat4(1.0f);
-  in.previousCameraPos = history ? before.cameraPosR : glm::vec3(0.0f);
-  in.previousCameraForward = history ? before.forwardR : glm::vec3(0.0f, 0.0f, -1.0f);
+  const Camera beforeR = toRenderSpace(before.camera, now.anchor);
+  in.previousClipFromViewRotation = history ? gl::clipFromViewRotation(beforeR, before.width, before.height) : glm::mat4(1.0f);
+  in.previousCameraPos = history ? beforeR.posW : glm::vec3(0.0f);
+  in.previousCameraForward = history ? glm::normalize(beforeR.targetW - beforeR.posW) : glm::vec3(0.0f, 0.0f, -1.0f);
   motionPending = std::move(now);
 }
 
@@ -226,10 +227,11 @@ void Renderer::Impl::denoiseInputs(const MotionFrame& before, const MotionFrame&
     moved[bestA] = unite(moved[bestA], moved[bestB]);
     moved.erase(moved.begin() + static_cast<std::ptrdiff_t>(bestB));
   }
+  const glm::vec3 cameraPosR = toRenderSpace(now.camera.posW, now.anchor);
   for (const Moved& m : moved) {
     in.moved.boxes[static_cast<std::size_t>(in.moved.boxCount++)] = {
         glm::vec4(m.box.lo, m.instance == kNoInstance ? -1.0f : static_cast<float>(m.instance)), glm::vec4(m.box.hi, 0.0f)};
-    const glm::vec3 far = glm::max(glm::abs(m.box.lo - now.cameraPosR), glm::abs(m.box.hi - now.cameraPosR));
+    const glm::vec3 far = glm::max(glm::abs(m.box.lo - cameraPosR), glm::abs(m.box.hi - cameraPosR));
     in.moved.reach = std::max(in.moved.reach, glm::length(far));
   }
 }

@@ -19,8 +19,8 @@ namespace tandem {
 // raster effects as they were (the next frame's are made after the composite). Its ray pass owns what it
 // reads and writes until it lands: rayScene (the scene as the frame saw it), the tracer, visibility, rays, the
 // kept answers and resolved; the next frame's GL work touches none of them (its ids go to stagedVisibility)
-// and the scene's mutators write `scene`. A new scene, other settings or proofs in the GL complete the frame
-// in flight first (a drain).
+// and the scene's mutators write `scene`. A new scene, other settings, proofs in the GL or a camera that moves
+// the render anchor (the floating origin, core/RenderSpace.h) complete the frame in flight first (a drain).
 FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& plan, const Camera& camera,
                                            FrameStats& stats, const SceneChanges& changed, bool accumulating) {
   const FrameSettings& s = plan.settings;
@@ -34,7 +34,7 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   // variant, the raster effects asked for), the shutter time differs, or the proofs are the GL's (their maps
   // are the tracer's, busy with the rays in flight).
   bool overlap = inFlight && !changed.replaced && inFlight->plan.settings == s &&
-                 inFlight->camera.timeU == sampleCamera.timeU && !plan.glShadowProofs;
+                 inFlight->camera.timeU == sampleCamera.timeU && !plan.glShadowProofs && !caches.anchorDue(camera);
   if (overlap && !spareVisibility) {
     if (auto made = gl::VisibilityPass::create()) spareVisibility = std::move(*made);
     else overlap = false;
@@ -49,8 +49,10 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
     shown->pipelineDrained = true;
     if (!shown->error.empty()) lastDrawn = false;
   }
-  // Without a frame in flight the GL copy is brought up to date here, as in latency mode; with one, only its
-  // instance records now (into the slot the frame in flight does not use), the rest after its composite.
+  // Without a frame in flight the GL copy is brought up to date here, as in latency mode (the anchor moved first
+  // where due: a frame in flight was drained for it); with one, only its instance records now (into the slot
+  // the frame in flight does not use), the rest after its composite.
+  if (!inFlight) timed(stats.prepareMs, [&] { followCamera(camera); });
   if (!timed(stats.prepareMs, [&] { return prepare(plan, camera, stats, !inFlight, false); })) {
     if (inFlight) shown = completeInFlight(visibilityPass);  // not reached (the same size cannot fail)
     return finishFrame(clock, stats);
@@ -147,7 +149,7 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   FrameStats effects;
   timed(effects.prepareMs, [&] { caches.syncGpu(scene, s.shadingOverride, sampleCamera.shutter, sampleCamera.timeU); });
   caches.syncRasterEffects(scene, plan, visibilityPass, shadePass, in, effects, &gpuTimers);
-  viewInputs(plan, glCamera, in);
+  viewInputs(plan, sampleCamera, in);
   f.in = in;
   timed(effects.bookkeepingMs, [&] { remember(plan, sampleCamera, in); });
 

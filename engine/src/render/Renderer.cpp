@@ -85,6 +85,7 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
   }
   // Latency mode: the frame in flight first (shown, then drawn over), so that nothing below races its rays.
   if (std::optional<FrameStats> done = drain(); done && !done->error.empty()) clock.lastDrawn = false;
+  timed(stats.prepareMs, [&] { followCamera(camera); });
   if (!timed(stats.prepareMs, [&] { return prepare(plan, camera, stats, true, true); })) return finishFrame(clock, stats);
   if (!s.pipelined && (rayHeld || spareVisibility)) releasePipeline();  // cost follows the settings
   if (!sampled && accum.active()) timed(stats.accumulateMs, [&] { accum.release(); });  // cost follows the settings
@@ -135,7 +136,7 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
   gl::ShadeInputs in;
   in.lightSamples = plan.settings.lightSamples;
   in.sampleIndex = camera.sampleIndex;
-  raster(plan, glCamera, in, sample);
+  raster(plan, camera, glCamera, in, sample);
   // Nothing the rays depend on changed since the last frame drawn: its ids and ray results still hold.
   const bool reuse = last.reusesRays(plan, camera, lastDrawn, only != nullptr);
   if (reuse) reuseRays(plan, sample);
@@ -330,11 +331,12 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
 
 // raster: the raster effects' maps when the scene changed (shadow maps, then the probes, which are shaded
 // with them), then the visibility G-buffer (instance + 1, triangle) over reversed-Z depth.
-void Renderer::Impl::raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in, FrameStats& stats) {
+void Renderer::Impl::raster(const FramePlan& plan, const Camera& camera, const Camera& glCamera, gl::ShadeInputs& in,
+                            FrameStats& stats) {
   localInputs(plan, in);
   // The probes are shaded from these inputs as they stand: the final view of local shading.
   caches.syncRasterEffects(scene, plan, visibilityPass, shadePass, in, stats, &gpuTimers);
-  viewInputs(plan, glCamera, in);
+  viewInputs(plan, camera, in);
   rasterVisibility(plan, glCamera, stats);
 }
 
@@ -354,10 +356,10 @@ void Renderer::Impl::localInputs(const FramePlan& plan, gl::ShadeInputs& in) con
 }
 
 // What the frame's view adds to them (not the probes': they show local shading).
-void Renderer::Impl::viewInputs(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in) {
+void Renderer::Impl::viewInputs(const FramePlan& plan, const Camera& camera, gl::ShadeInputs& in) {
   in.debugView = plan.settings.debugView;
   in.rayScale = plan.settings.rayScale;
-  motionInputs(plan, glCamera, in);
+  motionInputs(plan, camera, in);
 }
 
 void Renderer::Impl::rasterVisibility(const FramePlan& plan, const Camera& glCamera, FrameStats& stats) {

@@ -117,7 +117,7 @@ struct Renderer::Impl {
   void applyChanges() {
     if (!changes.any()) return;
     rayPending |= changes;
-    caches.apply(changes);
+    caches.apply(changes, scene);
     radiosity.apply(changes);
     last.apply(changes);
     if (changes.replaced) {
@@ -127,6 +127,13 @@ struct Renderer::Impl {
       budget.reset();  // what the old scene cost says nothing of the new one
     }
     changes = {};
+  }
+  // The floating origin (core/RenderSpace.h): a camera farther from the render anchor than anchorReach moves it
+  // to itself before anything of the frame is synced or drawn (no frame in flight: its records and rays are of
+  // the old anchor). Nothing of the last frame's rays is kept (its hits lie in the old render space); the motion
+  // and the filter's histories are held in world space and go on (motionInputs).
+  void followCamera(const Camera& camera) {
+    if (caches.follow(camera)) last.sceneChanged = last.sceneReplaced = true;
   }
 
   // Throughput mode (FrameSettings::pipelined, docs/pipeline.md): the frame whose ray pass runs on its own
@@ -226,11 +233,13 @@ struct Renderer::Impl {
   // does either at another point of the frame).
   bool prepare(FramePlan& plan, const Camera& camera, FrameStats& stats, bool syncGl, bool syncEmbree);
   // raster: the raster effects' maps (their own stages, shadows and probes), then the visibility pass.
-  void raster(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in, FrameStats& stats);
+  // (`camera`: the sample's in world space; `glCamera`: the same in render space, as the GL passes draw it)
+  void raster(const FramePlan& plan, const Camera& camera, const Camera& glCamera, gl::ShadeInputs& in,
+              FrameStats& stats);
   // Its parts, which throughput mode runs apart: the shade inputs of local shading, those of the view (not
   // the probes'), the visibility pass.
   void localInputs(const FramePlan& plan, gl::ShadeInputs& in) const;
-  void viewInputs(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
+  void viewInputs(const FramePlan& plan, const Camera& camera, gl::ShadeInputs& in);
 
   // The motion view (DebugView::Motion, docs/motion.md; render/Motion.cpp): what a frame knows of the one
   // before it. motionInputs (with the view inputs) gives the frame each instance's previous-from-current
@@ -241,11 +250,11 @@ struct Renderer::Impl {
     bool held = false;
     std::uint64_t call = 0;  // the render() call that drew it (a frame of several samples draws several)
     std::uint64_t sceneGeneration = 0;
-    glm::vec3 anchor{0.0f};
+    glm::vec3 anchor{0.0f};  // the render space it was drawn in
     int width = 0, height = 0;
-    glm::mat4 clipFromViewRotation{1.0f};
-    glm::vec3 cameraPosR{0.0f};
-    glm::vec3 forwardR{0.0f, 0.0f, -1.0f};  // the camera's axis (unit)
+    // Its camera in world space (the sample's, unjittered by the lens: what the GL drew): a later frame takes it
+    // to its own render space, which the floating origin may have moved since (core/RenderSpace.h).
+    Camera camera;
     FrameSettings shading;  // the filter: its settings as they shape the light (shadingSettings)
     std::vector<glm::dmat4> worldFromObject;
     std::vector<Light> lights;  // the area lights: the filter's history does not outlive a change of one
@@ -259,7 +268,7 @@ struct Renderer::Impl {
   gl::Buffer motionBuffer;
   gl::Texture motionTexture, previousIds, previousDepth, nextIds, nextDepth;
   std::size_t motionBufferBytes = 0;
-  void motionInputs(const FramePlan& plan, const Camera& glCamera, gl::ShadeInputs& in);
+  void motionInputs(const FramePlan& plan, const Camera& camera, gl::ShadeInputs& in);
   // The filter's part of them: whether its history holds, and the boxes of what moved.
   void denoiseInputs(const MotionFrame& before, const MotionFrame& now, gl::ShadeInputs& in) const;
   static FrameSettings shadingSettings(const FrameSettings& s);

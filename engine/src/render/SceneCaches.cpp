@@ -12,8 +12,9 @@
 
 namespace tandem {
 
-void SceneCaches::apply(const SceneChanges& changes) {
+void SceneCaches::apply(const SceneChanges& changes, const Scene& scene) {
   if (changes.replaced) {
+    anchor_ = renderAnchor(scene);
     gpuStale_ = true;
     rtSceneStale_ = true;
     rtBroken_ = false;
@@ -28,6 +29,12 @@ void SceneCaches::apply(const SceneChanges& changes) {
   }
 }
 
+bool SceneCaches::follow(const Camera& camera) {
+  if (!anchorDue(camera)) return false;
+  anchor_ = camera.posW;
+  return true;
+}
+
 void SceneCaches::syncGpu(const Scene& scene, std::optional<ShadingModel> shadingOverride, float shutter,
                           float timeU) {
   const float open = shutter > 0.0f && std::isfinite(shutter) ? shutter : 0.0f;
@@ -40,8 +47,15 @@ void SceneCaches::syncGpu(const Scene& scene, std::optional<ShadingModel> shadin
     gpuTime_ = time;
     if (moving) gpuTimeStale_ = true;
   }
+  if (!gpuStale_ && gpu_.anchor() != anchor_) {
+    // The floating origin moved: instances and lights are re-packed relative to it, and the raster effects
+    // (made in render space: maps fitted to its bounds, probes at its places) are all drawn again.
+    gpu_.setAnchor(anchor_);
+    gpuInstancesStale_ = gpuLightsStale_ = true;
+    ++gpuLayoutVersion_;
+  }
   if (gpuStale_) {
-    gpu_.upload(scene, shadingOverride);
+    gpu_.upload(scene, shadingOverride, anchor_);
     if (gpuShutter_ > 0.0f) gpu_.updateInstances(scene, gpuShutter_, gpuTime_);
     meshBounds_ = gl::meshBounds(scene);
     gpuStale_ = gpuInstancesStale_ = gpuLightsStale_ = false;
@@ -63,7 +77,8 @@ void SceneCaches::syncGpu(const Scene& scene, std::optional<ShadingModel> shadin
 }
 
 void SceneCaches::syncGpuInstances(const Scene& scene, int slot) {
-  assert(!gpuStale_ && gpuShutter_ == 0.0f && "syncGpuInstances: a new scene or a shutter is syncGpu's");
+  assert(!gpuStale_ && gpuShutter_ == 0.0f && gpu_.anchor() == anchor_ &&
+         "syncGpuInstances: a new scene, a shutter or a new anchor is syncGpu's");
   if (!gpuInstancesStale_) return;
   gpu_.setInstanceSlot(slot);
   gpu_.updateInstances(scene, gpuShutter_, gpuTime_);
@@ -75,14 +90,14 @@ bool SceneCaches::syncRays(const Scene& scene, float shutter, rt::RayTracer& tra
   if (rtBroken_) return false;
   const float open = shutter > 0.0f && std::isfinite(shutter) ? shutter : 0.0f;
   if (rtSceneStale_) {
-    auto built = tracer.setScene(scene, open);
+    auto built = tracer.setScene(scene, open, anchor_);
     if (!built) {
       logError("Renderer: the ray pass cannot use this scene, ray effects are off: " + built.error().message);
       rtBroken_ = true;
     }
     rtSceneStale_ = rtTransformsStale_ = false;
-  } else if (rtTransformsStale_ || open != tracer.shutter()) {
-    tracer.updateTransforms(scene, open);
+  } else if (rtTransformsStale_ || open != tracer.shutter() || tracer.anchor() != anchor_) {
+    tracer.updateTransforms(scene, open, anchor_);
     rtTransformsStale_ = false;
   }
   return !rtBroken_;

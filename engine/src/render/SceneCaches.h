@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/RenderSpace.h"
 #include "gl/GpuScene.h"
 #include "gl/GpuTimers.h"
 #include "gl/RasterEffects.h"
@@ -22,9 +23,21 @@ namespace tandem {
 class SceneCaches {
  public:
   // ---- what changed ----
-  /// A new scene: everything is made again. An instance (static or dynamic) moved: the GL instance buffer
-  /// is patched and Embree's top level updated; no mesh's BVH is rebuilt. A light: the GL lights re-packed.
-  void apply(const SceneChanges& changes);
+  /// A new scene: everything is made again, around the scene camera's position (the anchor). An instance
+  /// (static or dynamic) moved: the GL instance buffer is patched and Embree's top level updated; no mesh's BVH
+  /// is rebuilt. A light: the GL lights re-packed.
+  void apply(const SceneChanges& changes, const Scene& scene);
+
+  // ---- the floating origin (core/RenderSpace.h) ----
+  /// The origin of render space the GL copy and the Embree scene are brought to at their syncs.
+  glm::vec3 anchor() const { return anchor_; }
+  /// Whether a frame from `camera` moves the anchor (the camera farther from it than anchorReach).
+  bool anchorDue(const Camera& camera) const { return tandem::anchorDue(anchor_, camera); }
+  /// Moves the anchor to the camera's position when that is due; true when it moved. The syncs then re-pack
+  /// the GL copy's instances and lights and re-read Embree's top level (no mesh is uploaded or rebuilt), and the
+  /// raster effects are drawn again, every probe at once (their places are render space). The caller drains a
+  /// frame in flight first: its records and rays are of the old anchor.
+  bool follow(const Camera& camera);
 
   // ---- syncs ----
   /// The GL copy: uploaded or patched as needed, re-packed when the shading override changes; moving
@@ -59,6 +72,7 @@ class SceneCaches {
 
  private:
   gl::GpuScene gpu_;
+  glm::vec3 anchor_{0.0f};  // what the GL copy and the Embree scene are synced to (each holds its own)
   gl::ShadowMaps shadowMaps_;
   gl::ReflectionProbes probes_;
   std::vector<gl::Bounds> meshBounds_;  // object space, per mesh: recomputed with each upload

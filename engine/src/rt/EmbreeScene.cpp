@@ -174,7 +174,8 @@ Error embreeFailure(EmbreeDevice& device, const std::string& where, const std::s
 
 }  // namespace
 
-Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, const Scene& scene, float shutter) {
+Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, const Scene& scene, float shutter,
+                                                        std::optional<glm::vec3> anchor) {
   device.clearError();
   const std::string where = scene.name.empty() ? std::string("scene") : "scene '" + scene.name + "'";
   if (auto checked = checkEmbreeInput(scene, where); !checked) return checked.error();
@@ -182,7 +183,7 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, co
   auto out = std::unique_ptr<EmbreeScene>(new EmbreeScene());
   // Camera-relative: positions are kept relative to where the camera is, so their precision follows
   // the distance to the viewer rather than to the world origin (docs/numerics.md, "Position").
-  out->anchor_ = renderAnchor(scene);
+  out->anchor_ = anchor ? *anchor : renderAnchor(scene);
   out->shutter_ = shutter > 0.0f && std::isfinite(shutter) ? shutter : 0.0f;
   out->collectMaskCutouts(scene);
   if (auto built = out->buildMeshScenes(device, scene, where); !built) return built.error();
@@ -416,12 +417,14 @@ void EmbreeScene::setInstanceMotion(RTCGeometry geom, std::size_t i, const Insta
   rtcCommitGeometry(geom);
 }
 
-void EmbreeScene::updateTransforms(const Scene& scene, float shutter) {
+void EmbreeScene::updateTransforms(const Scene& scene, float shutter, std::optional<glm::vec3> anchor) {
   assert(scene.instances.size() == transforms_.size() && "updateTransforms: the scene's instances changed; call setScene");
   bool moved = false;
   const float open = shutter > 0.0f && std::isfinite(shutter) ? shutter : 0.0f;
   const bool newShutter = open != shutter_;
   shutter_ = open;
+  const bool newAnchor = anchor && *anchor != anchor_;
+  if (newAnchor) anchor_ = *anchor;
   std::size_t n = std::min(scene.instances.size(), transforms_.size());
   for (std::size_t i = 0; i < n; ++i) {
     const Instance& inst = scene.instances[i];
@@ -431,15 +434,23 @@ void EmbreeScene::updateTransforms(const Scene& scene, float shutter) {
     const bool changed = inst.worldFromObject != worldFromObject_[i] || inst.velocity != velocity_[i] ||
                          inst.angularVelocity != angularVelocity_[i] ||
                          (newShutter && (hasMotion || !motionSteps_[i].empty()));
-    if (!changed) continue;
+    if (!changed && !newAnchor) continue;
     bool finite = isFinite(inst.velocity) && isFinite(inst.angularVelocity);
     for (int c = 0; c < 4; ++c) finite = finite && isFinite(glm::vec3(inst.worldFromObject[c])) && std::isfinite(inst.worldFromObject[c].w);
-    // Per-frame code never fails: a non-finite transform keeps the instance where it was.
-    if (!finite) continue;
-    worldFromObject_[i] = inst.worldFromObject;
-    velocity_[i] = inst.velocity;
-    angularVelocity_[i] = inst.angularVelocity;
-    setInstanceMotion(rtcGetGeometry(top_.get(), static_cast<unsigned>(i)), i, inst);
+    // Per-frame code never fails: a non-finite transform keeps the instance where it was (re-read against a
+    // new anchor: what it was, held in worldFromObject_).
+    if (finite) {
+      worldFromObject_[i] = inst.worldFromObject;
+      velocity_[i] = inst.velocity;
+      angularVelocity_[i] = inst.angularVelocity;
+    } else if (!newAnchor) {
+      continue;
+    }
+    Instance held = inst;
+    held.worldFromObject = worldFromObject_[i];
+    held.velocity = velocity_[i];
+    held.angularVelocity = angularVelocity_[i];
+    setInstanceMotion(rtcGetGeometry(top_.get(), static_cast<unsigned>(i)), i, held);
     moved = true;
   }
   if (moved) rtcCommitScene(top_.get());  // the top level only: every BLAS stays as built

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,13 +80,15 @@ class EmbreeScene {
   /// `shutter`: the camera's (Camera::shutter); instances that move while it is open (Instance::velocity,
   /// angularVelocity) become Embree motion-blur instances with the time steps of core/Motion.h, and rays
   /// carry their time in [0, 1] (Camera::timeU, SurfaceHit::time).
-  static Result<std::unique_ptr<EmbreeScene>> build(EmbreeDevice& device, const Scene& scene, float shutter = 0.0f);
+  /// `anchor`: the origin of render space (none: the scene camera's position, renderAnchor).
+  static Result<std::unique_ptr<EmbreeScene>> build(EmbreeDevice& device, const Scene& scene, float shutter = 0.0f,
+                                                    std::optional<glm::vec3> anchor = std::nullopt);
   /// Moves instances to their current transforms and motions: per-geometry transform (or time steps) +
-  /// top-level commit.
-  void updateTransforms(const Scene& scene, float shutter = 0.0f);
+  /// top-level commit. A new `anchor` (the floating origin, core/RenderSpace.h) re-reads every instance.
+  void updateTransforms(const Scene& scene, float shutter = 0.0f, std::optional<glm::vec3> anchor = std::nullopt);
 
   RTCScene top() const { return top_.get(); }
-  /// The origin of render space (SurfaceShading.h, toRenderSpace): the scene camera's position at build.
+  /// The origin of render space (SurfaceShading.h, toRenderSpace): build's, or the last updateTransforms'.
   /// Rays given to top() and the transforms below are relative to it.
   glm::vec3 anchor() const { return anchor_; }
   /// The instance's transform in render space (a moving instance's at the middle of the shutter).

@@ -93,10 +93,10 @@ std::size_t RayTracer::embreeBytes() const { return impl_->device ? impl_->devic
 void RayTracer::setEmbreeMemoryLimit(std::size_t bytes) { impl_->device->setMemoryLimit(bytes); }
 void RayTracer::setProgressCallback(RayPassProgressCallback progress) { impl_->progress = std::move(progress); }
 
-Result<void> RayTracer::setScene(const Scene& scene, float shutter) {
+Result<void> RayTracer::setScene(const Scene& scene, float shutter, std::optional<glm::vec3> anchor) {
   Result<std::unique_ptr<EmbreeScene>> built = Error{};
   // Inside the arena so Embree's TBB build uses the requested thread count.
-  impl_->arena.execute([&] { built = EmbreeScene::build(*impl_->device, scene, shutter); });
+  impl_->arena.execute([&] { built = EmbreeScene::build(*impl_->device, scene, shutter, anchor); });
   if (!built) {
     logError("ray pass: " + built.error().message);
     return built.error();
@@ -110,14 +110,15 @@ Result<void> RayTracer::setScene(const Scene& scene, float shutter) {
   return {};
 }
 
-void RayTracer::updateTransforms(const Scene& scene, float shutter) {
+void RayTracer::updateTransforms(const Scene& scene, float shutter, std::optional<glm::vec3> anchor) {
   assert(impl_->scene && "updateTransforms before a successful setScene");
   if (!impl_->scene) return;
-  impl_->arena.execute([&] { impl_->scene->updateTransforms(scene, shutter); });
+  impl_->arena.execute([&] { impl_->scene->updateTransforms(scene, shutter, anchor); });
   impl_->shadowMapsStale = true;
 }
 
 float RayTracer::shutter() const { return impl_->scene ? impl_->scene->shutter() : 0.0f; }
+glm::vec3 RayTracer::anchor() const { return impl_->scene ? impl_->scene->anchor() : glm::vec3(0.0f); }
 
 void RayTracer::trace(const Scene& scene, const Camera& camera, const FrameSettings& settings,
                       const VisibilityBuffer& visibility, RayOutputs& out, const RayReuse* reuse,

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -47,14 +48,18 @@ class RayTracer {
   RayTracer& operator=(const RayTracer&) = delete;
 
   /// Builds the two-level Embree scene: one static BLAS per mesh, instanced. Embree errors (out of
-  /// memory included) come back as an error value and leave the previous scene in place.
-  Result<void> setScene(const Scene& scene, float shutter = 0.0f);
+  /// memory included) come back as an error value and leave the previous scene in place. `anchor`: the origin
+  /// of render space (core/RenderSpace.h; none: the scene camera's position, renderAnchor).
+  Result<void> setScene(const Scene& scene, float shutter = 0.0f, std::optional<glm::vec3> anchor = std::nullopt);
   /// Re-reads every instance's transform (static or dynamic) and motion and commits the top level only: no
   /// mesh's BVH is rebuilt. `shutter` (Camera::shutter): instances that move while it is open get Embree
-  /// motion-blur time steps (docs/motion-blur.md); every frame's rays then carry a time.
-  void updateTransforms(const Scene& scene, float shutter = 0.0f);
+  /// motion-blur time steps (docs/motion-blur.md); every frame's rays then carry a time. `anchor`: a new origin
+  /// of render space (the floating origin: anchorDue), every instance re-read relative to it.
+  void updateTransforms(const Scene& scene, float shutter = 0.0f, std::optional<glm::vec3> anchor = std::nullopt);
   /// The shutter the ray scene's motion was made for (0 before setScene).
   float shutter() const;
+  /// The ray scene's origin of render space (setScene's or the last updateTransforms'; 0 before setScene).
+  glm::vec3 anchor() const;
 
   /// The hybrid ray pass: per grid pixel, the exact primary hit of the visible triangle, then shadow
   /// rays, Whitted reflection and refraction as the settings ask. Never fails. With `reuse` (the camera
