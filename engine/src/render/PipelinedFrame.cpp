@@ -52,7 +52,6 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   // Without a frame in flight the GL copy is brought up to date here, as in latency mode (the anchor moved first
   // where due: a frame in flight was drained for it); with one, only its instance records now (into the slot
   // the frame in flight does not use), the rest after its composite.
-  if (!inFlight) timed(stats.prepareMs, [&] { followCamera(camera); });
   if (!timed(stats.prepareMs, [&] { return prepare(plan, camera, stats, !inFlight, false); })) {
     if (inFlight) shown = completeInFlight(visibilityPass);  // not reached (the same size cannot fail)
     return finishFrame(clock, stats);

@@ -85,7 +85,6 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
   }
   // Latency mode: the frame in flight first (shown, then drawn over), so that nothing below races its rays.
   if (std::optional<FrameStats> done = drain(); done && !done->error.empty()) clock.lastDrawn = false;
-  timed(stats.prepareMs, [&] { followCamera(camera); });
   if (!timed(stats.prepareMs, [&] { return prepare(plan, camera, stats, true, true); })) return finishFrame(clock, stats);
   if (!s.pipelined && (rayHeld || spareVisibility)) releasePipeline();  // cost follows the settings
   if (!sampled && accum.active()) timed(stats.accumulateMs, [&] { accum.release(); });  // cost follows the settings
@@ -158,7 +157,6 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
   }
   return true;
 }
-
 
 // readback → rays for one sample: the ids read back, the exact solids resolved, the ray pass traced, keeping
 // the last frame's shadow answers where only some things changed (FrameHistory::keepsSome) and, in an adaptive
@@ -305,8 +303,9 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
     return false;
   }
   if (!s.denoise) leaveDenoise();  // cost follows the settings
-  // The GL copy's time is each sample's (drawSample): here only the shutter, leaving the time as it is.
-  if (syncGl) caches.syncGpu(scene, s.shadingOverride, camera.shutter, caches.gpuTime());
+  // The GL copy's time is each sample's (drawSample): here only the shutter, leaving the time as it is; a camera
+  // far from the render anchor moves it first (followCamera: nothing is in flight where the GL copy syncs here).
+  if (syncGl) followCamera(camera), caches.syncGpu(scene, s.shadingOverride, camera.shutter, caches.gpuTime());
   if (syncEmbree && plan.needsRayScene() && !caches.syncRays(scene, camera.shutter, *tracer)) plan.withoutRays();
   // The radiosity solution (docs/radiosity.md): solved here, or the background solve's latest. A new one
   // changes every point the frame shades: nothing of the last frame's rays or samples is kept.
@@ -490,11 +489,6 @@ void Renderer::Impl::present() {
   int w = 0, h = 0;
   context->framebufferSize(w, h);
   outputPass.present(w, h);
-}
-
-// What tracePixel re-runs: the frame as it was drawn.
-void Renderer::Impl::remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in) {
-  last.remember(plan, camera, scene, in.shadowMaps != nullptr, in.probeCubes ? in.probeEffects : 0);
 }
 
 }  // namespace tandem

@@ -320,7 +320,10 @@ struct Renderer::Impl {
   /// frame-time budget may take it again.
   void leaveDenoise();
   void present();
-  void remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in);
+  // What tracePixel re-runs: the frame as it was drawn.
+  void remember(const FramePlan& plan, const Camera& camera, const gl::ShadeInputs& in) {
+    last.remember(plan, camera, scene, in.shadowMaps != nullptr, in.probeCubes ? in.probeEffects : 0);
+  }
 };
 
 }  // namespace tandem
