@@ -32,7 +32,7 @@ Camera toRenderSpace(const Camera& camera, glm::vec3 anchor) {
   const double scale = length > 0.0 && far > length && std::isfinite(far) ? std::exp2(std::ceil(std::log2(far / length)))
                                                                            : 1.0;
   c.targetW = glm::vec3(glm::dvec3(c.posW) + forward * scale);
-  if (scale > 1.0 && camera.aperture > 0.0f && !(camera.focusDistance > 0.0f))
+  if (scale > 1.0 && camera.aperture > 0.0f && !(camera.focusDistance > 0.0f && std::isfinite(camera.focusDistance)))
     c.focusDistance = static_cast<float>(length);  // (the target's distance was the plane in focus)
   return c;
 }

@@ -16,11 +16,12 @@ namespace tandem {
 /// The anchor for a scene: its camera's position when finite (where precision matters most), else the origin.
 glm::vec3 renderAnchor(const Scene& scene);
 /// A floating origin: the renderer moves the anchor to the camera's position once the camera is farther from
-/// it than anchorReach(camera), 1024 times its near distance. Render space then resolves at the camera, to
-/// within 2^-13 of the near distance (ulp(1024 · near) = near / 8192), and a ray's origin offset (~64 ULPs of
-/// its coordinates) stays under 1 % of it, however far the camera travels. A move re-packs the instance
-/// transforms and lights (GL and Embree's top level; no mesh is uploaded or rebuilt) and redraws the raster
-/// effects: it happens once every 1024 near distances travelled, not every frame.
+/// it than anchorReach(camera), 1024 times its near distance. Render space then resolves at the camera to
+/// within near / 8192 (the ulp of 1024 · near is at most that), and a ray's origin offset (~64 ULPs of its
+/// coordinates) stays under 1 % of it, however far the camera travels. A move re-packs the instance transforms
+/// and lights (GL and Embree's top level; no mesh is uploaded or rebuilt) and redraws the raster effects, every
+/// probe included: it happens once every 1024 near distances travelled (51.2 units at a near plane of 0.05),
+/// not every frame.
 double anchorReach(const Camera& camera);
 /// Whether a frame from `camera` moves the anchor to it (camera.posW finite and farther than anchorReach).
 bool anchorDue(glm::vec3 anchor, const Camera& camera);

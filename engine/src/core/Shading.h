@@ -53,8 +53,9 @@ GpuLight packLight(const Light& light, int areaSlot = 0);
 /// The radius of a sphere about an area light's posW that holds every point of it: a shadow ray from a point to
 /// any of them stays within that radius times its fraction of the way from the ray to posW (the filter's test
 /// of what moved, render/Motion.cpp). A rect's corners lie half its diagonal away, bounded here by half the sum
-/// of its sides (half the longer side would miss the corners of one turned in its plane); a disk's bound is
-/// twice its radius, a sphere's its radius. 0 for a light without extent.
+/// of its sides (half the longer side does not reach them: the filter's square pyramid still covers the corners
+/// of a rect along the frame's axes, not those of one turned in its plane); a disk's bound is twice its
+/// radius, a sphere's its radius. 0 for a light without extent.
 float areaLightReach(const Light& light);
 GpuMaterial packMaterial(const Material& material, int materialIndex, std::optional<ShadingModel> override);
 /// The toon ramp of a material sampled at TD_TOON_RAMP_SIZE points over N·L in [-1, 1]: the 1D texture

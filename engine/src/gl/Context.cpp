@@ -14,6 +14,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -155,6 +156,26 @@ std::string describeCurrent(const std::string& platform) {
 // API still records as current when another of ours was bound since.
 thread_local GlContext* tBound = nullptr;
 
+// The contexts alive in the process: a context destroyed on another thread than the one that bound it last
+// leaves that thread's tBound behind, which is then only compared, never called, unless it is still alive.
+std::mutex liveMutex;
+std::set<const GlContext*> liveContexts;
+void born(const GlContext* c) {
+  std::lock_guard lock(liveMutex);
+  liveContexts.insert(c);
+}
+void gone(const GlContext* c) {
+  std::lock_guard lock(liveMutex);
+  liveContexts.erase(c);
+}
+// A context of ours bound on this thread since `self` was, to be bound again once `self`'s destruction has
+// unbound the thread's GL (nullptr: none, or no longer alive).
+GlContext* boundSince(const GlContext* self) {
+  if (tBound == self || tBound == nullptr) return nullptr;
+  std::lock_guard lock(liveMutex);
+  return liveContexts.count(tBound) != 0 ? tBound : nullptr;
+}
+
 // ---------------------------------------------------------------------------------------------------
 // EGL (device and surfaceless platforms)
 // ---------------------------------------------------------------------------------------------------
@@ -181,10 +202,11 @@ GLADapiproc eglLoader(const char* name) { return reinterpret_cast<GLADapiproc>(e
 
 class EglContext final : public GlContext {
  public:
-  EglContext(ContextKind kind, std::string platform) : GlContext(kind), platform_(std::move(platform)) {}
+  EglContext(ContextKind kind, std::string platform) : GlContext(kind), platform_(std::move(platform)) { born(this); }
   ~EglContext() override {
+    gone(this);
     gl::forgetGlLoader(this);
-    GlContext* other = tBound != this ? tBound : nullptr;
+    GlContext* other = boundSince(this);
     if (tBound == this) tBound = nullptr;
     if (display_ == EGL_NO_DISPLAY) return;
     const bool released = eglGetCurrentContext() == context_;
@@ -391,8 +413,9 @@ GLADapiproc osMesaLoader(const char* name) { return gOsMesa->getProcAddress(name
 
 class OsMesaContext final : public GlContext {
  public:
-  explicit OsMesaContext(const OsMesaApi& api) : GlContext(ContextKind::OSMesa), api_(api) {}
+  explicit OsMesaContext(const OsMesaApi& api) : GlContext(ContextKind::OSMesa), api_(api) { born(this); }
   ~OsMesaContext() override {
+    gone(this);
     gl::forgetGlLoader(this);
     if (tBound == this) tBound = nullptr;
     if (context_ != nullptr) api_.destroyContext(context_);
@@ -464,15 +487,20 @@ GLADapiproc glfwLoader(const char* name) { return glfwGetProcAddress(name); }
 
 class GlfwContext final : public GlContext {
  public:
-  GlfwContext() : GlContext(ContextKind::Window) {}
+  GlfwContext() : GlContext(ContextKind::Window) { born(this); }
   ~GlfwContext() override {
+    gone(this);
     gl::forgetGlLoader(this);
+    GlContext* other = boundSince(this);
     if (tBound == this) tBound = nullptr;
+    // (GLFW detaches a window's context that is current before destroying it, unbinding the thread's GL)
+    const bool released = window_ != nullptr && glfwGetCurrentContext() == window_;
     if (window_ != nullptr) glfwDestroyWindow(window_);
     if (initialised_) {
       std::lock_guard lock(glfwMutex);
       if (--glfwUsers == 0) glfwTerminate();
     }
+    if (released && other != nullptr) other->makeCurrent();
   }
 
   Result<void> init(const ContextDesc& desc) {

@@ -71,8 +71,10 @@ void PixelReadback::start(const Framebuffer& fbo, const ChannelFormat& channel, 
   width_ = width;
   height_ = height;
   const std::size_t need = static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * texelBytes_;
-  if (need > bytes_) {
-    // A buffer once refused at this size or less is not asked for again until drop().
+  // Made again larger on need, and smaller where a frame needs under a quarter of it (a frame made much smaller
+  // does not keep the largest one's memory: cost follows the settings).
+  if (need > bytes_ || need < bytes_ / 4) {
+    // A buffer once refused at this size or less is not asked for again until drop() or retry().
     bool made = false;
     if (refused_ == 0 || need < refused_) {
       drop();

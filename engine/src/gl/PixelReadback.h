@@ -24,7 +24,8 @@ class PixelReadback {
   PixelReadback& operator=(PixelReadback&& other) noexcept;
 
   /// Starts the copy of `fbo`'s colour target 0 (width × height texels of `channel`, tightly packed); the
-  /// buffer is made, or made again larger, on first need. A read-back already pending is dropped. Where the GL
+  /// buffer is made on first need, made again larger when a copy needs more and smaller when it needs under a
+  /// quarter. A read-back already pending is dropped. Where the GL
   /// refuses the buffer (out of memory, no mapping) the texels are read into client memory at once instead,
   /// and finish() takes them from there: the same result, without the overlap.
   void start(const Framebuffer& fbo, const ChannelFormat& channel, int width, int height);
@@ -47,6 +48,8 @@ class PixelReadback {
   void drop();
   /// Drops a pending read-back, keeping the buffer.
   void cancel();
+  /// A size the GL refused may be asked for again (a new frame size: the memory may be there now).
+  void retry() { refused_ = 0; }
   /// The mapped buffer's size (0 when none is held).
   std::size_t bytes() const { return bytes_; }
 

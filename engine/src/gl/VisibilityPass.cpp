@@ -56,6 +56,7 @@ void VisibilityPass::release() {
 
 void VisibilityPass::releaseTargets() {
   idReadback_.cancel();
+  idReadback_.retry();
   resolveFbo_.reset();
   exactHits_.reset();
   fbo_.reset();

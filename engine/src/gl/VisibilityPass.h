@@ -24,7 +24,8 @@ class VisibilityPass {
   /// Reallocates the targets when the frame size changes. An error names the target the GL refused
   /// (out of memory, an incomplete framebuffer); the pass then holds no targets (width() 0) until a
   /// resize succeeds. The ids' read-back memory stays (a pending read-back is dropped): a dynamic resolution
-  /// that steps down and back up does not map it again, and a larger frame makes it again larger.
+  /// that steps down and back up does not map it again; a larger frame makes it again larger, one needing under
+  /// a quarter of it smaller.
   Result<void> resize(int width, int height);
   /// Drops the targets (width() 0) and the read-back memory.
   void release();

@@ -37,9 +37,10 @@ float filteredJitterScale(float motionPx);
 Camera filteredSample(const Camera& camera, std::uint32_t index, float jitterScale);
 
 /// The filter's samples (FrameSettings::denoise): each filtered frame draws the next sample of one sequence, so
-/// that its history gathers new ones, with its sub-pixel offset scaled by how far the view moved since the last
-/// filtered frame (filteredJitterScale of cameraMotionPx, frame to frame: a camera that slows down gets its
-/// offsets back). An accumulation's first frame takes its index from the same sequence (take()).
+/// that its history gathers new ones, with its sub-pixel offset scaled by how far the view moved since the
+/// frame next() drew before it (filteredJitterScale of cameraMotionPx, frame to frame: a camera that slows down
+/// gets its offsets back). An accumulation's first frame takes its index from the same sequence (take(); its
+/// offset is Accumulation::restart's to scale).
 class FilteredSequence {
  public:
   /// The next filtered frame's camera, from `camera` (as the application gave it) at `size` pixels.

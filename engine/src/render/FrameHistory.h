@@ -19,7 +19,7 @@ namespace tandem {
 struct FrameHistory {
   bool drawn = false;
   bool sceneChanged = false;   // the scene (SceneChanges::any) or the radiosity solution since: its ids are stale
-  bool sceneReplaced = false;  // setScene since: nothing of it can be kept
+  bool sceneReplaced = false;  // setScene (or a move of the render anchor) since: nothing of it can be kept
   Camera camera;
   FramePlan plan;
   bool shadowMaps = false;     // primary hits' lights by the shadow maps

@@ -252,8 +252,8 @@ struct Renderer::Impl {
     std::uint64_t sceneGeneration = 0;
     glm::vec3 anchor{0.0f};  // the render space it was drawn in
     int width = 0, height = 0;
-    // Its camera in world space (the sample's, unjittered by the lens: what the GL drew): a later frame takes it
-    // to its own render space, which the floating origin may have moved since (core/RenderSpace.h).
+    // Its camera in world space (the sample's as the GL drew it: its lens point and sub-pixel offset in): a later
+    // frame takes it to its own render space, which the floating origin may have moved since (core/RenderSpace.h).
     Camera camera;
     FrameSettings shading;  // the filter: its settings as they shape the light (shadingSettings)
     std::vector<glm::dmat4> worldFromObject;

@@ -423,8 +423,9 @@ void EmbreeScene::updateTransforms(const Scene& scene, float shutter, std::optio
   const float open = shutter > 0.0f && std::isfinite(shutter) ? shutter : 0.0f;
   const bool newShutter = open != shutter_;
   shutter_ = open;
-  const bool newAnchor = anchor && *anchor != anchor_;
-  if (newAnchor) anchor_ = *anchor;
+  // (rereadAll_ stays set until every instance was re-read: a re-read cut short by a throw is done again)
+  if (anchor && *anchor != anchor_) anchor_ = *anchor, rereadAll_ = true;
+  const bool newAnchor = rereadAll_;
   std::size_t n = std::min(scene.instances.size(), transforms_.size());
   for (std::size_t i = 0; i < n; ++i) {
     const Instance& inst = scene.instances[i];
@@ -453,6 +454,7 @@ void EmbreeScene::updateTransforms(const Scene& scene, float shutter, std::optio
     setInstanceMotion(rtcGetGeometry(top_.get(), static_cast<unsigned>(i)), i, held);
     moved = true;
   }
+  rereadAll_ = false;
   if (moved) rtcCommitScene(top_.get());  // the top level only: every BLAS stays as built
 }
 

@@ -168,6 +168,7 @@ class EmbreeScene {
   std::vector<SceneHandle> meshScenes_;  // one BLAS per mesh
   SceneHandle top_;
   glm::vec3 anchor_{0.0f};
+  bool rereadAll_ = false;  // a new anchor: every instance to be re-read (updateTransforms)
   std::vector<InstanceTransform> transforms_;  // the copy Embree holds (render space), used to rebuild hits
   std::vector<glm::mat4> worldFromObject_;     // the scene's world-space matrices, to detect moves
   std::vector<std::vector<glm::mat4>> motionSteps_;  // per instance: render-space time steps, empty at rest
