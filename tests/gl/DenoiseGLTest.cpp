@@ -992,6 +992,29 @@ float noise(int i, int frame, float mean, float sigma) {
 std::vector<glm::vec4> grey(int n, float v) {
   return std::vector<glm::vec4>(static_cast<std::size_t>(n), glm::vec4(v, v, v, 1.0f));
 }
+// The grid tests' camera at a frame of w x h pixels: its view's vectors as the filter takes them, and pixel
+// (x, y)'s point (GL rows) at view depth z, as the filter rebuilds it.
+struct WallView {
+  Camera camera = grid::wallCamera();
+  gl::CameraVectors axes;
+  glm::vec3 axis{0.0f};
+  int w = 0, h = 0;
+  glm::vec2 ndcOf(int x, int y) const {
+    return (glm::vec2(x, y) + 0.5f) / glm::vec2(w, h) * 2.0f - 1.0f;
+  }
+  glm::vec3 pointAt(int x, int y, float z) const {
+    const glm::vec2 ndc = ndcOf(x, y);
+    return camera.posW + z * (axis + axes.right * ndc.x + axes.up * ndc.y);
+  }
+};
+WallView wallView(int w, int h) {
+  WallView v;
+  v.axes = gl::cameraVectors(w, h, v.camera);
+  v.axis = glm::normalize(glm::cross(v.axes.up, v.axes.right));
+  v.w = w;
+  v.h = h;
+  return v;
+}
 std::optional<Filter> makeFilter(int w, int h, int gridScale = 1) {
   auto made = gl::DenoisePass::create();
   if (!made.ok()) {
@@ -1025,13 +1048,9 @@ TEST(Denoise, AMovedObjectCrossingOnlyARectLightsCornerRaysDropsTheHistory) {
   constexpr int kSw = 64, kSh = 48;
   auto f = synthetic::makeFilter(kSw, kSh);
   ASSERT_TRUE(f.has_value());
-  const Camera camera = grid::wallCamera();
-  const gl::CameraVectors axes = gl::cameraVectors(kSw, kSh, camera);
-  const glm::vec3 axis = glm::normalize(glm::cross(axes.up, axes.right));
-  auto pointOf = [&](int x, int y) {  // pixel (x, y)'s point on the wall (GL rows)
-    const glm::vec2 ndc = (glm::vec2(x, y) + 0.5f) / glm::vec2(kSw, kSh) * 2.0f - 1.0f;
-    return camera.posW + grid::kDepth * (axis + axes.right * ndc.x + axes.up * ndc.y);
-  };
+  const synthetic::WallView view = synthetic::wallView(kSw, kSh);
+  const Camera& camera = view.camera;
+  auto pointOf = [&](int x, int y) { return view.pointAt(x, y, grid::kDepth); };  // on the wall
   Light light;
   light.type = LightType::Rect;
   light.posW = glm::vec3(0.0f, 0.0f, -0.5f);
@@ -1125,9 +1144,9 @@ TEST(Denoise, TheATrousWeightsOnATiltedPlaneAreTheirClosedForm) {
   constexpr int kSw = 48, kSh = 36;
   auto f = synthetic::makeFilter(kSw, kSh);
   ASSERT_TRUE(f.has_value());
-  const Camera camera = grid::wallCamera();
-  const gl::CameraVectors axes = gl::cameraVectors(kSw, kSh, camera);
-  const glm::vec3 axis = glm::normalize(glm::cross(axes.up, axes.right));
+  const synthetic::WallView view = synthetic::wallView(kSw, kSh);
+  const gl::CameraVectors& axes = view.axes;
+  const glm::vec3 axis = view.axis;
   // The normal as the guide stores it (snorm bytes) and as the filter unpacks it.
   const glm::ivec3 bytes(67, 50, 95);
   const glm::vec3 N = glm::vec3(bytes) / 127.0f;
