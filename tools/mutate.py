@@ -596,6 +596,11 @@ MUTATIONS = [
      "    if (tBound != this && eglGetCurrentContext() == context_)\n"
      "      eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);  // (tBound: EGL's record is stale)\n",
      "", "tandem-gl-tests", "ContextGLTest.ContextsMade*"),
+    # glTF as its authors meant it (tests/corpus/GltfAuthorsIntentTest.cpp: a sample model's own markers).
+    ("gltf-texture-rotation-as-the-readme-prints-it", "engine/src/io/GltfMaterials.cpp",
+     "  const glm::mat3 R(std::cos(rot), -std::sin(rot), 0, std::sin(rot), std::cos(rot), 0, 0, 0, 1);",
+     "  const glm::mat3 R(std::cos(rot), std::sin(rot), 0, -std::sin(rot), std::cos(rot), 0, 0, 0, 1);",
+     "tandem-corpus-tests", "GltfAuthorsIntent.TextureTransforms*"),
     # Render space (tests/unit/CameraTest.cpp).
     ("render-space-anchor-at-origin", "engine/src/core/RenderSpace.cpp",
      "return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) ? p : glm::vec3(0.0f);",

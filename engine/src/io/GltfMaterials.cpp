@@ -113,9 +113,12 @@ glm::mat3 textureTransform(const tinygltf::ExtensionMap& e) {
   const float rot = float(num(*tt, "rotation", 0.0));
   if (!std::isfinite(offset.x) || !std::isfinite(offset.y) || !std::isfinite(scale.x) || !std::isfinite(scale.y))
     return glm::mat3(1.0f);
-  // KHR_texture_transform README: uv' = T · R · S · (u, v, 1), matrices column-major as in GLSL.
+  // KHR_texture_transform: uv' = T · R · S · (u, v, 1), matrices column-major as in GLSL. The rotation turns
+  // the UVs counter-clockwise as glTF's UV space (v down) shows them: the transpose of the matrix the extension's
+  // README prints, which is counter-clockwise with v up (KhronosGroup/glTF#1563; Babylon.js, Blender and
+  // three.js apply this one, and the sample model TextureTransformTest's arrows point at their green markers so).
   const glm::mat3 T(1, 0, 0, 0, 1, 0, offset.x, offset.y, 1);
-  const glm::mat3 R(std::cos(rot), std::sin(rot), 0, -std::sin(rot), std::cos(rot), 0, 0, 0, 1);
+  const glm::mat3 R(std::cos(rot), -std::sin(rot), 0, std::sin(rot), std::cos(rot), 0, 0, 0, 1);
   const glm::mat3 S(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
   return T * R * S;
 }
