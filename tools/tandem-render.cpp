@@ -24,6 +24,7 @@
 #include "CliCommon.h"
 #include "Progress.h"
 #include "tandem/Context.h"
+#include "tandem/Log.h"
 #include "tandem/PixelTrace.h"
 #include "tandem/Renderer.h"
 #include "tandem/SceneFile.h"
@@ -83,7 +84,9 @@ int main(int argc, char** argv) {
   app.add_option("--stats", statsPath, "Write the per-stage medians and ray counts as JSON (default: none)");
   app.add_option("--threads", threads, "Ray-pass threads (0 = all)")->check(CLI::Range(0, 1024))->capture_default_str();
   app.add_option("--context", contextName, "headless | egl-device | surfaceless | osmesa")->capture_default_str();
-  app.add_flag("-q,--quiet", quiet, "Print errors only: no progress line, no summary (default: both)");
+  app.add_flag("-q,--quiet", quiet,
+               "Print errors only: no progress line, no summary, no warnings (a glTF's skipped parts, coplanar "
+               "faces; the log's level set to errors) (default: all three)");
   app.add_option("--reuse", reuse,
                  "on | off: with on, a frame whose camera, scene and ray settings equal the last frame's reuses its "
                  "rays (FrameSettings::reuseRays; the renderer's and the game's default). Off here by default: "
@@ -122,6 +125,8 @@ int main(int argc, char** argv) {
     if (e.get_exit_code() == 0) return app.exit(e);
     return fail(e.what());
   }
+  // Errors only, the engine's log included: a script that asks for quiet reads stderr as "something failed".
+  if (quiet) setLogLevel(LogLevel::Error);
   // Refused before the scene loads and renders: a long render should not end in "unsupported extension".
   if (auto format = imageFormatForPath(outPath); !format) return fail("-o: " + format.error().message);
   ContextDesc desc;

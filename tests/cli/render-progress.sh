@@ -1,6 +1,7 @@
 #!/bin/sh
 # tandem-render RENDER OUTDIR: a render running longer than --progress-after prints progress lines
-# (percent, elapsed, ETA) on stderr and ends with a 100% line; --quiet prints nothing at all; a render
+# (percent, elapsed, ETA) on stderr and ends with a 100% line; --quiet prints nothing at all, the engine's
+# warnings included (a scene whose two quads fight for one plane warns without it); a render
 # shorter than the default threshold (2 s) prints no progress. The threshold is 0 here so that a frame
 # of a fraction of a second stands in for a long one.
 set -u
@@ -29,6 +30,29 @@ rm -f "$out/cli-quiet.png"
 if [ -s "$out/cli-quiet.out" ] || [ -s "$out/cli-quiet.err" ] || [ ! -s "$out/cli-quiet.png" ]; then
   echo "--quiet printed something or wrote no image:"
   cat "$out/cli-quiet.out" "$out/cli-quiet.err"
+  status=1
+fi
+# Two quads in one plane: the scene loader warns of the flicker (tandem/Scene.h coplanarOverlaps).
+cat >"$out/cli-warns.json" <<'EOF'
+{
+  "meshes": { "quad": { "primitive": "plane", "size": 2 } },
+  "materials": { "grey": { "kd": 0.5 } },
+  "lights": [ { "type": "directional", "direction": [0, -1, 0] } ],
+  "instances": [ { "mesh": "quad", "material": "grey" }, { "mesh": "quad", "material": "grey" } ],
+  "camera": { "position": [0, 3, 3], "target": [0, 0, 0] }
+}
+EOF
+"$render" "$out/cli-warns.json" --size 32x18 -o "$out/cli-warns.png" >"$out/cli-warns.out" 2>"$out/cli-warns.err" || exit 1
+if ! grep -q '^tandem warning: ' "$out/cli-warns.err"; then
+  echo "the coplanar quads' scene printed no warning (the --quiet check below would prove nothing):"
+  cat "$out/cli-warns.err"
+  status=1
+fi
+"$render" "$out/cli-warns.json" --size 32x18 --quiet -o "$out/cli-warns.png" >"$out/cli-warns.out" \
+  2>"$out/cli-warns.err" || exit 1
+if [ -s "$out/cli-warns.out" ] || [ -s "$out/cli-warns.err" ]; then
+  echo "--quiet printed a warning:"
+  cat "$out/cli-warns.out" "$out/cli-warns.err"
   status=1
 fi
 "$render" --size 64x36 -o "$out/cli-short.png" >"$out/cli-short.out" 2>"$out/cli-short.err" || exit 1
