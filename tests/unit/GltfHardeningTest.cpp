@@ -217,6 +217,63 @@ TEST(GltfHardening, J6_J7_VersionAndRequiredExtensions) {
   EXPECT_TRUE(loadDoc("optional", d).ok);
 }
 
+// Files that need an extension Tandem lacks are refused naming it, whatever their buffers hold: a Draco
+// file's accessors have no data of their own, which tinygltf refused first as "invalid bufferView".
+TEST(GltfHardening, J7_RequiredCompressionIsRefusedByItsName) {
+  json d = triangleDoc();
+  d["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  d["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  d["accessors"][0].erase("bufferView");
+  d["accessors"][1].erase("bufferView");
+  d["meshes"][0]["primitives"][0]["extensions"] = {
+      {"KHR_draco_mesh_compression", {{"bufferView", 0}, {"attributes", {{"POSITION", 0}}}}}};
+  Outcome draco = loadDoc("draco", d);
+  EXPECT_REJECT(draco, "extensionsRequired names unsupported extensions: KHR_draco_mesh_compression");
+  EXPECT_EQ(draco.error.find("invalid bufferView"), std::string::npos) << draco.error;
+
+  d = triangleDoc();
+  d["extensionsUsed"] = {"EXT_meshopt_compression"};
+  d["extensionsRequired"] = {"EXT_meshopt_compression"};
+  d["bufferViews"][0]["extensions"] = {{"EXT_meshopt_compression",
+                                        {{"buffer", 0}, {"byteLength", 20}, {"byteStride", 12}, {"count", 3},
+                                         {"mode", "ATTRIBUTES"}}}};
+  EXPECT_REJECT(loadDoc("meshopt-required", d), "unsupported extensions: EXT_meshopt_compression");
+}
+
+// A file that only uses EXT_meshopt_compression carries its data uncompressed too (the extension's
+// fallback buffer), and loads from that. The "compressed" buffer here is filler a decoder would refuse:
+// reading it instead of the fallback would put the triangle somewhere else or fail.
+TEST(GltfHardening, J8_MeshoptUsedButNotRequiredLoadsFromTheFallback) {
+  Bytes fallback;
+  json d = triangleDoc(&fallback);
+  const std::vector<std::uint8_t> filler(64, 0xA5);
+  d["extensionsUsed"] = {"EXT_meshopt_compression"};
+  d["buffers"].push_back({{"byteLength", filler.size()},
+                          {"uri", "data:application/octet-stream;base64," + test::base64(filler)}});
+  d["bufferViews"][0]["extensions"] = {{"EXT_meshopt_compression",
+                                        {{"buffer", 1}, {"byteOffset", 0}, {"byteLength", 40}, {"byteStride", 12},
+                                         {"count", 3}, {"mode", "ATTRIBUTES"}, {"filter", "NONE"}}}};
+  d["bufferViews"][1]["extensions"] = {{"EXT_meshopt_compression",
+                                        {{"buffer", 1}, {"byteOffset", 40}, {"byteLength", 24}, {"byteStride", 2},
+                                         {"count", 3}, {"mode", "TRIANGLES"}}}};
+  auto dir = freshDir("meshopt-fallback");
+  const std::string path = writeText(dir / "m.gltf", d.dump());
+  Outcome o = loadPath(path);
+  ASSERT_TRUE(o.ok) << o.error;
+  LogSink old = setLogSink([](LogLevel, std::string_view) {});
+  auto scene = loadGltf(path);
+  setLogSink(old);
+  ASSERT_TRUE(scene.ok());
+  ASSERT_EQ(scene->meshes.size(), 1u);
+  const Mesh& mesh = scene->meshes[0];
+  ASSERT_EQ(mesh.indices.size(), 3u);
+  const glm::vec3 corners[] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  for (int i = 0; i < 3; ++i) {
+    const glm::vec3 p = mesh.positions[mesh.indices[std::size_t(i)]];
+    EXPECT_EQ(p, corners[i]) << "corner " << i;
+  }
+}
+
 TEST(GltfHardening, B2_B3_B5_RangesPastViewsAndBuffers) {
   json d = triangleDoc();
   d["bufferViews"][1]["byteLength"] = 4000;

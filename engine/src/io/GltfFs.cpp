@@ -254,7 +254,7 @@ struct Frame {
   std::string_view key;         // the parent's name for this container (objects' members)
   std::size_t index = 0;        // the parent's index for this container (array elements)
   bool inArray = false;         // whether the parent is an array
-  bool freeForm = false;        // under "extras": application data, no type rules
+  bool freeForm = false;        // under "extras" or an extension Tandem does not read: no type rules
   bool valueTree = false;       // under "extras" or "extensions": tinygltf keeps it as a Value tree
   bool attributeMap = false;    // an "attributes" object or a morph target: every member is an accessor index
   bool inTargets = false;       // the "targets" array: its elements are attribute maps
@@ -279,7 +279,11 @@ Frame childFrame(const Frame& parent, bool parentIsObject, std::string_view key,
   child.key = key;
   child.index = index;
   child.inArray = !parentIsObject;
-  child.freeForm = parent.freeForm || (parentIsObject && key == "extras");
+  // An extension's own keys are its business ("mode" is a string in EXT_meshopt_compression): only the
+  // extensions the importer reads keep the index rules, since it reads their numbers as indices.
+  child.freeForm = parent.freeForm || (parentIsObject && key == "extras") ||
+                   (parentIsObject && parent.key == "extensions" && !parent.inArray &&
+                    !supportedExtension(std::string(key.substr(0, 64))));
   child.valueTree = parent.valueTree || (parentIsObject && (key == "extras" || key == "extensions"));
   child.attributeMap =
       (parentIsObject && !parent.freeForm && key == "attributes") || (!parentIsObject && parent.inTargets);
@@ -349,6 +353,16 @@ Result<JsonScan> prescanJson(const std::uint8_t* data, std::size_t size, bool gl
     return Error{std::string("JSON parse error: ") + e.what()};
   }
   if (!doc.is_object()) return Error{"the JSON root is not an object"};
+  // A file that needs an extension Tandem lacks is refused for that, before tinygltf reads it: its
+  // buffers may hold what only the extension decodes (Draco, meshopt), which tinygltf would refuse in
+  // its own words ("accessor[0] invalid bufferView").
+  if (auto required = doc.find("extensionsRequired"); required != doc.end() && required->is_array()) {
+    std::string unknown;
+    for (const json& e : *required)
+      if (e.is_string() && !supportedExtension(e.get_ref<const std::string&>()))
+        unknown += (unknown.empty() ? "" : ", ") + shortKey(e.get_ref<const std::string&>());
+    if (!unknown.empty()) return Error{"extensionsRequired names unsupported extensions: " + unknown};
+  }
   JsonScan scan;
   std::vector<Frame> stack;
   Frame top;
