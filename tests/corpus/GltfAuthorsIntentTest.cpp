@@ -3,6 +3,8 @@
 //   TextureTransformTest: KHR_texture_transform's rotation, scale and all three at once turn and shrink an
 //   arrow texture so that it points at a green marker; rotated the other way it points at a red one, not at
 //   all at a yellow one.
+//   NegativeScaleTest: single-sided quads turned away from the camera, each with a red X on its front and a
+//   green check on a quad behind it; mirrored copies (negative scale) of the same. Every check shows and no X.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -138,6 +140,73 @@ TEST(GltfAuthorsIntent, TextureTransformsArrowsPointAtTheirGreenMarkers) {
       for (std::size_t m = 1; m < q.markers.size(); ++m)
         EXPECT_LT(toGreen, glm::length(*tip - q.markers[m].second)) << "nearer the " << q.markers[m].first << " marker";
     }
+  }
+}
+
+// The blobs (4-connected, at least 10 pixels) of the frame's plainly red pixels (the X's) and plainly green
+// ones (the checks), linear values.
+struct RedAndGreen {
+  int red = 0, green = 0;
+};
+RedAndGreen countRedAndGreen(const ImageF& frame) {
+  auto blobs = [&](auto&& is) {
+    std::vector<std::uint8_t> seen(static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height), 0);
+    auto at = [&](int x, int y) -> std::uint8_t& {
+      return seen[static_cast<std::size_t>(y) * static_cast<std::size_t>(frame.width) + static_cast<std::size_t>(x)];
+    };
+    int count = 0;
+    for (int y = 0; y < frame.height; ++y)
+      for (int x = 0; x < frame.width; ++x) {
+        if (at(x, y) || !is(frame.at(x, y))) continue;
+        int size = 0;
+        std::vector<glm::ivec2> stack{{x, y}};
+        at(x, y) = 1;
+        while (!stack.empty()) {
+          const glm::ivec2 p = stack.back();
+          stack.pop_back();
+          ++size;
+          for (const glm::ivec2 d : {glm::ivec2(1, 0), glm::ivec2(-1, 0), glm::ivec2(0, 1), glm::ivec2(0, -1)}) {
+            const glm::ivec2 n = p + d;
+            if (n.x < 0 || n.y < 0 || n.x >= frame.width || n.y >= frame.height || at(n.x, n.y) ||
+                !is(frame.at(n.x, n.y)))
+              continue;
+            at(n.x, n.y) = 1;
+            stack.push_back(n);
+          }
+        }
+        count += size >= 10 ? 1 : 0;
+      }
+    return count;
+  };
+  RedAndGreen n;
+  n.red = blobs([](glm::vec3 c) { return c.r > 0.3f && c.g < 0.1f && c.b < 0.1f; });
+  n.green = blobs([](glm::vec3 c) { return c.g > 0.3f && c.r < 0.15f && c.b < 0.15f; });
+  return n;
+}
+
+// doubleSided: false culls the back faces (docs/gltf.md): the "back" column's quads turn their front, with its
+// red X, away from the camera, so the raster must cull them and the rays (the reference's camera rays, Embree's
+// filter) pass them; the mirrored row's winding is the importer's to flip. Six checks and no X.
+TEST(GltfAuthorsIntent, SingleSidedFacesSeenFromBehindAreNotDrawn) {
+  const std::string file = sampleModel("NegativeScaleTest");
+  if (file.empty()) GTEST_SKIP() << "../shared/assets is absent: skipped";
+  TD_REQUIRE_GL_CONTEXT();
+  auto scene = loadGltf(file);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const Camera camera = scene->camera;
+  auto renderer = gltest::makeRenderer(*glContext_);
+  ASSERT_TRUE(renderer->setScene(*scene).ok());
+  for (const char* preset : {"raster", "reference"}) {
+    SCOPED_TRACE(preset);
+    FrameSettings s = *presetSettings(preset);
+    s.width = 640;
+    s.height = 360;
+    s.referenceSpp = 1;
+    ASSERT_TRUE(renderer->render(camera, s).error.empty());
+    gltest::savePng(std::string("negative-scale-") + preset + ".png", renderer->readImage());
+    const RedAndGreen n = countRedAndGreen(renderer->readLinear());
+    EXPECT_EQ(n.red, 0) << "red X's (single-sided faces seen from behind) are drawn";
+    EXPECT_EQ(n.green, 6) << "green checks";
   }
 }
 

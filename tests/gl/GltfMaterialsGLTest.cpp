@@ -1,6 +1,7 @@
 // glTF material extras in GL and the CPU twin (docs/gltf.md): normal maps (GL against rt::resolveHit +
 // rt::shadeLocal, the same formula tdPerturbNormal), emissive textures, MASK cut-outs in the visibility
-// pass, BLEND coverage as thin transmission through the raster refraction path.
+// pass, BLEND coverage as thin transmission through the raster refraction path, single-sided faces culled in
+// views and in the lights' maps as the rays pass them.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -235,6 +236,70 @@ TEST(GltfMaterialsGLTest, BlendCoverageIsThinTransmission) {
   // Transmission tint filters the material's own transmitted light, not the uncovered part.
   EXPECT_EQ(shading::tdTransmitWeight(1.0f, 0.5f, glm::vec3(1, 0, 0)), glm::vec3(0.5f, 0, 0));
   EXPECT_EQ(shading::tdTransmitWeight(0.25f, 0.0f, glm::vec3(1, 0, 0)), glm::vec3(0.75f));
+}
+
+// A single-sided quad (Material::doubleSided false) at height 1 over a floor, a point light above it, seen from
+// above and to the side. Turned down, both its faces' backs are what the camera and the light meet: the
+// camera sees the floor through it and the floor under it is lit as if it were not there. Turned up, it hides
+// the floor's centre and shades the floor beside its foot. The raster (the views and the light's shadow maps
+// culled) and the rays (hybrid-full: Embree's filter) the same; a double-sided quad turned down is seen and
+// casts its shadow, as every face did before glTF's sidedness was honoured.
+TEST(GltfMaterialsGLTest, SingleSidedFacesAreCulledInViewsAndLightMapsAsRaysPassThem) {
+  TD_REQUIRE_GL_CONTEXT();
+  enum class Quad { None, Down, Up, DownDoubleSided };
+  auto sceneWith = [](Quad kind) {
+    Scene s;
+    s.meshes.push_back(makePlane({10.0f, 10.0f}, 1));
+    s.meshes.push_back(makePlane({2.0f, 2.0f}, 1));  // counter-clockwise seen from +Y
+    s.materials.push_back(gltest::plainMaterial(glm::vec3(0.8f)));
+    Material quad = gltest::plainMaterial(glm::vec3(0.9f, 0.1f, 0.1f));
+    quad.doubleSided = kind == Quad::DownDoubleSided;
+    s.materials.push_back(quad);
+    s.instances.push_back({"floor", 0, 0, glm::mat4(1.0f), false});
+    glm::mat4 at = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+    if (kind != Quad::Up) at = glm::rotate(at, glm::pi<float>(), glm::vec3(1.0f, 0.0f, 0.0f));  // its front down
+    if (kind != Quad::None) s.instances.push_back({"quad", 1, 1, at, false});
+    Light point;
+    point.type = LightType::Point;
+    point.posW = {0.0f, 3.0f, 0.0f};
+    point.intensity = 4.0f;
+    s.lights.push_back(point);
+    s.camera.posW = {0.0f, 5.0f, 3.0f};
+    s.camera.targetW = {0.0f, 0.0f, 0.0f};
+    s.camera.yFovDeg = 50.0f;
+    return s;
+  };
+  auto pixelOf = [](const Camera& c, glm::vec3 pW) {
+    const glm::vec4 clip = c.clipFromView(float(kW) / float(kH)) * c.viewFromWorld() * glm::vec4(pW, 1.0f);
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    return glm::ivec2(int((ndc.x * 0.5f + 0.5f) * kW), int((0.5f - ndc.y * 0.5f) * kH));
+  };
+  const Scene bare = sceneWith(Quad::None);
+  // The floor's centre, under the quad, and a floor point the camera sees past the quad's edge but the light
+  // reaches only across the quad (its ray crosses height 1 at z = 0.87).
+  const glm::ivec2 centre = pixelOf(bare.camera, glm::vec3(0.0f)), shaded = pixelOf(bare.camera, {0.0f, 0.0f, 1.3f});
+  for (const char* preset : {"raster", "hybrid-full"}) {
+    SCOPED_TRACE(preset);
+    FrameSettings s = *presetSettings(preset);
+    s.width = kW;
+    s.height = kH;
+    s.toneMap = ToneMap::None;
+    auto frame = [&](Quad kind) {
+      gltest::SceneFrame f = gltest::sceneFrame(*glContext_, sceneWith(kind), kW, kH);
+      gltest::drawFrame(f, s);
+      return f.renderer->readLinear();
+    };
+    const ImageF none = frame(Quad::None), down = frame(Quad::Down), up = frame(Quad::Up),
+                 twoSided = frame(Quad::DownDoubleSided);
+    const glm::vec3 floorLit = none.at(centre.x, centre.y), besideLit = none.at(shaded.x, shaded.y);
+    ASSERT_GT(besideLit.g, 0.2f);
+    EXPECT_LT(glm::length(down.at(centre.x, centre.y) - floorLit), 0.01f) << "turned down: the floor through it";
+    EXPECT_LT(glm::length(down.at(shaded.x, shaded.y) - besideLit), 0.01f) << "turned down: no shadow";
+    EXPECT_GT(up.at(centre.x, centre.y).r, 3.0f * up.at(centre.x, centre.y).g) << "turned up: the quad is seen";
+    EXPECT_LT(up.at(shaded.x, shaded.y).g, 0.3f * besideLit.g) << "turned up: its shadow";
+    EXPECT_GT(twoSided.at(centre.x, centre.y).r, 3.0f * twoSided.at(centre.x, centre.y).g) << "double-sided: seen";
+    EXPECT_LT(twoSided.at(shaded.x, shaded.y).g, 0.3f * besideLit.g) << "double-sided: its shadow";
+  }
 }
 
 }  // namespace

@@ -86,7 +86,10 @@ struct Material {
   float alphaCutoff = 0.5f;
   float opacity = 1.0f;         // base alpha
   bool unlit = false;           // KHR_materials_unlit: colour = kd, no lights
-  bool doubleSided = false;
+  // false (glTF's single-sided, its default there): the back faces are culled in the raster, and a ray that
+  // meets an opaque one from behind passes through it (a transmissive one still refracts at its inner faces:
+  // a closed glass volume). Both sides are surfaces by default, as every scene file's faces were before.
+  bool doubleSided = true;
   glm::mat3 uvTransform{1.0f};  // KHR_texture_transform applied to uv before sampling
   int emissiveTexture = -1;     // sRGB, multiplies `emission` (glTF emissiveTexture); -1 for none
   // Colour filter on the transmitted ray T (glTF: transmission is tinted by the base colour). Applied to

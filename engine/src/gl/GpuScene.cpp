@@ -390,6 +390,13 @@ void GpuScene::updateMaterials(const Scene& scene, std::optional<ShadingModel> s
                         return m.shading == ShadingModel::Gouraud;
                       }));
   override_ = shadingOverride;
+  // Single-sided materials (glTF's default) draw with back faces culled: per command, for draw() to run
+  // each stretch of equal sidedness as one call.
+  drawCulled_.assign(drawInstance_.size(), 0);
+  for (std::size_t k = 0; k < drawInstance_.size(); ++k) {
+    const std::uint32_t material = scene.instances[drawInstance_[k]].material;
+    drawCulled_[k] = material < scene.materials.size() && !scene.materials[material].doubleSided ? 1 : 0;
+  }
   features_.alphaMask = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
     return m.alphaMode == AlphaMode::Mask && m.alphaCutoff > 0.0f;
   });
@@ -459,28 +466,37 @@ void GpuScene::draw(Instances which, const std::vector<std::uint8_t>* seen) cons
   assert((!seen || seen->size() == static_cast<std::size_t>(instanceCount_)) && "draw: one flag per instance");
   glBindVertexArray(vao_.id());
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, indirect_.id());
-  auto drawRange = [](int from, int n) {
+  assert(drawCulled_.size() == drawInstance_.size() && "draw before updateMaterials");
+  // Single-sided materials lose their back faces. Every view the scene is drawn in (the frame, probes' and
+  // shadow maps' faces) is a proper rotation and projection, so a world-space counter-clockwise front is
+  // one on screen too; the importers make mirrored instances' winding counter-clockwise in world space.
+  glFrontFace(GL_CCW);
+  glCullFace(GL_BACK);
+  auto drawRange = [this](int from, int n) {
+    const bool cull = drawCulled_[static_cast<std::size_t>(from)] != 0;
+    if (cull) glEnable(GL_CULL_FACE);
+    else glDisable(GL_CULL_FACE);
     glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
                                 reinterpret_cast<const void*>(static_cast<std::uintptr_t>(from) * sizeof(DrawCommand)),
                                 n, 0);
   };
-  if (!seen) {
-    drawRange(first, count);
-  } else {
-    // Each run of neighbouring commands whose instances are seen: one call. A culled instance would have
-    // drawn nothing (every fragment outside the view), so the target is the same to the bit; what it saves
-    // is its vertices, which llvmpipe shades on one thread per draw.
-    for (int k = first; k < first + count;) {
-      if (!(*seen)[drawInstance_[static_cast<std::size_t>(k)]]) {
-        ++k;
-        continue;
-      }
-      int end = k + 1;
-      while (end < first + count && (*seen)[drawInstance_[static_cast<std::size_t>(end)]]) ++end;
-      drawRange(k, end - k);
-      k = end;
+  // Each run of neighbouring commands whose instances are seen and share their sidedness: one call. A
+  // culled instance would have drawn nothing (every fragment outside the view), so the target is the same
+  // to the bit; what it saves is its vertices, which llvmpipe shades on one thread per draw.
+  auto drawn = [&](int k) { return !seen || (*seen)[drawInstance_[static_cast<std::size_t>(k)]]; };
+  for (int k = first; k < first + count;) {
+    if (!drawn(k)) {
+      ++k;
+      continue;
     }
+    int end = k + 1;
+    while (end < first + count && drawn(end) &&
+           drawCulled_[static_cast<std::size_t>(end)] == drawCulled_[static_cast<std::size_t>(k)])
+      ++end;
+    drawRange(k, end - k);
+    k = end;
   }
+  glDisable(GL_CULL_FACE);  // as every other pass expects it
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
   glBindVertexArray(0);
 }

@@ -97,6 +97,8 @@ class GpuScene {
   /// effects keep what the static ones draw and draw the dynamic ones over it).
   enum class Instances { All, Static, Dynamic };
   /// With `seen` (one flag per instance), only the instances it marks: a face's culled draw (seenBy).
+  /// Single-sided materials (Material::doubleSided false) lose their back faces, in views and in a light's
+  /// shadow maps alike (a face turned away from the light lets its light through, docs/gltf.md).
   void draw(Instances which, const std::vector<std::uint8_t>* seen = nullptr) const;
   int dynamicCount() const { return dynamicDraws_; }
 
@@ -124,6 +126,7 @@ class GpuScene {
   Buffer indirect_, instanceIds_;  // one draw command per instance: the static ones first, then the dynamic ones
   int staticDraws_ = 0, dynamicDraws_ = 0;
   std::vector<std::uint32_t> drawInstance_;  // the instance each draw command draws
+  std::vector<std::uint8_t> drawCulled_;     // per command: its material is single-sided (back faces culled)
   // Views of the buffers above for the shade pass (see createBufferTexture).
   Texture positionsTex_, normalsTex_, uvsTex_, colorsTex_, indicesTex_, meshesTex_, instancesTex_, instanceIdsTex_,
       uvTransformsTex_, tangentsTex_;

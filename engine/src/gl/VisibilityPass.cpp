@@ -86,8 +86,7 @@ void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_GREATER);
   glDepthMask(GL_TRUE);
-  glDisable(GL_CULL_FACE);  // two-sided lighting: back faces are visible surfaces too
-  glDisable(GL_BLEND);
+  glDisable(GL_BLEND);  // faces culled by the material's sidedness, in GpuScene::draw
   if (clear) {
     const GLuint zeroIds[4] = {0, 0, 0, 0};
     const GLfloat farDepth = 0.0f;

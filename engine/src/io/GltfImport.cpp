@@ -233,9 +233,10 @@ Result<void> Importer::addMeshInstances(const tinygltf::Node& n, std::size_t ni,
         return err("more than the cap maxTriangles = " + std::to_string(opt_.limits.maxTriangles) + " triangles");
       const int gm = mesh.primitives[p].material;
       if (gm < 0 && defaultMaterial_ < 0) {
-        // glTF's default material: white, fully rough dielectric.
+        // glTF's default material: white, fully rough dielectric, single-sided.
         Material d;
         d.name = "default";
+        d.doubleSided = false;
         d.kd = d.ka = glm::vec3(1.0f);
         d.ks = glm::vec3(0.04f);
         d.ns = 1.0f;
@@ -378,6 +379,7 @@ Result<GltfAsset> Importer::run() {
         animated_[std::size_t(c.target_node)] = true;
   if (auto r = buildMaterials(); !r) return r.error();
   if (auto r = traverse(roots); !r) return r.error();
+  applyFactorMaps();
   if (!m_.animations.empty())
     if (auto r = buildAnimationClips(m_, animIndexOfNode_, out_.animation, warn_, file_, budget_); !r) return r.error();
   if (out_.animation.clips.empty()) out_.animation = SceneAnimation{};

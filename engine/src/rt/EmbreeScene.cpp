@@ -66,16 +66,32 @@ bool EmbreeScene::maskCovers(std::uint32_t instance, std::uint32_t mesh, std::ui
   return shading::tdCoverage(mat.packed, texA) > 0.0f;
 }
 
-// Intersection and occlusion filter of geometries with MASK cut-outs: a hit on a hole is rejected, so
-// the ray goes on through it (shadow, reflection and refraction rays see the holes the raster discards).
-void EmbreeScene::alphaMaskFilter(const RTCFilterFunctionNArguments* args) {
+// Intersection and occlusion filters of geometries with MASK cut-outs or single-sided instances: a hit on a
+// hole, or on a single-sided opaque face from behind, is rejected and the ray goes on (shadow, reflection
+// and refraction rays see what the raster's discards and face culling leave). An occlusion query is a
+// shadow ray, traced from the surface but standing for the light's: a face blocks it when the face's front
+// is towards the light, the ray's far end (as a shadow map drawn with back faces culled holds it), so a
+// roof made of one single-sided plane still shades the room under it.
+template <bool kShadow>
+void EmbreeScene::faceFilter(const RTCFilterFunctionNArguments* args) {
   const auto* user = static_cast<const MaskFilterUser*>(args->geometryUserPtr);
+  const EmbreeScene& owner = *user->owner;
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
-    std::uint32_t instance = RTCHitN_instID(args->hit, args->N, i, 0);
+    const std::uint32_t instance = RTCHitN_instID(args->hit, args->N, i, 0);
+    if (instance < owner.cullSign_.size() && owner.cullSign_[instance] != 0) {
+      // Embree's Ng is the counter-clockwise normal; ray and Ng are both in the instance's object space here.
+      const float along = RTCHitN_Ng_x(args->hit, args->N, i) * RTCRayN_dir_x(args->ray, args->N, i) +
+                          RTCHitN_Ng_y(args->hit, args->N, i) * RTCRayN_dir_y(args->ray, args->N, i) +
+                          RTCHitN_Ng_z(args->hit, args->N, i) * RTCRayN_dir_z(args->ray, args->N, i);
+      if (float(owner.cullSign_[instance]) * (kShadow ? -along : along) > 0.0f) {
+        args->valid[i] = 0;
+        continue;
+      }
+    }
     std::uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
     float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
-    if (!user->owner->maskCovers(instance, user->mesh, prim, u, v)) args->valid[i] = 0;
+    if (!owner.maskCovers(instance, user->mesh, prim, u, v)) args->valid[i] = 0;
   }
 }
 
@@ -186,6 +202,7 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::build(EmbreeDevice& device, co
   out->anchor_ = anchor ? *anchor : renderAnchor(scene);
   out->shutter_ = shutter > 0.0f && std::isfinite(shutter) ? shutter : 0.0f;
   out->collectMaskCutouts(scene);
+  out->collectSingleSided(scene);
   if (auto built = out->buildMeshScenes(device, scene, where); !built) return built.error();
   if (auto built = out->buildTopLevel(device, scene, where); !built) return built.error();
   return out;
@@ -228,6 +245,22 @@ void EmbreeScene::collectMaskCutouts(const Scene& scene) {
       meshMask_[inst.mesh] = static_cast<std::int32_t>(maskMeshes_.size());
       maskMeshes_.push_back(std::move(mm));
     }
+  }
+}
+
+// Single-sided instances whose rays pass their back faces: opaque materials only, since a transmissive
+// volume (glass, glTF's single-sided by default) refracts at its inner faces. Exact solids are closed and
+// have no faces to cull. The sign follows the transform (setInstanceMotion).
+void EmbreeScene::collectSingleSided(const Scene& scene) {
+  singleSided_.assign(scene.instances.size(), 0);
+  cullSign_.assign(scene.instances.size(), 0);
+  meshCulled_.assign(scene.meshes.size(), 0);
+  for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    const Material& mat = scene.materials[inst.material];
+    if (mat.doubleSided || mat.kt > 0.0f || scene.meshes[inst.mesh].exact) continue;
+    singleSided_[i] = 1;
+    meshCulled_[inst.mesh] = 1;
   }
 }
 
@@ -275,13 +308,14 @@ Result<void> EmbreeScene::attachTriangles(EmbreeDevice& device, const Mesh& mesh
   // Every triangle keeps its slot, degenerate ones included, so primID = the mesh's triangle index
   // (the rasterizer's gl_PrimitiveID); Embree itself never reports a zero-area triangle as hit.
   std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t));
-  if (meshMask_[m] >= 0) {
+  // Cost follows the scene: a mesh no MASK or single-sided instance uses gets no filter.
+  if (meshMask_[m] >= 0 || meshCulled_[m] != 0) {
     auto& user = maskUsers_.emplace_back(std::make_unique<MaskFilterUser>());
     user->owner = this;
     user->mesh = static_cast<std::uint32_t>(m);
     rtcSetGeometryUserData(geom, user.get());
-    rtcSetGeometryIntersectFilterFunction(geom, &alphaMaskFilter);
-    rtcSetGeometryOccludedFilterFunction(geom, &alphaMaskFilter);
+    rtcSetGeometryIntersectFilterFunction(geom, &faceFilter<false>);
+    rtcSetGeometryOccludedFilterFunction(geom, &faceFilter<true>);
   }
   rtcCommitGeometry(geom);
   rtcAttachGeometryByID(blas, geom, 0);
@@ -399,6 +433,8 @@ Result<void> EmbreeScene::buildTopLevel(EmbreeDevice& device, const Scene& scene
 
 void EmbreeScene::setInstanceMotion(RTCGeometry geom, std::size_t i, const Instance& inst) {
   transforms_[i] = makeInstanceTransform(inst.worldFromObject, anchor_);
+  if (singleSided_[i] != 0)
+    cullSign_[i] = glm::determinant(glm::mat3(inst.worldFromObject)) < 0.0f ? std::int8_t(-1) : std::int8_t(1);
   const bool wasMoving = !motionSteps_[i].empty();
   motionSteps_[i] = motionSteps(inst, shutter_, anchor_);
   const bool nowMoving = !motionSteps_[i].empty();

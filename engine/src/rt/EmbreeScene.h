@@ -124,10 +124,15 @@ class EmbreeScene {
   bool anyExact() const { return std::find(exactInstances_.begin(), exactInstances_.end(), 1) != exactInstances_.end(); }
   /// Whether any geometry carries the alpha-mask filter (a MASK material with a kd texture and uvs).
   bool hasAlphaMaskFilter() const { return !maskMaterials_.empty(); }
-  /// Whether rays may pass through some of the instance's triangles (its alpha-mask filter rejects hits).
+  /// Whether rays may pass through some of the instance's triangles: its alpha-mask filter rejects hits, or
+  /// its material is single-sided and opaque, so a ray meeting a triangle from behind goes on.
   bool letsRaysThrough(std::size_t instance) const {
-    return instance < instanceMask_.size() && instanceMask_[instance] >= 0;
+    return (instance < instanceMask_.size() && instanceMask_[instance] >= 0) ||
+           (instance < cullSign_.size() && cullSign_[instance] != 0);
   }
+  /// Whether rays pass through the instance's back faces (Material::doubleSided false, the material opaque);
+  /// shadow rays, the light's, through the faces turned away from the light.
+  bool culledFromBehind(std::size_t instance) const { return instance < cullSign_.size() && cullSign_[instance] != 0; }
   /// Alpha MASK test at a hit with Embree's barycentrics (u, v): false where the point is a cut-out hole
   /// (tdCoverage of the kd texture's alpha, sampled as shading samples it, below the cutoff).
   bool maskCovers(std::uint32_t instance, std::uint32_t mesh, std::uint32_t triangle, float u, float v) const;
@@ -148,9 +153,13 @@ class EmbreeScene {
     const EmbreeScene* owner = nullptr;
     std::uint32_t mesh = 0;
   };
-  static void alphaMaskFilter(const RTCFilterFunctionNArguments* args);
+  // Rejects hits on MASK holes and on single-sided opaque instances' back faces (seen from the light, for
+  // the occlusion queries of shadow rays: kShadow).
+  template <bool kShadow>
+  static void faceFilter(const RTCFilterFunctionNArguments* args);
   // The steps of build, in order.
   void collectMaskCutouts(const Scene& scene);
+  void collectSingleSided(const Scene& scene);
   Result<void> buildMeshScenes(EmbreeDevice& device, const Scene& scene, const std::string& where);
   Result<void> attachTriangles(EmbreeDevice& device, const Mesh& mesh, std::size_t m, RTCScene blas,
                                const std::string& where);
@@ -160,6 +169,12 @@ class EmbreeScene {
   std::vector<std::int32_t> meshMask_;      // per mesh: index into maskMeshes_, or -1
   std::vector<MaskMesh> maskMeshes_;
   std::vector<std::unique_ptr<MaskFilterUser>> maskUsers_;
+  // Single-sided opaque instances (docs/gltf.md): per instance 0 (both sides are surfaces), or the sign s for
+  // which a hit is from behind when s·(Ng·dir) > 0 in object space, where the filter sees the ray: -1 under a
+  // mirroring transform (a front that is counter-clockwise in world space is clockwise in object space).
+  std::vector<std::int8_t> cullSign_;
+  std::vector<std::uint8_t> singleSided_;  // per instance: its material culls (the sign follows the transform)
+  std::vector<std::uint8_t> meshCulled_;   // per mesh: some instance of it culls (its geometry gets the filter)
   // Exact solids (Mesh::exact, docs/csg.md): each one's tree, the user geometry's data. Owned here, so the
   // callbacks never depend on the Scene outliving this object.
   std::vector<std::unique_ptr<solid::Solid>> exactSolids_;
