@@ -202,6 +202,68 @@ TEST(GltfImport, ThinWalledTransmissionDoesNotBend) {
   EXPECT_NEAR(l.asset->scene.materials[0].kt, 0.5f, 1e-6f);
 }
 
+// One texture atlas for two materials (LightsPunctualLamp's metal body and paper shade): its left half metal
+// and opaque, its right half dielectric and transmissive. Each material's factors scale by the maps' means
+// over the texels its own triangles cover, not over the whole atlas (which made the paper half metal and
+// half transmissive).
+TEST(GltfImport, FactorMapsAreReadOverTheTexelsEachMaterialCovers) {
+  Bytes b;
+  // Two triangles, one over each half of the atlas (uvs x in [0, 0.5] and [0.5, 1]).
+  const std::size_t p = b.add(std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 3, 0, 0, 2, 1, 0});
+  const std::size_t u = b.add(std::vector<float>{0.05f, 0.1f, 0.45f, 0.1f, 0.05f, 0.9f, 0.55f, 0.1f, 0.95f, 0.1f,
+                                                 0.55f, 0.9f});
+  const std::size_t i0 = b.add(std::vector<std::uint16_t>{0, 1, 2});
+  const std::size_t i1 = b.add(std::vector<std::uint16_t>{3, 4, 5});
+  json d = triangleDoc();
+  d["extensionsUsed"] = {"KHR_materials_transmission"};
+  d["buffers"][0] = {{"byteLength", b.data.size()}, {"uri", b.dataUri()}};
+  d["bufferViews"] = {{{"buffer", 0}, {"byteOffset", p}, {"byteLength", 72}},
+                      {{"buffer", 0}, {"byteOffset", i0}, {"byteLength", 6}},
+                      {{"buffer", 0}, {"byteOffset", u}, {"byteLength", 48}},
+                      {{"buffer", 0}, {"byteOffset", i1}, {"byteLength", 6}}};
+  d["accessors"] = {{{"bufferView", 0}, {"componentType", 5126}, {"count", 6}, {"type", "VEC3"},
+                     {"min", {0, 0, 0}}, {"max", {3, 1, 0}}},
+                    {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}},
+                    {{"bufferView", 2}, {"componentType", 5126}, {"count", 6}, {"type", "VEC2"}},
+                    {{"bufferView", 3}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}};
+  auto dir = freshDir("factor-maps");
+  // Metallic-roughness: blue (metal) 255 on the left, 0 on the right; green (roughness) 51 everywhere.
+  test::writeBytes(dir / "mr.png", test::pngOf(8, 8, [](int x, int) {
+    return std::array<std::uint8_t, 4>{0, 51, std::uint8_t(x < 4 ? 255 : 0), 255};
+  }));
+  // Transmission (red): 0 on the left, 102 (0.4) on the right.
+  test::writeBytes(dir / "t.png", test::pngOf(8, 8, [](int x, int) {
+    return std::array<std::uint8_t, 4>{std::uint8_t(x < 4 ? 0 : 102), 0, 0, 255};
+  }));
+  d["images"] = {{{"uri", "mr.png"}}, {{"uri", "t.png"}}};
+  d["textures"] = {{{"source", 0}}, {{"source", 1}}};
+  const json pbr = {{"baseColorFactor", {0.8, 0.8, 0.8, 1}}, {"metallicRoughnessTexture", {{"index", 0}}}};
+  const json extensions = {{"KHR_materials_transmission", {{"transmissionFactor", 1}, {"transmissionTexture", {{"index", 1}}}}}};
+  d["materials"] = {{{"name", "body"}, {"pbrMetallicRoughness", pbr}, {"extensions", extensions}},
+                    {{"name", "shade"}, {"pbrMetallicRoughness", pbr}, {"extensions", extensions}}};
+  d["meshes"][0]["primitives"] = {{{"attributes", {{"POSITION", 0}, {"TEXCOORD_0", 2}}}, {"indices", 1}, {"material", 0}},
+                                  {{"attributes", {{"POSITION", 0}, {"TEXCOORD_0", 2}}}, {"indices", 3}, {"material", 1}}};
+  auto l = load(writeText(dir / "atlas.gltf", d.dump()));
+  ASSERT_TRUE(l.asset.ok()) << l.asset.error().message;
+  const auto& mats = l.asset->scene.materials;
+  ASSERT_EQ(mats.size(), 2u);
+  // The body: all metal (ks the base colour, no diffuse), opaque; roughness 0.2 from the map's green.
+  EXPECT_NEAR(mats[0].ks.x, 0.8f, 1e-3f);
+  EXPECT_NEAR(mats[0].kd.x, 0.0f, 1e-3f);
+  EXPECT_NEAR(mats[0].kt, 0.0f, 1e-3f);
+  EXPECT_NEAR(mats[0].roughness, 0.2f, 1e-3f);
+  // The shade: a dielectric transmitting 0.4 (the map's red), the rest diffuse.
+  EXPECT_NEAR(mats[1].ks.x, 0.04f, 1e-3f);
+  EXPECT_NEAR(mats[1].kt, 0.4f, 1e-3f);
+  EXPECT_NEAR(mats[1].kd.x, 0.8f * 0.6f, 1e-3f);
+  EXPECT_NEAR(mats[1].roughness, 0.2f, 1e-3f);
+  // A material no triangle uses would keep the whole atlas's means; one without uvs too (the triangle doc).
+  d["meshes"][0]["primitives"] = {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 1}}};
+  auto whole = load(writeText(dir / "atlas-no-uvs.gltf", d.dump()));
+  ASSERT_TRUE(whole.asset.ok()) << whole.asset.error().message;
+  EXPECT_NEAR(whole.asset->scene.materials[1].kt, 0.2f * 0.5f, 1e-3f);  // transmission 0.2, times 1 − metallic ½
+}
+
 TEST(GltfImport, LightsCameraAndInstancing) {
   Bytes b;
   const std::size_t p = b.add(std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0});

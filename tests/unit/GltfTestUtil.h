@@ -1,6 +1,7 @@
 #pragma once
 // Small glTF files made by the tests themselves (no third-party assets): a builder for a JSON document
 // with one base64 buffer, written into a fresh folder under outputDir().
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -78,6 +79,24 @@ inline std::string writeBytes(const std::filesystem::path& p, const std::vector<
 /// A w×h PNG of flat grey (stb_image_write is compiled into tandem_core).
 inline std::vector<std::uint8_t> pngBytes(int w, int h) {
   std::vector<std::uint8_t> px(std::size_t(w * h * 4), 200), out;
+  stbi_write_png_to_func(
+      [](void* ctx, void* data, int size) {
+        auto* o = static_cast<std::vector<std::uint8_t>*>(ctx);
+        o->insert(o->end(), static_cast<std::uint8_t*>(data), static_cast<std::uint8_t*>(data) + size);
+      },
+      &out, w, h, 4, px.data(), w * 4);
+  return out;
+}
+
+/// A w×h PNG whose texel (x, y) (row 0 on top) is texel(x, y), RGBA.
+template <class Texel>
+std::vector<std::uint8_t> pngOf(int w, int h, Texel texel) {
+  std::vector<std::uint8_t> px, out;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::array<std::uint8_t, 4> c = texel(x, y);
+      px.insert(px.end(), c.begin(), c.end());
+    }
   stbi_write_png_to_func(
       [](void* ctx, void* data, int size) {
         auto* o = static_cast<std::vector<std::uint8_t>*>(ctx);

@@ -81,8 +81,9 @@ class Importer {
   }
   Result<std::shared_ptr<const std::vector<float>>> attribute(int accessor);
   Result<void> buildMaterials();
-  Result<void> scaleByMetallicRoughnessMap(const tinygltf::Material& g, const std::string& id, float& metallic,
-                                           float& rough);
+  Result<void> readFactorMaps(const tinygltf::Material& g, const std::string& id, std::size_t material);
+  glm::dvec4 wholeMean(int texture);
+  void applyFactorMaps();
   Result<void> attachMaterialTextures(Material& mat, const tinygltf::Material& g, const std::string& id);
   int texture(int gltfTexture, bool srgb, const std::string& usage);
   int fallbackTexture();
@@ -123,7 +124,14 @@ class Importer {
   // (source kind, id, srgb) → scene texture or -1. Kinds: 0 a bufferView, 1 distinct bytes read by URI
   // (images_.unique), 2 an image whose file could not be read.
   std::map<std::tuple<int, int, bool>, int> textureCache_;
-  std::map<int, glm::dvec2> textureMeans_;            // scene texture → mean green, blue in [0, 1]
+  std::map<int, glm::dvec4> textureMeans_;  // scene texture → its texels' mean, channels in [0, 1]
+  // The textures that scale a material's factors (not sampled per pixel: one Phong lobe per material), read
+  // through their means over the texels the material's triangles cover (applyFactorMaps, after the meshes).
+  struct FactorMaps {
+    int metallicRoughness = -1, transmission = -1;  // scene textures, -1 for none
+    glm::mat3 metallicRoughnessUv{1.0f};            // the map's KHR_texture_transform
+  };
+  std::vector<FactorMaps> factorMaps_;  // per glTF material
   std::map<std::tuple<int, int, bool>, int> meshCache_;  // (mesh, primitive, flipped) → scene mesh or -1
   // Primitives that read the same accessors the same way share one scene mesh, whichever glTF mesh holds
   // them: (POSITION, NORMAL, TEXCOORD_0, COLOR_0, TANGENT, indices, mode, tangents wanted, flipped).

@@ -136,13 +136,15 @@ struct MaterialExtensions {
   float emissiveStrength = 1.0f;
 };
 
-MaterialExtensions readMaterialExtensions(const tinygltf::Material& g, const std::string& id, Warn& warn) {
+// `warnings` false: read again (applyFactorMaps), what it would warn of was said the first time.
+MaterialExtensions readMaterialExtensions(const tinygltf::Material& g, const std::string& id, Warn& warn,
+                                          bool warnings = true) {
   MaterialExtensions x;
   if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_ior")) {
     const double v = num(*e, "ior", 1.5);
     // The extension allows 0 (meaning "no refraction"); anything else must be >= 1. Clamp the rest.
     x.ior = v == 0.0 ? 1.0f : float(std::clamp(v, 1.0, 5.0));
-    if (v != 0.0 && (v < 1.0 || v > 5.0)) warn(id + ": ior " + std::to_string(v) + " clamped to [1, 5]");
+    if (warnings && v != 0.0 && (v < 1.0 || v > 5.0)) warn(id + ": ior " + std::to_string(v) + " clamped to [1, 5]");
   }
   if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_specular")) {
     x.specular = float(std::clamp(num(*e, "specularFactor", 1.0), 0.0, 1.0));
@@ -209,31 +211,123 @@ int texCoordOf(const tinygltf::ExtensionMap& e, int texCoord) {
 
 }  // namespace
 
-// The metallic-roughness texture is not sampled per pixel (one Phong lobe per material): its mean
-// blue (metal) and green (roughness) channels scale the factors, so a mostly dielectric surface
-// with a few metal parts is not shaded as solid metal (glTF's default metallicFactor is 1).
-Result<void> Importer::scaleByMetallicRoughnessMap(const tinygltf::Material& g, const std::string& id, float& metallic,
-                                                   float& rough) {
+// The metallic-roughness and transmission textures are not sampled per pixel (the engine has one Phong lobe per
+// material): they scale the factors by their means, at first over the whole texture, then (applyFactorMaps)
+// over the texels the material's own triangles cover. An atlas shared by a metal body and a paper shade
+// (LightsPunctualLamp) would otherwise make the paper 62 % metal and fully transmissive.
+Result<void> Importer::readFactorMaps(const tinygltf::Material& g, const std::string& id, std::size_t material) {
+  factorMaps_.resize(std::max(factorMaps_.size(), material + 1));
+  FactorMaps& maps = factorMaps_[material];
   const auto& pbr = g.pbrMetallicRoughness;
-  if (pbr.metallicRoughnessTexture.index < 0) return {};
-  const int mr = texture(pbr.metallicRoughnessTexture.index, false, id + " metallic-roughness");
-  if (budgetRefusal_) return *budgetRefusal_;
-  if (mr < 0) return {};
+  if (pbr.metallicRoughnessTexture.index >= 0) {
+    maps.metallicRoughness = texture(pbr.metallicRoughnessTexture.index, false, id + " metallic-roughness");
+    if (budgetRefusal_) return *budgetRefusal_;
+    maps.metallicRoughnessUv = textureTransform(pbr.metallicRoughnessTexture.extensions);
+  }
+  if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_transmission");
+      e && e->Has("transmissionTexture")) {
+    const int index = intOf(e->Get("transmissionTexture"), "index", -1);
+    if (index >= int(m_.textures.size()))
+      return err(id + ": KHR_materials_transmission.transmissionTexture.index " + std::to_string(index) +
+                 " does not exist");
+    maps.transmission = texture(index, false, id + " transmission");
+    if (budgetRefusal_) return *budgetRefusal_;
+  }
+  return {};
+}
+
+glm::dvec4 Importer::wholeMean(int index) {
   // Once per texture, not per material: many materials may share one large map.
-  auto [it, fresh] = textureMeans_.try_emplace(mr, glm::dvec2(1.0));
-  const Texture& t = out_.scene.textures[std::size_t(mr)];
+  auto [it, fresh] = textureMeans_.try_emplace(index, glm::dvec4(1.0));
+  const Texture& t = out_.scene.textures[std::size_t(index)];
   const std::size_t texels = t.rgba8.size() / 4;
   if (fresh && texels > 0) {
-    double green = 0.0, blue = 0.0;
-    for (std::size_t k = 0; k < texels; ++k) {
-      green += t.rgba8[4 * k + 1];
-      blue += t.rgba8[4 * k + 2];
-    }
-    it->second = glm::dvec2(green, blue) / (255.0 * double(texels));
+    glm::dvec4 sum(0.0);
+    for (std::size_t k = 0; k < texels; ++k)
+      for (int c = 0; c < 4; ++c) sum[c] += t.rgba8[4 * k + std::size_t(c)];
+    it->second = sum / (255.0 * double(texels));
   }
-  rough *= float(it->second.x);
-  metallic *= float(it->second.y);
-  return {};
+  return it->second;
+}
+
+namespace {
+
+// The mean of `t` over the uv footprint of `meshes`' triangles (uv' = uvTransform·uv, repeat wrap, nearest
+// texel), weighted by uv area: each triangle sampled at stratified points, as many as the cells of a 256²
+// grid it covers (at least one, at most 1024; 4 M in all at most). Empty without uvs or area.
+std::optional<glm::dvec4> footprintMean(const Texture& t, const glm::mat3& uvTransform,
+                                        const std::vector<const Mesh*>& meshes) {
+  if (t.width <= 0 || t.height <= 0) return std::nullopt;
+  auto uvArea = [](glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+    return 0.5 * std::abs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+  };
+  auto corner = [&](const Mesh& m, std::size_t i) { return glm::dvec2(glm::dmat3(uvTransform) * glm::dvec3(m.uvs[i], 1.0)); };
+  constexpr double kCells = 256.0 * 256.0, kMaxSamples = 4.0e6;
+  double totalCells = 0.0;
+  for (const Mesh* m : meshes)
+    for (std::size_t k = 0; k + 2 < m->indices.size(); k += 3)
+      totalCells += std::min(1024.0, kCells * uvArea(corner(*m, m->indices[k]), corner(*m, m->indices[k + 1]),
+                                                     corner(*m, m->indices[k + 2])));
+  const double scale = totalCells > kMaxSamples ? kMaxSamples / totalCells : 1.0;
+  glm::dvec4 sum(0.0);
+  double weight = 0.0;
+  for (const Mesh* m : meshes)
+    for (std::size_t k = 0; k + 2 < m->indices.size(); k += 3) {
+      const glm::dvec2 a = corner(*m, m->indices[k]), b = corner(*m, m->indices[k + 1]), c = corner(*m, m->indices[k + 2]);
+      const double area = uvArea(a, b, c);
+      if (!(area > 0.0) || !std::isfinite(area)) continue;
+      const int n = int(std::clamp(std::ceil(scale * std::min(1024.0, kCells * area)), 1.0, 1024.0));
+      for (int s = 0; s < n; ++s) {
+        // A stratified point of the triangle: (s + ½)/n and the golden ratio's sequence, warped to barycentrics.
+        const double r1 = (s + 0.5) / n, r2 = std::fmod(0.5 + s * 0.6180339887498949, 1.0);
+        const double su = std::sqrt(r1);
+        const glm::dvec2 uv = (1.0 - su) * a + su * (1.0 - r2) * b + su * r2 * c;
+        const double fu = uv.x - std::floor(uv.x), fv = uv.y - std::floor(uv.y);
+        const std::size_t x = std::min(std::size_t(fu * t.width), std::size_t(t.width - 1));
+        const std::size_t y = std::min(std::size_t(fv * t.height), std::size_t(t.height - 1));  // v down, row 0 on top
+        const std::uint8_t* texel = &t.rgba8[4 * (y * std::size_t(t.width) + x)];
+        const double w = area / n;
+        for (int ch = 0; ch < 4; ++ch) sum[ch] += w * texel[ch];
+        weight += w;
+      }
+    }
+  if (!(weight > 0.0)) return std::nullopt;
+  return sum / (255.0 * weight);
+}
+
+}  // namespace
+
+void Importer::applyFactorMaps() {
+  for (std::size_t i = 0; i < factorMaps_.size() && i < m_.materials.size(); ++i) {
+    const FactorMaps& maps = factorMaps_[i];
+    if (maps.metallicRoughness < 0 && maps.transmission < 0) continue;
+    const std::uint32_t material = std::uint32_t(materialOf_[i]);
+    // The meshes this material is drawn with, each once.
+    std::vector<const Mesh*> meshes;
+    std::vector<bool> taken(out_.scene.meshes.size(), false);
+    for (const Instance& inst : out_.scene.instances) {
+      const Mesh& m = out_.scene.meshes[inst.mesh];
+      if (inst.material != material || taken[inst.mesh] || m.uvs.size() != m.positions.size()) continue;
+      taken[inst.mesh] = true;
+      meshes.push_back(&m);
+    }
+    auto mean = [&](int texture, const glm::mat3& uv) {
+      if (auto m = footprintMean(out_.scene.textures[std::size_t(texture)], uv, meshes)) return *m;
+      return wholeMean(texture);
+    };
+    const tinygltf::Material& g = m_.materials[i];
+    const auto& pbr = g.pbrMetallicRoughness;
+    float metallic = float(pbr.metallicFactor), rough = float(pbr.roughnessFactor);
+    if (maps.metallicRoughness >= 0) {
+      const glm::dvec4 mr = mean(maps.metallicRoughness, maps.metallicRoughnessUv);
+      rough *= float(mr.g);
+      metallic *= float(mr.b);
+    }
+    MaterialExtensions x = readMaterialExtensions(g, "", warn_, false);
+    if (maps.transmission >= 0) x.transmission *= float(mean(maps.transmission, glm::mat3(1.0f)).r);
+    const glm::vec3 base(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]), float(pbr.baseColorFactor[2]));
+    setPhongTerms(out_.scene.materials[material], g, base, metallic, rough, x);
+  }
 }
 
 Result<void> Importer::attachMaterialTextures(Material& mat, const tinygltf::Material& g, const std::string& id) {
@@ -260,7 +354,8 @@ Result<void> Importer::attachMaterialTextures(Material& mat, const tinygltf::Mat
       warn_(id + ": emissive texture uses a TEXCOORD other than 0; TEXCOORD_0 is used");
   }
   if (g.occlusionTexture.index >= 0)
-    warnOnce("unusedTextures", "occlusion textures are not used; metallic-roughness textures only through their mean");
+    warnOnce("unusedTextures", "occlusion textures are not used; metallic-roughness and transmission textures only "
+                               "through their means over the texels each material covers");
   return {};
 }
 
@@ -273,8 +368,14 @@ Result<void> Importer::buildMaterials() {
     mat.name = g.name;
     const glm::vec3 base(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]), float(pbr.baseColorFactor[2]));
     float metallic = float(pbr.metallicFactor), rough = float(pbr.roughnessFactor);
-    if (auto scaled = scaleByMetallicRoughnessMap(g, id, metallic, rough); !scaled) return scaled;
-    const MaterialExtensions x = readMaterialExtensions(g, id, warn_);
+    if (auto read = readFactorMaps(g, id, i); !read) return read;
+    MaterialExtensions x = readMaterialExtensions(g, id, warn_);
+    // The maps' whole means until applyFactorMaps has the triangles that use them.
+    if (const int mr = factorMaps_[i].metallicRoughness; mr >= 0) {
+      rough *= float(wholeMean(mr).g);
+      metallic *= float(wholeMean(mr).b);
+    }
+    if (const int t = factorMaps_[i].transmission; t >= 0) x.transmission *= float(wholeMean(t).r);
     setPhongTerms(mat, g, base, metallic, rough, x);
     if (auto attached = attachMaterialTextures(mat, g, id); !attached) return attached;
     wantsTangents_.push_back(mat.normalTexture >= 0);
