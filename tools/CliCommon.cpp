@@ -35,6 +35,12 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
                  "With --shadows hybrid: where the primary hits' shadow rays are proved, auto (the GL on a GPU, "
                  "else the CPU) | gl | cpu | shafts (tile shafts alone, no light-space maps); the same image (default " + std::string(toString(d.shadowProofs)) + ")");
   app.add_option("--reflections", o.reflections, "off | raster | ray (default: the preset's)");
+  app.add_option("--probe-limit", o.probeLimit,
+                 "Raster reflections/refraction: the most reflection probes, 1..4096; past it objects share the "
+                 "nearest probe (FrameSettings::probeLimit, default " + std::to_string(d.probeLimit) + ")");
+  app.add_option("--probe-size", o.probeSize,
+                 "Raster reflections/refraction: each probe face's texels a side, a power of two in 16..512 "
+                 "(FrameSettings::probeSize, default: the preset's)");
   app.add_option("--refraction", o.refraction, "off | raster | ray (default: the preset's)");
   app.add_option("--depth", o.depth,
                  "Maximum reflection/refraction depth, 0..64 (default: the scene's render.maxDepth, else the preset's)");
@@ -147,6 +153,17 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
   }
   if (auto r = effect("--reflections", o.reflections, s.reflections); !r) return r.error();
   if (auto r = effect("--refraction", o.refraction, s.refraction); !r) return r.error();
+  if (o.probeLimit) {
+    if (*o.probeLimit < 1 || *o.probeLimit > 4096)
+      return Error{"--probe-limit: must be 1..4096, got " + std::to_string(*o.probeLimit)};
+    s.probeLimit = *o.probeLimit;
+  }
+  if (o.probeSize) {
+    const int n = *o.probeSize;
+    if (n < 16 || n > 512 || (n & (n - 1)) != 0)
+      return Error{"--probe-size: must be a power of two in 16..512, got " + std::to_string(n)};
+    s.probeSize = n;
+  }
   if (o.depth) {
     if (*o.depth < 0 || *o.depth > 64) return Error{"--depth: must be 0..64, got " + std::to_string(*o.depth)};
     s.maxDepth = *o.depth;

@@ -26,6 +26,8 @@ struct FrameOptions {
   std::optional<std::string> debugView;
   std::optional<std::string> toneMap;  // none | reinhard | aces
   std::optional<int> depth;
+  std::optional<int> probeLimit;
+  std::optional<int> probeSize;
   std::optional<int> scale;
   std::optional<int> spp;
   std::optional<float> exposure;

@@ -680,3 +680,90 @@ TEST(RasterEffectsGLTest, ProbeSizeIsFollowedAtOnce) {
 
 }  // namespace
 }  // namespace tandem
+
+namespace tandem {
+namespace {
+
+// n mirror spheres on a grid 2.5 apart (and a floor that reflects nothing).
+Scene mirrorSpheres(int n) {
+  Scene s = gltest::boxScene();
+  s.meshes = {makePlane(glm::vec2(200.0f), 1), makeSphere(1.0f, 12, 6)};
+  Material mirror = gltest::plainMaterial(glm::vec3(0.2f));
+  mirror.kr = 0.6f;
+  s.materials = {gltest::plainMaterial(glm::vec3(0.7f)), mirror};
+  s.instances = {Instance{}};
+  const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+  for (int k = 0; k < n; ++k) {
+    Instance ball;
+    ball.mesh = 1;
+    ball.material = 1;
+    ball.worldFromObject =
+        glm::translate(glm::mat4(1.0f), glm::vec3(2.5f * static_cast<float>(k % side), 1.0f, 2.5f * static_cast<float>(k / side)));
+    s.instances.push_back(ball);
+  }
+  s.camera.posW = {0.5f * 2.5f * static_cast<float>(side), 3.0f * static_cast<float>(side), 2.5f * static_cast<float>(side) + 4.0f};
+  s.camera.targetW = {0.5f * 2.5f * static_cast<float>(side), 0.0f, 0.5f * 2.5f * static_cast<float>(side)};
+  return s;
+}
+
+// FrameSettings::probeLimit: 10, 100 and 1000 mirror spheres get min(n, limit) probes; every sphere reads one,
+// the nearest probe's (which is its own where it has one), and the probes are spread over the grid (no sphere
+// farther from its probe than the grid's diagonal over the square root of the limit, about what k evenly
+// spread points leave), the floor none. At or under the limit every instance keeps its own, as before.
+TEST(ReflectionProbeLayout, ALimitedNumberOfProbesSpreadOverTheScene) {
+  for (int n : {10, 100, 1000}) {
+    SCOPED_TRACE("spheres " + std::to_string(n));
+    const Scene scene = mirrorSpheres(n);
+    for (int limit : {1, 16, 32, 2000}) {
+      SCOPED_TRACE("limit " + std::to_string(limit));
+      const gl::ProbeLayout layout = gl::probeLayout(scene, limit);
+      ASSERT_EQ(layout.probes.size(), static_cast<std::size_t>(std::min(n, limit)));
+      ASSERT_EQ(layout.slotOf.size(), scene.instances.size());
+      EXPECT_EQ(layout.slotOf[0], -1) << "the floor reflects nothing";
+      auto centre = [&](std::uint32_t i) { return glm::vec3(scene.instances[i].worldFromObject[3]); };
+      const float side = std::ceil(std::sqrt(static_cast<float>(n)));
+      const float spread = 2.5f * side * std::sqrt(2.0f) / std::sqrt(static_cast<float>(std::min(n, limit)));
+      for (std::uint32_t i = 1; i < scene.instances.size(); ++i) {
+        const std::int32_t slot = layout.slotOf[i];
+        ASSERT_GE(slot, 0);
+        ASSERT_LT(static_cast<std::size_t>(slot), layout.probes.size());
+        const float mine = glm::distance(centre(i), centre(layout.probes[static_cast<std::size_t>(slot)]));
+        for (std::uint32_t p : layout.probes) EXPECT_LE(mine, glm::distance(centre(i), centre(p)) + 1e-4f);
+        EXPECT_LE(mine, spread + 1e-3f);
+      }
+      for (std::size_t slot = 0; slot < layout.probes.size(); ++slot)
+        EXPECT_EQ(layout.slotOf[layout.probes[slot]], static_cast<std::int32_t>(slot)) << "a probe's own object";
+    }
+  }
+}
+
+// The raster frame draws the layout's probes, no more: 100 mirror spheres under a limit of 4 draw 4 (FrameStats
+// probesDrawn and probes), and the spheres still reflect (the frame is not the one without reflections).
+TEST(RasterEffectsGLTest, AFrameDrawsNoMoreProbesThanTheLimit) {
+  TD_REQUIRE_GL_CONTEXT();
+  FrameSettings s = *presetSettings("raster");
+  s.width = 160;
+  s.height = 90;
+  s.probeSize = 16;
+  for (int limit : {4, 200}) {
+    SCOPED_TRACE("limit " + std::to_string(limit));
+    s.probeLimit = limit;
+    gltest::SceneFrame f = gltest::sceneFrame(*glContext_, mirrorSpheres(100), s.width, s.height);
+    FrameStats st;
+    gltest::drawFrame(f, s, &st);
+    EXPECT_EQ(st.probesDrawn, std::min(100, limit));
+    EXPECT_EQ(st.probes, std::min(100, limit));
+    FrameSettings off = s;
+    off.reflections = EffectMode::Off;
+    const Image reflected = f.renderer->readImage(), plain = gltest::drawFrame(f, off);
+    int differing = 0;
+    for (std::size_t i = 0; i < plain.rgba.size(); ++i) differing += plain.rgba[i] != reflected.rgba[i] ? 1 : 0;
+    EXPECT_GT(differing, 1000) << "no reflections";
+    gltest::drawFrame(f, s, &st);
+    gltest::drawFrame(f, s, &st);  // nothing changed: none drawn again
+    EXPECT_EQ(st.probesDrawn, 0);
+  }
+}
+
+}  // namespace
+}  // namespace tandem

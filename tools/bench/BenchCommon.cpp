@@ -14,7 +14,10 @@
 #include <tbb/info.h>
 
 #include "core/Shading.h"
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "tandem/HeavyScene.h"
+#include "tandem/Primitives.h"
 #include "tandem/SceneFile.h"
 
 namespace tandem::bench {
@@ -81,6 +84,45 @@ Result<Scene> loadBenchScene(const std::string& spec) {
     unsigned long long n = std::strtoull(spec.c_str() + 6, &end, 10);
     if (end == spec.c_str() + 6 || *end != '\0') return Error{"bad heavy scene spec '" + spec + "' (heavy:N)"};
     return makeHeavyScene(static_cast<std::size_t>(n));
+  }
+  if (spec.rfind("mirrors:", 0) == 0) {
+    char* end = nullptr;
+    const unsigned long long n = std::strtoull(spec.c_str() + 8, &end, 10);
+    if (end == spec.c_str() + 8 || *end != '\0' || n == 0 || n > 100000)
+      return Error{"bad mirrors scene spec '" + spec + "' (mirrors:N, N in 1..100000)"};
+    Scene s;
+    s.name = "mirrors-" + std::to_string(n);
+    const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+    const float extent = 2.5f * static_cast<float>(side);
+    s.meshes = {makePlane(glm::vec2(extent + 8.0f), 1), makeSphere(1.0f, 24, 12)};
+    Material floor, mirror;
+    floor.kd = floor.ka = glm::vec3(0.7f);
+    mirror.kd = mirror.ka = glm::vec3(0.2f);
+    mirror.ks = glm::vec3(0.5f);
+    mirror.kr = 0.6f;
+    s.materials = {floor, mirror};
+    Instance ground;
+    ground.worldFromObject = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f * extent, 0.0f, 0.5f * extent));
+    s.instances.push_back(ground);
+    for (unsigned long long k = 0; k < n; ++k) {
+      Instance ball;
+      ball.mesh = 1;
+      ball.material = 1;
+      ball.dynamic = k == 0;  // the one the benchmark moves
+      ball.worldFromObject = glm::translate(
+          glm::mat4(1.0f), glm::vec3(2.5f * static_cast<float>(k % side), 1.0f, 2.5f * static_cast<float>(k / side)));
+      s.instances.push_back(ball);
+    }
+    Light ambient, sun;
+    ambient.type = LightType::Ambient;
+    ambient.intensity = 0.1f;
+    sun.type = LightType::Directional;
+    sun.dirW = glm::normalize(glm::vec3(-0.5f, -1.0f, -0.3f));
+    sun.intensity = 0.9f;
+    s.lights = {ambient, sun};
+    s.camera.posW = {0.5f * extent, 0.8f * extent + 3.0f, 1.2f * extent + 4.0f};
+    s.camera.targetW = {0.5f * extent, 0.0f, 0.5f * extent};
+    return s;
   }
   return loadAnyScene(spec);
 }

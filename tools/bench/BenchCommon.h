@@ -33,7 +33,8 @@ double peakRssMiB();
 /// Linear radiance → 8-bit sRGB exactly as the GL tone-map pass does (exposure, tone map, encode).
 Image toDisplay(const ImageF& linear, const FrameSettings& settings);
 
-/// A scene by path (.json, .gltf, .glb), or "heavy:N" for makeHeavyScene(N).
+/// A scene by path (.json, .gltf, .glb), "heavy:N" for makeHeavyScene(N), or "mirrors:N" for N mirror spheres
+/// on a grid over a floor (the raster probes' benchmark).
 Result<Scene> loadBenchScene(const std::string& spec);
 /// Short name for tables and file names: file stem, or heavy-N.
 std::string sceneLabel(const std::string& spec);

@@ -345,6 +345,34 @@ void BM_VisibilityRaster(benchmark::State& state) {
   state.counters["readback_ms"] = g.readbackMs;
 }
 
+// The raster preset's reflection probes (FrameSettings::probeLimit) on N mirror spheres (arg spheres: 10, 100,
+// 1000) under a limit (arg limit): each iteration moves one sphere, so every probe is drawn again; the time is
+// the probes stage's (probesMs). Counters: the probes the scene has and those a frame drew. The cost follows
+// min(N, limit) times the scene's own draw, not N² (each probe draws the whole scene, six times).
+void BM_RasterProbes(benchmark::State& state) {
+  GlFrame& g = glFrame("mirrors:" + std::to_string(state.range(0)));
+  if (!g.renderer) return state.SkipWithError(g.error.c_str());
+  FrameSettings base;
+  base.width = 320;
+  base.height = 180;
+  FrameSettings s = *presetSettings("raster", base);
+  s.probeLimit = static_cast<int>(state.range(1));
+  int frame = 0;
+  auto next = [&] {
+    const float x = 0.1f * static_cast<float>(frame++ % 2);
+    g.renderer->setInstanceTransform(1, glm::translate(glm::mat4(1.0f), glm::vec3(x, 1.0f, 0.0f)));
+    return g.renderer->render(g.camera, s);
+  };
+  (void)next();  // the new limit's layout and the shader variants
+  FrameStats last;
+  for (auto _ : state) {
+    last = next();
+    state.SetIterationTime(last.probesMs * 1e-3);
+  }
+  state.counters["probes"] = last.probes;
+  state.counters["drawn"] = last.probesDrawn;
+}
+
 // The frame interval in latency and in throughput mode (FrameSettings::pipelined, docs/pipeline.md): hybrid-full,
 // every frame traced, the camera stepping each frame as a game's does; each iteration's time is the interval
 // between render() calls (FrameStats::intervalMs), with the frame's latency and its wait for its rays beside.
@@ -455,6 +483,12 @@ void registerMicroBenchmarks() {
       ->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1})
       ->UseManualTime()
       ->MinTime(3.0)
+      ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("BM_RasterProbes", BM_RasterProbes)
+      ->ArgNames({"spheres", "limit"})
+      ->Args({10, 8})->Args({100, 8})->Args({1000, 8})->Args({10, 32})->Args({100, 32})->Args({1000, 32})
+      ->UseManualTime()
+      ->Iterations(3)
       ->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark("BM_FrameInterval", BM_FrameInterval)
       ->ArgNames({"heavy", "pipelined"})

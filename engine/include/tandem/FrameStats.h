@@ -112,6 +112,10 @@ struct FrameStats {
   /// Hybrid shadows proved in the GL (FrameSettings::shadowProofs): the GL's pass answered the primary hits'
   /// rays it could (in rays.shadowByMap with the CPU's answers) before the ray pass; its time is rasterMs'.
   bool shadowsProvedInGl = false;
+  /// Reflection probes drawn in this frame (six views of the scene each; probesMs their time) and the probes the
+  /// scene has (FrameSettings::probeLimit at most; objects past it share).
+  int probesDrawn = 0;
+  int probes = 0;
   /// Shader programs compiled during this frame: a variant first needed by a new scene, view or preset
   /// (each a stall of up to a second on a software GL). Zero in a steady game loop.
   int shaderCompiles = 0;

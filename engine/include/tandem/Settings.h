@@ -80,6 +80,13 @@ struct FrameSettings {
   /// resolved() rounds down to one). Six faces of this many pixels are drawn and shaded per probe re-rendered:
   /// 64 costs a quarter of 128 for a blurrier reflection (the raster preset's choice).
   int probeSize = 128;
+  /// Raster reflections/refraction: the most reflection probes a scene gets (>= 1; resolved() clamps). Each
+  /// object that reflects or transmits needs one, and each costs six views of the whole scene, so a scene with
+  /// more such objects shares them: `probeLimit` of the objects, spread over the scene (farthest first, the
+  /// largest first of all), get probes drawn from their centres, and every other one looks its reflections
+  /// up in the nearest of those (its own parallax lost). The raster's probe cost then grows with the limit,
+  /// not with the objects (docs/shading.md, "Reflection probes").
+  int probeLimit = 32;
   /// A frame whose ray inputs equal the last frame's (the same camera, scene and ray settings: nothing moved,
   /// no light changed) reuses that frame's ray results instead of tracing them again: they would be the
   /// same to the bit. FrameStats::raysReused says when. With the camera still and instances moved or

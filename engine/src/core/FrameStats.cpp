@@ -15,12 +15,14 @@ void FrameStats::addSample(const FrameStats& s) {
   accumulateMs += s.accumulateMs;
   bookkeepingMs += s.bookkeepingMs;
   shadowMapsMs += s.shadowMapsMs;
+  probesDrawn += s.probesDrawn;
   rays += s.rays;
   // What describes the frame's ray grid and maps is the last sample's.
   rayWidth = s.rayWidth;
   rayHeight = s.rayHeight;
   threads = s.threads;
   shadowMapBytes = s.shadowMapBytes;
+  probes = s.probes;
   raysReused = s.raysReused;
   denoiseMs += s.denoiseMs;
   denoised = s.denoised;

@@ -16,6 +16,7 @@ FrameSettings FrameSettings::resolved() const {
   s.exposure = std::isfinite(s.exposure) && s.exposure > 0.0f ? s.exposure : 1.0f;
   s.referenceSpp = std::clamp(s.referenceSpp, 1, 64);
   s.probesPerFrame = std::max(s.probesPerFrame, 0);
+  s.probeLimit = std::clamp(s.probeLimit, 1, 4096);
   s.probeSize = static_cast<int>(std::bit_floor(static_cast<unsigned>(std::clamp(s.probeSize, 16, 512))));
   s.targetMs = std::isfinite(s.targetMs) ? std::clamp(s.targetMs, 0.0f, 10000.0f) : 0.0f;
   s.aaSamples = std::clamp(s.aaSamples, 1, 256);

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <vector>
 
+#include "core/Finite.h"
 #include "core/Motion.h"
 #include "core/RenderSpace.h"
 #include "core/Shading.h"
@@ -21,6 +23,63 @@ std::vector<std::uint32_t> probeInstances(const Scene& scene) {
     if (m.kr > 0.0f || m.kt > 0.0f || m.alphaMode == AlphaMode::Blend) out.push_back(static_cast<std::uint32_t>(i));
   }
   return out;
+}
+
+ProbeLayout probeLayout(const Scene& scene, int limit) {
+  ProbeLayout layout;
+  layout.slotOf.assign(scene.instances.size(), -1);
+  const std::vector<std::uint32_t> wanting = probeInstances(scene);
+  const std::size_t count = std::min(wanting.size(), static_cast<std::size_t>(std::max(limit, 1)));
+  if (wanting.size() <= count) {
+    layout.probes = wanting;
+  } else {
+    // World bounds of each instance that wants one: its mesh's box, transformed (centre and radius).
+    std::vector<glm::dvec3> centre(wanting.size());
+    std::vector<double> radius(wanting.size());
+    std::vector<std::pair<glm::vec3, glm::vec3>> meshBox(scene.meshes.size(), {glm::vec3(0.0f), glm::vec3(0.0f)});
+    std::vector<bool> boxed(scene.meshes.size(), false);
+    for (std::size_t k = 0; k < wanting.size(); ++k) {
+      const Instance& inst = scene.instances[wanting[k]];
+      if (!boxed[inst.mesh] && !scene.meshes[inst.mesh].positions.empty()) {
+        glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+        for (const glm::vec3& p : scene.meshes[inst.mesh].positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+        meshBox[inst.mesh] = {lo, hi};
+        boxed[inst.mesh] = true;
+      }
+      const auto& [lo, hi] = meshBox[inst.mesh];
+      const glm::dvec3 c = (glm::dvec3(lo) + glm::dvec3(hi)) * 0.5, half = (glm::dvec3(hi) - glm::dvec3(lo)) * 0.5;
+      const glm::dmat4 m(inst.worldFromObject);
+      centre[k] = glm::dvec3(m * glm::dvec4(c, 1.0));
+      const glm::dmat3 linear(m);
+      glm::dvec3 extent(0.0);  // the box's half extent in world space: |M|·half
+      for (int axis = 0; axis < 3; ++axis) extent += glm::abs(linear[axis]) * half[axis];
+      radius[k] = glm::length(extent);
+      if (!std::isfinite(radius[k]) || !allFinite(centre[k])) centre[k] = glm::dvec3(0.0), radius[k] = 0.0;
+    }
+    // Farthest-point sampling: the largest first, then each time the one farthest from those chosen.
+    std::vector<double> nearest(wanting.size(), std::numeric_limits<double>::infinity());
+    std::size_t next = static_cast<std::size_t>(std::max_element(radius.begin(), radius.end()) - radius.begin());
+    std::vector<std::size_t> chosen;
+    while (chosen.size() < count) {
+      chosen.push_back(next);
+      nearest[next] = -1.0;  // chosen: never again
+      for (std::size_t k = 0; k < wanting.size(); ++k)
+        if (nearest[k] >= 0.0) nearest[k] = std::min(nearest[k], glm::distance(centre[k], centre[next]));
+      next = static_cast<std::size_t>(std::max_element(nearest.begin(), nearest.end()) - nearest.begin());
+    }
+    std::sort(chosen.begin(), chosen.end());  // slots in instance order
+    for (std::size_t k : chosen) layout.probes.push_back(wanting[k]);
+    for (std::size_t k = 0; k < wanting.size(); ++k) {
+      std::size_t best = 0;
+      for (std::size_t s = 1; s < chosen.size(); ++s)
+        if (glm::distance(centre[k], centre[chosen[s]]) < glm::distance(centre[k], centre[chosen[best]])) best = s;
+      layout.slotOf[wanting[k]] = static_cast<std::int32_t>(best);
+    }
+    return layout;
+  }
+  for (std::size_t slot = 0; slot < layout.probes.size(); ++slot)
+    layout.slotOf[layout.probes[slot]] = static_cast<std::int32_t>(slot);
+  return layout;
 }
 
 namespace {
@@ -48,7 +107,8 @@ Buffer bufferOf(std::string_view label, const std::vector<T>& v) {
 
 // Instance transforms in render space (core/RenderSpace.h): their translations rebased on the anchor in
 // double, so vertices far from the world origin are transformed with small, precise numbers.
-std::vector<GpuInstance> packInstances(const Scene& scene, glm::vec3 anchor, float shutter = 0.0f, float u = 0.5f) {
+std::vector<GpuInstance> packInstances(const Scene& scene, const ProbeLayout& probes, glm::vec3 anchor,
+                                       float shutter = 0.0f, float u = 0.5f) {
   std::vector<GpuInstance> out;
   out.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances) {
@@ -63,9 +123,9 @@ std::vector<GpuInstance> packInstances(const Scene& scene, glm::vec3 anchor, flo
     g.meshMaterial = glm::uvec4(inst.mesh, inst.material, 0, 0);
     out.push_back(g);
   }
-  // z = reflection-probe slot + 1 (0 = none), in the order probeInstances lists them.
-  std::vector<std::uint32_t> probes = probeInstances(scene);
-  for (std::size_t slot = 0; slot < probes.size(); ++slot) out[probes[slot]].meshMaterial.z = static_cast<std::uint32_t>(slot + 1);
+  // z = reflection-probe slot + 1 (0 = none), as the probe layout assigns them.
+  for (std::size_t i = 0; i < out.size() && i < probes.slotOf.size(); ++i)
+    out[i].meshMaterial.z = static_cast<std::uint32_t>(probes.slotOf[i] + 1);
   return out;
 }
 
@@ -169,8 +229,10 @@ PackedGeometry packGeometry(const Scene& scene) {
 }  // namespace
 
 void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOverride,
-                      std::optional<glm::vec3> anchor) {
+                      std::optional<glm::vec3> anchor, int probeLimit) {
   anchor_ = anchor ? *anchor : renderAnchor(scene);
+  probeLimit_ = probeLimit;
+  probes_ = probeLayout(scene, probeLimit);
   const PackedGeometry g = packGeometry(scene);
   features_.uvs = g.anyUvs;
   features_.colors = g.anyColors;
@@ -206,7 +268,7 @@ void GpuScene::uploadInstances(const Scene& scene, const std::vector<glm::uvec4>
   instanceCount_ = static_cast<int>(scene.instances.size());
   otherSlot_ = {};
   slot_ = 0;
-  instances_ = bufferOf("instances", packInstances(scene, anchor_));
+  instances_ = bufferOf("instances", packInstances(scene, probes_, anchor_));
   // Two views of one record: the matrices as floats, meshMaterial as integers (reading integer bits
   // through a float view would meet llvmpipe's denormal flushing).
   instancesTex_ = createBufferTexture("instances view", GL_RGBA32F, instances_);
@@ -305,7 +367,7 @@ void GpuScene::bakeRamps(const Scene& scene) {
 
 void GpuScene::updateInstances(const Scene& scene, float shutter, float u) {
   assert(static_cast<int>(scene.instances.size()) == instanceCount_ && "updateInstances: instance count changed");
-  std::vector<GpuInstance> packed = packInstances(scene, anchor_, shutter, u);
+  std::vector<GpuInstance> packed = packInstances(scene, probes_, anchor_, shutter, u);
   glNamedBufferSubData(instances_.id(), 0, static_cast<GLsizeiptr>(packed.size() * sizeof(GpuInstance)),
                        packed.data());
 }

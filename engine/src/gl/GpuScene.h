@@ -11,6 +11,7 @@
 #include "gl/GlObjects.h"
 #include "core/Radiosity.h"
 #include "tandem/Scene.h"
+#include "tandem/Settings.h"
 
 namespace tandem::gl {
 
@@ -47,15 +48,28 @@ struct SceneFeatures {
   bool procedural = false;     // some material has a procedural texture (procedural.glsl is compiled in)
 };
 
-/// Instances that get a reflection probe (their material has kr > 0 or kt > 0), in slot order; the shade
-/// pass finds an instance's slot in GpuInstance.meshMaterial.z (slot + 1, 0 = none).
+/// Instances that look reflections up in a probe (their material has kr > 0 or kt > 0, or is BLEND).
 std::vector<std::uint32_t> probeInstances(const Scene& scene);
+
+/// Which probes a scene gets (FrameSettings::probeLimit): every probeInstances instance while there are no
+/// more than `limit`; past it, `limit` of them chosen far apart (the largest first, then each the farthest
+/// from those chosen: farthest-point sampling of their bounds' centres), the others sharing the nearest one's.
+struct ProbeLayout {
+  std::vector<std::uint32_t> probes;  // per slot: the instance its probe is drawn for (from its centre, without it)
+  std::vector<std::int32_t> slotOf;   // per instance: the slot its reflections are looked up in, -1 for none
+};
+ProbeLayout probeLayout(const Scene& scene, int limit);
 
 class GpuScene {
  public:
   /// `anchor`: the origin of render space (core/RenderSpace.h; none: the scene camera's position).
+  /// `probeLimit`: FrameSettings::probeLimit, which the probe layout (probes()) follows.
   void upload(const Scene& scene, std::optional<ShadingModel> shadingOverride,
-              std::optional<glm::vec3> anchor = std::nullopt);
+              std::optional<glm::vec3> anchor = std::nullopt, int probeLimit = FrameSettings{}.probeLimit);
+  /// The probes and the slot each instance reads (the shade pass finds it in GpuInstance.meshMaterial.z, slot
+  /// + 1, 0 for none), as upload() laid them out.
+  const ProbeLayout& probes() const { return probes_; }
+  int probeLimit() const { return probeLimit_; }
   /// A new origin of render space (the floating origin: anchorDue): instances and lights are held relative to
   /// the anchor, so the caller re-packs both (updateInstances, updateLights) before the next draw.
   void setAnchor(glm::vec3 anchor) { anchor_ = anchor; }
@@ -127,6 +141,8 @@ class GpuScene {
   int staticDraws_ = 0, dynamicDraws_ = 0;
   std::vector<std::uint32_t> drawInstance_;  // the instance each draw command draws
   std::vector<std::uint8_t> drawCulled_;     // per command: its material is single-sided (back faces culled)
+  ProbeLayout probes_;
+  int probeLimit_ = FrameSettings{}.probeLimit;
   // Views of the buffers above for the shade pass (see createBufferTexture).
   Texture positionsTex_, normalsTex_, uvsTex_, colorsTex_, indicesTex_, meshesTex_, instancesTex_, instanceIdsTex_,
       uvTransformsTex_, tangentsTex_;

@@ -11,11 +11,11 @@ namespace tandem::gl {
 // Reflection probes
 // ---------------------------------------------------------------------------------------------------
 
-void ReflectionProbes::update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster,
+void ReflectionProbes::update(const GpuScene& gpu, const VisibilityPass& raster,
                               ShadePass& shade, const ShadeInputs& local,
                               const std::vector<Bounds>& instances, int faceSize) {
   assert(faceSize > 0 && (faceSize & (faceSize - 1)) == 0 && "probe faces: a power of two");
-  std::vector<std::uint32_t> probes = probeInstances(scene);
+  std::vector<std::uint32_t> probes = gpu.probes().probes;
   if (probes.empty()) {
     release();
     return;

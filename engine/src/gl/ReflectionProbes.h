@@ -12,16 +12,17 @@
 
 namespace tandem::gl {
 
-/// A cube map of the surroundings of each object whose material has kr > 0 or kt > 0 (GpuScene's
-/// probeInstances order), rendered from the centre of its bounds without the object itself and shaded
+/// A cube map of the surroundings of each object whose material has kr > 0 or kt > 0 (GpuScene's probe
+/// layout: at most FrameSettings::probeLimit, shared past it), rendered from the centre of its bounds without
+/// the object itself and shaded
 /// by the same shade pass with local shading only. The shade pass looks the reflected (and refracted)
 /// direction up in it.
 class ReflectionProbes {
  public:
-  /// Re-renders every probe with faces of `faceSize`² texels (a power of two; FrameSettings::probeSize), made
-  /// anew when their number or size changed. `local` are the inputs of the probes' shade pass (no ray
-  /// results, no probes: one bounce).
-  void update(const Scene& scene, const GpuScene& gpu, const VisibilityPass& raster, ShadePass& shade,
+  /// Re-renders every probe of the GL copy's layout (GpuScene::probes) with faces of `faceSize`² texels (a power
+  /// of two; FrameSettings::probeSize), made anew when their number or size changed. `local` are the inputs of
+  /// the probes' shade pass (no ray results, no probes: one bounce).
+  void update(const GpuScene& gpu, const VisibilityPass& raster, ShadePass& shade,
               const ShadeInputs& local, const std::vector<Bounds>& instances, int faceSize);
   /// Re-renders only the probes in `slots` (all six faces each); their number must be unchanged since
   /// the last update().

@@ -83,6 +83,7 @@ bool sameRayInputs(const FramePlan& a, const FramePlan& b) {
     s.debugView = FrameSettings{}.debugView;
     s.probesPerFrame = FrameSettings{}.probesPerFrame;
     s.probeSize = FrameSettings{}.probeSize;
+    s.probeLimit = FrameSettings{}.probeLimit;
     s.reuseRays = FrameSettings{}.reuseRays;
     s.targetMs = FrameSettings{}.targetMs;  // the budget's choice is in the other fields
     // The filter works on the shaded frame, after the rays; they read only how many light samples it leaves

@@ -129,7 +129,8 @@ bool Renderer::Impl::drawSample(const FramePlan& plan, const Camera& sampleCamer
   // Motion blur: the GL copy's moving instances where this sample's shutter time puts them (the rays of the
   // sample run at that time too).
   if (!plan.reference)
-    timed(sample.syncMs, [&] { caches.syncGpu(scene, plan.settings.shadingOverride, camera.shutter, camera.timeU); });
+    timed(sample.syncMs, [&] { caches.syncGpu(scene, plan.settings.shadingOverride, camera.shutter, camera.timeU,
+                                                 plan.settings.probeLimit); });
   // The GL passes see the camera in render space, the space of the GL copy (core/RenderSpace.h).
   const Camera glCamera = toRenderSpace(camera, caches.gpu().anchor());
   gl::ShadeInputs in;
@@ -305,7 +306,7 @@ bool Renderer::Impl::prepare(FramePlan& plan, const Camera& camera, FrameStats& 
   if (!s.denoise) leaveDenoise();  // cost follows the settings
   // The GL copy's time is each sample's (drawSample): here only the shutter, leaving the time as it is; a camera
   // far from the render anchor moves it first (followCamera: nothing is in flight where the GL copy syncs here).
-  if (syncGl) followCamera(camera), caches.syncGpu(scene, s.shadingOverride, camera.shutter, caches.gpuTime());
+  if (syncGl) followCamera(camera), caches.syncGpu(scene, s.shadingOverride, camera.shutter, caches.gpuTime(), s.probeLimit);
   if (syncEmbree && plan.needsRayScene() && !caches.syncRays(scene, camera.shutter, *tracer)) plan.withoutRays();
   // The radiosity solution (docs/radiosity.md): solved here, or the background solve's latest. A new one
   // changes every point the frame shades: nothing of the last frame's rays or samples is kept.

@@ -36,7 +36,8 @@ bool SceneCaches::follow(const Camera& camera) {
 }
 
 void SceneCaches::syncGpu(const Scene& scene, std::optional<ShadingModel> shadingOverride, float shutter,
-                          float timeU) {
+                          float timeU, int probeLimit) {
+  if (gpu_.probeLimit() != probeLimit) gpuStale_ = true;
   const float open = shutter > 0.0f && std::isfinite(shutter) ? shutter : 0.0f;
   const float time = std::isfinite(timeU) ? std::clamp(timeU, 0.0f, 1.0f) : 0.5f;
   if (open != gpuShutter_ || time != gpuTime_) {
@@ -55,7 +56,7 @@ void SceneCaches::syncGpu(const Scene& scene, std::optional<ShadingModel> shadin
     ++gpuLayoutVersion_;
   }
   if (gpuStale_) {
-    gpu_.upload(scene, shadingOverride, anchor_);
+    gpu_.upload(scene, shadingOverride, anchor_, probeLimit);
     if (gpuShutter_ > 0.0f) gpu_.updateInstances(scene, gpuShutter_, gpuTime_);
     meshBounds_ = gl::meshBounds(scene);
     gpuStale_ = gpuInstancesStale_ = gpuLightsStale_ = false;
@@ -177,18 +178,21 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     const std::vector<gl::Bounds>& probeBounds = middleBounds.empty() ? instanceBounds : middleBounds;
     if (all) {
       stage(stats.probesMs, gl::GpuTimers::Probes,
-            [&] { probes_.update(scene, gpu_, raster, shade, local, probeBounds, plan.settings.probeSize); });
+            [&] { probes_.update(gpu_, raster, shade, local, probeBounds, plan.settings.probeSize); });
+      stats.probesDrawn += probes_.probeCount();
       probeSlotVersions_.assign(static_cast<std::size_t>(probes_.probeCount()), probeInputs());
       probeVersion_ = probeInputs();
       probeLayoutVersion_ = gpuLayoutVersion_;
       probesShadowed_ = shadowed;
     } else if (probeVersion_ != probeInputs()) {
-      stage(stats.probesMs, gl::GpuTimers::Probes, [&] { refreshOldestProbes(budget, raster, shade, local, probeBounds); });
+      stage(stats.probesMs, gl::GpuTimers::Probes,
+            [&] { stats.probesDrawn += refreshOldestProbes(budget, raster, shade, local, probeBounds); });
     }
     if (!middleBounds.empty()) {  // back to the sample's time
       gpu_.updateInstances(scene, gpuShutter_, gpuTime_);
       if (shadowed) drawShadowMaps(instanceBounds, gpuTime_);
     }
+    stats.probes = probes_.probeCount();
     if (probes_.probeCount() > 0) {
       in.probeCubes = &probes_.cubes();
       in.probeEffects = probeEffects;
@@ -202,7 +206,7 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
 
 // Instances moved or lights changed: the `budget` probes made longest ago, oldest first (a round robin
 // while everything keeps moving). probeVersion_ catches up once every probe has been re-rendered since.
-void SceneCaches::refreshOldestProbes(int budget, const gl::VisibilityPass& raster, gl::ShadePass& shade,
+int SceneCaches::refreshOldestProbes(int budget, const gl::VisibilityPass& raster, gl::ShadePass& shade,
                                       const gl::ShadeInputs& local, const std::vector<gl::Bounds>& instanceBounds) {
   std::vector<int> stale;
   for (std::size_t slot = 0; slot < probeSlotVersions_.size(); ++slot)
@@ -217,6 +221,7 @@ void SceneCaches::refreshOldestProbes(int budget, const gl::VisibilityPass& rast
   std::uint64_t oldest = probeInputs();
   for (std::uint64_t v : probeSlotVersions_) oldest = std::min(oldest, v);
   if (oldest == probeInputs()) probeVersion_ = probeInputs();
+  return static_cast<int>(stale.size());
 }
 
 }  // namespace tandem

@@ -42,9 +42,10 @@ class SceneCaches {
   // ---- syncs ----
   /// The GL copy: uploaded or patched as needed, re-packed when the shading override changes; moving
   /// instances drawn at time `timeU` of a `shutter` (Camera::shutter, timeU; docs/motion-blur.md), the
-  /// raster effects made from it following each new time.
+  /// raster effects made from it following each new time; uploaded anew for a new `probeLimit`
+  /// (FrameSettings::probeLimit: the probe layout is in the instances' records).
   void syncGpu(const Scene& scene, std::optional<ShadingModel> shadingOverride, float shutter = 0.0f,
-               float timeU = 0.5f);
+               float timeU = 0.5f, int probeLimit = FrameSettings{}.probeLimit);
   /// Throughput mode (docs/pipeline.md), with a frame in flight: only the GL copy's instance records, and only
   /// when instances moved, written into instance slot `slot` (the other keeps the frame in flight's); syncGpu
   /// does the rest once that frame is composited. Not for a new scene (syncGpu uploads it) nor an open shutter.
@@ -104,7 +105,8 @@ class SceneCaches {
   std::uint64_t gpuLayoutVersion_ = 1, probeLayoutVersion_ = 0;
   std::vector<std::uint64_t> probeSlotVersions_;  // gpuVersion_ each probe was last rendered at
 
-  void refreshOldestProbes(int budget, const gl::VisibilityPass& raster, gl::ShadePass& shade,
+  /// Returns how many probes it drew.
+  int refreshOldestProbes(int budget, const gl::VisibilityPass& raster, gl::ShadePass& shade,
                            const gl::ShadeInputs& local, const std::vector<gl::Bounds>& instanceBounds);
 };
 
