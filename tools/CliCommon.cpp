@@ -305,6 +305,13 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
                  o.aa->front()};
   if (o.classicWhitted) s.fresnelWeighted = false;
   if (o.schlick) s.fresnel = FresnelMode::Schlick;
+  // Only raster reflections and refraction draw probes.
+  if ((o.probeLimit || o.probeSize) &&
+      (s.reference || (s.reflections != EffectMode::Raster && s.refraction != EffectMode::Raster)))
+    return Error{std::string(o.probeLimit ? "--probe-limit" : "--probe-size") +
+                 ": only raster reflections or refraction use probes (the raster preset, or --reflections raster "
+                 "or --refraction raster), got reflections " + std::string(toString(s.reflections)) +
+                 ", refraction " + std::string(toString(s.refraction)) + (s.reference ? " (the reference)" : "")};
   // Flags the chosen mode would ignore: only the reference frame takes several samples per pixel, and it
   // traces every pixel, so it has no reduced-resolution ray pass to scale.
   if (o.spp && !s.reference)

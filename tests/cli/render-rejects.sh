@@ -38,6 +38,13 @@ check --spp --preset reference --spp 0
 check --spp --preset reference --spp 65
 check --spp --spp 4
 check --spp --preset hybrid-fast --spp 2
+check --probe-limit --preset raster --probe-limit 0
+check --probe-limit --preset raster --probe-limit 5000
+check --probe-limit --probe-limit 8
+check --probe-limit --preset reference --probe-limit 8
+check --probe-size --preset raster --probe-size 100
+check --probe-size --preset raster --probe-size 8
+check --probe-size --preset hybrid-full --probe-size 64
 check --scale --scale 0
 check --scale --scale 3
 check --scale --preset reference --scale 2

@@ -264,6 +264,31 @@ TEST(GltfImport, FactorMapsAreReadOverTheTexelsEachMaterialCovers) {
   EXPECT_NEAR(whole.asset->scene.materials[1].kt, 0.2f * 0.5f, 1e-3f);  // transmission 0.2, times 1 − metallic ½
 }
 
+// glTF's sidedness: single-sided unless the material says otherwise, the default material too; a skinned
+// node's mesh is drawn unposed (skins are ignored), so its faces turn no way the author meant: it gets a
+// double-sided copy of its material, and the unskinned node keeps the single-sided one.
+TEST(GltfImport, SingleSidedByDefaultAndUnposedSkinsShowBothSides) {
+  json d = triangleDoc();
+  d["materials"] = {{{"name", "paper"}}, {{"name", "card"}, {"doubleSided", true}}};
+  d["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}}}}},
+                 {{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 1}}}}},
+                 {{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}};
+  d["nodes"] = {{{"mesh", 0}}, {{"mesh", 0}, {"skin", 0}}, {{"mesh", 1}, {"skin", 0}}, {{"mesh", 2}}};
+  d["scenes"][0]["nodes"] = {0, 1, 2, 3};
+  d["skins"] = {{{"joints", {0}}}};
+  auto l = loadDoc("sidedness", d);
+  ASSERT_TRUE(l.asset.ok()) << l.asset.error().message;
+  const Scene& s = l.asset->scene;
+  ASSERT_EQ(s.instances.size(), 4u);
+  auto material = [&](std::size_t i) { return s.materials[s.instances[i].material]; };
+  EXPECT_FALSE(material(0).doubleSided) << "glTF's default is single-sided";
+  EXPECT_TRUE(material(1).doubleSided) << "the skinned node's copy";
+  EXPECT_EQ(material(1).kd, material(0).kd);
+  EXPECT_TRUE(material(2).doubleSided) << "double-sided as the file says";
+  EXPECT_EQ(s.instances[2].material, 1u) << "a double-sided material needs no copy";
+  EXPECT_FALSE(material(3).doubleSided) << "the default material";
+}
+
 TEST(GltfImport, LightsCameraAndInstancing) {
   Bytes b;
   const std::size_t p = b.add(std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0});

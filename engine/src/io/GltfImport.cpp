@@ -250,6 +250,9 @@ Result<void> Importer::addMeshInstances(const tinygltf::Node& n, std::size_t ni,
         if (auto c = charge("nodes[" + std::to_string(ni) + "] instance names", inst.name.size()); !c) return c.error();
       inst.mesh = std::uint32_t(*mi);
       inst.material = std::uint32_t(gm < 0 ? defaultMaterial_ : materialOf_[std::size_t(gm)]);
+      // A skinned mesh is drawn unposed (skins are ignored): which way its faces turn is not the author's,
+      // so it shows both sides rather than none (the asset generator's skinned planes face away unposed).
+      if (n.skin >= 0) inst.material = unposedMaterial(inst.material);
       inst.worldFromObject = w;
       inst.dynamic = dynamic;
       if (dynamic && animIndex >= 0)
@@ -353,6 +356,19 @@ void Importer::addDefaults() {
     s.lights.push_back(std::move(head));
     s.lights.push_back(std::move(amb));
   }
+}
+
+std::uint32_t Importer::unposedMaterial(std::uint32_t material) {
+  if (out_.scene.materials[material].doubleSided) return material;
+  auto [it, fresh] = unposedCopy_.try_emplace(material, 0u);
+  if (fresh) {
+    Material copy = out_.scene.materials[material];
+    copy.doubleSided = true;
+    copy.name += " (unposed skin: both sides)";
+    it->second = std::uint32_t(out_.scene.materials.size());
+    out_.scene.materials.push_back(std::move(copy));
+  }
+  return it->second;
 }
 
 Result<GltfAsset> Importer::run() {

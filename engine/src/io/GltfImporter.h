@@ -84,6 +84,8 @@ class Importer {
   Result<void> readFactorMaps(const tinygltf::Material& g, const std::string& id, std::size_t material);
   glm::dvec4 wholeMean(int texture);
   void applyFactorMaps();
+  /// A double-sided copy of a single-sided material, for the instances of a skinned (unposed) mesh.
+  std::uint32_t unposedMaterial(std::uint32_t material);
   Result<void> attachMaterialTextures(Material& mat, const tinygltf::Material& g, const std::string& id);
   int texture(int gltfTexture, bool srgb, const std::string& usage);
   int fallbackTexture();
@@ -132,6 +134,7 @@ class Importer {
     glm::mat3 metallicRoughnessUv{1.0f};            // the map's KHR_texture_transform
   };
   std::vector<FactorMaps> factorMaps_;  // per glTF material
+  std::map<std::uint32_t, std::uint32_t> unposedCopy_;  // scene material → its double-sided copy
   std::map<std::tuple<int, int, bool>, int> meshCache_;  // (mesh, primitive, flipped) → scene mesh or -1
   // Primitives that read the same accessors the same way share one scene mesh, whichever glTF mesh holds
   // them: (POSITION, NORMAL, TEXCOORD_0, COLOR_0, TANGENT, indices, mode, tangents wanted, flipped).

@@ -302,12 +302,14 @@ void Importer::applyFactorMaps() {
     const FactorMaps& maps = factorMaps_[i];
     if (maps.metallicRoughness < 0 && maps.transmission < 0) continue;
     const std::uint32_t material = std::uint32_t(materialOf_[i]);
-    // The meshes this material is drawn with, each once.
+    const auto copy = unposedCopy_.find(material);
+    // The meshes this material (or its unposed skins' copy) is drawn with, each once.
     std::vector<const Mesh*> meshes;
     std::vector<bool> taken(out_.scene.meshes.size(), false);
     for (const Instance& inst : out_.scene.instances) {
       const Mesh& m = out_.scene.meshes[inst.mesh];
-      if (inst.material != material || taken[inst.mesh] || m.uvs.size() != m.positions.size()) continue;
+      const bool ours = inst.material == material || (copy != unposedCopy_.end() && inst.material == copy->second);
+      if (!ours || taken[inst.mesh] || m.uvs.size() != m.positions.size()) continue;
       taken[inst.mesh] = true;
       meshes.push_back(&m);
     }
@@ -327,6 +329,12 @@ void Importer::applyFactorMaps() {
     if (maps.transmission >= 0) x.transmission *= float(mean(maps.transmission, glm::mat3(1.0f)).r);
     const glm::vec3 base(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]), float(pbr.baseColorFactor[2]));
     setPhongTerms(out_.scene.materials[material], g, base, metallic, rough, x);
+    if (copy != unposedCopy_.end()) {
+      Material both = out_.scene.materials[material];
+      both.doubleSided = true;
+      both.name = out_.scene.materials[copy->second].name;
+      out_.scene.materials[copy->second] = std::move(both);
+    }
   }
 }
 
