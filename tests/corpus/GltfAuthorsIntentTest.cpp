@@ -59,6 +59,28 @@ const std::vector<ArrowQuad>& arrowQuads() {
   return quads;
 }
 
+// The pixels 4-connected to `seed` for which `is(x, y)` holds, each visited once (visit(x, y)), marked in `seen`
+// (one flag per pixel, kept across calls).
+template <class Is, class Visit>
+void floodFill(int width, int height, glm::ivec2 seed, std::vector<std::uint8_t>& seen, Is&& is, Visit&& visit) {
+  auto flag = [&](glm::ivec2 p) -> std::uint8_t& {
+    return seen[static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x)];
+  };
+  std::vector<glm::ivec2> stack{seed};
+  flag(seed) = 1;
+  while (!stack.empty()) {
+    const glm::ivec2 p = stack.back();
+    stack.pop_back();
+    visit(p.x, p.y);
+    for (const glm::ivec2 d : {glm::ivec2(1, 0), glm::ivec2(-1, 0), glm::ivec2(0, 1), glm::ivec2(0, -1)}) {
+      const glm::ivec2 n = p + d;
+      if (n.x < 0 || n.y < 0 || n.x >= width || n.y >= height || flag(n) || !is(n.x, n.y)) continue;
+      flag(n) = 1;
+      stack.push_back(n);
+    }
+  }
+}
+
 // The arrow's tip in a frame of the model, in the quad's frame. The arrow is black (the textures' border is grey,
 // their ground white), and the sampler's wrap is not represented (docs/gltf.md): the texture repeats, so the quad
 // may show other copies of it. The arrow meant is the one whose tail lies nearest the corner every transform
@@ -93,20 +115,10 @@ std::optional<glm::vec2> arrowTip(const ImageF& frame, const Camera& camera, con
       if (dark(x, y) && glm::length(localOf(x, y) - pivot) < nearest) nearest = glm::length(localOf(x, y) - pivot), seed = {x, y};
   if (seed.x < 0) return std::nullopt;
   std::vector<std::uint8_t> seen(static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height), 0);
-  std::vector<glm::ivec2> stack{seed};
-  seen[static_cast<std::size_t>(seed.y) * static_cast<std::size_t>(frame.width) + static_cast<std::size_t>(seed.x)] = 1;
   glm::vec2 tip = localOf(seed.x, seed.y);
-  while (!stack.empty()) {
-    const glm::ivec2 p = stack.back();
-    stack.pop_back();
-    if (glm::length(localOf(p.x, p.y) - pivot) > glm::length(tip - pivot)) tip = localOf(p.x, p.y);
-    for (const glm::ivec2 d : {glm::ivec2(1, 0), glm::ivec2(-1, 0), glm::ivec2(0, 1), glm::ivec2(0, -1)}) {
-      const glm::ivec2 n = p + d;
-      if (n.x < 0 || n.y < 0 || n.x >= frame.width || n.y >= frame.height || !dark(n.x, n.y)) continue;
-      std::uint8_t& s = seen[static_cast<std::size_t>(n.y) * static_cast<std::size_t>(frame.width) + static_cast<std::size_t>(n.x)];
-      if (s == 0) s = 1, stack.push_back(n);
-    }
-  }
+  floodFill(frame.width, frame.height, seed, seen, dark, [&](int x, int y) {
+    if (glm::length(localOf(x, y) - pivot) > glm::length(tip - pivot)) tip = localOf(x, y);
+  });
   return tip;
 }
 
@@ -150,30 +162,16 @@ struct RedAndGreen {
 };
 RedAndGreen countRedAndGreen(const ImageF& frame) {
   auto blobs = [&](auto&& is) {
+    auto at = [&](int x, int y) { return is(frame.at(x, y)); };
     std::vector<std::uint8_t> seen(static_cast<std::size_t>(frame.width) * static_cast<std::size_t>(frame.height), 0);
-    auto at = [&](int x, int y) -> std::uint8_t& {
-      return seen[static_cast<std::size_t>(y) * static_cast<std::size_t>(frame.width) + static_cast<std::size_t>(x)];
-    };
     int count = 0;
     for (int y = 0; y < frame.height; ++y)
       for (int x = 0; x < frame.width; ++x) {
-        if (at(x, y) || !is(frame.at(x, y))) continue;
+        if (seen[static_cast<std::size_t>(y) * static_cast<std::size_t>(frame.width) + static_cast<std::size_t>(x)] ||
+            !at(x, y))
+          continue;
         int size = 0;
-        std::vector<glm::ivec2> stack{{x, y}};
-        at(x, y) = 1;
-        while (!stack.empty()) {
-          const glm::ivec2 p = stack.back();
-          stack.pop_back();
-          ++size;
-          for (const glm::ivec2 d : {glm::ivec2(1, 0), glm::ivec2(-1, 0), glm::ivec2(0, 1), glm::ivec2(0, -1)}) {
-            const glm::ivec2 n = p + d;
-            if (n.x < 0 || n.y < 0 || n.x >= frame.width || n.y >= frame.height || at(n.x, n.y) ||
-                !is(frame.at(n.x, n.y)))
-              continue;
-            at(n.x, n.y) = 1;
-            stack.push_back(n);
-          }
-        }
+        floodFill(frame.width, frame.height, {x, y}, seen, at, [&](int, int) { ++size; });
         count += size >= 10 ? 1 : 0;
       }
     return count;

@@ -76,19 +76,8 @@ inline std::string writeBytes(const std::filesystem::path& p, const std::vector<
   return p.string();
 }
 
-/// A w×h PNG of flat grey (stb_image_write is compiled into tandem_core).
-inline std::vector<std::uint8_t> pngBytes(int w, int h) {
-  std::vector<std::uint8_t> px(std::size_t(w * h * 4), 200), out;
-  stbi_write_png_to_func(
-      [](void* ctx, void* data, int size) {
-        auto* o = static_cast<std::vector<std::uint8_t>*>(ctx);
-        o->insert(o->end(), static_cast<std::uint8_t*>(data), static_cast<std::uint8_t*>(data) + size);
-      },
-      &out, w, h, 4, px.data(), w * 4);
-  return out;
-}
-
-/// A w×h PNG whose texel (x, y) (row 0 on top) is texel(x, y), RGBA.
+/// A w×h PNG whose texel (x, y) (row 0 on top) is texel(x, y), RGBA (stb_image_write is compiled into
+/// tandem_core).
 template <class Texel>
 std::vector<std::uint8_t> pngOf(int w, int h, Texel texel) {
   std::vector<std::uint8_t> px, out;
@@ -104,6 +93,11 @@ std::vector<std::uint8_t> pngOf(int w, int h, Texel texel) {
       },
       &out, w, h, 4, px.data(), w * 4);
   return out;
+}
+
+/// A w×h PNG of flat grey.
+inline std::vector<std::uint8_t> pngBytes(int w, int h) {
+  return pngOf(w, h, [](int, int) { return std::array<std::uint8_t, 4>{200, 200, 200, 200}; });
 }
 
 /// One triangle in the XY plane (counter-clockwise seen from +Z), indexed with unsigned shorts.
