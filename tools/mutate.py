@@ -184,7 +184,7 @@ MUTATIONS = [
      "tandem-rt-tests", "SingleSided.*"),
     ("single-sided-proves-shadows", "engine/src/rt/EmbreeScene.h",
      "(instance < cullSign_.size() && cullSign_[instance] != 0);", "false;",
-     "tandem-gl-tests", "GltfMaterialsGLTest.*"),
+     "tandem-rt-tests", "HybridShadows.*:SingleSided.*"),
     ("gltf-factor-maps-over-the-whole-atlas", "engine/src/io/GltfImport.cpp",
      "  applyFactorMaps();\n", "",
      "tandem-unit-tests", "GltfImport.*"),

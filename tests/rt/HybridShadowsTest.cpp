@@ -138,6 +138,27 @@ TEST(HybridShadows, AlphaMaskHolesAreNeverProvedShadowed) {
   EXPECT_GT(b.hybrid.counts.shadow, 1000u);
 }
 
+// A single-sided quad turned away from the lights (its front faces the floor) lets their light through
+// (docs/gltf.md, "Single-sided faces"): the maps, which prove only what Embree would answer, must never call
+// the floor under it shadowed; the camera sees that floor through the quad's back.
+TEST(HybridShadows, SingleSidedFacesTurnedAwayAreNeverProvedShadowed) {
+  Scene scene;
+  Material paper = diffuse(glm::vec3(0.8f));
+  paper.doubleSided = false;
+  std::uint32_t floorMat = addMaterial(scene, diffuse(glm::vec3(0.7f)));
+  std::uint32_t paperMat = addMaterial(scene, paper);
+  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 1)), floorMat, glm::mat4(1.0f));
+  addInstance(scene, addMesh(scene, makePlane({3.0f, 3.0f}, 1)), paperMat,
+              glm::rotate(translate({0.0f, 1.0f, 0.0f}), glm::pi<float>(), glm::vec3(1.0f, 0.0f, 0.0f)));
+  scene.lights.push_back(directional({0.1f, -1.0f, 0.05f}));
+  scene.lights.push_back(pointLight({0.5f, 4.0f, 0.5f}));
+  scene.camera.posW = {0.0f, 6.0f, 6.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  Both b = renderBoth(scene, settings(240, 135));
+  EXPECT_EQ(b.maskDiffers, 0u);
+  expectMostDecided(b, 0.5);
+}
+
 // Mirrors and glass: the shadows at their reflected and refracted hits come from the maps too, and what
 // they shade is unchanged (renderBoth compares the reflected and transmitted channels).
 TEST(HybridShadows, SecondaryHitsAgreeInTheWhittedScene) {

@@ -9,7 +9,6 @@
 
 #include "rt/EmbreeScene.h"
 #include "rt/RtTestScenes.h"
-#include "rt/ShadowCertainty.h"
 #include "rt/Wavefront.h"
 #include "rt/Whitted.h"
 
@@ -137,37 +136,7 @@ TEST(SingleSided, TransmissiveAndDoubleSidedFacesAreMetFromBothSides) {
   }
 }
 
-// The hybrid shadows' maps (rt/ShadowCertainty.h) answer a shadow ray without tracing it only where Embree's
-// answer is certain: a single-sided face lets some rays through, so it never proves a shadow. The ceiling
-// under a light below the quad (its back to the light) is lit by Embree; the maps must not call it shadowed.
-TEST(SingleSided, TheShadowMapsProveNoShadowOfAFaceThatLetsLightThrough) {
-  QuadBetweenFloorAndCeiling q(Quad::SingleSided);
-  q.scene.lights.push_back(pointLight({-0.2f, 0.5f, -0.2f}));
-  auto device = EmbreeDevice::create();
-  ASSERT_TRUE(device.ok());
-  auto built = EmbreeScene::build(**device, q.scene);
-  ASSERT_TRUE(built.ok());
-  const EmbreeScene& embree = **built;
-  const FrameShading frame(q.scene, std::nullopt, embree.anchor());
-  ShadowCertainty maps;
-  maps.build(q.scene, embree, frame, 2);
-  TraceModes modes;
-  modes.primaryShadowRays = modes.secondaryShadowRays = true;
-  const Whitted traced(q.scene, embree, frame, modes), proved(q.scene, embree, frame, modes, &maps);
-  for (float x : {-0.6f, -0.4f, -0.2f}) {  // on the ceiling's triangle 0 (x + z < 0)
-    Ray ray{toRenderSpace(glm::vec3(x, 2.5f, -0.3f), embree.anchor()), glm::vec3(0.0f, 1.0f, 0.0f)};
-    const SurfaceHit hit = resolveHit(q.scene, embree.transform(q.ceiling), q.ceiling, 0, ray);
-    SpawnOrigins fromMaps, fromRays;
-    const ShadowRay m = proved.shadowRay(hit, 0, fromMaps);
-    const ShadowRay r = traced.shadowRay(hit, 0, fromRays);
-    ASSERT_TRUE(r.needed);
-    RayCounts counts;
-    EXPECT_EQ(traced.lightMask(hit, counts), 1u) << "Embree: the light passes the quad's back, at x " << x;
-    // (the maps may leave the ray to Embree, or prove it lit; never shadowed)
-    if (m.byMap) EXPECT_TRUE(m.visibleWithoutRay) << "the maps call the ceiling shadowed at x " << x;
-  }
-}
-
+// (The hybrid shadows' maps never prove a single-sided face's shadow: HybridShadows.SingleSidedFaces...)
 TEST(SingleSided, OnlyMeshesOfSingleSidedOpaqueInstancesLetRaysThrough) {
   for (Quad kind : {Quad::SingleSided, Quad::Transmissive, Quad::DoubleSided}) {
     QuadBetweenFloorAndCeiling q(kind);
