@@ -238,6 +238,13 @@ TEST(GltfHardening, J7_RequiredCompressionIsRefusedByItsName) {
                                         {{"buffer", 0}, {"byteLength", 20}, {"byteStride", 12}, {"count", 3},
                                          {"mode", "ATTRIBUTES"}}}};
   EXPECT_REJECT(loadDoc("meshopt-required", d), "unsupported extensions: EXT_meshopt_compression");
+  // A hostile list: eight names, then how many more.
+  d = triangleDoc();
+  d["extensionsRequired"] = json::array();
+  for (int k = 0; k < 20; ++k) d["extensionsRequired"].push_back("EXT_unknown_" + std::to_string(k));
+  Outcome many = loadDoc("many-required", d);
+  EXPECT_REJECT(many, "EXT_unknown_7 and 12 more");
+  EXPECT_EQ(many.error.find("EXT_unknown_8"), std::string::npos) << many.error;
 }
 
 // A file that only uses EXT_meshopt_compression carries its data uncompressed too (the extension's

@@ -206,12 +206,14 @@ TEST(GltfImport, ThinWalledTransmissionDoesNotBend) {
 // and opaque, its right half dielectric and transmissive. Each material's factors scale by the maps' means
 // over the texels its own triangles cover, not over the whole atlas (which made the paper half metal and
 // half transmissive).
-TEST(GltfImport, FactorMapsAreReadOverTheTexelsEachMaterialCovers) {
+// `shadeUvs`: the second triangle's three uvs.
+json atlasDoc(const std::vector<float>& shadeUvs) {
   Bytes b;
-  // Two triangles, one over each half of the atlas (uvs x in [0, 0.5] and [0.5, 1]).
+  // Two triangles, the first over the left half of the atlas (uvs x in [0, 0.5]).
   const std::size_t p = b.add(std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 3, 0, 0, 2, 1, 0});
-  const std::size_t u = b.add(std::vector<float>{0.05f, 0.1f, 0.45f, 0.1f, 0.05f, 0.9f, 0.55f, 0.1f, 0.95f, 0.1f,
-                                                 0.55f, 0.9f});
+  std::vector<float> uvs{0.05f, 0.1f, 0.45f, 0.1f, 0.05f, 0.9f};
+  uvs.insert(uvs.end(), shadeUvs.begin(), shadeUvs.end());
+  const std::size_t u = b.add(uvs);
   const std::size_t i0 = b.add(std::vector<std::uint16_t>{0, 1, 2});
   const std::size_t i1 = b.add(std::vector<std::uint16_t>{3, 4, 5});
   json d = triangleDoc();
@@ -226,6 +228,11 @@ TEST(GltfImport, FactorMapsAreReadOverTheTexelsEachMaterialCovers) {
                     {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}},
                     {{"bufferView", 2}, {"componentType", 5126}, {"count", 6}, {"type", "VEC2"}},
                     {{"bufferView", 3}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}};
+  return d;
+}
+
+TEST(GltfImport, FactorMapsAreReadOverTheTexelsEachMaterialCovers) {
+  json d = atlasDoc({0.55f, 0.1f, 0.95f, 0.1f, 0.55f, 0.9f});  // the shade over the right half
   auto dir = freshDir("factor-maps");
   // Metallic-roughness: blue (metal) 255 on the left, 0 on the right; green (roughness) 51 everywhere.
   test::writeBytes(dir / "mr.png", test::pngOf(8, 8, [](int x, int) {
@@ -257,6 +264,17 @@ TEST(GltfImport, FactorMapsAreReadOverTheTexelsEachMaterialCovers) {
   EXPECT_NEAR(mats[1].kt, 0.4f, 1e-3f);
   EXPECT_NEAR(mats[1].kd.x, 0.8f * 0.6f, 1e-3f);
   EXPECT_NEAR(mats[1].roughness, 0.2f, 1e-3f);
+  // A palette atlas maps whole faces to one texel: the shade's triangle at one point of the right half.
+  json palette = atlasDoc({0.75f, 0.5f, 0.75f, 0.5f, 0.75f, 0.5f});
+  palette["images"] = d["images"];
+  palette["textures"] = d["textures"];
+  palette["materials"] = d["materials"];
+  palette["meshes"] = d["meshes"];
+  palette["extensionsUsed"] = d["extensionsUsed"];
+  auto flat = load(writeText(dir / "atlas-palette.gltf", palette.dump()));
+  ASSERT_TRUE(flat.asset.ok()) << flat.asset.error().message;
+  EXPECT_NEAR(flat.asset->scene.materials[1].kt, 0.4f, 1e-3f) << "the palette texel's transmission";
+  EXPECT_NEAR(flat.asset->scene.materials[1].ks.x, 0.04f, 1e-3f) << "the palette texel's dielectric";
   // A material no triangle uses would keep the whole atlas's means; one without uvs too (the triangle doc).
   d["meshes"][0]["primitives"] = {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 1}}};
   auto whole = load(writeText(dir / "atlas-no-uvs.gltf", d.dump()));

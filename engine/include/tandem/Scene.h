@@ -86,9 +86,9 @@ struct Material {
   float alphaCutoff = 0.5f;
   float opacity = 1.0f;         // base alpha
   bool unlit = false;           // KHR_materials_unlit: colour = kd, no lights
-  // false (glTF's single-sided, its default there): the back faces are culled in the raster, and a ray that
-  // meets an opaque one from behind passes through it (a transmissive one still refracts at its inner faces:
-  // a closed glass volume). Both sides are surfaces by default, as every scene file's faces were before.
+  // false (glTF's single-sided, its default there): the back faces of an opaque material are culled in the
+  // raster and passed by rays (passedFromBehind below; a transmissive one stays a surface from both sides: a
+  // closed glass volume). Both sides are surfaces by default, as every scene file's faces were before.
   bool doubleSided = true;
   glm::mat3 uvTransform{1.0f};  // KHR_texture_transform applied to uv before sampling
   int emissiveTexture = -1;     // sRGB, multiplies `emission` (glTF emissiveTexture); -1 for none
@@ -96,6 +96,11 @@ struct Material {
   // the material's kt·T part only, not to light passing uncovered parts of a BLEND surface.
   glm::vec3 transmissionTint{1.0f};
 };
+
+/// Whether the raster culls this material's back faces and rays pass them (docs/gltf.md, "Single-sided
+/// faces"): single-sided and opaque. A transmissive single-sided face is a surface from both sides in both,
+/// since a closed glass volume refracts at its inner faces.
+inline bool passedFromBehind(const Material& m) { return !m.doubleSided && !(m.kt > 0.0f); }
 
 struct Texture {
   std::string name;

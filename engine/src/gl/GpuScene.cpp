@@ -452,12 +452,16 @@ void GpuScene::updateMaterials(const Scene& scene, std::optional<ShadingModel> s
                         return m.shading == ShadingModel::Gouraud;
                       }));
   override_ = shadingOverride;
-  // Single-sided materials (glTF's default) draw with back faces culled: per command, for draw() to run
+  // Single-sided opaque materials (glTF's default) draw with back faces culled, as the rays pass them
+  // (passedFromBehind; exact solids are closed, and the rays see the solid): per command, for draw() to run
   // each stretch of equal sidedness as one call.
   drawCulled_.assign(drawInstance_.size(), 0);
   for (std::size_t k = 0; k < drawInstance_.size(); ++k) {
-    const std::uint32_t material = scene.instances[drawInstance_[k]].material;
-    drawCulled_[k] = material < scene.materials.size() && !scene.materials[material].doubleSided ? 1 : 0;
+    const Instance& inst = scene.instances[drawInstance_[k]];
+    drawCulled_[k] = inst.material < scene.materials.size() && passedFromBehind(scene.materials[inst.material]) &&
+                             !scene.meshes[inst.mesh].exact
+                         ? 1
+                         : 0;
   }
   features_.alphaMask = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
     return m.alphaMode == AlphaMode::Mask && m.alphaCutoff > 0.0f;

@@ -111,8 +111,8 @@ class GpuScene {
   /// effects keep what the static ones draw and draw the dynamic ones over it).
   enum class Instances { All, Static, Dynamic };
   /// With `seen` (one flag per instance), only the instances it marks: a face's culled draw (seenBy).
-  /// Single-sided materials (Material::doubleSided false) lose their back faces, in views and in a light's
-  /// shadow maps alike (a face turned away from the light lets its light through, docs/gltf.md).
+  /// Single-sided opaque materials (passedFromBehind) lose their back faces, in views and in a light's shadow
+  /// maps alike (a face turned away from the light lets its light through, docs/gltf.md).
   void draw(Instances which, const std::vector<std::uint8_t>* seen = nullptr) const;
   int dynamicCount() const { return dynamicDraws_; }
 

@@ -39,7 +39,7 @@ class ReflectionProbes {
   Texture sampledDepth_;  // what toon outlines read while depth_ is attached to the face (64 KiB)
   Framebuffer rasterFbo_, shadeFbo_;
   Framebuffer mipRead_, mipDraw_;  // the mip chain of a re-rendered probe, level by level
-  std::vector<std::uint32_t> probes_;  // the instance of each slot (GpuScene's probeInstances order)
+  std::vector<std::uint32_t> probes_;  // the instance of each slot (GpuScene::probes(): the probe layout)
   std::vector<std::uint8_t> seen_;     // the face being drawn: which instances it may see (seenBy)
   int count_ = 0;
   int faceSize_ = 0;

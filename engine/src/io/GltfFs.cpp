@@ -358,9 +358,13 @@ Result<JsonScan> prescanJson(const std::uint8_t* data, std::size_t size, bool gl
   // its own words ("accessor[0] invalid bufferView").
   if (auto required = doc.find("extensionsRequired"); required != doc.end() && required->is_array()) {
     std::string unknown;
-    for (const json& e : *required)
-      if (e.is_string() && !supportedExtension(e.get_ref<const std::string&>()))
-        unknown += (unknown.empty() ? "" : ", ") + shortKey(e.get_ref<const std::string&>());
+    int named = 0, more = 0;
+    for (const json& e : *required) {
+      if (!e.is_string() || supportedExtension(e.get_ref<const std::string&>())) continue;
+      if (++named > 8) ++more;
+      else unknown += (unknown.empty() ? "" : ", ") + shortKey(e.get_ref<const std::string&>());
+    }
+    if (more > 0) unknown += " and " + std::to_string(more) + " more";
     if (!unknown.empty()) return Error{"extensionsRequired names unsupported extensions: " + unknown};
   }
   JsonScan scan;

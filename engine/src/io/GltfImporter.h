@@ -130,8 +130,9 @@ class Importer {
   // The textures that scale a material's factors (not sampled per pixel: one Phong lobe per material), read
   // through their means over the texels the material's triangles cover (applyFactorMaps, after the meshes).
   struct FactorMaps {
-    int metallicRoughness = -1, transmission = -1;  // scene textures, -1 for none
-    glm::mat3 metallicRoughnessUv{1.0f};            // the map's KHR_texture_transform
+    int metallicRoughness = -1, transmission = -1;        // scene textures, -1 for none
+    glm::mat3 metallicRoughnessUv{1.0f}, transmissionUv{1.0f};  // each map's KHR_texture_transform
+    bool metallicRoughnessOnUv0 = true, transmissionOnUv0 = true;  // read on TEXCOORD_0 (else: the whole mean)
   };
   std::vector<FactorMaps> factorMaps_;  // per glTF material
   std::map<std::uint32_t, std::uint32_t> unposedCopy_;  // scene material → its double-sided copy

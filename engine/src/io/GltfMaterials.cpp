@@ -3,6 +3,8 @@
 #include <stb_image.h>
 
 #include <algorithm>
+#include <map>
+#include <set>
 
 #include "core/StbGuard.h"
 #include "io/GltfImporter.h"
@@ -100,9 +102,11 @@ int Importer::texture(int gltfTexture, bool srgb, const std::string& usage) {
 
 // ---- materials ----
 
-glm::mat3 textureTransform(const tinygltf::ExtensionMap& e) {
-  const tinygltf::Value* tt = ext(e, "KHR_texture_transform");
-  if (!tt) return glm::mat3(1.0f);
+glm::mat3 textureTransformOf(const tinygltf::Value* tt);
+glm::mat3 textureTransform(const tinygltf::ExtensionMap& e) { return textureTransformOf(ext(e, "KHR_texture_transform")); }
+
+glm::mat3 textureTransformOf(const tinygltf::Value* tt) {
+  if (!tt || !tt->IsObject()) return glm::mat3(1.0f);
   glm::vec2 offset(0.0f), scale(1.0f);
   if (tt->Has("offset") && tt->Get("offset").ArrayLen() == 2 && tt->Get("offset").Get(0).IsNumber() &&
       tt->Get("offset").Get(1).IsNumber())
@@ -223,16 +227,30 @@ Result<void> Importer::readFactorMaps(const tinygltf::Material& g, const std::st
     maps.metallicRoughness = texture(pbr.metallicRoughnessTexture.index, false, id + " metallic-roughness");
     if (budgetRefusal_) return *budgetRefusal_;
     maps.metallicRoughnessUv = textureTransform(pbr.metallicRoughnessTexture.extensions);
+    maps.metallicRoughnessOnUv0 =
+        texCoordOf(pbr.metallicRoughnessTexture.extensions, pbr.metallicRoughnessTexture.texCoord) == 0;
   }
   if (const tinygltf::Value* e = ext(g.extensions, "KHR_materials_transmission");
-      e && e->Has("transmissionTexture")) {
-    const int index = intOf(e->Get("transmissionTexture"), "index", -1);
+      e && e->IsObject() && e->Has("transmissionTexture") && e->Get("transmissionTexture").IsObject()) {
+    const tinygltf::Value& info = e->Get("transmissionTexture");
+    const int index = intOf(info, "index", -1);
     if (index >= int(m_.textures.size()))
       return err(id + ": KHR_materials_transmission.transmissionTexture.index " + std::to_string(index) +
                  " does not exist");
     maps.transmission = texture(index, false, id + " transmission");
     if (budgetRefusal_) return *budgetRefusal_;
+    int texCoord = intOf(info, "texCoord", 0);
+    if (info.Has("extensions") && info.Get("extensions").IsObject() &&
+        info.Get("extensions").Has("KHR_texture_transform")) {
+      const tinygltf::Value& tt = info.Get("extensions").Get("KHR_texture_transform");
+      maps.transmissionUv = textureTransformOf(&tt);
+      texCoord = intOf(tt, "texCoord", texCoord);
+    }
+    maps.transmissionOnUv0 = texCoord == 0;
   }
+  // Only TEXCOORD_0 is read: a map on another set is taken by its whole texture's mean.
+  if ((maps.metallicRoughness >= 0 && !maps.metallicRoughnessOnUv0) || (maps.transmission >= 0 && !maps.transmissionOnUv0))
+    warn_(id + ": a metallic-roughness or transmission texture uses a TEXCOORD other than 0; its whole mean is used");
   return {};
 }
 
@@ -252,84 +270,108 @@ glm::dvec4 Importer::wholeMean(int index) {
 
 namespace {
 
-// The mean of `t` over the uv footprint of `meshes`' triangles (uv' = uvTransform·uv, repeat wrap, nearest
-// texel), weighted by uv area: each triangle sampled at stratified points, as many as the cells of a 256²
-// grid it covers (at least one, at most 1024; 4 M in all at most). Empty without uvs or area.
+// A uv triangle's area (1: the whole texture).
+double uvArea(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+  return 0.5 * std::abs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+}
+
+// Samples `t` over the uv footprint of `meshes`' triangles (uv' = uvTransform·uv, repeat wrap, nearest texel),
+// weighted by uv area: each triangle at stratified points, as many as the cells of a 256² grid it covers times
+// `scale` (at least one, at most 1024); a triangle of no uv area (a palette atlas maps whole faces to one
+// point) at its centroid, counted only where the material has no area at all. Empty without uvs.
 std::optional<glm::dvec4> footprintMean(const Texture& t, const glm::mat3& uvTransform,
-                                        const std::vector<const Mesh*>& meshes) {
-  if (t.width <= 0 || t.height <= 0) return std::nullopt;
-  auto uvArea = [](glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
-    return 0.5 * std::abs((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+                                        const std::vector<const Mesh*>& meshes, double scale) {
+  if (t.width <= 0 || t.height <= 0 || meshes.empty()) return std::nullopt;
+  auto texel = [&](glm::dvec2 uv) {
+    const double fu = uv.x - std::floor(uv.x), fv = uv.y - std::floor(uv.y);
+    if (!std::isfinite(fu) || !std::isfinite(fv)) return glm::dvec4(-1.0);
+    const std::size_t x = std::min(std::size_t(fu * t.width), std::size_t(t.width - 1));
+    const std::size_t y = std::min(std::size_t(fv * t.height), std::size_t(t.height - 1));  // v down, row 0 on top
+    const std::uint8_t* p = &t.rgba8[4 * (y * std::size_t(t.width) + x)];
+    return glm::dvec4(p[0], p[1], p[2], p[3]);
   };
-  auto corner = [&](const Mesh& m, std::size_t i) { return glm::dvec2(glm::dmat3(uvTransform) * glm::dvec3(m.uvs[i], 1.0)); };
-  constexpr double kCells = 256.0 * 256.0, kMaxSamples = 4.0e6;
-  double totalCells = 0.0;
-  for (const Mesh* m : meshes)
-    for (std::size_t k = 0; k + 2 < m->indices.size(); k += 3)
-      totalCells += std::min(1024.0, kCells * uvArea(corner(*m, m->indices[k]), corner(*m, m->indices[k + 1]),
-                                                     corner(*m, m->indices[k + 2])));
-  const double scale = totalCells > kMaxSamples ? kMaxSamples / totalCells : 1.0;
-  glm::dvec4 sum(0.0);
-  double weight = 0.0;
-  for (const Mesh* m : meshes)
-    for (std::size_t k = 0; k + 2 < m->indices.size(); k += 3) {
-      const glm::dvec2 a = corner(*m, m->indices[k]), b = corner(*m, m->indices[k + 1]), c = corner(*m, m->indices[k + 2]);
+  const glm::dmat3 m(uvTransform);
+  glm::dvec4 sum(0.0), flatSum(0.0);
+  double weight = 0.0, flatCount = 0.0;
+  for (const Mesh* mesh : meshes)
+    for (std::size_t k = 0; k + 2 < mesh->indices.size(); k += 3) {
+      const glm::dvec2 a(m * glm::dvec3(mesh->uvs[mesh->indices[k]], 1.0)), b(m * glm::dvec3(mesh->uvs[mesh->indices[k + 1]], 1.0)),
+          c(m * glm::dvec3(mesh->uvs[mesh->indices[k + 2]], 1.0));
       const double area = uvArea(a, b, c);
-      if (!(area > 0.0) || !std::isfinite(area)) continue;
-      const int n = int(std::clamp(std::ceil(scale * std::min(1024.0, kCells * area)), 1.0, 1024.0));
+      if (!std::isfinite(area)) continue;
+      if (!(area > 0.0)) {
+        const glm::dvec4 v = texel((a + b + c) / 3.0);
+        if (v.x >= 0.0) flatSum += v, flatCount += 1.0;
+        continue;
+      }
+      const int n = int(std::clamp(std::ceil(scale * std::min(1024.0, 65536.0 * area)), 1.0, 1024.0));
       for (int s = 0; s < n; ++s) {
         // A stratified point of the triangle: (s + ½)/n and the golden ratio's sequence, warped to barycentrics.
         const double r1 = (s + 0.5) / n, r2 = std::fmod(0.5 + s * 0.6180339887498949, 1.0);
         const double su = std::sqrt(r1);
-        const glm::dvec2 uv = (1.0 - su) * a + su * (1.0 - r2) * b + su * r2 * c;
-        const double fu = uv.x - std::floor(uv.x), fv = uv.y - std::floor(uv.y);
-        const std::size_t x = std::min(std::size_t(fu * t.width), std::size_t(t.width - 1));
-        const std::size_t y = std::min(std::size_t(fv * t.height), std::size_t(t.height - 1));  // v down, row 0 on top
-        const std::uint8_t* texel = &t.rgba8[4 * (y * std::size_t(t.width) + x)];
-        const double w = area / n;
-        for (int ch = 0; ch < 4; ++ch) sum[ch] += w * texel[ch];
-        weight += w;
+        const glm::dvec4 v = texel((1.0 - su) * a + su * (1.0 - r2) * b + su * r2 * c);
+        if (v.x < 0.0) continue;
+        sum += (area / n) * v;
+        weight += area / n;
       }
     }
-  if (!(weight > 0.0)) return std::nullopt;
-  return sum / (255.0 * weight);
+  if (weight > 0.0) return sum / (255.0 * weight);
+  if (flatCount > 0.0) return flatSum / (255.0 * flatCount);
+  return std::nullopt;
 }
 
 }  // namespace
 
 void Importer::applyFactorMaps() {
+  // The meshes each scene material is drawn with, each once, in one pass over the instances (a material's
+  // unposed skins' copy counts as the material).
+  std::map<std::uint32_t, std::uint32_t> original;
+  for (const auto& [from, copy] : unposedCopy_) original[copy] = from;
+  std::vector<std::vector<const Mesh*>> meshesOf(out_.scene.materials.size());
+  std::set<std::pair<std::uint32_t, std::uint32_t>> seen;
+  for (const Instance& inst : out_.scene.instances) {
+    std::uint32_t material = inst.material;
+    if (auto it = original.find(material); it != original.end()) material = it->second;
+    const Mesh& m = out_.scene.meshes[inst.mesh];
+    if (m.uvs.size() != m.positions.size() || !seen.insert({material, inst.mesh}).second) continue;
+    meshesOf[material].push_back(&m);
+  }
+  // One sample budget for the whole file (4 M samples beyond one a triangle): every material's share scaled
+  // alike, so a file of many materials over large uv areas costs what one would.
+  double cells = 0.0;
+  for (std::size_t i = 0; i < factorMaps_.size() && i < m_.materials.size(); ++i) {
+    const FactorMaps& maps = factorMaps_[i];
+    if (maps.metallicRoughness < 0 && maps.transmission < 0) continue;
+    for (const Mesh* mesh : meshesOf[std::size_t(materialOf_[i])])
+      for (std::size_t k = 0; k + 2 < mesh->indices.size(); k += 3) {
+        const double area = uvArea(mesh->uvs[mesh->indices[k]], mesh->uvs[mesh->indices[k + 1]], mesh->uvs[mesh->indices[k + 2]]);
+        if (std::isfinite(area)) cells += 2.0 * std::min(1024.0, 65536.0 * area);  // two maps at most
+      }
+  }
+  const double scale = cells > 4.0e6 ? 4.0e6 / cells : 1.0;
   for (std::size_t i = 0; i < factorMaps_.size() && i < m_.materials.size(); ++i) {
     const FactorMaps& maps = factorMaps_[i];
     if (maps.metallicRoughness < 0 && maps.transmission < 0) continue;
     const std::uint32_t material = std::uint32_t(materialOf_[i]);
-    const auto copy = unposedCopy_.find(material);
-    // The meshes this material (or its unposed skins' copy) is drawn with, each once.
-    std::vector<const Mesh*> meshes;
-    std::vector<bool> taken(out_.scene.meshes.size(), false);
-    for (const Instance& inst : out_.scene.instances) {
-      const Mesh& m = out_.scene.meshes[inst.mesh];
-      const bool ours = inst.material == material || (copy != unposedCopy_.end() && inst.material == copy->second);
-      if (!ours || taken[inst.mesh] || m.uvs.size() != m.positions.size()) continue;
-      taken[inst.mesh] = true;
-      meshes.push_back(&m);
-    }
-    auto mean = [&](int texture, const glm::mat3& uv) {
-      if (auto m = footprintMean(out_.scene.textures[std::size_t(texture)], uv, meshes)) return *m;
+    const std::vector<const Mesh*>& meshes = meshesOf[material];
+    auto mean = [&](int texture, const glm::mat3& uv, bool footprint) {
+      if (footprint)
+        if (auto m = footprintMean(out_.scene.textures[std::size_t(texture)], uv, meshes, scale)) return *m;
       return wholeMean(texture);
     };
     const tinygltf::Material& g = m_.materials[i];
     const auto& pbr = g.pbrMetallicRoughness;
     float metallic = float(pbr.metallicFactor), rough = float(pbr.roughnessFactor);
     if (maps.metallicRoughness >= 0) {
-      const glm::dvec4 mr = mean(maps.metallicRoughness, maps.metallicRoughnessUv);
+      const glm::dvec4 mr = mean(maps.metallicRoughness, maps.metallicRoughnessUv, maps.metallicRoughnessOnUv0);
       rough *= float(mr.g);
       metallic *= float(mr.b);
     }
     MaterialExtensions x = readMaterialExtensions(g, "", warn_, false);
-    if (maps.transmission >= 0) x.transmission *= float(mean(maps.transmission, glm::mat3(1.0f)).r);
+    if (maps.transmission >= 0) x.transmission *= float(mean(maps.transmission, maps.transmissionUv, maps.transmissionOnUv0).r);
     const glm::vec3 base(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]), float(pbr.baseColorFactor[2]));
     setPhongTerms(out_.scene.materials[material], g, base, metallic, rough, x);
-    if (copy != unposedCopy_.end()) {
+    if (auto copy = unposedCopy_.find(material); copy != unposedCopy_.end()) {
       Material both = out_.scene.materials[material];
       both.doubleSided = true;
       both.name = out_.scene.materials[copy->second].name;

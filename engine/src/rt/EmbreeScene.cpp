@@ -258,7 +258,7 @@ void EmbreeScene::collectSingleSided(const Scene& scene) {
   for (std::size_t i = 0; i < scene.instances.size(); ++i) {
     const Instance& inst = scene.instances[i];
     const Material& mat = scene.materials[inst.material];
-    if (mat.doubleSided || mat.kt > 0.0f || scene.meshes[inst.mesh].exact) continue;
+    if (!passedFromBehind(mat) || scene.meshes[inst.mesh].exact) continue;
     singleSided_[i] = 1;
     meshCulled_[inst.mesh] = 1;
   }
