@@ -188,7 +188,7 @@ MUTATIONS = [
      "  applyFactorMaps();\n", "",
      "tandem-unit-tests", "GltfImport.*"),
     ("gltf-transmission-texture-ignored", "engine/src/io/GltfMaterials.cpp",
-     "    if (maps.transmission >= 0) x.transmission *= float(mean(maps.transmission, glm::mat3(1.0f)).r);\n", "",
+     "    if (maps.transmission >= 0) x.transmission *= float(mean(maps.transmission, maps.transmissionUv, maps.transmissionOnUv0).r);\n", "",
      "tandem-unit-tests", "GltfImport.*"),
     ("gltf-unposed-skins-single-sided", "engine/src/io/GltfImport.cpp",
      "      if (n.skin >= 0) inst.material = unposedMaterial(inst.material);\n", "",
