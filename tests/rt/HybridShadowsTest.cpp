@@ -113,6 +113,19 @@ TEST(HybridShadows, LightsAtSurfaces) {
 }
 
 // An alpha-mask quad with holes: rays pass through its holes, so its triangles may only ever prove "lit".
+// A 20-unit floor and a 3-unit quad of `quad` placed by `at`, a directional and a point light above, seen from
+// above and to the side.
+void quadOverAFloor(Scene& scene, const Material& quad, const glm::mat4& at) {
+  std::uint32_t floorMat = addMaterial(scene, diffuse(glm::vec3(0.7f)));
+  std::uint32_t quadMat = addMaterial(scene, quad);
+  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 1)), floorMat, glm::mat4(1.0f));
+  addInstance(scene, addMesh(scene, makePlane({3.0f, 3.0f}, 1)), quadMat, at);
+  scene.lights.push_back(directional({0.1f, -1.0f, 0.05f}));
+  scene.lights.push_back(pointLight({0.5f, 4.0f, 0.5f}));
+  scene.camera.posW = {0.0f, 6.0f, 6.0f};
+  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+}
+
 TEST(HybridShadows, AlphaMaskHolesAreNeverProvedShadowed) {
   Scene scene;
   Texture tex;  // columns alternate holes and solid
@@ -123,14 +136,7 @@ TEST(HybridShadows, AlphaMaskHolesAreNeverProvedShadowed) {
   Material cutout = diffuse(glm::vec3(0.8f));
   cutout.kdTexture = 0;
   cutout.alphaMode = AlphaMode::Mask;
-  std::uint32_t floorMat = addMaterial(scene, diffuse(glm::vec3(0.7f)));
-  std::uint32_t cutMat = addMaterial(scene, cutout);
-  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 1)), floorMat, glm::mat4(1.0f));
-  addInstance(scene, addMesh(scene, makePlane({3.0f, 3.0f}, 1)), cutMat, translate({0.0f, 1.0f, 0.0f}));
-  scene.lights.push_back(directional({0.1f, -1.0f, 0.05f}));
-  scene.lights.push_back(pointLight({0.5f, 4.0f, 0.5f}));
-  scene.camera.posW = {0.0f, 6.0f, 6.0f};
-  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  quadOverAFloor(scene, cutout, translate({0.0f, 1.0f, 0.0f}));
   Both b = renderBoth(scene, settings(240, 135));
   EXPECT_EQ(b.maskDiffers, 0u);
   expectMostDecided(b, 0.5);
@@ -145,15 +151,7 @@ TEST(HybridShadows, SingleSidedFacesTurnedAwayAreNeverProvedShadowed) {
   Scene scene;
   Material paper = diffuse(glm::vec3(0.8f));
   paper.doubleSided = false;
-  std::uint32_t floorMat = addMaterial(scene, diffuse(glm::vec3(0.7f)));
-  std::uint32_t paperMat = addMaterial(scene, paper);
-  addInstance(scene, addMesh(scene, makePlane({20.0f, 20.0f}, 1)), floorMat, glm::mat4(1.0f));
-  addInstance(scene, addMesh(scene, makePlane({3.0f, 3.0f}, 1)), paperMat,
-              glm::rotate(translate({0.0f, 1.0f, 0.0f}), glm::pi<float>(), glm::vec3(1.0f, 0.0f, 0.0f)));
-  scene.lights.push_back(directional({0.1f, -1.0f, 0.05f}));
-  scene.lights.push_back(pointLight({0.5f, 4.0f, 0.5f}));
-  scene.camera.posW = {0.0f, 6.0f, 6.0f};
-  scene.camera.targetW = {0.0f, 0.0f, 0.0f};
+  quadOverAFloor(scene, paper, glm::rotate(translate({0.0f, 1.0f, 0.0f}), glm::pi<float>(), glm::vec3(1.0f, 0.0f, 0.0f)));
   Both b = renderBoth(scene, settings(240, 135));
   EXPECT_EQ(b.maskDiffers, 0u);
   expectMostDecided(b, 0.5);
