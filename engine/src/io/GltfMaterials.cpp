@@ -417,16 +417,9 @@ Result<void> Importer::buildMaterials() {
     Material mat;
     mat.name = g.name;
     const glm::vec3 base(float(pbr.baseColorFactor[0]), float(pbr.baseColorFactor[1]), float(pbr.baseColorFactor[2]));
-    float metallic = float(pbr.metallicFactor), rough = float(pbr.roughnessFactor);
     if (auto read = readFactorMaps(g, id, i); !read) return read;
-    MaterialExtensions x = readMaterialExtensions(g, id, warn_);
-    // The maps' whole means until applyFactorMaps has the triangles that use them.
-    if (const int mr = factorMaps_[i].metallicRoughness; mr >= 0) {
-      rough *= float(wholeMean(mr).g);
-      metallic *= float(wholeMean(mr).b);
-    }
-    if (const int t = factorMaps_[i].transmission; t >= 0) x.transmission *= float(wholeMean(t).r);
-    setPhongTerms(mat, g, base, metallic, rough, x);
+    // The factors alone here: applyFactorMaps scales them by the maps once the triangles that use them exist.
+    setPhongTerms(mat, g, base, float(pbr.metallicFactor), float(pbr.roughnessFactor), readMaterialExtensions(g, id, warn_));
     if (auto attached = attachMaterialTextures(mat, g, id); !attached) return attached;
     wantsTangents_.push_back(mat.normalTexture >= 0);
     materialOf_.push_back(int(out_.scene.materials.size()));

@@ -130,9 +130,6 @@ class EmbreeScene {
     return (instance < instanceMask_.size() && instanceMask_[instance] >= 0) ||
            (instance < cullSign_.size() && cullSign_[instance] != 0);
   }
-  /// Whether rays pass through the instance's back faces (Material::doubleSided false, the material opaque);
-  /// shadow rays, the light's, through the faces turned away from the light.
-  bool culledFromBehind(std::size_t instance) const { return instance < cullSign_.size() && cullSign_[instance] != 0; }
   /// Alpha MASK test at a hit with Embree's barycentrics (u, v): false where the point is a cut-out hole
   /// (tdCoverage of the kd texture's alpha, sampled as shading samples it, below the cutoff).
   bool maskCovers(std::uint32_t instance, std::uint32_t mesh, std::uint32_t triangle, float u, float v) const;
