@@ -70,6 +70,8 @@
 #define TD_UNIT_MOTION_INSTANCES 27  // RGBA32F buffer: per instance 4 texels, previous-from-current render space
 #define TD_UNIT_PREVIOUS_IDS 28      // RG32UI: the last frame's ids (GL rows)
 #define TD_UNIT_PREVIOUS_DEPTH 29    // the last frame's visibility depth
+// ---- texture units: the environment (GpuScene; docs/environment.md) — the proofs' number, another program's ----
+#define TD_UNIT_ENVIRONMENT 30       // RGB32F: the environment's equirectangular image (TD_ENV_MAP), top row first
 // ---- texture units: the hybrid shadows' maps in the GL (ShadowProofPass; shadow_proof.frag) ----
 #define TD_UNIT_PROOF_TEXELS 27     // R32UI: texel records, TD_PROOF_RECORD words each
 #define TD_UNIT_PROOF_TRIANGLES 28  // RGBA32F: 5 per triangle (plane, edges, magnitude / valid / blocks)
@@ -119,6 +121,10 @@
 #define TD_LOC_PREVIOUS_CLIP_FROM_VIEW_ROTATION 24  // and the last frame's (4 locations)
 #define TD_LOC_PREVIOUS_CAMERA_POS 28               // the last frame's camera, render space
 #define TD_LOC_MOTION_HISTORY 29                    // 1: the last frame's ids, depth and transforms are bound
+#define TD_LOC_ENV_KIND 30    // the environment (core/Environment.h EnvironmentLookup): TD_ENV_*
+#define TD_LOC_ENV_PARAMS 31  // xy cos, sin of its turn about +Y; z the image's scale; w 1: it lights the ambient term
+#define TD_LOC_ENV_SKY 32     // the sky's zenith, horizon and ground, scaled (3 locations)
+#define TD_LOC_ENV_SH 35      // the ambient term's nine coefficients, scaled (9 locations, 35-43)
 #define TD_MAX_MOVED_BOXES 8         // the filter's boxes of what moved since the last frame (denoise.frag)
 #define TD_LOC_PREVIOUS_CAMERA_FORWARD 47  // the filter's guides: the last frame's camera axis (unit, render space)
 #define TD_LOC_SAMPLE_OFFSET 48            // the filter's guides: the frame's sub-pixel offset (pixels, GL rows)
@@ -140,7 +146,6 @@
 #define TD_LOC_DENOISE_MAX_HISTORY 8     // frames the temporal mean spans at most
 #define TD_LOC_DENOISE_EXPOSURE 9        // the anti-aliasing writes the display too (tdDisplay)
 #define TD_LOC_DENOISE_TONE_MAP 10
-#define TD_LOC_DENOISE_BACKGROUND 11     // the compose or upsampling stage's background pixels
 #define TD_LOC_DENOISE_GRID_SCALE 12     // the ray grid's divisor (rayScale): the filter's own pixels are the grid's
 #define TD_LOC_DENOISE_GRID_SIZE 13      // the grid's size in pixels
 #define TD_LOC_DENOISE_CAMERA_POS 14     // the camera, render space (the temporal stage rebuilds points)

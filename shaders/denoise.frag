@@ -42,7 +42,6 @@ layout(location = TD_LOC_DENOISE_HISTORY) uniform int history;
 layout(location = TD_LOC_DENOISE_MAX_HISTORY) uniform float maxHistory;
 layout(location = TD_LOC_DENOISE_EXPOSURE) uniform float exposure;
 layout(location = TD_LOC_DENOISE_TONE_MAP) uniform int toneMap;
-layout(location = TD_LOC_DENOISE_BACKGROUND) uniform vec3 background;
 layout(location = TD_LOC_DENOISE_GRID_SCALE) uniform int gridScale;   // 1: the grid is the frame
 layout(location = TD_LOC_DENOISE_GRID_SIZE) uniform ivec2 gridSize;   // the temporal and a-trous stages' pixels
 
@@ -521,24 +520,27 @@ void main() {
 #elif TD_DENOISE_STAGE == 2
   // Compose: back to radiance (times the modulation).
   uvec4 centre = texelFetch(inputTex, p, 0);
-  vec3 linear = background;
+  // (The background's radiance is all past the filter: the environment, as the shade pass wrote it.)
+  vec3 exact = texelFetch(exactTex, p, 0).rgb;
+  vec3 linear = exact;
   bool drop = false;
   if (tdInstanceTag(centre.w) != 0u) {
     uvec4 g = texelFetch(guideTex, p, 0);
     vec3 modulation = vec3(unpackHalf2x16(g.z), unpackHalf2x16(g.w).x);
     vec3 illum = illumination(centre);
-    linear = illum * modulation + texelFetch(exactTex, p, 0).rgb;
+    linear = illum * modulation + exact;
     drop = dropped(centre);
   }
   outFiltered = vec4(linear, drop ? 1.0 : 0.0);
 #elif TD_DENOISE_STAGE == 4
   // Last on a coarser grid: the grid's filtered value at this pixel, times the pixel's own modulation.
   uvec4 g = texelFetch(guideTex, p, 0);
-  vec3 linear = background;
+  vec3 exact = texelFetch(exactTex, p, 0).rgb;
+  vec3 linear = exact;
   bool drop = false;
   if (tdInstanceTag(g.y) != 0u) {
     vec3 modulation = vec3(unpackHalf2x16(g.z), unpackHalf2x16(g.w).x);
-    linear = upsample(p, g, drop) * modulation + texelFetch(exactTex, p, 0).rgb;
+    linear = upsample(p, g, drop) * modulation + exact;
   }
   outFiltered = vec4(linear, drop ? 1.0 : 0.0);
 #else

@@ -127,6 +127,23 @@ layout(location = TD_LOC_ORTHOGRAPHIC) uniform int orthographic;
 layout(location = TD_LOC_FRAME_SIZE) uniform ivec2 frameSize;
 layout(location = TD_LOC_BACKGROUND) uniform vec3 background;
 layout(location = TD_LOC_AMBIENT) uniform vec3 ambientIa;
+// The environment (docs/environment.md): core/Environment.h's EnvironmentLookup, from the same record.
+layout(location = TD_LOC_ENV_KIND) uniform int envKind;
+layout(location = TD_LOC_ENV_PARAMS) uniform vec4 envParams;  // xy its turn's cos, sin; z the image's scale; w lights ambient
+layout(location = TD_LOC_ENV_SKY) uniform vec3 envSky[3];     // zenith, horizon, ground
+layout(location = TD_LOC_ENV_SH) uniform vec3 envSh[9];
+layout(binding = TD_UNIT_ENVIRONMENT) uniform sampler2D envMap;  // linear filtering, u repeats, v clamped
+// What a ray leaving the scene along unit dirW sees. (A level-0 lookup: no derivatives where pixels branch.)
+vec3 environmentRadiance(vec3 dirW) {
+  if (envKind == TD_ENV_BACKGROUND) return background;
+  vec3 d = tdEnvironmentFrame(dirW, envParams.xy);
+  if (envKind == TD_ENV_SKY) return tdSkyRadiance(d, envSky[0], envSky[1], envSky[2]);
+  return envParams.z * textureLod(envMap, tdEquirectUv(d), 0.0).rgb;
+}
+// The environment's share of the ambient term at a surface facing unit nW.
+vec3 environmentAmbient(vec3 nW) {
+  return envParams.w > 0.5 ? tdShAmbient(tdEnvironmentFrame(nW, envParams.xy), envSh) : vec3(0.0);
+}
 layout(location = TD_LOC_LIGHT_SAMPLES) uniform int lightSamples;  // area-light samples per pixel (rt::FrameShading::lightSamples)
 layout(location = TD_LOC_SAMPLE_BASE) uniform uint sampleBase;   // the sequence index of the first (FrameShading::sampleBase)
 layout(location = TD_LOC_RAY_SCALE) uniform int rayScale;
@@ -301,14 +318,15 @@ void writeGuides(uvec2 id, Surface s, vec3 local, vec3 area, vec3 specular, bool
                    packHalf2x16(modulation.rg), packHalf2x16(vec2(modulation.b, lobe)));
   outMotion = denoiseMotion(id, s.hit.posW);
 }
-void writeNoGuides() {
+// The background's: no guide, and its radiance past the filter (the compose stage takes it as it is).
+void writeNoGuides(vec3 sky) {
   outGuide = uvec4(0u);
   outMotion = vec4(0.0, 0.0, 0.0, -1.0);  // (w -1: the background, as the clear)
-  outExact = vec4(0.0);
+  outExact = vec4(sky, 0.0);
 }
 #else
 void writeGuides(uvec2 id, Surface s, vec3 local, vec3 area, vec3 specular, bool outline) {}
-void writeNoGuides() {}
+void writeNoGuides(vec3 sky) {}
 #endif
 
 // One pixel of the frame: its surface, the rays gathered there (and the probes' raster effects), its local
@@ -319,8 +337,15 @@ void shadePixel() {
   uvec2 id = texelFetch(idsTex, pix, 0).xy;
   vec3 shown;
   if (id.x == 0u) {
-    outColor = vec4(debugView == TD_VIEW_FINAL ? background : vec3(0.0), 1.0);
-    if (kDenoiseGuides) writeNoGuides();
+    // Nothing there: the environment along the pixel's camera ray.
+    vec3 sky = vec3(0.0);
+    if (debugView == TD_VIEW_FINAL) {
+      vec3 origin, dir;
+      cameraRay(vec2(pix) + 0.5, origin, dir);
+      sky = environmentRadiance(dir);
+    }
+    outColor = vec4(sky, 1.0);
+    if (kDenoiseGuides) writeNoGuides(sky);
     return;
   }
   if (idView(pix, id, shown)) {

@@ -511,3 +511,50 @@ TD_FN vec3 tdDisplay(vec3 c, float exposure, int toneMap, bool passThrough) {
 TD_FN float tdSrgbDecode1(float x) {
   return x <= 0.04045f ? x / 12.92f : pow((x + 0.055f) / 1.055f, 2.4f);
 }
+
+// ---- The environment (docs/environment.md): what escaped rays see, and the ambient light it sheds ----
+#define TD_ENV_BACKGROUND 0  // the scene's background colour in every direction; no light
+#define TD_ENV_SKY 1         // tdSkyRadiance's gradient
+#define TD_ENV_MAP 2         // an equirectangular image, looked up at tdEquirectUv
+
+// A world direction in the environment's own frame: the environment turned about +Y by the angle whose
+// cosine and sine are `turn`, so the direction is turned back by it.
+TD_FN vec3 tdEnvironmentFrame(vec3 dirW, vec2 turn) {
+  return vec3(turn.x * dirW.x - turn.y * dirW.z, dirW.y, turn.y * dirW.x + turn.x * dirW.z);
+}
+
+// The sky gradient along unit direction d: the horizon's colour at the horizon, rising (as the square root of
+// the height, so the bright band stays narrow) to the zenith's straight up, and falling to the ground's within
+// a quarter of the way down (a ground plane a little below the eye, not a mirrored sky).
+TD_FN vec3 tdSkyRadiance(vec3 d, vec3 zenith, vec3 horizon, vec3 ground) {
+  float y = clamp(d.y, -1.0f, 1.0f);
+  return y >= 0.0f ? mix(horizon, zenith, sqrt(y)) : mix(horizon, ground, sqrt(min(-4.0f * y, 1.0f)));
+}
+
+// The texture coordinates of unit direction d on an equirectangular image (EnvironmentMap): u turns about +Y
+// (0.5 along −Z, 0.75 along +X), v runs from 0 straight up to 1 straight down (t = v: the top row first).
+TD_FN vec2 tdEquirectUv(vec3 d) {
+  return vec2(atan(d.x, -d.z) * 0.15915494f + 0.5f, acos(clamp(d.y, -1.0f, 1.0f)) * 0.31830989f);
+}
+
+// The real spherical harmonics of bands 0-2 at unit n (the order the nine coefficients are kept in).
+TD_FN float tdShBasis(int i, vec3 n) {
+  if (i == 0) return 0.28209479f;
+  if (i == 1) return 0.48860251f * n.y;
+  if (i == 2) return 0.48860251f * n.z;
+  if (i == 3) return 0.48860251f * n.x;
+  if (i == 4) return 1.09254843f * n.x * n.y;
+  if (i == 5) return 1.09254843f * n.y * n.z;
+  if (i == 6) return 0.31539157f * (3.0f * n.z * n.z - 1.0f);
+  if (i == 7) return 1.09254843f * n.x * n.z;
+  return 0.54627422f * (n.x * n.x - n.y * n.y);
+}
+
+// The ambient light at a surface facing unit n (in the environment's frame): the environment's irradiance
+// over π from its nine coefficients, each already times its band's cosine-lobe factor over π (1, 2/3, 1/4;
+// Ramamoorthi and Hanrahan 2001). Never negative (a truncated series can ring below zero).
+TD_FN vec3 tdShAmbient(vec3 n, vec3 sh[9]) {
+  vec3 e = vec3(0.0f);
+  for (int i = 0; i < 9; ++i) e += sh[i] * tdShBasis(i, n);
+  return max(e, vec3(0.0f));
+}

@@ -118,6 +118,18 @@ int main(int argc, char** argv) {
                  "Motion blur: seconds the camera's shutter stays open, >= 0 (0: none); instances with a scene "
                  "`motion` move meanwhile, each sample of --aa or --accumulate at a new time, the reference at one "
                  "per pixel sample (default: the scene camera's shutter)");
+  std::optional<std::string> environment;
+  std::optional<float> environmentIntensity, environmentRotation;
+  app.add_option("--environment", environment,
+                 "What rays leaving the scene see, whose light is also the ambient term's (docs/environment.md): sky "
+                 "(the default sky), none (the scene's background colour, lighting nothing) or an equirectangular "
+                 "Radiance .hdr image (default: the scene's: the sky for glTF files; a JSON scene's environment, else "
+                 "its background)");
+  app.add_option("--environment-intensity", environmentIntensity,
+                 "Scales the environment's radiance, >= 0 (with --environment sky or an .hdr image) (default: 1)");
+  app.add_option("--environment-rotation", environmentRotation,
+                 "Turns the environment about +Y, in degrees, counter-clockwise seen from above (with --environment "
+                 "sky or an .hdr image) (default: 0)");
   cli::addFrameOptions(app, frameOptions);
   try {
     app.parse(argc, argv);
@@ -155,6 +167,34 @@ int main(int argc, char** argv) {
     if (!std::isfinite(*focusDistance) || !(*focusDistance > 0.0f))
       return fail("--focus-distance: must be a finite distance > 0, got " + std::to_string(*focusDistance));
     scene->camera.focusDistance = *focusDistance;
+  }
+
+  if (environment) {
+    Environment e;  // none: the background colour
+    if (*environment == "sky") {
+      e.kind = Environment::Kind::Sky;
+    } else if (*environment != "none") {
+      Result<std::shared_ptr<const EnvironmentMap>> map = loadEnvironmentMap(*environment);
+      if (!map) return fail("--environment: " + map.error().message);
+      e.kind = Environment::Kind::Map;
+      e.map = std::move(*map);
+    }
+    scene->environment = std::move(e);
+  }
+  // Each sets what --environment gives: refused without it, as every flag the render would ignore.
+  const bool environmentSet = environment && *environment != "none";
+  if (environmentIntensity) {
+    if (!environmentSet) return fail("--environment-intensity: scales the environment --environment sky or an .hdr image gives");
+    if (!std::isfinite(*environmentIntensity) || *environmentIntensity < 0.0f || *environmentIntensity > 1e6f)
+      return fail("--environment-intensity: must be a finite scale in 0..1e6, got " + std::to_string(*environmentIntensity));
+    scene->environment.intensity = *environmentIntensity;
+  }
+  if (environmentRotation) {
+    if (!environmentSet) return fail("--environment-rotation: turns the environment --environment sky or an .hdr image gives");
+    if (!std::isfinite(*environmentRotation) || std::abs(*environmentRotation) > 360.0f)
+      return fail("--environment-rotation: must be a finite angle in -360..360 degrees, got " +
+                  std::to_string(*environmentRotation));
+    scene->environment.rotationDeg = *environmentRotation;
   }
 
   Result<cli::ResolvedFrame> resolved = cli::resolveFrame(frameOptions, scene->render);

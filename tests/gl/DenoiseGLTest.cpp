@@ -820,7 +820,7 @@ TEST(Denoise, OnARayGridTheHistoryIsFoundWhereThePointWasAndEachInstanceKeepsIts
   // blend across it would be off by a quarter of the step or more; the a-trous iterations' one-sided taps there
   // move a ramp by less than a hundredth.
   drawWall(pass, 0, 0, 0.0f);
-  pass.filter(linear, display, ids, wallCamera(), false, {}, 1.0f, ToneMap::None, glm::vec3(0.0f), 32);
+  pass.filter(linear, display, ids, wallCamera(), false, {}, 1.0f, ToneMap::None, 32);
   std::vector<glm::vec4> out(kFw * kFh);
   glGetTextureImage(linear.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(out.size() * sizeof(glm::vec4)), out.data());
   int bleeding = 0;
@@ -834,7 +834,7 @@ TEST(Denoise, OnARayGridTheHistoryIsFoundWhereThePointWasAndEachInstanceKeepsIts
   // the ramp plus half the rise; a history read from elsewhere on the ramp is outside the box (dropped: the
   // full rise) or a blend of other values.
   drawWall(pass, kMove, kMove, kRise);
-  pass.filter(linear, display, ids, wallCamera(), true, {}, 1.0f, ToneMap::None, glm::vec3(0.0f), 32);
+  pass.filter(linear, display, ids, wallCamera(), true, {}, 1.0f, ToneMap::None, 32);
   std::vector<glm::uvec4> texels(kGw * kGh);
   glGetTextureImage(pass.history().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
                     static_cast<GLsizei>(texels.size() * sizeof(glm::uvec4)), texels.data());
@@ -904,9 +904,9 @@ TEST(Denoise, AGlossyLobeDropsItsHistoryWhereAMovedBoxIsInItsCone) {
   auto droppedWith = [&](float lobe) {
     pass.forget();
     draw(lobe);
-    pass.filter(linear, display, ids, camera, false, {}, 1.0f, ToneMap::None, glm::vec3(0.0f), 32);
+    pass.filter(linear, display, ids, camera, false, {}, 1.0f, ToneMap::None, 32);
     draw(lobe);
-    pass.filter(linear, display, ids, camera, true, moved, 1.0f, ToneMap::None, glm::vec3(0.0f), 32);
+    pass.filter(linear, display, ids, camera, true, moved, 1.0f, ToneMap::None, 32);
     std::vector<glm::uvec4> texels(kW2 * kH2);
     glGetTextureImage(pass.history().id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
                       static_cast<GLsizei>(texels.size() * sizeof(glm::uvec4)), texels.data());
@@ -949,7 +949,7 @@ struct Filter {
   int w = 0, h = 0;
   void run(bool history, const Camera& camera = grid::wallCamera(), const gl::MovedInstances& moved = {},
            int maxHistory = 32) {
-    pass.filter(linear, display, ids, camera, history, moved, 1.0f, ToneMap::None, glm::vec3(0.0f), maxHistory);
+    pass.filter(linear, display, ids, camera, history, moved, 1.0f, ToneMap::None, maxHistory);
   }
   // The history the last frame wrote (the filter texels after the first a-trous iteration), of the grid's size.
   std::vector<glm::uvec4> historyTexels() const {

@@ -56,11 +56,13 @@ TEST(GltfImport, TriangleLoadsWithGeneratedNormalsAndDefaults) {
   EXPECT_EQ(s.meshes[0].indices, (std::vector<std::uint32_t>{0, 1, 2}));
   ASSERT_EQ(s.meshes[0].normals.size(), 3u);
   EXPECT_NEAR(s.meshes[0].normals[0].z, 1.0f, 1e-6f);
-  // No camera and no lights in the file: a framing camera, a headlight and an ambient light.
+  // No camera and no lights in the file: a framing camera and a headlight; the default sky lights the rest
+  // (docs/environment.md), with no ambient light of its own.
   EXPECT_GT(s.camera.posW.z, 0.5f);
-  ASSERT_EQ(s.lights.size(), 2u);
+  ASSERT_EQ(s.lights.size(), 1u);
   EXPECT_EQ(s.lights[0].type, LightType::Directional);
-  EXPECT_EQ(s.lights[1].type, LightType::Ambient);
+  EXPECT_EQ(s.environment.kind, Environment::Kind::Sky);
+  EXPECT_TRUE(s.environment.lightsAmbient);
   ASSERT_EQ(l.opened.size(), 1u);  // the main file only: the buffer is a data URI
   EXPECT_TRUE(l.asset->animation.empty());
 }
@@ -349,7 +351,8 @@ TEST(GltfImport, LightsCameraAndInstancing) {
   // Candela / π: glTF's Lambertian BRDF is albedo/π, the engine's diffuse term has no 1/π.
   EXPECT_NEAR(s.lights[0].intensity, 5.0 / 3.14159265358979, 1e-5);
   EXPECT_NEAR(s.lights[2].intensity, 3.0 / 3.14159265358979, 1e-5);
-  EXPECT_EQ(s.background, glm::vec3(0.05f));  // glTF has none: the documented dark grey
+  EXPECT_EQ(s.background, glm::vec3(0.05f));  // glTF has none: the documented dark grey, under
+  EXPECT_EQ(s.environment.kind, Environment::Kind::Sky);  // the default sky, with the file's lights too
   EXPECT_FLOAT_EQ(s.lights[0].range, 3.0f);
   EXPECT_EQ(s.lights[1].type, LightType::Spot);
   EXPECT_NEAR(s.lights[1].dirW.y, -1.0f, 1e-5f);  // −Z rotated −90° about X points down

@@ -45,6 +45,15 @@ constexpr std::uint64_t kMaxImageFileBytes = 256ull << 20;
 /// its declared dimensions (at most maxPixels) and the decoder's memory (imageDecodeBytes) are bounded, so
 /// peak memory is at most the file plus 16 bytes per declared pixel plus 1 MiB (docs/scene-format.md).
 Result<Image> readPng(const std::string& path, std::uint64_t maxPixels = 16384ull * 16384ull);
+/// Largest environment image readHdr takes: 8192 texels wide (an "8k" equirectangular image; GL's smallest
+/// texture limit in practice) and 8192 × 4096 texels in all.
+constexpr int kMaxHdrWidth = 8192;
+constexpr std::uint64_t kMaxHdrPixels = 8192ull * 4096ull;
+/// Reads a Radiance .hdr (RGBE, flat or run-length rows, the standard -Y H +X W orientation) as linear float
+/// RGB, row 0 at the top. The file's size and declared dimensions are bounded before any texel is decoded and
+/// every read is checked (a cut or corrupt file is an error naming the row); other formats are refused by
+/// name. Texels are kept within [0, 1e6] (an RGBE exponent reaches 1e38, which sums would overflow).
+Result<ImageF> readHdr(const std::string& path);
 /// The memory cap for decoding an image of `pixels` declared pixels from `encodedBytes` bytes.
 std::uint64_t imageDecodeBytes(std::uint64_t pixels, std::uint64_t encodedBytes);
 

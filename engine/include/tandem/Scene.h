@@ -3,7 +3,9 @@
 // derived from it by the Renderer. A flat list of instances (no graph): loaders flatten hierarchies.
 //
 // Spaces are in names: posW = world space, posO = object space; worldFromObject maps object to world.
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -183,6 +185,44 @@ struct Instance {
   glm::vec3 angularVelocity{0.0f};
 };
 
+/// An equirectangular environment image (docs/environment.md): linear radiance, `width()`×`height()` texels,
+/// the top row first. Row centres run from straight up (+Y) to straight down; the column centre u = 0.5
+/// looks along −Z, u = 0.75 along +X. Immutable once made: its irradiance is projected once, here.
+class EnvironmentMap {
+ public:
+  /// Asserts width, height > 0 and texels.size() == width·height (loaders check before making one).
+  EnvironmentMap(int width, int height, std::vector<glm::vec3> texels);
+  int width() const { return width_; }
+  int height() const { return height_; }
+  const std::vector<glm::vec3>& texels() const { return texels_; }
+  /// The image's ambient light: its irradiance over π (a uniform radiance L gives L) as nine spherical-
+  /// harmonic coefficients, evaluated by shading.glsl's tdShAmbient; of the image unscaled and unturned.
+  const std::array<glm::vec3, 9>& ambientSh() const { return ambientSh_; }
+
+ private:
+  int width_, height_;
+  std::vector<glm::vec3> texels_;
+  std::array<glm::vec3, 9> ambientSh_;
+};
+
+/// What rays that leave the scene see, and the ambient light it sheds (docs/environment.md).
+struct Environment {
+  enum class Kind {
+    Background,  // Scene::background in every direction; lights nothing (a JSON scene's default)
+    Sky,         // a gradient from the ground through the horizon to the zenith (glTF files' default)
+    Map,         // an equirectangular image (a .hdr file)
+  };
+  Kind kind = Kind::Background;
+  glm::vec3 zenith{0.42f, 0.47f, 0.55f};  // Sky: linear radiance straight up,
+  glm::vec3 horizon{0.60f, 0.60f, 0.60f}; // along the horizon,
+  glm::vec3 ground{0.17f, 0.16f, 0.15f};  // and below it (from a little under the horizon down)
+  std::shared_ptr<const EnvironmentMap> map;  // Map (shared: copies of the scene share its texels)
+  float intensity = 1.0f;    // Sky and Map: their radiance is scaled by it
+  float rotationDeg = 0.0f;  // Sky and Map: turned about +Y (counter-clockwise seen from above)
+  /// Sky and Map: the ambient term takes the environment's irradiance, added to the ambient lights'.
+  bool lightsAmbient = true;
+};
+
 /// Defaults that a scene file may give for rendering it (the command line overrides them).
 struct SceneRenderDefaults {
   int width = 1280;
@@ -200,7 +240,8 @@ struct Scene {
   std::vector<Light> lights;  // includes ambient lights
   std::vector<Instance> instances;
   Camera camera;
-  glm::vec3 background{0.0f};  // linear radiance of rays that escape
+  glm::vec3 background{0.0f};  // linear radiance of rays that escape (Environment::Kind::Background)
+  Environment environment;
   SceneRenderDefaults render;
 
   /// Sum of ambient lights (color·intensity): Ia of the formula.

@@ -3,6 +3,7 @@
 // lights, camera and render settings. Errors name the file, the JSON path and the reason.
 //
 //   Result<Scene> s = loadSceneFile("assets/scenes/whitted.json");
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -22,6 +23,8 @@ std::string_view defaultSceneText();
 }  // namespace tandem
 
 namespace tandem {
+/// Reads an equirectangular Radiance .hdr image for Environment::map (readHdr's bounds; docs/environment.md).
+Result<std::shared_ptr<const EnvironmentMap>> loadEnvironmentMap(const std::string& path);
 /// Loads any scene the tools accept: a JSON scene file (.json), a glTF file (.gltf / .glb), or the
 /// embedded default scene when `path` is empty.
 Result<Scene> loadAnyScene(const std::string& path);

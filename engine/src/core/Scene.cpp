@@ -59,6 +59,17 @@ Result<void> validateScene(const Scene& scene) {
   if (direct > kMaxLights)
     return Error{where + ": " + std::to_string(direct) + " lights, more than the limit of " +
                  std::to_string(kMaxLights) + " (ambient lights do not count)"};
+  {
+    const Environment& e = scene.environment;
+    if (!allFinite(scene.background) || !allFinite(e.zenith) || !allFinite(e.horizon) || !allFinite(e.ground) ||
+        !std::isfinite(e.intensity) || !std::isfinite(e.rotationDeg))
+      return Error{where + ": environment: a value is NaN or infinite"};
+    auto negative = [](glm::vec3 c) { return c.x < 0.0f || c.y < 0.0f || c.z < 0.0f; };
+    if (negative(scene.background) || negative(e.zenith) || negative(e.horizon) || negative(e.ground) ||
+        e.intensity < 0.0f)
+      return Error{where + ": environment: a negative colour or intensity"};
+    if (e.kind == Environment::Kind::Map && !e.map) return Error{where + ": environment: a map without an image"};
+  }
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     std::string id = where + ": mesh " + std::to_string(m) + (mesh.name.empty() ? "" : " '" + mesh.name + "'");

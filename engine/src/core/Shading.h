@@ -36,6 +36,9 @@ using std::abs;
 using std::cos;
 using std::sin;
 using std::exp;
+using std::acos;
+// GLSL's two-argument atan.
+inline float atan(float y, float x) { return std::atan2(y, x); }
 
 #define TD_OUT(T) T&
 #define TD_FN inline

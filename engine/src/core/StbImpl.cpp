@@ -68,6 +68,7 @@ static void tandemStbFree(void* p) { tandem::StbAllocator::release(p); }
 #define STBI_FREE(p) tandemStbFree(p)
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_IMPLEMENTATION
+// (Radiance .hdr environment images are read by core/Image.cpp's own decoder: readHdr says why.)
 #define STBI_NO_HDR
 #define STBI_NO_LINEAR
 // The allocator macros are ours, so stb's casts around them count as our code: silence what it does.

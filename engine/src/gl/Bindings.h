@@ -30,6 +30,7 @@ inline constexpr GLuint kUnitMotionInstances = TD_UNIT_MOTION_INSTANCES;
 inline constexpr GLuint kUnitPreviousIds = TD_UNIT_PREVIOUS_IDS;
 inline constexpr GLuint kUnitPreviousDepth = TD_UNIT_PREVIOUS_DEPTH;
 inline constexpr GLuint kUnitShadowMask = TD_UNIT_SHADOW_MASK;
+inline constexpr GLuint kUnitEnvironment = TD_UNIT_ENVIRONMENT;
 inline constexpr GLuint kUnitProofTexels = TD_UNIT_PROOF_TEXELS, kUnitProofTriangles = TD_UNIT_PROOF_TRIANGLES,
                         kUnitProofNear = TD_UNIT_PROOF_NEAR, kUnitProofInstances = TD_UNIT_PROOF_INSTANCES,
                         kUnitProofFlags = TD_UNIT_PROOF_FLAGS;

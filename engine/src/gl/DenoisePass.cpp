@@ -172,7 +172,7 @@ Result<void> DenoisePass::reserve(int width, int height, int gridScale) {
 
 void DenoisePass::filter(const Texture& linear, const Texture& display, const Texture& ids, const Camera& camera,
                          bool history, const MovedInstances& moved, float exposure, ToneMap toneMap,
-                         glm::vec3 background, int maxHistory) {
+                         int maxHistory) {
   assert(holds() && "DenoisePass::filter: no targets (reserve first)");
   Targets& t = targets_;
   const int now = current_, before = 1 - current_;
@@ -226,7 +226,6 @@ void DenoisePass::filter(const Texture& linear, const Texture& display, const Te
     glProgramUniform1f(p, TD_LOC_DENOISE_MAX_HISTORY, static_cast<float>(maxHistory));
     glProgramUniform1f(p, TD_LOC_DENOISE_EXPOSURE, exposure);
     glProgramUniform1i(p, TD_LOC_DENOISE_TONE_MAP, static_cast<int>(toneMap));
-    glProgramUniform3fv(p, TD_LOC_DENOISE_BACKGROUND, 1, glm::value_ptr(background));
     glProgramUniform1i(p, TD_LOC_DENOISE_GRID_SCALE, gridScale_);
     glProgramUniform2i(p, TD_LOC_DENOISE_GRID_SIZE, gridWidth_, gridHeight_);
     glBindTextureUnit(TD_UNIT_DENOISE_NOISY, t.noisy.id());

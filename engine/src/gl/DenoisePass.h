@@ -38,10 +38,10 @@ class DenoisePass {
   /// (OutputPass's targets, the frame's size). `camera` in render space, as the shade pass drew with;
   /// `history` false: the last frame is not this frame's past (new scene, size, no motion inputs), nothing of it
   /// is reused. `ids`: the visibility pass's (the instances the guide's tags stand for); `moved`: what moved
-  /// since the last frame. `background`: the background pixels' radiance. `maxHistory`: frames the temporal
-  /// mean spans at most.
+  /// since the last frame. `maxHistory`: frames the temporal mean spans at most. The background pixels keep
+  /// the shade pass's radiance (its exact target holds the environment there).
   void filter(const Texture& linear, const Texture& display, const Texture& ids, const Camera& camera, bool history,
-              const MovedInstances& moved, float exposure, ToneMap toneMap, glm::vec3 background, int maxHistory);
+              const MovedInstances& moved, float exposure, ToneMap toneMap, int maxHistory);
   /// The next frame has no past (a frame was drawn without the filter in between).
   void forget() { historyHeld_ = false; }
   /// Its targets released (and the history with them), its programs kept: reserve() before the next filter().

@@ -258,12 +258,30 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
 
   uploadInstances(scene, g.meshes);
   updateLights(scene);
+  uploadEnvironment(scene);
   toonRamps_.reset();
   updateMaterials(scene, shadingOverride);
   uploadTextures(scene, g.anyTangents);
 }
 
 // One draw command per instance, baseInstance = instance index.
+void GpuScene::uploadEnvironment(const Scene& scene) {
+  environment_ = EnvironmentLookup(scene);
+  environmentMap_.reset();
+  const EnvironmentMap* map = environment_.map();
+  if (!map) return;
+  // Level 0 only, read with textureLod 0 (the shade pass's pixels branch): linear filtering, the seam at u = 0
+  // wrapped, the poles' rows clamped, as rt's sampleEquirect reads the texels.
+  environmentMap_ = createTexture2D("environment", GL_RGB32F, map->width(), map->height());
+  glTextureSubImage2D(environmentMap_.id(), 0, 0, 0, map->width(), map->height(), GL_RGB, GL_FLOAT,
+                      map->texels().data());
+  glTextureParameteri(environmentMap_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(environmentMap_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(environmentMap_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTextureParameteri(environmentMap_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  bytes_ += map->texels().size() * sizeof(glm::vec3);
+}
+
 void GpuScene::uploadInstances(const Scene& scene, const std::vector<glm::uvec4>& meshes) {
   instanceCount_ = static_cast<int>(scene.instances.size());
   otherSlot_ = {};

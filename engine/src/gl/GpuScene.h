@@ -9,6 +9,7 @@
 
 #include "gl/Bindings.h"
 #include "gl/GlObjects.h"
+#include "core/Environment.h"
 #include "core/Radiosity.h"
 #include "tandem/Scene.h"
 #include "tandem/Settings.h"
@@ -124,11 +125,15 @@ class GpuScene {
   /// are held relative to it, so cameras, bounds and lights handed to the passes must be too.
   glm::vec3 anchor() const { return anchor_; }
   const SceneFeatures& features() const { return features_; }
+  /// The scene's environment (docs/environment.md) and its image's texture (TD_UNIT_ENVIRONMENT; 0: none).
+  const EnvironmentLookup& environment() const { return environment_; }
+  GLuint environmentMap() const { return environmentMap_ ? environmentMap_.id() : 0; }
   std::size_t gpuBytes() const { return bytes_; }
 
  private:
   // The steps of upload() after the geometry.
   void uploadInstances(const Scene& scene, const std::vector<glm::uvec4>& meshes);
+  void uploadEnvironment(const Scene& scene);
   void uploadTextures(const Scene& scene, bool anyTangents);
   void bakeRamps(const Scene& scene);
   /// A mipmapped RGBA8 array (`format` sRGB or linear) with scene.textures[i] in layer i where layers[i];
@@ -148,6 +153,8 @@ class GpuScene {
       uvTransformsTex_, tangentsTex_;
   VertexArray vao_;
   Texture kdTextures_, toonRamps_, normalMaps_;
+  EnvironmentLookup environment_;
+  Texture environmentMap_;
   Buffer radiosityTable_, radiosityValues_;
   Texture radiosityTableTex_, radiosityValuesTex_;
   std::uint64_t radiosityVersion_ = 0;  // RadiosityField::version held; 0: none

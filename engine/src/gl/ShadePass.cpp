@@ -301,6 +301,11 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
   setCameraUniforms(p, width, height, camera);
   glProgramUniform3fv(p, TD_LOC_BACKGROUND, 1, glm::value_ptr(in.background));
   glProgramUniform3fv(p, TD_LOC_AMBIENT, 1, glm::value_ptr(in.ambient));
+  const EnvironmentLookup& env = scene.environment();
+  glProgramUniform1i(p, TD_LOC_ENV_KIND, env.kind());
+  glProgramUniform4f(p, TD_LOC_ENV_PARAMS, env.turn().x, env.turn().y, env.mapScale(), env.lightsAmbient() ? 1.0f : 0.0f);
+  glProgramUniform3fv(p, TD_LOC_ENV_SKY, 3, glm::value_ptr(env.sky()[0]));
+  glProgramUniform3fv(p, TD_LOC_ENV_SH, 9, glm::value_ptr(env.ambientSh()[0]));
   const int lightSamples = std::clamp(in.lightSamples, 1, TD_MAX_LIGHT_SAMPLES);
   glProgramUniform1i(p, TD_LOC_LIGHT_SAMPLES, lightSamples);
   glProgramUniform1ui(p, TD_LOC_SAMPLE_BASE, in.sampleIndex * static_cast<std::uint32_t>(lightSamples));
@@ -326,6 +331,7 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
     placeholders_.bindOr(c.unit, held ? rayGrid_[static_cast<std::size_t>(c.id)].texture.id() : 0, c.placeholder);
   }
   placeholders_.bindOr(kUnitExactHits, in.exactHits ? in.exactHits->id() : 0, P::Float2D);
+  placeholders_.bindOr(kUnitEnvironment, scene.environmentMap(), P::Float2D);
   if (in.debugView == DebugView::Motion || in.denoiseGuides) {
     assert(in.motionInstances && "shade: motion without its instances' transforms");
     const glm::mat4 now = clipFromViewRotation(camera, width, height);
@@ -372,14 +378,16 @@ void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& 
   }
   if (in.denoiseGuides) {
     // The sky's guides (instance 0: never filtered; its motion's w -1 says so to the stages that read no
-    // guide), for the pixels the shader skips.
     const glm::uvec4 none(0u);
-    const glm::vec4 sky(0.0f, 0.0f, 0.0f, -1.0f), nothing(0.0f);
+    // guide), and their radiance past the filter (the compose stage's background), as writeNoGuides has them.
+    const glm::vec4 sky(0.0f, 0.0f, 0.0f, -1.0f), exact(glm::vec3(clear), 0.0f);
     glClearNamedFramebufferuiv(framebuffer, GL_COLOR, 2, glm::value_ptr(none));
     glClearNamedFramebufferfv(framebuffer, GL_COLOR, 3, glm::value_ptr(sky));
-    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 4, glm::value_ptr(nothing));
+    glClearNamedFramebufferfv(framebuffer, GL_COLOR, 4, glm::value_ptr(exact));
   }
-  if (depthSkipsSky_) glEnable(GL_DEPTH_TEST);
+  // An environment that varies with direction is drawn by the shader: every pixel runs it then.
+  const bool skipSky = depthSkipsSky_ && scene.environment().kind() == TD_ENV_BACKGROUND;
+  if (skipSky) glEnable(GL_DEPTH_TEST);
   else glDisable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_FALSE);

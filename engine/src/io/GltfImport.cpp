@@ -334,13 +334,13 @@ void Importer::addDefaults() {
     }
     s.camera = cam;
   }
-  // glTF has no background: escaped rays see a dark neutral grey (ACES-mapped to about sRGB 59): light
-  // models (most sample models are white or pastel) keep their contrast, as on the screenshots' dark
-  // backdrops, and black silhouettes still stand out from it.
+  // glTF has no environment, and every glTF viewer lights a file with one: the default sky (docs/environment.md),
+  // which escaped rays see and whose light is the ambient term (a metal has something to reflect, faces turned
+  // from the lights are not black). The background colour is what a scene without the sky would show.
   s.background = glm::vec3(0.05f);
+  s.environment.kind = Environment::Kind::Sky;
   if (s.lights.empty() && opt_.addDefaultLights) {
-    // A headlight along the view direction (every visible surface facing the camera is lit) plus a
-    // dim ambient so faces turned away are not black.
+    // A headlight along the view direction: every visible surface facing the camera is lit.
     Light head;
     head.name = "default headlight";
     head.type = LightType::Directional;
@@ -349,12 +349,7 @@ void Importer::addDefaults() {
     const glm::vec3 dir = s.camera.targetW - s.camera.posW;
     head.dirW = glm::length(dir) > 1e-12f ? glm::normalize(dir) : glm::vec3(0, 0, -1);
     head.castShadows = false;
-    Light amb;
-    amb.name = "default ambient";
-    amb.type = LightType::Ambient;
-    amb.intensity = 0.2f;
     s.lights.push_back(std::move(head));
-    s.lights.push_back(std::move(amb));
   }
 }
 

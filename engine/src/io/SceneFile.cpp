@@ -29,6 +29,7 @@
 #include "io/LoadBudget.h"
 #include "io/SceneJson.h"
 #include "tandem/Gltf.h"
+#include "tandem/Image.h"
 #include "tandem/Log.h"
 #include "tandem/Primitives.h"
 #include "tandem/Settings.h"
@@ -113,7 +114,8 @@ class Builder {
 
   Scene build(const Json& root, const std::string& defaultName) {
     r_.object(root, "");
-    r_.checkKeys(root, "", {"name", "meshes", "materials", "lights", "instances", "camera", "background", "render"});
+    r_.checkKeys(root, "", {"name", "meshes", "materials", "lights", "instances", "camera", "background", "environment",
+                            "render"});
     scene_.name = defaultName;
     if (const Json* j = Reader::find(root, "name")) scene_.name = r_.nonEmptyString(*j, "/name");
     if (const Json* j = Reader::find(root, "meshes")) meshes(*j, "/meshes");
@@ -124,6 +126,7 @@ class Builder {
     checkTriangleBudget();
     if (const Json* j = Reader::find(root, "camera")) camera(*j, "/camera");
     if (const Json* j = Reader::find(root, "background")) scene_.background = r_.color(*j, "/background");
+    if (const Json* j = Reader::find(root, "environment")) environment(*j, "/environment");
     if (const Json* j = Reader::find(root, "render")) render(*j, "/render");
     return std::move(scene_);
   }
@@ -931,6 +934,33 @@ class Builder {
       r_.fail(child(path, "up"), "up is parallel to the view direction (target - position)");
   }
 
+  // ---- environment (docs/environment.md) ----
+  // {"image": "sky.hdr"} or {} (the sky, its colours given or the defaults); intensity, rotation, ambient.
+  void environment(const Json& j, const std::string& path) {
+    r_.object(j, path);
+    r_.checkKeys(j, path, {"image", "zenith", "horizon", "ground", "intensity", "rotation", "ambient"}, "an environment");
+    Environment& e = scene_.environment;
+    e.kind = Environment::Kind::Sky;
+    if (const Json* v = Reader::find(j, "image")) {
+      const std::string p = child(path, "image");
+      for (const char* key : {"zenith", "horizon", "ground"})
+        if (Reader::find(j, key)) r_.fail(child(path, key), "an environment image has no sky colours");
+      const std::string file = resolve(*v, p);
+      Result<std::shared_ptr<const EnvironmentMap>> map = loadEnvironmentMap(file);
+      if (!map) r_.fail(p, map.error().message);
+      // The image joins this load's input, as a placed glTF file does: readHdr bounds it on its own.
+      budget_.addInput((*map)->texels().size() * sizeof(glm::vec3));
+      e.kind = Environment::Kind::Map;
+      e.map = std::move(*map);
+    }
+    if (const Json* v = Reader::find(j, "zenith")) e.zenith = r_.color(*v, child(path, "zenith"));
+    if (const Json* v = Reader::find(j, "horizon")) e.horizon = r_.color(*v, child(path, "horizon"));
+    if (const Json* v = Reader::find(j, "ground")) e.ground = r_.color(*v, child(path, "ground"));
+    if (const Json* v = Reader::find(j, "intensity")) e.intensity = r_.number(*v, child(path, "intensity"), Range{0.0, 1e6});
+    if (const Json* v = Reader::find(j, "rotation")) e.rotationDeg = r_.number(*v, child(path, "rotation"), Range{-360.0, 360.0});
+    if (const Json* v = Reader::find(j, "ambient")) e.lightsAmbient = r_.boolean(*v, child(path, "ambient"));
+  }
+
   void render(const Json& j, const std::string& path) {
     r_.object(j, path);
     r_.checkKeys(j, path, {"width", "height", "preset", "maxDepth", "radiosity"});
@@ -1034,6 +1064,13 @@ Result<Scene> loadDefaultScene() {
     dir.reset();  // no folder: relative glTF references then fail with their own message
   }
   return parseImpl(text, "whitted.json", std::move(dir));
+}
+
+Result<std::shared_ptr<const EnvironmentMap>> loadEnvironmentMap(const std::string& path) {
+  Result<ImageF> image = readHdr(path);
+  if (!image) return image.error();
+  return std::shared_ptr<const EnvironmentMap>(
+      std::make_shared<EnvironmentMap>(image->width, image->height, std::move(image->rgb)));
 }
 
 }  // namespace tandem

@@ -70,8 +70,7 @@ bool Renderer::Impl::shadeDenoised(const FramePlan& plan, const Camera& glCamera
   // A light that changed reaches any pixel, by amounts the history's statistics cannot tell from noise within
   // a few frames: the filter starts again (docs/denoise.md).
   denoisePass->filter(outputPass.linearTexture(), outputPass.displayTexture(), pass.ids(), glCamera,
-                      in.motionHistory && in.denoiseHistory, in.moved, in.exposure, in.toneMap, in.background,
-                      kMaxHistory);
+                      in.motionHistory && in.denoiseHistory, in.moved, in.exposure, in.toneMap, kMaxHistory);
   glFinish();
   sample.denoiseMs = filtered.ms();
   sample.denoised = true;

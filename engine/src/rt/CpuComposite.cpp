@@ -29,10 +29,19 @@ void compositeOnCpu(const Scene& scene, const Camera& camera, const FrameSetting
       std::size_t g = static_cast<std::size_t>(gy) * static_cast<std::size_t>(out.width) + static_cast<std::size_t>(gx);
       glm::ivec2 p = fullPixelOfGridPixel(gx, gy, scale, width, height);
       glm::uvec2 id = visibility.ids[static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x)];
-      if (id.x == 0 || id.x > scene.instances.size()) continue;
+      Ray ray = cam.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
+      // Nothing there (or an id not in the scene, which the pass skips too): the environment.
+      const glm::vec3 sky = frame.environment.radiance(ray.dir);
+      if (id.x == 0 || id.x > scene.instances.size()) {
+        out.rgb[g] = sky;
+        continue;
+      }
       std::uint32_t instance = id.x - 1;
       const Mesh& mesh = scene.meshes[scene.instances[instance].mesh];
-      if (id.y == kExactTriangle ? !mesh.exact : id.y >= mesh.triangleCount()) continue;
+      if (id.y == kExactTriangle ? !mesh.exact : id.y >= mesh.triangleCount()) {
+        out.rgb[g] = sky;
+        continue;
+      }
       // A moving instance where the frame's shutter time puts it, as the rasterizer drew it.
       const Instance& inst = scene.instances[instance];
       InstanceTransform transform =
@@ -40,7 +49,6 @@ void compositeOnCpu(const Scene& scene, const Camera& camera, const FrameSetting
               ? makeInstanceTransform(motionAt(motionSteps(inst, camera.shutter, anchor), camera.timeU))
               : makeInstanceTransform(inst.worldFromObject, anchor);
       transform.anchor = anchor;  // the motion steps are in render space already
-      Ray ray = cam.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
       SurfaceHit hit = resolvePrimary(scene, transform, cam, id, ray);
       hit.time = camera.timeU;
       hit.lightSeed = shading::tdPixelSeed(p.x, p.y, 0u);

@@ -88,7 +88,7 @@ glm::vec3 PathTracer::radiance(SurfaceHit hit, int x, int y, std::uint32_t sampl
     std::uint32_t instance = 0, triangle = 0;
     if (!w_.intersect(origin, dir, 0.0f, std::numeric_limits<float>::infinity(), hit.time, instance, triangle,
                       NoRecorder{})) {
-      radiance += beta * frame.background;
+      radiance += beta * frame.environment.radiance(dir);
       break;
     }
     const float time = hit.time;

@@ -54,7 +54,7 @@ class TreeRecorder final : public RayRecorder {
     n.tFar = tFar;
     n.weight = weight;
     n.throughput = throughput;
-    n.radiance = n.contribution = whitted_.frame().background;  // until endRay says
+    n.radiance = n.contribution = whitted_.frame().environment.radiance(dirW);  // until endRay says
     const int index = static_cast<int>(out_.nodes.size());
     out_.nodes.push_back(std::move(n));
     if (const int parent = out_.nodes.back().parent; parent >= 0) {
@@ -232,8 +232,9 @@ PixelTrace traceHybridPixel(const Scene& scene, const EmbreeScene& embree, const
                1.0f);
   // Background (or an id not in the scene, which the pass skips too): no ray pass output, the sky.
   if (id.x == 0 || !embree.hasPrimary(id.x - 1, id.y)) {
-    rec.endRay(frame.background, frame.background);
-    trace.color = frame.background;
+    const glm::vec3 sky = frame.environment.radiance(ray.dir);
+    rec.endRay(sky, sky);
+    trace.color = sky;
     trace.lightMask = 0u;  // the pass writes 0 there
     return trace;
   }
@@ -283,7 +284,7 @@ PixelTrace traceReferencePixel(const Scene& scene, const EmbreeScene& embree, co
       rec.beginRay(RayKind::Primary, ray.origin, ray.dir, tNear, tFar, glm::vec3(1.0f), 1.0f);
       // renderReference's sample: the camera ray within the camera's span, then the hit's full shading.
       std::uint32_t instance, triangle;
-      glm::vec3 c = frame.background;
+      glm::vec3 c = frame.environment.radiance(ray.dir);
       if (whitted.intersect(ray.origin, ray.dir, tNear, tFar, time, instance, triangle, recorder)) {
         SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, time), instance, triangle, ray, tNear);
         hit.time = time;

@@ -473,7 +473,7 @@ void RayTracer::referencePassWith(const Scene& scene, const Camera& camera, cons
               rec.beginRay(RayKind::Primary, ray.origin, ray.dir, tNear, tFar, glm::vec3(1.0f), 1.0f);
               std::uint32_t instance, triangle;
               if (!whitted.intersect(ray.origin, ray.dir, tNear, tFar, time, instance, triangle, rec)) {
-                sum += frame.background;
+                sum += frame.environment.radiance(ray.dir);
                 continue;
               }
               SurfaceHit hit = resolveHit(scene, embree.transformAt(instance, time), instance, triangle, ray, tNear);

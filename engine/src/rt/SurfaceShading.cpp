@@ -74,7 +74,7 @@ FrameShading::FrameShading(const Scene& scene, std::optional<ShadingModel> shadi
     bakeToonRamp(scene.materials[i], toonRamps[i].data());
   }
   ambient = scene.ambientIntensity();
-  background = scene.background;
+  environment = EnvironmentLookup(scene);
   roughness.reserve(scene.materials.size());
   for (const Material& m : scene.materials) roughness.push_back(m.roughness);
 }
@@ -374,6 +374,7 @@ FrameShading FrameShading::forFrame(const Scene& scene, const FrameSettings& set
   frame.setGlossSampling(settings.glossSamples, sampleIndex);
   if (settings.gi == GlobalIllumination::Path) {
     frame.ambient = glm::vec3(0.0f);  // docs/path-tracing.md
+    frame.environment = EnvironmentLookup(scene, false);  // (its paths gather the environment's light)
   } else if (radiosity && !radiosity->empty()) {
     frame.radiosity = radiosity;  // in place of the ambient term where it covers a surface (docs/radiosity.md)
   }
@@ -391,7 +392,8 @@ glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const Instan
   glm::vec3 h;
   glm::vec3 color = emission + (frame.radiosity && frame.radiosity->at(hit.instance, hit.triangle, hit.bary, hit.backFace, h)
                                     ? tdRadiosityTerm(m, h, hit.uv, hit.pattern, hit.tint)
-                                    : tdAmbient(m, frame.ambient, hit.uv, hit.pattern, hit.tint));
+                                    : tdAmbient(m, frame.ambient + frame.environment.ambient(hit.normalW), hit.uv,
+                                                hit.pattern, hit.tint));
   glm::vec3 ks(m.ksNs);
   float ns = m.ksNs.w;
   int model = static_cast<int>(m.krKtIorModel.w + 0.5f);

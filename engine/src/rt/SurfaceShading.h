@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/Environment.h"
 #include "core/Radiosity.h"
 #include "core/RenderSpace.h"
 #include "core/ResolvedPixel.h"
@@ -152,7 +153,8 @@ struct FrameShading {
   /// The radiosity solution, which replaces the ambient term where it covers a surface: shadeLocal adds C·H
   /// there instead of ka·Ia, at every hit, primary and secondary (docs/radiosity.md). Null: none.
   const RadiosityField* radiosity = nullptr;
-  glm::vec3 background{0.0f};  // radiance of escaped rays
+  /// What escaped rays see (radiance(dir)) and the environment's share of the ambient term (ambient(N)).
+  EnvironmentLookup environment;
   int areaLights = 0;          // area lights among `lights` (GpuLight::shapeU.w numbers them)
   /// Area-light samples per point this frame at the primary hits (FrameSettings::lightSamples) and at the
   /// hits past them, the light the spatiotemporal filter leaves as drawn (unfilteredLightSamples()).

@@ -312,7 +312,7 @@ void Wavefront::run(RayCounts& counts, glm::vec4* reflected, glm::vec4* transmit
     b_.rayNodes.clear();
     for (std::size_t i = begin; i < end; ++i) {
       Buffers::Node& n = b_.nodes[i];
-      n.local = frame.background;  // until a hit says otherwise
+      n.local = frame.environment.radiance(n.dir);  // until a hit says otherwise
       RTCRayHit rh;
       if (!makeEmbreeRay(rh.ray, n.origin, n.dir, 0.0f, std::numeric_limits<float>::infinity(), n.time)) {
         if constexpr (Capture::kRecords) capture.answer(n.refraction ? RayKind::Refraction : RayKind::Reflection, n.captured, false, false);

@@ -305,7 +305,7 @@ glm::vec3 Whitted::radiance(glm::vec3 originW, glm::vec3 dirW, float time, int d
                             RayCounts& counts, Recorder rec) const {
   std::uint32_t instance, triangle;
   if (!intersect(originW, dirW, 0.0f, std::numeric_limits<float>::infinity(), time, instance, triangle, rec))
-    return frame_.background;
+    return frame_.environment.radiance(dirW);
   Ray ray{originW, dirW};
   SurfaceHit hit = resolveHit(scene_, embree_.transformAt(instance, time), instance, triangle, ray);
   hit.time = time;
