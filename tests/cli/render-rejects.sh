@@ -45,6 +45,13 @@ check --probe-limit --preset reference --probe-limit 8
 check --probe-size --preset raster --probe-size 100
 check --probe-size --preset raster --probe-size 8
 check --probe-size --preset hybrid-full --probe-size 64
+check --environment --environment "$out/no-such-environment.hdr"
+check --environment --environment "$0"
+check --environment-intensity --environment-intensity 2
+check --environment-intensity --environment none --environment-intensity 2
+check --environment-intensity --environment sky --environment-intensity -1
+check --environment-rotation --environment sky --environment-rotation inf
+check --environment-rotation --environment-rotation 90
 check --scale --scale 0
 check --scale --scale 3
 check --scale --preset reference --scale 2

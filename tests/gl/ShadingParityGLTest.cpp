@@ -199,7 +199,7 @@ TEST(ShadingParityGLTest, AnEnvironmentImageInTheBackgroundAndTheAmbientTerm) {
   std::vector<glm::vec3> texels;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const float u = (x + 0.5f) / w, v = (y + 0.5f) / h;
+      const float u = (float(x) + 0.5f) / float(w), v = (float(y) + 0.5f) / float(h);
       texels.emplace_back(0.6f + 0.4f * std::sin(6.2831853f * u), 0.6f + 0.4f * std::cos(6.2831853f * u), 1.2f - v);
     }
   Environment map;

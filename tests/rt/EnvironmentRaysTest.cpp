@@ -66,10 +66,10 @@ void eachPixel(const Scene& scene, int w, int h, Fn fn) {
   };
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const bool centre = onBall({x + 0.5f, y + 0.5f});
+      const bool centre = onBall({float(x) + 0.5f, float(y) + 0.5f});
       bool whole = true;
       for (glm::vec2 corner : {glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(0, 1), glm::vec2(1, 1)})
-        whole = whole && onBall(glm::vec2(x, y) + corner) == centre;
+        whole = whole && onBall(glm::vec2(float(x), float(y)) + corner) == centre;
       if (whole) fn(x, y, centre);
     }
 }
@@ -129,7 +129,7 @@ TEST(EnvironmentRays, AMirrorShowsTheSkyAlongEachReflectedRay) {
   int mirrored = 0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const Ray r = scene.camera.rayThroughPixel({x + 0.5f, y + 0.5f}, {w, h});
+      const Ray r = scene.camera.rayThroughPixel({float(x) + 0.5f, float(y) + 0.5f}, {w, h});
       // Above the horizon the sky itself; below it the mirror, showing the sky along the reflected ray.
       const glm::vec3 want = r.dir.y < -1e-3f ? env.radiance(glm::reflect(r.dir, glm::vec3(0, 1, 0)))
                                               : env.radiance(r.dir);

@@ -5,6 +5,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,7 @@ std::string outPath(const std::string& name) { return test::outputDir() + "/" + 
 std::string writeHdr(const std::string& name, int w, int h) {
   std::vector<float> rgb;
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) rgb.insert(rgb.end(), {(x + 1) / 4.0f, (y + 1) / 4.0f, 0.125f});
+    for (int x = 0; x < w; ++x) rgb.insert(rgb.end(), {float(x + 1) / 4.0f, float(y + 1) / 4.0f, 0.125f});
   const std::string path = outPath(name);
   EXPECT_TRUE(stbi_write_hdr(path.c_str(), w, h, 3, rgb.data()));
   return path;
@@ -31,7 +32,9 @@ std::string writeHdr(const std::string& name, int w, int h) {
 
 std::string bytesOf(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
 void writeBytes(const std::string& path, const std::string& bytes) {
@@ -47,7 +50,7 @@ TEST(EnvironmentFile, ARadianceImageReadsBackItsTexelsTopRowFirst) {
   ASSERT_EQ(img->height, 4);
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 8; ++x) {
-      const glm::vec3 want((x + 1) / 4.0f, (y + 1) / 4.0f, 0.125f);
+      const glm::vec3 want(float(x + 1) / 4.0f, float(y + 1) / 4.0f, 0.125f);
       // RGBE keeps 8 bits of mantissa under a shared exponent.
       EXPECT_LT(glm::length(img->at(x, y) - want), 0.01f * glm::length(want)) << x << "," << y;
     }

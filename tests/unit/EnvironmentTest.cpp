@@ -63,7 +63,7 @@ TEST(Environment, TheImageIsReadBilinearlyWrappingAtTheSeam) {
   const EnvironmentMap map(w, h, t);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      EXPECT_EQ(sampleEquirect(map, {(x + 0.5f) / w, (y + 0.5f) / h}), glm::vec3(float(x), float(y), 1.0f));
+      EXPECT_EQ(sampleEquirect(map, {(float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h)}), glm::vec3(float(x), float(y), 1.0f));
   // u = 0 lies between the last column and the first: half of each.
   EXPECT_NEAR(sampleEquirect(map, {0.0f, 0.5f / h}).x, 0.5f * (w - 1), 1e-5f);
   // Above the first row's centre: that row (clamped), not the last one's.
@@ -75,7 +75,7 @@ TEST(Environment, ATurnAboutUpMovesTheImageWithIt) {
   const int w = 64, h = 32;
   std::vector<glm::vec3> t;
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) t.emplace_back(std::sin(6.2831853f * (x + 0.5f) / w) + 1.5f, (y + 0.5f) / h, 0.2f);
+    for (int x = 0; x < w; ++x) t.emplace_back(std::sin(6.2831853f * (float(x) + 0.5f) / float(w)) + 1.5f, (float(y) + 0.5f) / float(h), 0.2f);
   Environment e;
   e.kind = Environment::Kind::Map;
   e.map = std::make_shared<EnvironmentMap>(w, h, t);
@@ -129,7 +129,7 @@ TEST(Environment, AnImagesAmbientTermFollowsItsBrightSide) {
   std::vector<glm::vec3> t;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const float u = (x + 0.5f) / w, v = (y + 0.5f) / h;
+      const float u = (float(x) + 0.5f) / float(w), v = (float(y) + 0.5f) / float(h);
       const float bright = std::max(0.0f, std::cos(6.2831853f * (u - 0.75f))) * std::max(0.0f, std::cos(kPi * v));
       t.emplace_back(0.1f + 2.0f * bright, 0.1f + 1.0f * bright, 0.1f);
     }
