@@ -137,8 +137,8 @@ layout(binding = TD_UNIT_ENVIRONMENT) uniform sampler2D envMap;  // linear filte
 vec3 environmentRadiance(vec3 dirW) {
   if (envKind == TD_ENV_BACKGROUND) return background;
   vec3 d = tdEnvironmentFrame(dirW, envParams.xy);
-  if (envKind == TD_ENV_SKY) return tdSkyRadiance(d, envSky[0], envSky[1], envSky[2]);
-  return envParams.z * textureLod(envMap, tdEquirectUv(d), 0.0).rgb;
+  if (envKind == TD_ENV_SKY) return tdEnvironmentClamp(tdSkyRadiance(d, envSky[0], envSky[1], envSky[2]));
+  return tdEnvironmentClamp(envParams.z * textureLod(envMap, tdEquirectUv(d), 0.0).rgb);
 }
 // The environment's share of the ambient term at a surface facing unit nW.
 vec3 environmentAmbient(vec3 nW) {

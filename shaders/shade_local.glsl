@@ -168,11 +168,13 @@ vec3 localLight(Surface s, RaySample rays, uvec2 id, ivec2 pTop) {
   if (m.emissionFlags.w > 0.5) {
     local = C + emission;
   } else {
-    // Diffuse interreflection: the radiosity solution where it covers the surface, else the ambient term.
+    // Diffuse interreflection: the radiosity solution where it covers the surface, else the ambient term (the
+    // environment's light at the normal the lights see: a flat face's own).
     vec3 H;
     local = emission + (kUseRadiosity && radiosityAt(instance, id.y, b, side < 0.0, H)
                             ? tdRadiosityTerm(m, H, uv, pattern, tint)
-                            : tdAmbient(m, ambientIa + environmentAmbient(N), uv, pattern, tint));
+                            : tdAmbient(m, ambientIa + environmentAmbient(model == TD_MODEL_FLAT ? Ng : N), uv,
+                                        pattern, tint));
     vec3 ks = vec3(m.ksNs);
     float ns = m.ksNs.w;
     vec3 Ns = model == TD_MODEL_FLAT ? Ng : N;

@@ -531,6 +531,10 @@ TD_FN vec3 tdSkyRadiance(vec3 d, vec3 zenith, vec3 horizon, vec3 ground) {
   return y >= 0.0f ? mix(horizon, zenith, sqrt(y)) : mix(horizon, ground, sqrt(min(-4.0f * y, 1.0f)));
 }
 
+// What the frame may hold of an environment's radiance: half precision's largest value (the probes, the filter's
+// targets), so an unclipped sun in an image stays a bright finite colour where it is stored.
+TD_FN vec3 tdEnvironmentClamp(vec3 l) { return min(l, vec3(65504.0f)); }
+
 // The texture coordinates of unit direction d on an equirectangular image (EnvironmentMap): u turns about +Y
 // (0.5 along −Z, 0.75 along +X), v runs from 0 straight up to 1 straight down (t = v: the top row first).
 TD_FN vec2 tdEquirectUv(vec3 d) {

@@ -126,10 +126,11 @@ int main(int argc, char** argv) {
                  "Radiance .hdr image (default: the scene's: the sky for glTF files; a JSON scene's environment, else "
                  "its background)");
   app.add_option("--environment-intensity", environmentIntensity,
-                 "Scales the environment's radiance, >= 0 (with --environment sky or an .hdr image) (default: 1)");
+                 "Scales the environment's radiance, >= 0 (a sky or an image: the scene's or --environment's) "
+                 "(default: the scene's, else 1)");
   app.add_option("--environment-rotation", environmentRotation,
-                 "Turns the environment about +Y, in degrees, counter-clockwise seen from above (with --environment "
-                 "sky or an .hdr image) (default: 0)");
+                 "Turns the environment about +Y, in degrees, counter-clockwise seen from above (a sky or an image: "
+                 "the scene's or --environment's) (default: the scene's, else 0)");
   cli::addFrameOptions(app, frameOptions);
   try {
     app.parse(argc, argv);
@@ -181,16 +182,19 @@ int main(int argc, char** argv) {
     }
     scene->environment = std::move(e);
   }
-  // Each sets what --environment gives: refused without it, as every flag the render would ignore.
-  const bool environmentSet = environment && *environment != "none";
+  // Each changes a sky or an image (the scene's or --environment's): refused where there is none, as every flag
+  // the render would ignore.
+  const bool environmentSet = scene->environment.kind != Environment::Kind::Background;
   if (environmentIntensity) {
-    if (!environmentSet) return fail("--environment-intensity: scales the environment --environment sky or an .hdr image gives");
+    if (!environmentSet)
+      return fail("--environment-intensity: the scene has no sky or image to scale (--environment sky or FILE.hdr gives one)");
     if (!std::isfinite(*environmentIntensity) || *environmentIntensity < 0.0f || *environmentIntensity > 1e6f)
       return fail("--environment-intensity: must be a finite scale in 0..1e6, got " + std::to_string(*environmentIntensity));
     scene->environment.intensity = *environmentIntensity;
   }
   if (environmentRotation) {
-    if (!environmentSet) return fail("--environment-rotation: turns the environment --environment sky or an .hdr image gives");
+    if (!environmentSet)
+      return fail("--environment-rotation: the scene has no sky or image to turn (--environment sky or FILE.hdr gives one)");
     if (!std::isfinite(*environmentRotation) || std::abs(*environmentRotation) > 360.0f)
       return fail("--environment-rotation: must be a finite angle in -360..360 degrees, got " +
                   std::to_string(*environmentRotation));

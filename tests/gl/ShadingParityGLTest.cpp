@@ -191,6 +191,7 @@ TEST(ShadingParityGLTest, TheSkyInTheBackgroundAndTheAmbientTerm) {
   sky.rotationDeg = 30.0f;
   checkParity(ShadingModel::Phong, sky, "-sky");
   checkParity(ShadingModel::Gouraud, sky, "-sky");
+  checkParity(ShadingModel::Flat, sky, "-sky");  // (the ambient term at the face's own normal)
 }
 
 TEST(ShadingParityGLTest, AnEnvironmentImageInTheBackgroundAndTheAmbientTerm) {

@@ -79,6 +79,12 @@ TEST(EnvironmentFile, OtherFormatsCutFilesAndHugeImagesAreRefusedByName) {
   r = readHdr(cut);
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().message.find("cut short"), std::string::npos) << r.error().message;
+  // Cut right after a run-length row's start, where its first count is due.
+  const std::string cutAtCount = outPath("env-cut-at-count.hdr");
+  writeBytes(cutAtCount, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 8\n" + std::string("\x02\x02\x00\x08", 4));
+  r = readHdr(cutAtCount);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("row 0: the texels are cut short"), std::string::npos) << r.error().message;
   // A run-length row whose count is zero (stb_image 2.27 loops on it for ever): refused, naming the row.
   const std::string zero = outPath("env-zero-run.hdr");
   writeBytes(zero, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 8\n" + std::string("\x02\x02\x00\x08\x00", 5));
@@ -92,6 +98,18 @@ TEST(EnvironmentFile, OtherFormatsCutFilesAndHugeImagesAreRefusedByName) {
   r = readHdr(huge);
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().message.find("more than the limit"), std::string::npos) << r.error().message;
+  // A height whose product with the width wraps a 64-bit count to nothing (2^61 x 8 = 2^64).
+  const std::string wraps = outPath("env-wraps.hdr");
+  writeBytes(wraps, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2305843009213693952 +X 8\n" + std::string(64, '\x01'));
+  r = readHdr(wraps);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("more than the limit"), std::string::npos) << r.error().message;
+  // Written on Windows: CRLF line ends are read.
+  const std::string crlf = outPath("env-crlf.hdr");
+  writeBytes(crlf, "#?RADIANCE\r\nFORMAT=32-bit_rle_rgbe\r\n\r\n-Y 1 +X 2\r\n" + std::string("\x80\x80\x80\x81\x80\x80\x80\x81", 8));
+  r = readHdr(crlf);
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->at(1, 0), glm::vec3(1.0f));
   // Wider than a texture may be, though few texels in all.
   const std::string wide = outPath("env-wide.hdr");
   writeBytes(wide, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 9000\n" + std::string(64, '\x01'));

@@ -2,6 +2,7 @@
 
 #include <cassert>
 #include <cmath>
+#include <vector>
 
 #include "core/Shading.h"
 
@@ -22,16 +23,20 @@ std::array<glm::vec3, 9> projectAmbientSh(int width, int height,
   constexpr double kBand[9] = {1.0, 2.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0, 0.25, 0.25, 0.25, 0.25, 0.25};
   std::array<glm::dvec3, 9> sum{};
   const double dPhi = 2.0 * kPi / width, dTheta = kPi / height;
+  // The inverse of tdEquirectUv at the texels' centres: each column's azimuth, each row's height.
+  std::vector<glm::dvec2> column(static_cast<std::size_t>(width));
+  for (int x = 0; x < width; ++x) {
+    const double phi = ((x + 0.5) / width - 0.5) * 2.0 * kPi;
+    column[std::size_t(x)] = glm::dvec2(std::sin(phi), -std::cos(phi));
+  }
   for (int y = 0; y < height; ++y) {
-    const double theta = (y + 0.5) * dTheta;
+    const double theta = (y + 0.5) * dTheta, sinTheta = std::sin(theta), cosTheta = std::cos(theta);
     // The texel's own solid angle (its row's band of the sphere over the columns): the constant term of a
     // uniform image comes out exact, however few its rows.
     const double solidAngle = dPhi * (std::cos(y * dTheta) - std::cos((y + 1) * dTheta));
     for (int x = 0; x < width; ++x) {
-      // The inverse of tdEquirectUv at the texel's centre.
-      const double phi = ((x + 0.5) / width - 0.5) * 2.0 * kPi;
-      const glm::vec3 d(float(std::sin(theta) * std::sin(phi)), float(std::cos(theta)),
-                        float(-std::sin(theta) * std::cos(phi)));
+      const glm::dvec2 c = column[std::size_t(x)];
+      const glm::vec3 d(float(sinTheta * c.x), float(cosTheta), float(sinTheta * c.y));
       const glm::dvec3 l = glm::dvec3(radiance(x, y, d)) * solidAngle;
       for (int i = 0; i < 9; ++i) sum[std::size_t(i)] += l * double(shading::tdShBasis(i, d));
     }
@@ -94,8 +99,8 @@ EnvironmentLookup::EnvironmentLookup(const Scene& scene, bool lightsAmbient) {
 
 glm::vec3 EnvironmentLookup::lookup(glm::vec3 dirW) const {
   const glm::vec3 d = shading::tdEnvironmentFrame(dirW, turn_);
-  if (kind_ == TD_ENV_SKY) return shading::tdSkyRadiance(d, sky_[0], sky_[1], sky_[2]);
-  return intensity_ * sampleEquirect(*map_, shading::tdEquirectUv(d));
+  if (kind_ == TD_ENV_SKY) return shading::tdEnvironmentClamp(shading::tdSkyRadiance(d, sky_[0], sky_[1], sky_[2]));
+  return shading::tdEnvironmentClamp(intensity_ * sampleEquirect(*map_, shading::tdEquirectUv(d)));
 }
 
 glm::vec3 EnvironmentLookup::shAmbient(glm::vec3 nW) const {

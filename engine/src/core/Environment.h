@@ -3,6 +3,7 @@
 // leaves the scene and the ambient light at a surface, from Scene::environment, by shading.glsl's formulas
 // (the GL's shade pass reads the same record: gl/ShadePass).
 #include <array>
+#include <cmath>
 #include <functional>
 #include <memory>
 
@@ -21,9 +22,10 @@ class EnvironmentLookup {
 
   /// TD_ENV_* of shading.glsl.
   int kind() const { return kind_; }
-  /// Linear radiance arriving from unit direction dirW (world or render space: they differ by a translation).
+  /// Linear radiance arriving from unit direction dirW (world or render space: they differ by a translation). A
+  /// direction that is not finite (a ray Embree refused) sees the background colour.
   glm::vec3 radiance(glm::vec3 dirW) const {
-    if (kind_ == kBackground) return background_;
+    if (kind_ == kBackground || !std::isfinite(dirW.x + dirW.y + dirW.z)) return background_;
     return lookup(dirW);
   }
   /// The environment's ambient light at a surface facing unit nW; zero where it lights nothing.

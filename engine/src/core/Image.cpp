@@ -120,17 +120,22 @@ class HdrReader {
     for (;;) {  // header lines up to an empty one
       if (!nextLine(line)) return Error{"the header has no end"};
       if (line.empty()) break;
-      if (line.rfind("FORMAT=", 0) == 0 && line != "FORMAT=32-bit_rle_rgbe")
-        return Error{"'" + line.substr(0, 60) + "': only FORMAT=32-bit_rle_rgbe is read"};
+      if (line.rfind("FORMAT=", 0) == 0 && line != "FORMAT=32-bit_rle_rgbe") {
+        const std::string shown = line.substr(0, 60);
+        return Error{"'" + shown + "': only FORMAT=32-bit_rle_rgbe is read"};
+      }
     }
     if (!nextLine(line)) return Error{"no resolution line"};
     char ySign = 0, xSign = 0, yAxis = 0, xAxis = 0;
     long h = 0, w = 0;
     char rest = 0;
     if (std::sscanf(line.c_str(), "%c%c %ld %c%c %ld %c", &ySign, &yAxis, &h, &xSign, &xAxis, &w, &rest) != 6 ||
-        ySign != '-' || yAxis != 'Y' || xSign != '+' || xAxis != 'X')
-      return Error{"resolution '" + line.substr(0, 60) + "': only the standard orientation (-Y height +X width) is read"};
-    if (w <= 0 || h <= 0 || w > kMaxHdrWidth || std::uint64_t(w) * std::uint64_t(h) > kMaxHdrPixels)
+        ySign != '-' || yAxis != 'Y' || xSign != '+' || xAxis != 'X') {
+      const std::string shown = line.substr(0, 60);
+      return Error{"resolution '" + shown + "': only the standard orientation (-Y height +X width) is read"};
+    }
+    // (h bounded by the pixels over w before any product: a height near 2^61 would wrap it to nothing)
+    if (w <= 0 || h <= 0 || w > kMaxHdrWidth || std::uint64_t(h) > kMaxHdrPixels / std::uint64_t(w))
       return Error{std::to_string(w) + "x" + std::to_string(h) + " texels, more than the limit of " +
                    std::to_string(kMaxHdrWidth) + " wide and " + std::to_string(kMaxHdrPixels) + " in all"};
     ImageF img;
@@ -155,6 +160,7 @@ class HdrReader {
     const std::size_t end = b_.find('\n', at_);
     if (end == std::string::npos || end - at_ > 4096) return false;
     line.assign(b_, at_, end - at_);
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // written on Windows
     at_ = end + 1;
     return true;
   }

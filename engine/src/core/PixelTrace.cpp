@@ -122,7 +122,7 @@ class Writer {
     line(indent + 2, "origin " + vec(n.originW) + "  direction " + vec(n.dirW) + "  t in [" + num(n.tNear) + ", " +
                          num(n.tFar) + "]");
     if (!n.hit) {
-      line(indent + 1, "miss: background " + vec(n.radiance));
+      line(indent + 1, "miss: environment " + vec(n.radiance));
       if (n.kind != TraceRayKind::Primary) line(indent + 1, "adds " + vec(n.contribution));
       return;
     }

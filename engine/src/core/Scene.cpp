@@ -68,6 +68,7 @@ Result<void> validateScene(const Scene& scene) {
     if (negative(scene.background) || negative(e.zenith) || negative(e.horizon) || negative(e.ground) ||
         e.intensity < 0.0f)
       return Error{where + ": environment: a negative colour or intensity"};
+    if (e.intensity > 1e6f) return Error{where + ": environment: an intensity over 1e6"};
     if (e.kind == Environment::Kind::Map && !e.map) return Error{where + ": environment: a map without an image"};
   }
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {

@@ -388,15 +388,17 @@ glm::vec3 shadeLocal(const Scene& scene, const FrameShading& frame, const Instan
   glm::vec3 c = tdSurfaceColor(m, hit.uv, hit.pattern, hit.tint);
   // BLEND: the covered fraction of the surface shades; the rest is the ray pass's straight-through T.
   if (m.emissionFlags.w > 0.5f) return hit.coverage * (c + emission);
-  // Diffuse interreflection: the radiosity solution where it covers the surface, else the ambient term.
+  int model = static_cast<int>(m.krKtIorModel.w + 0.5f);
+  // Diffuse interreflection: the radiosity solution where it covers the surface, else the ambient term (the
+  // environment's light at the normal the lights see: a flat face's own).
   glm::vec3 h;
+  const glm::vec3 ambientN = model == TD_MODEL_FLAT ? hit.geomNormalW : hit.normalW;
   glm::vec3 color = emission + (frame.radiosity && frame.radiosity->at(hit.instance, hit.triangle, hit.bary, hit.backFace, h)
                                     ? tdRadiosityTerm(m, h, hit.uv, hit.pattern, hit.tint)
-                                    : tdAmbient(m, frame.ambient + frame.environment.ambient(hit.normalW), hit.uv,
+                                    : tdAmbient(m, frame.ambient + frame.environment.ambient(ambientN), hit.uv,
                                                 hit.pattern, hit.tint));
   glm::vec3 ks(m.ksNs);
   float ns = m.ksNs.w;
-  int model = static_cast<int>(m.krKtIorModel.w + 0.5f);
   const auto& ramp = frame.toonRamps[hit.material];
 
   // Gouraud: the per-vertex normals, flipped with the pixel's two-sided flip. An exact solid has no vertices:
