@@ -127,23 +127,8 @@ layout(location = TD_LOC_ORTHOGRAPHIC) uniform int orthographic;
 layout(location = TD_LOC_FRAME_SIZE) uniform ivec2 frameSize;
 layout(location = TD_LOC_BACKGROUND) uniform vec3 background;
 layout(location = TD_LOC_AMBIENT) uniform vec3 ambientIa;
-// The environment (docs/environment.md): core/Environment.h's EnvironmentLookup, from the same record.
-layout(location = TD_LOC_ENV_KIND) uniform int envKind;
-layout(location = TD_LOC_ENV_PARAMS) uniform vec4 envParams;  // xy its turn's cos, sin; z the image's scale; w lights ambient
-layout(location = TD_LOC_ENV_SKY) uniform vec3 envSky[3];     // zenith, horizon, ground
-layout(location = TD_LOC_ENV_SH) uniform vec3 envSh[9];
-layout(binding = TD_UNIT_ENVIRONMENT) uniform sampler2D envMap;  // linear filtering, u repeats, v clamped
-// What a ray leaving the scene along unit dirW sees. (A level-0 lookup: no derivatives where pixels branch.)
-vec3 environmentRadiance(vec3 dirW) {
-  if (envKind == TD_ENV_BACKGROUND) return background;
-  vec3 d = tdEnvironmentFrame(dirW, envParams.xy);
-  if (envKind == TD_ENV_SKY) return tdEnvironmentClamp(tdSkyRadiance(d, envSky[0], envSky[1], envSky[2]));
-  return tdEnvironmentClamp(envParams.z * textureLod(envMap, tdEquirectUv(d), 0.0).rgb);
-}
-// The environment's share of the ambient term at a surface facing unit nW.
-vec3 environmentAmbient(vec3 nW) {
-  return envParams.w > 0.5 ? tdShAmbient(tdEnvironmentFrame(nW, envParams.xy), envSh) : vec3(0.0);
-}
+#include "environment.glsl"
+#include "camera_ray.glsl"
 layout(location = TD_LOC_LIGHT_SAMPLES) uniform int lightSamples;  // area-light samples per pixel (rt::FrameShading::lightSamples)
 layout(location = TD_LOC_SAMPLE_BASE) uniform uint sampleBase;   // the sequence index of the first (FrameShading::sampleBase)
 layout(location = TD_LOC_RAY_SCALE) uniform int rayScale;
@@ -384,8 +369,9 @@ void shadePixel() {
 }
 
 // The frame's shade pass also writes the display value (TD_FUSED_OUTPUT): one full-screen pass instead of
-// a second one that reads the RGBA32F target back (on llvmpipe ~6 ms at 1280x720). Sky pixels never run
-// this shader; their display value is the clear of attachment 1.
+// a second one that reads the RGBA32F target back (on llvmpipe ~6 ms at 1280x720). On a software GL sky pixels
+// never run this shader; their display value is the clear of attachment 1, or sky.frag's where the environment
+// varies with direction.
 layout(location = TD_LOC_FUSED_EXPOSURE) uniform float exposure;
 layout(location = TD_LOC_FUSED_TONE_MAP) uniform int toneMap;
 layout(location = TD_LOC_FUSED_PASS_THROUGH) uniform int passThrough;

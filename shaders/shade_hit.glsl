@@ -1,19 +1,6 @@
 // The shade pass (shade.frag): the exact hit a pixel shows, rebuilt from its camera ray and the visible triangle.
 // A part of shade.frag, included by it after its resources and variant flags, which it reads; not a
 // standalone include.
-// ---- camera rays: the same construction as Camera::rayThroughPixel ----
-void cameraRay(vec2 fragXY, out vec3 origin, out vec3 dir) {
-  // gl_FragCoord has y up; the camera's pixel y runs down, and 1 - 2·(H - y)/H = 2·y/H - 1.
-  float nx = fragXY.x / float(frameSize.x) * 2.0 - 1.0;
-  float ny = fragXY.y / float(frameSize.y) * 2.0 - 1.0;
-  if (orthographic != 0) {
-    origin = cameraPosW + cameraRight * nx + cameraUp * ny;
-    dir = cameraForward;
-  } else {
-    origin = cameraPosW;
-    dir = normalize(cameraForward + cameraRight * nx + cameraUp * ny);
-  }
-}
 
 // ---- the visible triangle ----
 struct Triangle {

@@ -73,6 +73,9 @@ Result<ShadePass> ShadePass::create() {
                                                      {GL_FRAGMENT_SHADER, "shaders/shade.frag"}});
   if (!shade) return shade.error();
   ShadePass pass;
+  auto sky = buildProgram("sky", {{GL_VERTEX_SHADER, "shaders/fullscreen.vert"}, {GL_FRAGMENT_SHADER, "shaders/sky.frag"}});
+  if (!sky) return sky.error();
+  pass.sky_ = std::move(*sky);
   pass.emptyVao_ = createVertexArray("full-screen triangle (shade)");
   pass.depthSkipsSky_ = queryFrameLimits().software;
   return pass;
@@ -296,16 +299,21 @@ void setCameraUniforms(GLuint p, int width, int height, const Camera& camera) {
   glProgramUniform2i(p, TD_LOC_FRAME_SIZE, width, height);
 }
 
-void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, const Texture& ids, const Camera& camera,
-                      const ShadeInputs& in) {
-  setCameraUniforms(p, width, height, camera);
+void ShadePass::setEnvironment(GLuint p, const GpuScene& scene, const ShadeInputs& in) {
   glProgramUniform3fv(p, TD_LOC_BACKGROUND, 1, glm::value_ptr(in.background));
-  glProgramUniform3fv(p, TD_LOC_AMBIENT, 1, glm::value_ptr(in.ambient));
   const EnvironmentLookup& env = scene.environment();
   glProgramUniform1i(p, TD_LOC_ENV_KIND, env.kind());
   glProgramUniform4f(p, TD_LOC_ENV_PARAMS, env.turn().x, env.turn().y, env.mapScale(), env.lightsAmbient() ? 1.0f : 0.0f);
   glProgramUniform3fv(p, TD_LOC_ENV_SKY, 3, glm::value_ptr(env.sky()[0]));
   glProgramUniform3fv(p, TD_LOC_ENV_SH, 9, glm::value_ptr(env.ambientSh()[0]));
+  placeholders_.bindOr(kUnitEnvironment, scene.environmentMap(), Placeholders::Float2D);
+}
+
+void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, const Texture& ids, const Camera& camera,
+                      const ShadeInputs& in) {
+  setCameraUniforms(p, width, height, camera);
+  glProgramUniform3fv(p, TD_LOC_AMBIENT, 1, glm::value_ptr(in.ambient));
+  setEnvironment(p, scene, in);
   const int lightSamples = std::clamp(in.lightSamples, 1, TD_MAX_LIGHT_SAMPLES);
   glProgramUniform1i(p, TD_LOC_LIGHT_SAMPLES, lightSamples);
   glProgramUniform1ui(p, TD_LOC_SAMPLE_BASE, in.sampleIndex * static_cast<std::uint32_t>(lightSamples));
@@ -331,7 +339,6 @@ void ShadePass::setUp(GLuint p, int width, int height, const GpuScene& scene, co
     placeholders_.bindOr(c.unit, held ? rayGrid_[static_cast<std::size_t>(c.id)].texture.id() : 0, c.placeholder);
   }
   placeholders_.bindOr(kUnitExactHits, in.exactHits ? in.exactHits->id() : 0, P::Float2D);
-  placeholders_.bindOr(kUnitEnvironment, scene.environmentMap(), P::Float2D);
   if (in.debugView == DebugView::Motion || in.denoiseGuides) {
     assert(in.motionInstances && "shade: motion without its instances' transforms");
     const glm::mat4 now = clipFromViewRotation(camera, width, height);
@@ -385,9 +392,7 @@ void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& 
     glClearNamedFramebufferfv(framebuffer, GL_COLOR, 3, glm::value_ptr(sky));
     glClearNamedFramebufferfv(framebuffer, GL_COLOR, 4, glm::value_ptr(exact));
   }
-  // An environment that varies with direction is drawn by the shader: every pixel runs it then.
-  const bool skipSky = depthSkipsSky_ && scene.environment().kind() == TD_ENV_BACKGROUND;
-  if (skipSky) glEnable(GL_DEPTH_TEST);
+  if (depthSkipsSky_) glEnable(GL_DEPTH_TEST);
   else glDisable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_FALSE);
@@ -418,6 +423,21 @@ void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& 
   glBindVertexArray(emptyVao_.id());
   assertNoFeedbackLoop("shade");
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  // The sky pixels the depth test kept the shader off, where the environment varies with direction: its own
+  // small program, only there (reversed-Z: the clear, 0, equals the triangle's depth). Running shade.frag on
+  // them instead cost llvmpipe ~100 ms a 1280x720 frame of sky: it runs both sides of a branch.
+  if (depthSkipsSky_ && in.debugView == DebugView::Final && scene.environment().kind() != TD_ENV_BACKGROUND) {
+    const GLuint sky = sky_.id();
+    setCameraUniforms(sky, width, height, camera);
+    setEnvironment(sky, scene, in);
+    glProgramUniform1f(sky, TD_LOC_FUSED_EXPOSURE, in.exposure);
+    glProgramUniform1i(sky, TD_LOC_FUSED_TONE_MAP, static_cast<int>(in.toneMap));
+    glProgramUniform1i(sky, TD_LOC_FUSED_PASS_THROUGH, passThrough ? 1 : 0);
+    glDepthFunc(GL_EQUAL);
+    glUseProgram(sky);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDepthFunc(GL_LESS);
+  }
   glBindVertexArray(0);
   glUseProgram(0);
   glDepthMask(GL_TRUE);

@@ -166,7 +166,11 @@ class ShadePass {
   bool drawShadowMask(const GpuScene& scene, const VisibilityPass& visibility, const Camera& camera, const ShadeInputs& in,
                       int gridWidth, int gridHeight);
 
+  /// The environment's uniforms and image (environment.glsl) on program p, the shade variant's or the sky's.
+  void setEnvironment(GLuint p, const GpuScene& scene, const ShadeInputs& in);
+
   std::map<ShadeVariant, Program> variants_;
+  Program sky_;  // sky.frag: the background pixels a software GL's depth test leaves (draw)
   bool depthSkipsSky_ = true;  // the early depth test keeps the shader off background pixels (a software GL)
   VertexArray emptyVao_;  // core profile draws need a VAO even with no attributes
   // The ray grid's channels, kRayChannels order.
