@@ -130,7 +130,7 @@
 #define TD_LOC_SAMPLE_OFFSET 48            // the filter's guides: the frame's sub-pixel offset (pixels, GL rows)
 // The spatiotemporal filter (denoise.frag; DenoisePass, docs/denoise.md): its own program's units and
 // locations. The camera's right and up axes, orthographic and the frame size (TD_LOC_CAMERA_RIGHT ..
-// TD_LOC_FRAME_SIZE, 2-5) are shade_hit.glsl's, from the same vectors (ShadePass's cameraVectors).
+// TD_LOC_FRAME_SIZE, 2-5) are camera_ray.glsl's, from the same vectors (ShadePass's cameraVectors).
 #define TD_UNIT_DENOISE_NOISY 0          // the shade pass's sampled radiance / its modulation this frame
 #define TD_UNIT_DENOISE_GUIDE 1          // this frame's guide (depth, normal + instance, modulation)
 #define TD_UNIT_DENOISE_MOTION 2         // this frame's motion (pixels), the point's depth before, in view before

@@ -58,6 +58,7 @@ layout(location = TD_LOC_RAY_SCALE) uniform int rayScale;  // the ray pass reads
 vec3 positionO(uint v) { return texelFetch(positionsBuf, int(v)).xyz; }
 vec3 objectNormal(uint v) { return texelFetch(normalsBuf, int(v)).xyz; }
 const bool kUseExact = false;  // a pixel on an exact solid is left to its rays
+#include "camera_ray.glsl"
 #include "shade_hit.glsl"
 
 layout(location = 0) out TD_OUTPUT_SHADOW_PROOFS outProof;  // a proof word (bindings.glsl)

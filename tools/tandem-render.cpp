@@ -183,23 +183,23 @@ int main(int argc, char** argv) {
     scene->environment = std::move(e);
   }
   // Each changes a sky or an image (the scene's or --environment's): refused where there is none, as every flag
-  // the render would ignore.
-  const bool environmentSet = scene->environment.kind != Environment::Kind::Background;
-  if (environmentIntensity) {
-    if (!environmentSet)
-      return fail("--environment-intensity: the scene has no sky or image to scale (--environment sky or FILE.hdr gives one)");
-    if (!std::isfinite(*environmentIntensity) || *environmentIntensity < 0.0f || *environmentIntensity > 1e6f)
-      return fail("--environment-intensity: must be a finite scale in 0..1e6, got " + std::to_string(*environmentIntensity));
-    scene->environment.intensity = *environmentIntensity;
-  }
-  if (environmentRotation) {
-    if (!environmentSet)
-      return fail("--environment-rotation: the scene has no sky or image to turn (--environment sky or FILE.hdr gives one)");
-    if (!std::isfinite(*environmentRotation) || std::abs(*environmentRotation) > 360.0f)
-      return fail("--environment-rotation: must be a finite angle in -360..360 degrees, got " +
-                  std::to_string(*environmentRotation));
-    scene->environment.rotationDeg = *environmentRotation;
-  }
+  // the render would ignore, and out of its range.
+  auto environmentValue = [&](const std::string& flag, const std::optional<float>& value, float lo, float hi,
+                              const std::string& range, const std::string& verb, float& into) -> std::string {
+    if (!value) return {};
+    if (scene->environment.kind == Environment::Kind::Background)
+      return flag + ": the scene has no sky or image to " + verb + " (--environment sky or FILE.hdr gives one)";
+    if (!std::isfinite(*value) || *value < lo || *value > hi)
+      return flag + ": must be a finite " + range + ", got " + std::to_string(*value);
+    into = *value;
+    return {};
+  };
+  for (const std::string& refused :
+       {environmentValue("--environment-intensity", environmentIntensity, 0.0f, 1e6f, "scale in 0..1e6", "scale",
+                         scene->environment.intensity),
+        environmentValue("--environment-rotation", environmentRotation, -360.0f, 360.0f,
+                         "angle in -360..360 degrees", "turn", scene->environment.rotationDeg)})
+    if (!refused.empty()) return fail(refused);
 
   Result<cli::ResolvedFrame> resolved = cli::resolveFrame(frameOptions, scene->render);
   if (!resolved) return fail(resolved.error().message);

@@ -73,16 +73,26 @@ Result<void> writePng(const std::string& path, const Image& image) {
   return {};
 }
 
+namespace {
+// An untrusted image file's size, refused when it is not a regular file or is over kMaxImageFileBytes.
+Result<std::uint64_t> imageFileBytes(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return Error{"cannot read " + path + ": not a regular file"};
+  const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (ec) return Error{"cannot read " + path + ": " + ec.message()};
+  if (bytes > kMaxImageFileBytes)
+    return Error{"cannot read " + path + ": " + std::to_string(bytes) + " bytes, more than the limit of " +
+                 std::to_string(kMaxImageFileBytes)};
+  return std::uint64_t(bytes);
+}
+}  // namespace
+
 Result<Image> readPng(const std::string& path, std::uint64_t maxPixels) {
   // Untrusted files: the size and the declared dimensions are checked before anything is decoded, and the
   // decoder's memory is capped (a zlib stream can inflate far past its rows).
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return Error{"cannot read " + path + ": not a regular file"};
-  const std::uintmax_t fileBytes = std::filesystem::file_size(path, ec);
-  if (ec) return Error{"cannot read " + path + ": " + ec.message()};
-  if (fileBytes > kMaxImageFileBytes)
-    return Error{"cannot read " + path + ": " + std::to_string(fileBytes) + " bytes, more than the limit of " +
-                 std::to_string(kMaxImageFileBytes)};
+  Result<std::uint64_t> size = imageFileBytes(path);
+  if (!size) return size.error();
+  const std::uint64_t fileBytes = *size;
   int w = 0, h = 0, n = 0;
   if (!stbi_info(path.c_str(), &w, &h, &n))
     return Error{"cannot read " + path + ": " + (stbi_failure_reason() ? stbi_failure_reason() : "unknown")};
@@ -207,13 +217,9 @@ class HdrReader {
 }  // namespace
 
 Result<ImageF> readHdr(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return Error{"cannot read " + path + ": not a regular file"};
-  const std::uintmax_t fileBytes = std::filesystem::file_size(path, ec);
-  if (ec) return Error{"cannot read " + path + ": " + ec.message()};
-  if (fileBytes > kMaxImageFileBytes)
-    return Error{"cannot read " + path + ": " + std::to_string(fileBytes) + " bytes, more than the limit of " +
-                 std::to_string(kMaxImageFileBytes)};
+  Result<std::uint64_t> size = imageFileBytes(path);
+  if (!size) return size.error();
+  const std::uint64_t fileBytes = *size;
   std::ifstream in(path, std::ios::binary);
   std::string bytes(static_cast<std::size_t>(fileBytes), '\0');
   if (!in.read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
