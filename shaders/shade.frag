@@ -10,6 +10,12 @@
 #ifndef TD_USE_PROCEDURAL
 #define TD_USE_PROCEDURAL 1  // some material has a procedural texture (docs/procedural.md)
 #endif
+#ifndef TD_USE_ENVIRONMENT
+#define TD_USE_ENVIRONMENT 1  // the environment varies with direction: the background pixels look it up
+#endif
+#ifndef TD_USE_ENV_AMBIENT
+#define TD_USE_ENV_AMBIENT 1  // the environment lights the ambient term (docs/environment.md)
+#endif
 #include "procedural.glsl"
 
 // Per-pixel gathers go through buffer-texture views of scene.glsl's SSBOs (engine/src/gl/GpuScene.h):
@@ -232,6 +238,8 @@ layout(location = TD_LOC_RAY_PRESENT) uniform int rayPresent;
 // code uses, which are therefore declared regardless (an unread sampler or block is not active, so it
 // needs nothing bound). #if stays only where the declaration itself differs between variants.
 const bool kUseProcedural = TD_USE_PROCEDURAL != 0;
+const bool kUseEnvironment = TD_USE_ENVIRONMENT != 0;
+const bool kUseEnvAmbient = TD_USE_ENV_AMBIENT != 0;
 const bool kShadowMaps = TD_SHADOW_MAPS != 0;
 const bool kSoftShadows = TD_SOFT_SHADOWS != 0;
 const bool kShadowMaskPass = TD_SHADOW_MASK_PASS != 0;
@@ -327,7 +335,7 @@ void shadePixel() {
     if (debugView == TD_VIEW_FINAL) {
       vec3 origin, dir;
       cameraRay(vec2(pix) + 0.5, origin, dir);
-      sky = environmentRadiance(dir);
+      sky = kUseEnvironment ? environmentRadiance(dir) : background;
     }
     outColor = vec4(sky, 1.0);
     if (kDenoiseGuides) writeNoGuides(sky);

@@ -173,8 +173,9 @@ vec3 localLight(Surface s, RaySample rays, uvec2 id, ivec2 pTop) {
     vec3 H;
     local = emission + (kUseRadiosity && radiosityAt(instance, id.y, b, side < 0.0, H)
                             ? tdRadiosityTerm(m, H, uv, pattern, tint)
-                            : tdAmbient(m, ambientIa + environmentAmbient(model == TD_MODEL_FLAT ? Ng : N), uv,
-                                        pattern, tint));
+                            : tdAmbient(m, kUseEnvAmbient ? ambientIa + environmentAmbient(model == TD_MODEL_FLAT ? Ng : N)
+                                                          : ambientIa,
+                                        uv, pattern, tint));
     vec3 ks = vec3(m.ksNs);
     float ns = m.ksNs.w;
     vec3 Ns = model == TD_MODEL_FLAT ? Ng : N;

@@ -786,10 +786,10 @@ MUTATIONS = [
      "tandem-pipeline-tests", "Pipeline.*"),
     # The environment (docs/environment.md).
     ("environment-glsl-ambient-left-out", "shaders/shade_local.glsl",
-     "tdAmbient(m, ambientIa + environmentAmbient(model == TD_MODEL_FLAT ? Ng : N), uv,", "tdAmbient(m, ambientIa, uv,",
+     "kUseEnvAmbient ? ambientIa + environmentAmbient(model == TD_MODEL_FLAT ? Ng : N)", "kUseEnvAmbient ? ambientIa",
      "tandem-gl-tests", "ShadingParityGLTest.*"),
     ("environment-glsl-background-constant", "shaders/shade.frag",
-     "      sky = environmentRadiance(dir);", "      sky = background;",
+     "      sky = kUseEnvironment ? environmentRadiance(dir) : background;", "      sky = background;",
      "tandem-gl-tests", "ShadingParityGLTest.*"),
     ("environment-cpu-ambient-left-out", "engine/src/rt/SurfaceShading.cpp",
      "tdAmbient(m, frame.ambient + frame.environment.ambient(ambientN), hit.uv,", "tdAmbient(m, frame.ambient, hit.uv,",

@@ -49,6 +49,8 @@ std::vector<ShadeVariant> eachFlagChanged() {
   with([](ShadeVariant& v) { v.radiosity = true; });
   with([](ShadeVariant& v) { v.exact = true; });
   with([](ShadeVariant& v) { v.procedural = true; });
+  with([](ShadeVariant& v) { v.environment = true; });
+  with([](ShadeVariant& v) { v.environmentAmbient = true; });
   return out;
 }
 

@@ -267,6 +267,10 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
 // One draw command per instance, baseInstance = instance index.
 void GpuScene::uploadEnvironment(const Scene& scene) {
   environment_ = EnvironmentLookup(scene);
+  // (variant flags: code llvmpipe compiles into the shader costs it even where a branch skips it, ~10 ms of a
+  // 1280x720 frame's shade for the lookup alone)
+  features_.environment = environment_.kind() != TD_ENV_BACKGROUND;
+  features_.environmentAmbient = environment_.lightsAmbient();
   environmentMap_.reset();
   const EnvironmentMap* map = environment_.map();
   if (!map) return;

@@ -47,6 +47,8 @@ struct SceneFeatures {
   int uniformMaterials = 0;    // material count when they fit a uniform block, else 0 (SSBO)
   bool exact = false;          // some instance is an exact solid: ids may name a hit on it (TD_EXACT_TRIANGLE)
   bool procedural = false;     // some material has a procedural texture (procedural.glsl is compiled in)
+  bool environment = false;         // the environment varies with direction (a sky or an image)
+  bool environmentAmbient = false;  // and lights the ambient term (EnvironmentLookup::lightsAmbient)
 };
 
 /// Instances that look reflections up in a probe (their material has kr > 0 or kt > 0, or is BLEND).

@@ -173,6 +173,8 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in,
   v.radiosity = in.radiosity;
   v.exact = f.exact;
   v.procedural = f.procedural;
+  v.environment = f.environment;
+  v.environmentAmbient = f.environmentAmbient;
   auto found = variants_.find(v);
   if (found != variants_.end()) return found->second;
   auto built = buildProgram("shade", {{GL_VERTEX_SHADER, "shaders/fullscreen.vert"},

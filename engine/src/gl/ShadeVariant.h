@@ -33,6 +33,8 @@ struct ShadeVariant {
   bool fusedOutput = false;     // the display written as well (TD_FUSED_OUTPUT)
   bool denoiseGuides = false;   // the spatiotemporal filter's guides written as well (TD_DENOISE_GUIDES)
   bool radiosity = false, exact = false, procedural = false;
+  bool environment = false;         // the environment varies with direction (a sky or an image: docs/environment.md)
+  bool environmentAmbient = false;  // and lights the ambient term
 
   auto operator<=>(const ShadeVariant&) const = default;
 
@@ -67,6 +69,8 @@ struct ShadeVariant {
     f("TD_USE_RADIOSITY", flag(radiosity));
     f("TD_USE_EXACT", flag(exact));
     f("TD_USE_PROCEDURAL", flag(procedural));
+    f("TD_USE_ENVIRONMENT", flag(environment));
+    f("TD_USE_ENV_AMBIENT", flag(environmentAmbient));
   }
 
   /// The #define lines the variant is compiled with (buildProgram puts them after #version).
