@@ -10,9 +10,9 @@ namespace tandem {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
-// The sky's coefficients come from its gradient on this grid (a few hundred microseconds a frame; the
-// gradient varies with the height alone, smoothly but for the horizon's square root).
-constexpr int kSkyGridWidth = 64, kSkyGridHeight = 32;
+// The sky's coefficients come from its gradient on this grid, once per process (the gradient varies with the
+// height alone, smoothly but for the horizon's square root).
+constexpr int kSkyGridWidth = 128, kSkyGridHeight = 64;
 }  // namespace
 
 std::array<glm::vec3, 9> projectAmbientSh(int width, int height,
@@ -91,9 +91,14 @@ EnvironmentLookup::EnvironmentLookup(const Scene& scene, bool lightsAmbient) {
   if (kind_ == TD_ENV_MAP) {
     for (std::size_t i = 0; i < 9; ++i) sh_[i] = map_->ambientSh()[i] * e.intensity;
   } else {
-    sh_ = projectAmbientSh(kSkyGridWidth, kSkyGridHeight, [&](int, int, glm::vec3 d) {
-      return shading::tdSkyRadiance(d, sky_[0], sky_[1], sky_[2]);
-    });
+    // The sky is linear in its three colours: its coefficients are theirs weighted by the gradient's, which
+    // are projected once (the gradient with zenith, horizon and ground as the unit axes) rather than per frame.
+    static const std::array<glm::vec3, 9> weights =
+        projectAmbientSh(kSkyGridWidth, kSkyGridHeight, [](int, int, glm::vec3 d) {
+          return shading::tdSkyRadiance(d, glm::vec3(1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1));
+        });
+    for (std::size_t i = 0; i < 9; ++i)
+      sh_[i] = sky_[0] * weights[i].x + sky_[1] * weights[i].y + sky_[2] * weights[i].z;
   }
 }
 
