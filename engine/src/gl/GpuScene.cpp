@@ -264,7 +264,6 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
   uploadTextures(scene, g.anyTangents);
 }
 
-// One draw command per instance, baseInstance = instance index.
 void GpuScene::uploadEnvironment(const Scene& scene) {
   environment_ = EnvironmentLookup(scene);
   // (variant flags: code llvmpipe compiles into the shader costs it even where a branch skips it, ~10 ms of a
@@ -286,6 +285,7 @@ void GpuScene::uploadEnvironment(const Scene& scene) {
   bytes_ += map->texels().size() * sizeof(glm::vec3);
 }
 
+// One draw command per instance, baseInstance = instance index.
 void GpuScene::uploadInstances(const Scene& scene, const std::vector<glm::uvec4>& meshes) {
   instanceCount_ = static_cast<int>(scene.instances.size());
   otherSlot_ = {};

@@ -387,8 +387,8 @@ void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& 
   }
   if (in.denoiseGuides) {
     // The sky's guides (instance 0: never filtered; its motion's w -1 says so to the stages that read no
-    const glm::uvec4 none(0u);
     // guide), and their radiance past the filter (the compose stage's background), as writeNoGuides has them.
+    const glm::uvec4 none(0u);
     const glm::vec4 sky(0.0f, 0.0f, 0.0f, -1.0f), exact(glm::vec3(clear), 0.0f);
     glClearNamedFramebufferuiv(framebuffer, GL_COLOR, 2, glm::value_ptr(none));
     glClearNamedFramebufferfv(framebuffer, GL_COLOR, 3, glm::value_ptr(sky));

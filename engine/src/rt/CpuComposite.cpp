@@ -31,17 +31,13 @@ void compositeOnCpu(const Scene& scene, const Camera& camera, const FrameSetting
       glm::uvec2 id = visibility.ids[static_cast<std::size_t>(p.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(p.x)];
       Ray ray = cam.rayThroughPixel(glm::vec2(p) + 0.5f, {width, height});
       // Nothing there (or an id not in the scene, which the pass skips too): the environment.
-      const glm::vec3 sky = frame.environment.radiance(ray.dir);
-      if (id.x == 0 || id.x > scene.instances.size()) {
-        out.rgb[g] = sky;
+      const bool known = id.x != 0 && id.x <= scene.instances.size();
+      const Mesh* mesh = known ? &scene.meshes[scene.instances[id.x - 1].mesh] : nullptr;
+      if (!mesh || (id.y == kExactTriangle ? !mesh->exact : id.y >= mesh->triangleCount())) {
+        out.rgb[g] = frame.environment.radiance(ray.dir);
         continue;
       }
       std::uint32_t instance = id.x - 1;
-      const Mesh& mesh = scene.meshes[scene.instances[instance].mesh];
-      if (id.y == kExactTriangle ? !mesh.exact : id.y >= mesh.triangleCount()) {
-        out.rgb[g] = sky;
-        continue;
-      }
       // A moving instance where the frame's shutter time puts it, as the rasterizer drew it.
       const Instance& inst = scene.instances[instance];
       InstanceTransform transform =
