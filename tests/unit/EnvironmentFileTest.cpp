@@ -158,9 +158,9 @@ TEST(EnvironmentFile, TheSceneFileGivesASkyOrAnImageAndKeepsItsBackgroundWithout
   expectError(R"({"image": "env-absent.hdr"})", "/environment/image", "not a regular file");
   expectError(R"({"image": "env-not-hdr.png"})", "/environment/image", "not a Radiance .hdr image");
   expectError(R"({"sun": true})", "/environment", "sun");
-  expectError(R"({"intensity": -1})", "/environment/intensity", "");
-  expectError(R"({"horizon": [1, -1, 0]})", "/environment/horizon", "");
-  expectError(R"("sky")", "/environment", "");
+  expectError(R"({"intensity": -1})", "/environment/intensity", "must be in [0, 1e+06], got -1");
+  expectError(R"({"horizon": [1, -1, 0]})", "/environment/horizon/1", "must be >= 0, got -1");
+  expectError(R"("sky")", "/environment", "expected an object");
 }
 
 }  // namespace
