@@ -72,6 +72,9 @@
 #define TD_UNIT_PREVIOUS_DEPTH 29    // the last frame's visibility depth
 // ---- texture units: the environment (GpuScene; docs/environment.md) — the proofs' number, another program's ----
 #define TD_UNIT_ENVIRONMENT 30       // RGB32F: the environment's equirectangular image (TD_ENV_MAP), top row first
+// ---- texture units: the view behind see-through surfaces (gl/BehindView.h) — the proofs' number, another program's ----
+#define TD_UNIT_BEHIND 31            // RGBA16F, the frame's size: what lies behind the nearest see-through surface
+#define TD_UNIT_PEEL_DEPTH 1         // the visibility pass's (TD_PEEL): the nearest see-through surface's depth
 // ---- texture units: the hybrid shadows' maps in the GL (ShadowProofPass; shadow_proof.frag) ----
 #define TD_UNIT_PROOF_TEXELS 27     // R32UI: texel records, TD_PROOF_RECORD words each
 #define TD_UNIT_PROOF_TRIANGLES 28  // RGBA32F: 5 per triangle (plane, edges, magnitude / valid / blocks)
@@ -234,5 +237,6 @@
 #define TD_RAY_TRANSMITTED 4
 #define TD_PROBE_REFLECT 1      // TD_PROBES: which effects the probes stand in for
 #define TD_PROBE_REFRACT 2
+#define TD_PROBE_BEHIND 4       // IOR-1 transmission reads the view behind (TD_UNIT_BEHIND) at its own pixel
 
 #endif

@@ -108,6 +108,10 @@ layout(binding = TD_UNIT_SHADOW_CUBES) uniform TD_SAMPLER_SHADOW_CUBES shadowCub
 // The cube maps' stored depths (no compare): where the blockers are (soft shadows).
 layout(binding = TD_UNIT_SHADOW_CUBES_DEPTH) uniform TD_SAMPLER_SHADOW_CUBES_DEPTH shadowCubesDepth;
 layout(binding = TD_UNIT_PROBES) uniform TD_SAMPLER_PROBES probes;  // RGBA16F linear radiance, layer = probe slot
+#if (TD_PROBES & TD_PROBE_BEHIND) != 0
+// The scene drawn without its see-through (IOR-1 transmissive) surfaces, from this view (gl/BehindView.h).
+layout(binding = TD_UNIT_BEHIND) uniform sampler2D behindView;
+#endif
 
 vec3 positionO(uint v) { return texelFetch(positionsBuf, int(v)).xyz; }
 vec3 objectNormal(uint v) { return texelFetch(normalsBuf, int(v)).xyz; }

@@ -39,6 +39,20 @@ void probeLight(Surface s, inout RaySample rays) {
     float lod = alpha > 0.0 ? clamp(log2(alpha * (faceSize * 2.0 / 3.14159265)), 0.0, log2(faceSize)) : 0.0;
     if (kProbeReflect && wR > 0.0) rays.reflected += wR * textureLod(probes, vec4(tdReflectOverFacet(V, N, Ng), layer), lod).rgb;
     if (kProbeRefract && (wTv.x > 0.0 || wTv.y > 0.0 || wTv.z > 0.0)) {
+#if (TD_PROBES & TD_PROBE_BEHIND) != 0
+      // Straight through (IOR 1: thin-walled transmission, a BLEND surface's uncovered part): what lies behind
+      // it along this pixel's own ray, which the view behind holds, instead of the probe seen from the
+      // object's centre (a lamp's shade sees its bulb from inside). A rough one spreads it over its lobe, about
+      // α radians: that many radians of the view around the pixel, the mip level whose texels are as wide
+      // (an orthographic view read as a 45° one). The uncovered part of a BLEND surface stays sharp.
+      if (etaI == etaT) {
+        float pixelsPerRadian = float(frameSize.y) / (orthographic != 0 ? 0.785398 : 2.0 * atan(length(cameraUp)));
+        float behindLod = kt > 0.0 && alpha > 0.0 ? max(log2(alpha * pixelsPerRadian), 0.0) : 0.0;
+        vec2 uv = gl_FragCoord.xy / vec2(textureSize(behindView, 0));
+        rays.transmitted += wTv * textureLod(behindView, uv, behindLod).rgb;
+        return;
+      }
+#endif
       vec3 T = etaI == etaT ? -V : tdRefractOverFacet(normalize(eta * -V + (eta * cosI - sqrt(max(cos2T, 0.0))) * N), V, Ng, eta);
       rays.transmitted += wTv * textureLod(probes, vec4(T, layer), kt > 0.0 ? lod : 0.0).rgb;  // pass-through: sharp
     }

@@ -15,6 +15,9 @@ flat out float vLayer;      // kd texture layer, -1 for none (coverage from the 
 #endif
 
 layout(location = 0) in uint instanceIndex;  // divisor 1, offset by the draw command's baseInstance
+// What the draw's triangle numbers are offset by: 0 for a mesh, its copy's place past the mesh's own triangles
+// for a probe face's coarse copy (GpuScene::ensureProbeLod), so the id names the triangle the shade pass reads.
+layout(location = 1) in uint primitiveBase;
 
 // clipFromView · viewFromWorld with the camera translation taken out: positions are made relative to
 // the camera before the matrix, which keeps precision for scenes far from the origin.
@@ -24,8 +27,10 @@ layout(location = TD_LOC_VISIBILITY_CAMERA_POS) uniform vec3 cameraPosW;
 layout(location = TD_LOC_EXCLUDED_PLUS_ONE) uniform uint excludedPlusOne;
 
 flat out uint vInstance;
+flat out uint vPrimitiveBase;
 
 void main() {
+  vPrimitiveBase = primitiveBase;
 #if TD_ALPHA_MASK
   vUv = vec2(0.0);
   vAlphaCode = 0.0;

@@ -41,6 +41,10 @@ void addFrameOptions(CLI::App& app, FrameOptions& o) {
   app.add_option("--probe-size", o.probeSize,
                  "Raster reflections/refraction: each probe face's texels a side, a power of two in 16..512 "
                  "(FrameSettings::probeSize, default: the preset's)");
+  app.add_option("--probes-per-frame", o.probesPerFrame,
+                 "Raster reflections/refraction: the most probes a frame draws, 0..4096; the others show the "
+                 "environment until later frames draw them, oldest first (FrameSettings::probesPerFrame, default 0: "
+                 "all, every frame that needs them)");
   app.add_option("--refraction", o.refraction, "off | raster | ray (default: the preset's)");
   app.add_option("--depth", o.depth,
                  "Maximum reflection/refraction depth, 0..64 (default: the scene's render.maxDepth, else the preset's)");
@@ -157,6 +161,11 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
     if (*o.probeLimit < 1 || *o.probeLimit > 4096)
       return Error{"--probe-limit: must be 1..4096, got " + std::to_string(*o.probeLimit)};
     s.probeLimit = *o.probeLimit;
+  }
+  if (o.probesPerFrame) {
+    if (*o.probesPerFrame < 0 || *o.probesPerFrame > 4096)
+      return Error{"--probes-per-frame: must be 0..4096, got " + std::to_string(*o.probesPerFrame)};
+    s.probesPerFrame = *o.probesPerFrame;
   }
   if (o.probeSize) {
     const int n = *o.probeSize;
@@ -306,9 +315,9 @@ Result<FrameSettings> resolveFrameOptions(const FrameOptions& o, FrameSettings s
   if (o.classicWhitted) s.fresnelWeighted = false;
   if (o.schlick) s.fresnel = FresnelMode::Schlick;
   // Only raster reflections and refraction draw probes.
-  if ((o.probeLimit || o.probeSize) &&
+  if ((o.probeLimit || o.probeSize || o.probesPerFrame) &&
       (s.reference || (s.reflections != EffectMode::Raster && s.refraction != EffectMode::Raster)))
-    return Error{std::string(o.probeLimit ? "--probe-limit" : "--probe-size") +
+    return Error{std::string(o.probeLimit ? "--probe-limit" : o.probeSize ? "--probe-size" : "--probes-per-frame") +
                  ": only raster reflections or refraction use probes (the raster preset, or --reflections raster "
                  "or --refraction raster), got reflections " + std::string(toString(s.reflections)) +
                  ", refraction " + std::string(toString(s.refraction)) + (s.reference ? " (the reference)" : "")};

@@ -28,6 +28,7 @@ struct FrameOptions {
   std::optional<int> depth;
   std::optional<int> probeLimit;
   std::optional<int> probeSize;
+  std::optional<int> probesPerFrame;
   std::optional<int> scale;
   std::optional<int> spp;
   std::optional<float> exposure;

@@ -45,6 +45,9 @@ check --probe-limit --preset reference --probe-limit 8
 check --probe-size --preset raster --probe-size 100
 check --probe-size --preset raster --probe-size 8
 check --probe-size --preset hybrid-full --probe-size 64
+check --probes-per-frame --preset raster --probes-per-frame -1
+check --probes-per-frame --preset raster --probes-per-frame 5000
+check --probes-per-frame --preset hybrid-full --probes-per-frame 2
 check --environment --environment "$out/no-such-environment.hdr"
 check --environment --environment "$0"
 check --environment-intensity --environment-intensity 2

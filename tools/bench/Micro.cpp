@@ -346,9 +346,10 @@ void BM_VisibilityRaster(benchmark::State& state) {
 }
 
 // The raster preset's reflection probes (FrameSettings::probeLimit) on N mirror spheres (arg spheres: 10, 100,
-// 1000) under a limit (arg limit): each iteration moves one sphere, so every probe is drawn again; the time is
-// the probes stage's (probesMs). Counters: the probes the scene has and those a frame drew. The cost follows
-// min(N, limit) times the scene's own draw, not N² (each probe draws the whole scene, six times).
+// 1000) under a limit (arg limit) and a per-frame budget (arg perFrame, FrameSettings::probesPerFrame, 0: all):
+// each iteration moves one sphere, so every probe is stale; the time is the probes stage's (probesMs). Counters:
+// the probes the scene has and those a frame drew. The cost follows the probes drawn (min(N, limit), or the
+// budget) times a face's draw, not N² (each probe draws the scene six times, small objects as coarse copies).
 void BM_RasterProbes(benchmark::State& state) {
   GlFrame& g = glFrame("mirrors:" + std::to_string(state.range(0)));
   if (!g.renderer) return state.SkipWithError(g.error.c_str());
@@ -357,6 +358,7 @@ void BM_RasterProbes(benchmark::State& state) {
   base.height = 180;
   FrameSettings s = *presetSettings("raster", base);
   s.probeLimit = static_cast<int>(state.range(1));
+  s.probesPerFrame = static_cast<int>(state.range(2));
   int frame = 0;
   auto next = [&] {
     const float x = 0.1f * static_cast<float>(frame++ % 2);
@@ -485,8 +487,9 @@ void registerMicroBenchmarks() {
       ->MinTime(3.0)
       ->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark("BM_RasterProbes", BM_RasterProbes)
-      ->ArgNames({"spheres", "limit"})
-      ->Args({10, 8})->Args({100, 8})->Args({1000, 8})->Args({10, 32})->Args({100, 32})->Args({1000, 32})
+      ->ArgNames({"spheres", "limit", "perFrame"})
+      ->Args({10, 8, 0})->Args({100, 8, 0})->Args({1000, 8, 0})->Args({10, 32, 0})->Args({100, 32, 0})
+      ->Args({1000, 32, 0})->Args({10, 32, 4})->Args({100, 32, 4})->Args({1000, 32, 4})
       ->UseManualTime()
       ->Iterations(3)
       ->Unit(benchmark::kMillisecond);

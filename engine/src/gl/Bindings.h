@@ -31,6 +31,7 @@ inline constexpr GLuint kUnitPreviousIds = TD_UNIT_PREVIOUS_IDS;
 inline constexpr GLuint kUnitPreviousDepth = TD_UNIT_PREVIOUS_DEPTH;
 inline constexpr GLuint kUnitShadowMask = TD_UNIT_SHADOW_MASK;
 inline constexpr GLuint kUnitEnvironment = TD_UNIT_ENVIRONMENT;
+inline constexpr GLuint kUnitBehind = TD_UNIT_BEHIND, kUnitPeelDepth = TD_UNIT_PEEL_DEPTH;
 inline constexpr GLuint kUnitProofTexels = TD_UNIT_PROOF_TEXELS, kUnitProofTriangles = TD_UNIT_PROOF_TRIANGLES,
                         kUnitProofNear = TD_UNIT_PROOF_NEAR, kUnitProofInstances = TD_UNIT_PROOF_INSTANCES,
                         kUnitProofFlags = TD_UNIT_PROOF_FLAGS;
@@ -50,6 +51,6 @@ inline constexpr ChannelFormat kChannelIds{TD_CHANNEL_IDS}, kChannelDepth{TD_CHA
                                kChannelExactHits{TD_CHANNEL_EXACT_HITS}, kChannelShadowMask{TD_CHANNEL_SHADOW_MASK},
                                kChannelShadowProofs{TD_CHANNEL_SHADOW_PROOFS};
 /// Which effects the probes stand in for (ShadeInputs::probeEffects), the shade pass's TD_PROBES.
-enum ProbeEffect : int { kProbeReflect = TD_PROBE_REFLECT, kProbeRefract = TD_PROBE_REFRACT };
+enum ProbeEffect : int { kProbeReflect = TD_PROBE_REFLECT, kProbeRefract = TD_PROBE_REFRACT, kProbeBehind = TD_PROBE_BEHIND };
 
 }  // namespace tandem::gl

@@ -4,11 +4,14 @@
 
 #include <algorithm>
 #include <cassert>
+#include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <vector>
 
 #include "core/Finite.h"
+#include "core/MeshLod.h"
 #include "core/Motion.h"
 #include "core/RenderSpace.h"
 #include "core/Shading.h"
@@ -243,6 +246,7 @@ void GpuScene::upload(const Scene& scene, std::optional<ShadingModel> shadingOve
   uvs_ = bufferOf("uvs", g.uvs);
   colors_ = bufferOf("colors", g.colors);
   indices_ = bufferOf("indices", g.indices);
+  indexCount_ = g.indices.size();
   meshes_ = bufferOf("meshes", g.meshes);
   tangents_ = bufferOf("tangents", g.tangents);
   // Empty channels keep a 16-byte stand-in buffer: the views are over whole buffers either way.
@@ -297,28 +301,99 @@ void GpuScene::uploadInstances(const Scene& scene, const std::vector<glm::uvec4>
   instanceIdsTex_ = createBufferTexture("instance ids view", GL_RGBA32UI, instances_);
   // The static instances' commands first, the dynamic ones after: each set is one contiguous range to draw.
   // (baseInstance names the instance, so the order changes no pixel: depth keeps the nearest either way.)
-  std::vector<DrawCommand> commands;
-  std::vector<std::uint32_t> ids;
   staticDraws_ = dynamicDraws_ = 0;
   drawInstance_.clear();
   for (bool dynamic : {false, true})
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
       if (scene.instances[i].dynamic != dynamic) continue;
-      const glm::uvec4& mesh = meshes[scene.instances[i].mesh];
-      commands.push_back({mesh.w * 3, 1, mesh.y, 0, static_cast<GLuint>(i)});
       drawInstance_.push_back(static_cast<std::uint32_t>(i));
       ++(dynamic ? dynamicDraws_ : staticDraws_);
     }
-  for (std::size_t i = 0; i < scene.instances.size(); ++i) ids.push_back(static_cast<std::uint32_t>(i));
-  indirect_ = bufferOf("draw commands", commands);
-  instanceIds_ = bufferOf("instance ids", ids);
+  meshRecords_ = meshes;
+  lodLevels_ = 0;
+  lodTriangles_ = 0;
   vao_ = createVertexArray("visibility vao");
   glVertexArrayElementBuffer(vao_.id(), indices_.id());
-  glVertexArrayVertexBuffer(vao_.id(), 0, instanceIds_.id(), 0, sizeof(std::uint32_t));
-  glVertexArrayBindingDivisor(vao_.id(), 0, 1);
-  glEnableVertexArrayAttrib(vao_.id(), 0);
-  glVertexArrayAttribIFormat(vao_.id(), 0, 1, GL_UNSIGNED_INT, 0);
-  glVertexArrayAttribBinding(vao_.id(), 0, 0);
+  writeDrawCommands(scene, {});
+}
+
+void GpuScene::writeDrawCommands(const Scene& scene,
+                                 const std::vector<std::array<glm::uvec2, kProbeLodCells.size()>>& copies) {
+  const std::size_t levels = copies.empty() ? 0 : kProbeLodCells.size();
+  const auto n = static_cast<std::uint32_t>(instanceCount_);
+  std::vector<DrawCommand> commands;
+  std::vector<std::uint32_t> ids, bases;
+  commands.reserve(drawInstance_.size() * (levels + 1));
+  for (std::size_t level = 0; level <= levels; ++level) {
+    auto range = [&](std::uint32_t mesh) {
+      const glm::uvec4& record = meshRecords_[mesh];
+      return level == 0 ? glm::uvec2(record.y, record.w) : copies[mesh][level - 1];
+    };
+    for (std::uint32_t i : drawInstance_) {
+      const glm::uvec2 r = range(scene.instances[i].mesh);
+      commands.push_back({r.y * 3, 1, r.x, 0, static_cast<GLuint>(level) * n + i});
+    }
+    // A copy's triangle t is the mesh's triangle (first − the mesh's first index) / 3 + t for the shade pass.
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::uint32_t mesh = scene.instances[i].mesh;
+      assert((range(mesh).x - meshRecords_[mesh].y) % 3 == 0 && "copies start on a triangle");
+      ids.push_back(i);
+      bases.push_back((range(mesh).x - meshRecords_[mesh].y) / 3);
+    }
+  }
+  indirect_ = bufferOf("draw commands", commands);
+  instanceIds_ = bufferOf("instance ids", ids);
+  primitiveBases_ = bufferOf("primitive bases", bases);
+  // Both per-instance attributes, divisor 1, offset by each command's baseInstance.
+  const Buffer* attributes[2] = {&instanceIds_, &primitiveBases_};
+  for (GLuint a = 0; a < 2; ++a) {
+    glVertexArrayVertexBuffer(vao_.id(), a, attributes[a]->id(), 0, sizeof(std::uint32_t));
+    glVertexArrayBindingDivisor(vao_.id(), a, 1);
+    glEnableVertexArrayAttrib(vao_.id(), a);
+    glVertexArrayAttribIFormat(vao_.id(), a, 1, GL_UNSIGNED_INT, 0);
+    glVertexArrayAttribBinding(vao_.id(), a, a);
+  }
+}
+
+int probeLodLevel(float texels) {
+  for (std::size_t l = kProbeLodCells.size(); l-- > 0;)
+    if (texels <= 2.0f * static_cast<float>(kProbeLodCells[l])) return static_cast<int>(l) + 1;
+  return 0;
+}
+
+void GpuScene::ensureProbeLod(const Scene& scene) {
+  if (lodLevels_ > 0 || instanceCount_ == 0) return;
+  assert(meshRecords_.size() == scene.meshes.size() && "ensureProbeLod: the uploaded scene");
+  std::vector<std::array<glm::uvec2, kProbeLodCells.size()>> copies(scene.meshes.size());
+  std::vector<bool> wanted(scene.meshes.size(), false);
+  for (const Instance& inst : scene.instances) wanted[inst.mesh] = wanted[inst.mesh] || !scene.meshes[inst.mesh].exact;
+  std::vector<std::uint32_t> appended;
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const glm::uvec4& record = meshRecords_[m];
+    copies[m].fill(glm::uvec2(record.y, record.w));
+    if (!wanted[m]) continue;
+    for (std::size_t l = 0; l < kProbeLodCells.size(); ++l) {
+      const std::vector<std::uint32_t> triangles = clusteredTriangles(scene.meshes[m], kProbeLodCells[l]);
+      if (triangles.size() * 2 > scene.meshes[m].indices.size()) continue;  // saves too little: the mesh itself
+      // Each copy after the meshes' own indices; its first index stays on a multiple of three.
+      copies[m][l] = glm::uvec2(static_cast<std::uint32_t>(indexCount_ + appended.size()),
+                                static_cast<std::uint32_t>(triangles.size() / 3));
+      for (std::uint32_t v : triangles) appended.push_back(record.x + v);
+    }
+  }
+  lodLevels_ = static_cast<int>(kProbeLodCells.size());
+  lodTriangles_ = appended.size() / 3;
+  if (!appended.empty()) {
+    const std::size_t kept = indexCount_ * sizeof(std::uint32_t), added = appended.size() * sizeof(std::uint32_t);
+    Buffer grown = createBuffer("indices", kept + added, nullptr);
+    glCopyNamedBufferSubData(indices_.id(), grown.id(), 0, 0, static_cast<GLsizeiptr>(kept));
+    glNamedBufferSubData(grown.id(), static_cast<GLintptr>(kept), static_cast<GLsizeiptr>(added), appended.data());
+    indices_ = std::move(grown);
+    indicesTex_ = createBufferTexture("indices view", GL_R32UI, indices_);
+    glVertexArrayElementBuffer(vao_.id(), indices_.id());
+    bytes_ += added;
+  }
+  writeDrawCommands(scene, copies);
 }
 
 // The sRGB array (base colour, emissive) and the linear one (normal maps), layer = scene texture index
@@ -560,28 +635,30 @@ void GpuScene::draw(Instances which, const std::vector<std::uint8_t>* seen) cons
   // one on screen too; the importers make mirrored instances' winding counter-clockwise in world space.
   glFrontFace(GL_CCW);
   glCullFace(GL_BACK);
-  auto drawRange = [this](int from, int n) {
+  const int perBlock = staticDraws_ + dynamicDraws_;
+  auto drawRange = [&](int from, int n, int level) {
     const bool cull = drawCulled_[static_cast<std::size_t>(from)] != 0;
     if (cull) glEnable(GL_CULL_FACE);
     else glDisable(GL_CULL_FACE);
-    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                                reinterpret_cast<const void*>(static_cast<std::uintptr_t>(from) * sizeof(DrawCommand)),
+    const auto command = static_cast<std::uintptr_t>(level * perBlock + from);
+    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(command * sizeof(DrawCommand)),
                                 n, 0);
   };
-  // Each run of neighbouring commands whose instances are seen and share their sidedness: one call. A
-  // culled instance would have drawn nothing (every fragment outside the view), so the target is the same
+  // Each run of neighbouring commands whose instances are seen at one level and share their sidedness: one call.
+  // A culled instance would have drawn nothing (every fragment outside the view), so the target is the same
   // to the bit; what it saves is its vertices, which llvmpipe shades on one thread per draw.
-  auto drawn = [&](int k) { return !seen || (*seen)[drawInstance_[static_cast<std::size_t>(k)]]; };
+  auto value = [&](int k) { return seen ? (*seen)[drawInstance_[static_cast<std::size_t>(k)]] : std::uint8_t{1}; };
+  auto levelOf = [&](int k) { return std::min(std::max(int(value(k)) - 1, 0), lodLevels_); };
   for (int k = first; k < first + count;) {
-    if (!drawn(k)) {
+    if (value(k) == 0) {
       ++k;
       continue;
     }
     int end = k + 1;
-    while (end < first + count && drawn(end) &&
+    while (end < first + count && value(end) != 0 && levelOf(end) == levelOf(k) &&
            drawCulled_[static_cast<std::size_t>(end)] == drawCulled_[static_cast<std::size_t>(k)])
       ++end;
-    drawRange(k, end - k);
+    drawRange(k, end - k, levelOf(k));
     k = end;
   }
   glDisable(GL_CULL_FACE);  // as every other pass expects it

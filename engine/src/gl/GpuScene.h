@@ -3,6 +3,7 @@
 // reads by vertex number), per-instance transforms, packed materials and lights, the kd texture array
 // and the toon ramps. A cache: rebuilt by upload(), patched by the update*() calls, never the source
 // of truth. Only channels the scene uses are allocated (absent ones get a 16-byte stand-in binding).
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -63,6 +64,13 @@ struct ProbeLayout {
 };
 ProbeLayout probeLayout(const Scene& scene, int limit);
 
+/// The coarse copies a probe's face draws small objects with (GpuScene::ensureProbeLod): level l + 1 has each
+/// mesh's vertices clustered in kProbeLodCells[l] cells along its bounds' longest side (core/MeshLod.h).
+inline constexpr std::array<int, 2> kProbeLodCells = {16, 4};
+/// The level a face draws an object with whose bounds span at most `texels` texels of it: the coarsest whose
+/// cells are no more than two texels there, 0 (the mesh itself) when none is.
+int probeLodLevel(float texels);
+
 class GpuScene {
  public:
   /// `anchor`: the origin of render space (core/RenderSpace.h; none: the scene camera's position).
@@ -113,11 +121,20 @@ class GpuScene {
   /// Which instances a draw takes: all, those not marked Instance::dynamic, or only those (the raster
   /// effects keep what the static ones draw and draw the dynamic ones over it).
   enum class Instances { All, Static, Dynamic };
-  /// With `seen` (one flag per instance), only the instances it marks: a face's culled draw (seenBy).
+  /// With `seen` (one value per instance), only the instances it marks: 0 not drawn, 1 drawn, 1 + l drawn with
+  /// the coarse copy of level l (probeLodLevel; as 1 before ensureProbeLod): a face's culled draw (seenBy).
   /// Single-sided opaque materials (passedFromBehind) lose their back faces, in views and in a light's shadow
   /// maps alike (a face turned away from the light lets its light through, docs/gltf.md).
   void draw(Instances which, const std::vector<std::uint8_t>* seen = nullptr) const;
   int dynamicCount() const { return dynamicDraws_; }
+  /// Makes the coarse copies of the meshes (kProbeLodCells) the first time a probe is drawn, not at upload:
+  /// presets without raster reflections never pay for them. They index the meshes' own vertices and follow
+  /// the meshes' triangles in the index buffer; a face's visibility ids name their triangles past the mesh's
+  /// own (the shade pass reads them there). A copy that would keep more than half of a mesh's triangles is
+  /// not made (that level draws the mesh), nor is one of an exact solid.
+  void ensureProbeLod(const Scene& scene);
+  /// Triangles the coarse copies add (0 before ensureProbeLod).
+  std::size_t probeLodTriangles() const { return lodTriangles_; }
 
   int instanceCount() const { return instanceCount_; }
   int lightCount() const { return lightCount_; }
@@ -148,6 +165,15 @@ class GpuScene {
   int staticDraws_ = 0, dynamicDraws_ = 0;
   std::vector<std::uint32_t> drawInstance_;  // the instance each draw command draws
   std::vector<std::uint8_t> drawCulled_;     // per command: its material is single-sided (back faces culled)
+  // Per command block (0: the meshes, l: level l's copies) the draw commands follow one another: block l's
+  // command k draws drawInstance_[k]; its baseInstance is l·instances + instance, where the instance ids and
+  // the primitive bases (what the copy's triangle numbers are offset by) are read.
+  // `copies`: per mesh and level, its copy's first index and triangles (none: block 0 alone).
+  void writeDrawCommands(const Scene& scene, const std::vector<std::array<glm::uvec2, kProbeLodCells.size()>>& copies);
+  std::vector<glm::uvec4> meshRecords_;  // packGeometry's: first vertex, first index, flags, triangles
+  Buffer primitiveBases_;
+  int lodLevels_ = 0;                    // command blocks past the first (kProbeLodCells.size() once made)
+  std::size_t indexCount_ = 0, lodTriangles_ = 0;
   ProbeLayout probes_;
   int probeLimit_ = FrameSettings{}.probeLimit;
   // Views of the buffers above for the shade pass (see createBufferTexture).

@@ -420,6 +420,8 @@ void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& 
   if (in.shadowMaps && role == Role::Shade) in.shadowMaps->bind(placeholders_);
   if (role == Role::ShadeWithMask) glBindTextureUnit(kUnitShadowMask, shadowMask_.id());
   if (in.probeCubes && in.probeEffects != 0) glBindTextureUnit(kUnitProbes, in.probeCubes->id());
+  assert((!in.probeCubes || !(in.probeEffects & kProbeBehind) || in.behindView) && "shade: kProbeBehind without its view");
+  if (in.probeCubes && (in.probeEffects & kProbeBehind)) glBindTextureUnit(kUnitBehind, in.behindView->id());
 
   glUseProgram(p);
   glBindVertexArray(emptyVao_.id());

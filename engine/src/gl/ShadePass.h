@@ -49,6 +49,9 @@ struct ShadeInputs {
   bool softShadows = true;
   const Texture* probeCubes = nullptr;     // raster reflection/refraction: the probes' cube array
   int probeEffects = 0;                    // ProbeEffect bits (with probeCubes)
+  /// With kProbeBehind: the view behind the see-through surfaces at the frame's size (gl/BehindView.h), which
+  /// IOR-1 transmission reads at its own pixel.
+  const Texture* behindView = nullptr;
   FresnelMode fresnel = FresnelMode::Exact;
   bool fresnelWeighted = true;             // wR = kr + kt·F, wT = kt·(1 − F); else wR = kr, wT = kt
   /// Area lights: samples per pixel at the accumulation's sample `sampleIndex` (Camera::sampleIndex); the

@@ -78,7 +78,7 @@ void VisibilityPass::render(const GpuScene& scene, const Camera& camera) {
 void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const GpuScene& scene,
                                 const Camera& camera, std::optional<std::uint32_t> excluded,
                                 GpuScene::Instances which, bool clear,
-                                const std::vector<std::uint8_t>* seen) const {
+                                const std::vector<std::uint8_t>* seen, const Texture* peelBehind) const {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   glViewport(0, 0, width, height);
   // Reversed-Z: near → 1, far → 0 with [0, 1] clip depth, so float depth keeps its precision far away.
@@ -100,6 +100,20 @@ void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const
   glm::mat4 clipFromWorldRelative = camera.clipFromView(glm::ivec2(width, height)) * viewRotation;
   // Scenes with MASK materials get the variant that discards; others keep early depth testing.
   GLuint program = scene.features().alphaMask ? maskProgram_.id() : program_.id();
+  if (peelBehind) {
+    Program& peel = peelPrograms_[scene.features().alphaMask ? 1 : 0];
+    if (!peel) {
+      auto built = buildProgram("visibility (peel)", {{GL_VERTEX_SHADER, "shaders/visibility.vert"},
+                                                      {GL_FRAGMENT_SHADER, "shaders/visibility.frag"}},
+                                scene.features().alphaMask ? "#define TD_PEEL 1\n#define TD_ALPHA_MASK 1\n"
+                                                           : "#define TD_PEEL 1\n");
+      // create() compiled the same source without it; a variant that fails is a shader bug.
+      assert(built.ok() && "visibility.frag's peel variant failed to compile");
+      if (built) peel = std::move(*built);
+    }
+    program = peel.id();
+    glBindTextureUnit(kUnitPeelDepth, peelBehind->id());
+  }
   glUseProgram(program);
   glProgramUniformMatrix4fv(program, TD_LOC_CLIP_FROM_WORLD_RELATIVE, 1, GL_FALSE, glm::value_ptr(clipFromWorldRelative));
   glProgramUniform3fv(program, TD_LOC_VISIBILITY_CAMERA_POS, 1, glm::value_ptr(camera.posW));
@@ -107,6 +121,7 @@ void VisibilityPass::renderInto(GLuint framebuffer, int width, int height, const
   scene.bind(2, 3);
   assertNoFeedbackLoop("visibility");
   scene.draw(which, seen);
+  if (peelBehind) glBindTextureUnit(kUnitPeelDepth, 0);  // it is drawn into next: no feedback loop left bound
   glUseProgram(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

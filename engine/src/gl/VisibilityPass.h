@@ -39,10 +39,12 @@ class VisibilityPass {
   /// `which`: all instances, or the static or dynamic ones only; with `clear` false the target keeps what it
   /// holds and the draw adds to it (the dynamic instances over a copy of what the static ones drew).
   /// `seen`: only the instances it flags (seenBy: those the view may see), the same target to the bit.
+  /// `peelBehind` (a depth texture of the target's size): only fragments strictly behind it (depth peeling;
+  /// its variant, compiled on first use, discards, so it loses the early depth test).
   void renderInto(GLuint framebuffer, int width, int height, const GpuScene& scene, const Camera& camera,
                   std::optional<std::uint32_t> excluded = std::nullopt,
                   GpuScene::Instances which = GpuScene::Instances::All, bool clear = true,
-                  const std::vector<std::uint8_t>* seen = nullptr) const;
+                  const std::vector<std::uint8_t>* seen = nullptr, const Texture* peelBehind = nullptr) const;
   /// The ids channel, row 0 = top (the ray pass's convention); `ids` is resized to width × height.
   void readIds(std::vector<glm::uvec2>& ids) {
     startReadIds();
@@ -72,6 +74,7 @@ class VisibilityPass {
  private:
   Program program_;
   Program maskProgram_;  // TD_ALPHA_MASK: discards texels of MASK materials under their cutoff
+  mutable Program peelPrograms_[2];  // TD_PEEL, without and with TD_ALPHA_MASK (made on first use)
   Texture ids_, depth_;
   Framebuffer fbo_;
   // patch(): its program, the records' buffer, and the framebuffer of ids + exact hits + depth.

@@ -147,7 +147,7 @@ FrameStats Renderer::Impl::renderPipelined(const FrameClock& clock, FramePlan& p
   // This frame's GL copy (lights, materials) and raster effects, now that nothing shown needs the old ones.
   FrameStats effects;
   timed(effects.prepareMs, [&] { caches.syncGpu(scene, s.shadingOverride, sampleCamera.shutter, sampleCamera.timeU, s.probeLimit); });
-  caches.syncRasterEffects(scene, plan, visibilityPass, shadePass, in, effects, &gpuTimers);
+  caches.syncRasterEffects(scene, plan, sampleCamera, visibilityPass, shadePass, in, effects, &gpuTimers);
   viewInputs(plan, sampleCamera, in);
   f.in = in;
   timed(effects.bookkeepingMs, [&] { remember(plan, sampleCamera, in); });

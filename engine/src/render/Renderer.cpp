@@ -335,7 +335,7 @@ void Renderer::Impl::raster(const FramePlan& plan, const Camera& camera, const C
                             FrameStats& stats) {
   localInputs(plan, in);
   // The probes are shaded from these inputs as they stand: the final view of local shading.
-  caches.syncRasterEffects(scene, plan, visibilityPass, shadePass, in, stats, &gpuTimers);
+  caches.syncRasterEffects(scene, plan, camera, visibilityPass, shadePass, in, stats, &gpuTimers);
   viewInputs(plan, camera, in);
   rasterVisibility(plan, glCamera, stats);
 }

@@ -202,7 +202,10 @@ Result<PixelTrace> Renderer::tracePixel(int x, int y) {
   if (onSurface && (f.probeEffects & gl::kProbeReflect))
     trace.notes.push_back("reflections are raster: the frame's primary hit reflects a probe, which the trace does not model");
   if (onSurface && (f.probeEffects & gl::kProbeRefract))
-    trace.notes.push_back("refraction is raster: the frame's primary hit refracts a probe, which the trace does not model");
+    trace.notes.push_back((f.probeEffects & gl::kProbeBehind)
+                              ? "refraction is raster: the frame's primary hit refracts a probe, or sees through to the "
+                                "view behind see-through surfaces (IOR 1), which the trace does not model"
+                              : "refraction is raster: the frame's primary hit refracts a probe, which the trace does not model");
   if (onSurface && !f.plan.reference) {
     const ShadingModel model = f.plan.settings.shadingOverride.value_or(r.scene.materials[primary->material].shading);
     if (model == ShadingModel::Toon)

@@ -59,6 +59,7 @@ void SceneCaches::syncGpu(const Scene& scene, std::optional<ShadingModel> shadin
     gpu_.upload(scene, shadingOverride, anchor_, probeLimit);
     if (gpuShutter_ > 0.0f) gpu_.updateInstances(scene, gpuShutter_, gpuTime_);
     meshBounds_ = gl::meshBounds(scene);
+    normalSpread_.clear();  // made when probes are first drawn (probeDetail)
     gpuStale_ = gpuInstancesStale_ = gpuLightsStale_ = false;
     ++gpuVersion_;
     ++gpuLayoutVersion_;
@@ -104,7 +105,8 @@ bool SceneCaches::syncRays(const Scene& scene, float shutter, rt::RayTracer& tra
   return !rtBroken_;
 }
 
-void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, const gl::VisibilityPass& raster,
+void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, const Camera& view,
+                                    const gl::VisibilityPass& raster,
                                     gl::ShadePass& shade, gl::ShadeInputs& in, FrameStats& stats,
                                     gl::GpuTimers* gpuTimers) {
   // Each part's time into its stage (the GL's work included: each part ends with glFinish).
@@ -161,9 +163,21 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
       probesRadiosity_ = radiosity;
       ++radiosityChanges_;
     }
+    // How much detail the view can show in each probe (objects small in a face are drawn coarse): a probe drawn
+    // for less than half of what it now needs (the camera came nearer to a mirror reading it) is drawn again.
+    if (normalSpread_.empty()) normalSpread_ = gl::meshNormalSpread(scene);
+    const std::vector<float> detail = gl::probeDetail(scene, gpu_.probes(), instanceBounds, normalSpread_,
+                                                      toRenderSpace(view, gpu_.anchor()), plan.settings.height,
+                                                      plan.settings.probeSize);
+    if (probeDetailDrawn_.size() == detail.size() && probeSlotVersions_.size() == detail.size())
+      for (std::size_t slot = 0; slot < detail.size(); ++slot)
+        if (detail[slot] > 2.0f * probeDetailDrawn_[slot] && probeSlotVersions_[slot] != 0) {
+          probeSlotVersions_[slot] = 0;
+          if (probeVersion_ == probeInputs()) probeVersion_ = kProbesPartial;
+        }
     const bool all = probeLayoutVersion_ != gpuLayoutVersion_ || probesShadowed_ != shadowed || probeVersion_ == 0 ||
                      (probes_.probeCount() > 0 && probes_.faceSize() != plan.settings.probeSize) ||
-                     (budget <= 0 && probeVersion_ != probeInputs());
+                     (budget <= 0 && probeVersion_ != probeInputs() && probeVersion_ != kProbesPartial);
     // Probes show moving instances at the middle of the shutter, lit by shadow maps of that time, whatever
     // sample's time the GL copy is at: what they hold must not depend on which sample happened to draw them.
     const bool atSampleTime = gpuShutter_ > 0.0f && gpuTime_ != 0.5f &&
@@ -177,16 +191,29 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
     }
     const std::vector<gl::Bounds>& probeBounds = middleBounds.empty() ? instanceBounds : middleBounds;
     if (all) {
-      stage(stats.probesMs, gl::GpuTimers::Probes,
-            [&] { probes_.update(gpu_, raster, shade, local, probeBounds, plan.settings.probeSize); });
-      stats.probesDrawn += probes_.probeCount();
-      probeSlotVersions_.assign(static_cast<std::size_t>(probes_.probeCount()), probeInputs());
-      probeVersion_ = probeInputs();
+      int drawn = 0;
+      stage(stats.probesMs, gl::GpuTimers::Probes, [&] {
+        gpu_.ensureProbeLod(scene);  // once per GL copy: the coarse meshes small objects are drawn with
+        drawn = probes_.update(gpu_, raster, shade, local, probeBounds, plan.settings.probeSize, budget, detail);
+      });
+      stats.probesDrawn += drawn;
+      // Those not drawn yet show the environment and are the oldest: the next frames draw them first.
+      probeSlotVersions_.assign(static_cast<std::size_t>(probes_.probeCount()), 0);
+      std::fill_n(probeSlotVersions_.begin(), drawn, probeInputs());
+      probeDetailDrawn_.assign(probeSlotVersions_.size(), 0.0f);
+      std::copy_n(detail.begin(), std::min<std::size_t>(static_cast<std::size_t>(drawn), detail.size()),
+                  probeDetailDrawn_.begin());
+      probeVersion_ = drawn == probes_.probeCount() ? probeInputs() : kProbesPartial;
       probeLayoutVersion_ = gpuLayoutVersion_;
       probesShadowed_ = shadowed;
     } else if (probeVersion_ != probeInputs()) {
       stage(stats.probesMs, gl::GpuTimers::Probes,
-            [&] { stats.probesDrawn += refreshOldestProbes(budget, raster, shade, local, probeBounds); });
+            [&] {
+              gpu_.ensureProbeLod(scene);
+              // Without a budget every stale probe now (a camera that came nearer leaves the others alone).
+              stats.probesDrawn += refreshOldestProbes(budget > 0 ? budget : probes_.probeCount(), raster, shade,
+                                                       local, probeBounds, detail);
+            });
     }
     if (!middleBounds.empty()) {  // back to the sample's time
       gpu_.updateInstances(scene, gpuShutter_, gpuTime_);
@@ -197,17 +224,41 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
       in.probeCubes = &probes_.cubes();
       in.probeEffects = probeEffects;
     }
+    // Raster refraction of see-through surfaces reads what is behind them from this view (gl/BehindView.h):
+    // drawn every frame, at the GL copy's time, since it follows the camera.
+    if (behindLayoutVersion_ != gpuLayoutVersion_) {
+      behindInstances_ = gl::behindViewInstances(scene);
+      behindLayoutVersion_ = gpuLayoutVersion_;
+    }
+    if ((probeEffects & gl::kProbeRefract) && probes_.probeCount() > 0 && !behindInstances_.empty()) {
+      Result<void> drawn;
+      stage(stats.probesMs, gl::GpuTimers::Probes, [&] {
+        drawn = behind_.draw(gpu_, raster, shade, local, probes_.cubes(), toRenderSpace(view, gpu_.anchor()),
+                             plan.settings.width, plan.settings.height, behindInstances_);
+      });
+      if (drawn) {
+        in.behindView = &behind_.colour();
+        in.probeEffects |= gl::kProbeBehind;
+      } else {
+        logError("Renderer: see-through surfaces read their probes this frame: " + drawn.error().message);
+      }
+    } else if (behind_.held()) {
+      behind_.release();
+    }
   } else if (probeVersion_ != 0) {
     stage(stats.probesMs, gl::GpuTimers::Probes, [&] { probes_.release(); });
     probeSlotVersions_.clear();
+    probeDetailDrawn_.clear();
     probeVersion_ = 0;
+    behind_.release();
   }
 }
 
 // Instances moved or lights changed: the `budget` probes made longest ago, oldest first (a round robin
 // while everything keeps moving). probeVersion_ catches up once every probe has been re-rendered since.
 int SceneCaches::refreshOldestProbes(int budget, const gl::VisibilityPass& raster, gl::ShadePass& shade,
-                                      const gl::ShadeInputs& local, const std::vector<gl::Bounds>& instanceBounds) {
+                                      const gl::ShadeInputs& local, const std::vector<gl::Bounds>& instanceBounds,
+                                      const std::vector<float>& detail) {
   std::vector<int> stale;
   for (std::size_t slot = 0; slot < probeSlotVersions_.size(); ++slot)
     if (probeSlotVersions_[slot] != probeInputs()) stale.push_back(static_cast<int>(slot));
@@ -216,8 +267,11 @@ int SceneCaches::refreshOldestProbes(int budget, const gl::VisibilityPass& raste
     return probeSlotVersions_[static_cast<std::size_t>(a)] < probeSlotVersions_[static_cast<std::size_t>(b)];
   });
   if (stale.size() > static_cast<std::size_t>(budget)) stale.resize(static_cast<std::size_t>(budget));
-  probes_.updateSlots(gpu_, raster, shade, local, instanceBounds, stale);
-  for (int slot : stale) probeSlotVersions_[static_cast<std::size_t>(slot)] = probeInputs();
+  probes_.updateSlots(gpu_, raster, shade, local, instanceBounds, stale, detail);
+  for (int slot : stale) {
+    probeSlotVersions_[static_cast<std::size_t>(slot)] = probeInputs();
+    probeDetailDrawn_[static_cast<std::size_t>(slot)] = detail[static_cast<std::size_t>(slot)];
+  }
   std::uint64_t oldest = probeInputs();
   for (std::uint64_t v : probeSlotVersions_) oldest = std::min(oldest, v);
   if (oldest == probeInputs()) probeVersion_ = probeInputs();

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/RenderSpace.h"
+#include "gl/BehindView.h"
 #include "gl/GpuScene.h"
 #include "gl/GpuTimers.h"
 #include "gl/RasterEffects.h"
@@ -57,7 +58,8 @@ class SceneCaches {
   /// (probes also when the shadowing they were shaded with changed) and released when not asked for;
   /// fills what the shade pass takes from them into `in` (which already holds the frame's shading inputs).
   /// Their cost goes to `stats` (shadowsMs, probesMs) and, where given, the GPU's to `gpuTimers`.
-  void syncRasterEffects(const Scene& scene, const FramePlan& plan, const gl::VisibilityPass& raster,
+  /// `view`: the frame's camera (world space), which says how much detail the probes need (gl::probeDetail).
+  void syncRasterEffects(const Scene& scene, const FramePlan& plan, const Camera& view, const gl::VisibilityPass& raster,
                          gl::ShadePass& shade, gl::ShadeInputs& in, FrameStats& stats, gl::GpuTimers* gpuTimers);
 
   /// Whether every probe shows the scene as it is (true when there are none): with
@@ -76,6 +78,9 @@ class SceneCaches {
   glm::vec3 anchor_{0.0f};  // what the GL copy and the Embree scene are synced to (each holds its own)
   gl::ShadowMaps shadowMaps_;
   gl::ReflectionProbes probes_;
+  gl::BehindView behind_;
+  std::vector<std::uint8_t> behindInstances_;  // gl::behindViewInstances of the GL copy's scene
+  std::uint64_t behindLayoutVersion_ = 0;
   std::vector<gl::Bounds> meshBounds_;  // object space, per mesh: recomputed with each upload
 
   // The GL copy is synced every frame; the Embree scene only on frames whose rays run, so raster-only use
@@ -92,6 +97,8 @@ class SceneCaches {
   // gpuVersion_ counts the GL copy's changes; the effects remember the version they were made from.
   std::uint64_t gpuVersion_ = 1;
   std::uint64_t shadowVersion_ = 0, probeVersion_ = 0;
+  // probeVersion_ while some probes of a new layout are not drawn yet (FrameSettings::probesPerFrame).
+  static constexpr std::uint64_t kProbesPartial = ~std::uint64_t{0};
   bool probesShadowed_ = false;
   std::uint64_t probesRadiosity_ = 0;  // the radiosity solution the probes last saw (0: none)
   std::uint64_t radiosityChanges_ = 0;  // how often it changed
@@ -104,10 +111,13 @@ class SceneCaches {
   // re-renders every probe whatever FrameSettings::probesPerFrame says.
   std::uint64_t gpuLayoutVersion_ = 1, probeLayoutVersion_ = 0;
   std::vector<std::uint64_t> probeSlotVersions_;  // gpuVersion_ each probe was last rendered at
+  std::vector<float> probeDetailDrawn_;  // the detail (gl::probeDetail) each was drawn with, 0 for none yet
+  std::vector<float> normalSpread_;      // per mesh (gl::meshNormalSpread), made with the first probes
 
   /// Returns how many probes it drew.
   int refreshOldestProbes(int budget, const gl::VisibilityPass& raster, gl::ShadePass& shade,
-                           const gl::ShadeInputs& local, const std::vector<gl::Bounds>& instanceBounds);
+                           const gl::ShadeInputs& local, const std::vector<gl::Bounds>& instanceBounds,
+                           const std::vector<float>& detail);
 };
 
 }  // namespace tandem
