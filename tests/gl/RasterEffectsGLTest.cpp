@@ -384,17 +384,26 @@ TEST(RasterEffectsGLTest, ProbeRefractionWithIorNearOneSeesStraightThrough) {
 // is the view behind at each pixel (gl/BehindView.h), so it shows the box where the ray-traced transmission
 // does. The probe drawn from the sheet's centre, which it read before, has the box a few centimetres away,
 // filling most of the directions behind the sheet.
-TEST(RasterEffectsGLTest, SeeThroughSheetShowsWhatIsBehindEachPixel) {
-  TD_REQUIRE_GL_CONTEXT();
+// smallObjectOverCheckers with a see-through sheet (IOR 1, black, transmitting 0.9) facing the camera as the
+// small object.
+Scene seeThroughSheetOverCheckers(float roughness, glm::vec3 tint) {
   Material sheet = gltest::plainMaterial({0.0f, 0.0f, 0.0f});
   sheet.ka = glm::vec3(0.0f);
   sheet.kt = 0.9f;
   sheet.ior = 1.0f;
-  sheet.transmissionTint = {1.0f, 0.3f, 0.3f};  // tinted once, not twice: the view behind is peeled past the sheet
+  sheet.roughness = roughness;
+  sheet.transmissionTint = tint;
   Scene scene = smallObjectOverCheckers(sheet);
   scene.meshes[1] = makePlane(glm::vec2(0.5f), 1);
   scene.instances[1].worldFromObject = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 1.5f, 0.0f)) *
                                        glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(1, 0, 0));
+  return scene;
+}
+
+TEST(RasterEffectsGLTest, SeeThroughSheetShowsWhatIsBehindEachPixel) {
+  TD_REQUIRE_GL_CONTEXT();
+  // Tinted once, not twice: the view behind is peeled past the sheet.
+  Scene scene = seeThroughSheetOverCheckers(0.0f, {1.0f, 0.3f, 0.3f});
   scene.meshes.push_back(makeBox(glm::vec3(0.12f)));
   scene.materials.push_back(gltest::plainMaterial({0.9f, 0.9f, 0.1f}));
   Instance behind;
@@ -413,15 +422,7 @@ TEST(RasterEffectsGLTest, SeeThroughSheetShowsWhatIsBehindEachPixel) {
 // screen. Both blur the checkers alike, and far from the sharp view behind.
 TEST(RasterEffectsGLTest, RoughSeeThroughSheetBlursWhatIsBehindAsTheRaysDo) {
   TD_REQUIRE_GL_CONTEXT();
-  Material sheet = gltest::plainMaterial({0.0f, 0.0f, 0.0f});
-  sheet.ka = glm::vec3(0.0f);
-  sheet.kt = 0.9f;
-  sheet.ior = 1.0f;
-  sheet.roughness = 0.3f;
-  Scene scene = smallObjectOverCheckers(sheet);
-  scene.meshes[1] = makePlane(glm::vec2(0.5f), 1);
-  scene.instances[1].worldFromObject = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 1.5f, 0.0f)) *
-                                       glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(1, 0, 0));
+  Scene scene = seeThroughSheetOverCheckers(0.3f, glm::vec3(1.0f));
   gltest::SceneFrame f = gltest::sceneFrame(*glContext_, scene, 160, 160);
   FrameSettings s = gltest::rasterOnly(160, 160);
   s.maxDepth = 1;
