@@ -238,5 +238,6 @@
 #define TD_PROBE_REFLECT 1      // TD_PROBES: which effects the probes stand in for
 #define TD_PROBE_REFRACT 2
 #define TD_PROBE_BEHIND 4       // IOR-1 transmission reads the view behind (TD_UNIT_BEHIND) at its own pixel
+#define TD_DISTANCE_FAR 65504.0  // TD_DISTANCE_ALPHA's distance of the sky: half precision's largest
 
 #endif

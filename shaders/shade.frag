@@ -16,6 +16,9 @@
 #ifndef TD_USE_ENV_AMBIENT
 #define TD_USE_ENV_AMBIENT 1  // the environment lights the ambient term (docs/environment.md)
 #endif
+#ifndef TD_DISTANCE_ALPHA
+#define TD_DISTANCE_ALPHA 0  // alpha holds the hit's distance from the camera (gl/BehindView.h's layers)
+#endif
 #include "procedural.glsl"
 
 // Per-pixel gathers go through buffer-texture views of scene.glsl's SSBOs (engine/src/gl/GpuScene.h):
@@ -244,6 +247,7 @@ layout(location = TD_LOC_RAY_PRESENT) uniform int rayPresent;
 const bool kUseProcedural = TD_USE_PROCEDURAL != 0;
 const bool kUseEnvironment = TD_USE_ENVIRONMENT != 0;
 const bool kUseEnvAmbient = TD_USE_ENV_AMBIENT != 0;
+const bool kDistanceAlpha = TD_DISTANCE_ALPHA != 0;
 const bool kShadowMaps = TD_SHADOW_MAPS != 0;
 const bool kSoftShadows = TD_SOFT_SHADOWS != 0;
 const bool kShadowMaskPass = TD_SHADOW_MASK_PASS != 0;
@@ -341,7 +345,7 @@ void shadePixel() {
       cameraRay(vec2(pix) + 0.5, origin, dir);
       sky = kUseEnvironment ? environmentRadiance(dir) : background;
     }
-    outColor = vec4(sky, 1.0);
+    outColor = vec4(sky, kDistanceAlpha ? TD_DISTANCE_FAR : 1.0);
     if (kDenoiseGuides) writeNoGuides(sky);
     return;
   }
@@ -376,7 +380,7 @@ void shadePixel() {
     local = area = specular = vec3(0.0);
     areaLightUnshadowed = vec3(0.0);  // (the filter's modulation: an outline stays black)
   }
-  outColor = vec4(local + specular, 1.0);
+  outColor = vec4(local + specular, kDistanceAlpha ? distance(s.hit.posW, cameraPosW) : 1.0);
   if (kDenoiseGuides) writeGuides(id, s, local, area, specular, outline);
 }
 

@@ -43,11 +43,16 @@ void probeLight(Surface s, inout RaySample rays) {
       // Straight through (IOR 1: thin-walled transmission, a BLEND surface's uncovered part): what lies behind
       // it along this pixel's own ray, which the view behind holds, instead of the probe seen from the
       // object's centre (a lamp's shade sees its bulb from inside). A rough one spreads it over its lobe, about
-      // α radians: that many radians of the view around the pixel, the mip level whose texels are as wide
-      // (an orthographic view read as a 45° one). The uncovered part of a BLEND surface stays sharp.
+      // α radians from the surface: at the distance behind it of what it shows, as seen from the camera,
+      // α·(behind − here)/behind radians of the view around the pixel (the view's alpha holds its distance),
+      // the mip level whose texels are as wide (an orthographic view read as a 45° one). The uncovered part of
+      // a BLEND surface stays sharp.
       if (etaI == etaT) {
         float pixelsPerRadian = float(frameSize.y) / (orthographic != 0 ? 0.785398 : 2.0 * atan(length(cameraUp)));
-        float behindLod = kt > 0.0 && alpha > 0.0 ? max(log2(alpha * pixelsPerRadian), 0.0) : 0.0;
+        float behindDistance = texelFetch(behindView, ivec2(gl_FragCoord.xy), 0).a;
+        float here = distance(s.hit.posW, cameraPosW);
+        float spread = alpha * max(behindDistance - here, 0.0) / max(behindDistance, 1e-6);
+        float behindLod = kt > 0.0 && spread > 0.0 ? max(log2(spread * pixelsPerRadian), 0.0) : 0.0;
         vec2 uv = gl_FragCoord.xy / vec2(textureSize(behindView, 0));
         rays.transmitted += wTv * textureLod(behindView, uv, behindLod).rgb;
         return;

@@ -9,6 +9,7 @@
 //   both see through it, so the two presets' frames agree.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <cstdint>
@@ -212,7 +213,8 @@ TEST(GltfAuthorsIntent, SingleSidedFacesSeenFromBehindAreNotDrawn) {
 
 // The shade's material is thin-walled, rough transmission (KHR_materials_transmission, no volume: IOR 1), which
 // the rays pass through to the bulb and the lamp behind, spread over the lobe. The raster shows what lies behind
-// it from the frame's own view (gl/BehindView.h), blurred by the same lobe; it read the shade's probe, drawn
+// it from the frame's own view (gl/BehindView.h), blurred by the same lobe at the distance behind it of what it
+// shows (the bulb close behind stays bright); it read the shade's probe, drawn
 // from inside the bulb, and drew the shade an opaque cream. Against the rays' frame converged (16 samples).
 TEST(GltfAuthorsIntent, TheLampsShadeIsSeeThroughInRasterAsInRays) {
   const std::string file = sampleModel("LightsPunctualLamp");
@@ -242,10 +244,20 @@ TEST(GltfAuthorsIntent, TheLampsShadeIsSeeThroughInRasterAsInRays) {
               image.rgba[(static_cast<std::size_t>(y + 105) * image.width + x + 155) * 4 + c];
     return out;
   };
-  // Reading the shade's probe instead: 0.0341 over the frame, 0.231 over the shade; now 0.0318 and 0.190 (what
-  // is left: the probes' reflections on the metal, and the shade's blur taken as if the bulb were far behind).
-  EXPECT_LT(gltest::flipMean(frames[0], frames[1]), 0.033);
-  EXPECT_LT(gltest::flipMean(crop(frames[0]), crop(frames[1])), 0.205);
+  // Reading the shade's probe instead: FLIP 0.0341 over the frame, 0.231 over the shade and 80 % of its box's
+  // pixels within 24/255 (the other raster-against-ray tests' measure, RasterEffectsGLTest); now 0.0291, 0.141
+  // and 88 % (what is left: the probes' reflections on the metal, the third see-through layer).
+  EXPECT_LT(gltest::flipMean(frames[0], frames[1]), 0.031);
+  const Image shadeRaster = crop(frames[0]), shadeRays = crop(frames[1]);
+  EXPECT_LT(gltest::flipMean(shadeRaster, shadeRays), 0.16);
+  int close = 0;
+  for (int y = 0; y < shadeRaster.height; ++y)
+    for (int x = 0; x < shadeRaster.width; ++x) {
+      int worst = 0;
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(shadeRaster.at(x, y)[c]) - int(shadeRays.at(x, y)[c])));
+      close += worst <= 24 ? 1 : 0;
+    }
+  EXPECT_GE(close, shadeRaster.width * shadeRaster.height * 85 / 100);
 }
 
 }  // namespace

@@ -51,6 +51,7 @@ std::vector<ShadeVariant> eachFlagChanged() {
   with([](ShadeVariant& v) { v.procedural = true; });
   with([](ShadeVariant& v) { v.environment = true; });
   with([](ShadeVariant& v) { v.environmentAmbient = true; });
+  with([](ShadeVariant& v) { v.distanceAlpha = true; });
   return out;
 }
 

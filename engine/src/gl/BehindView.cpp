@@ -83,11 +83,13 @@ Result<void> BehindView::draw(const GpuScene& gpu, const VisibilityPass& raster,
                     &seeThrough);
   raster.renderInto(beyond_.rasterFbo.id(), width, height, gpu, camera, std::nullopt, GpuScene::Instances::All, true,
                     &opaque);
-  shade.shadeInto(beyond_.shadeFbo.id(), width, height, gpu, beyond_.ids, beyond_.depth, sampled, camera, local);
+  ShadeInputs layer = local;
+  layer.distanceInAlpha = true;  // how far behind each pixel's surface lies (a rough surface's blur)
+  shade.shadeInto(beyond_.shadeFbo.id(), width, height, gpu, beyond_.ids, beyond_.depth, sampled, camera, layer);
   glGenerateTextureMipmap(beyond_.colour.id());
   raster.renderInto(behind_.rasterFbo.id(), width, height, gpu, camera, std::nullopt, GpuScene::Instances::All, true,
                     nullptr, &nearest_);
-  ShadeInputs far = local;
+  ShadeInputs far = layer;
   far.probeCubes = &probes;
   far.probeEffects = kProbeRefract | kProbeBehind;
   far.behindView = &beyond_.colour;

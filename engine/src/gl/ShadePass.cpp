@@ -175,6 +175,7 @@ const Program& ShadePass::variant(const SceneFeatures& f, const ShadeInputs& in,
   v.procedural = f.procedural;
   v.environment = f.environment;
   v.environmentAmbient = f.environmentAmbient;
+  v.distanceAlpha = in.distanceInAlpha;
   auto found = variants_.find(v);
   if (found != variants_.end()) return found->second;
   auto built = buildProgram("shade", {{GL_VERTEX_SHADER, "shaders/fullscreen.vert"},
@@ -376,7 +377,8 @@ void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& 
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);  // fullscreen.vert's z = 0 must land on depth 0
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   glViewport(0, 0, width, height);
-  glm::vec4 clear(in.debugView == DebugView::Final ? in.background : glm::vec3(0.0f), 1.0f);
+  glm::vec4 clear(in.debugView == DebugView::Final ? in.background : glm::vec3(0.0f),
+                  in.distanceInAlpha ? static_cast<float>(TD_DISTANCE_FAR) : 1.0f);
   glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, glm::value_ptr(clear));
   const bool passThrough = !isRadianceView(in.debugView);
   if (in.fusedOutput) {
@@ -439,7 +441,9 @@ void ShadePass::draw(GLuint framebuffer, int width, int height, const GpuScene& 
     glProgramUniform1i(sky, TD_LOC_FUSED_PASS_THROUGH, passThrough ? 1 : 0);
     glDepthFunc(GL_EQUAL);
     glUseProgram(sky);
+    if (in.distanceInAlpha) glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);  // the clear's distance stays
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthFunc(GL_LESS);
   }
   glBindVertexArray(0);

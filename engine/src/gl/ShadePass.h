@@ -52,6 +52,9 @@ struct ShadeInputs {
   /// With kProbeBehind: the view behind the see-through surfaces at the frame's size (gl/BehindView.h), which
   /// IOR-1 transmission reads at its own pixel.
   const Texture* behindView = nullptr;
+  /// The layers of that view: alpha holds each pixel's distance from the camera (TD_DISTANCE_FAR for the sky),
+  /// which sets how far a rough see-through surface in front of it blurs it.
+  bool distanceInAlpha = false;
   FresnelMode fresnel = FresnelMode::Exact;
   bool fresnelWeighted = true;             // wR = kr + kt·F, wT = kt·(1 − F); else wR = kr, wT = kt
   /// Area lights: samples per pixel at the accumulation's sample `sampleIndex` (Camera::sampleIndex); the

@@ -35,6 +35,7 @@ struct ShadeVariant {
   bool radiosity = false, exact = false, procedural = false;
   bool environment = false;         // the environment varies with direction (a sky or an image: docs/environment.md)
   bool environmentAmbient = false;  // and lights the ambient term
+  bool distanceAlpha = false;       // alpha holds the hit's distance from the camera (gl/BehindView.h's layers)
 
   auto operator<=>(const ShadeVariant&) const = default;
 
@@ -71,6 +72,7 @@ struct ShadeVariant {
     f("TD_USE_PROCEDURAL", flag(procedural));
     f("TD_USE_ENVIRONMENT", flag(environment));
     f("TD_USE_ENV_AMBIENT", flag(environmentAmbient));
+    f("TD_DISTANCE_ALPHA", flag(distanceAlpha));
   }
 
   /// The #define lines the variant is compiled with (buildProgram puts them after #version).
