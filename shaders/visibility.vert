@@ -28,6 +28,9 @@ layout(location = TD_LOC_EXCLUDED_PLUS_ONE) uniform uint excludedPlusOne;
 
 flat out uint vInstance;
 flat out uint vPrimitiveBase;
+// The same depth from every variant of this shader (GLSL 4.50 §4.8.1): the peeling pass (TD_PEEL) compares a
+// fragment's depth with the one another variant drew for the same surface.
+invariant gl_Position;
 
 void main() {
   vPrimitiveBase = primitiveBase;

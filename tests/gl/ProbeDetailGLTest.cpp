@@ -167,5 +167,52 @@ TEST(ProbeDetailGLTest, ANewScenesProbesArriveAFewAFrame) {
   EXPECT_EQ(st.probesDrawn, 0);
 }
 
+// The samples of an anti-aliased frame all see the same probes: a new scene's first sample draws every probe,
+// whatever the budget, so the frame is the one a renderer without a budget draws, to the bit.
+TEST(ProbeDetailGLTest, AnAntiAliasedFrameOfANewSceneDrawsEveryProbeInItsFirstSample) {
+  TD_REQUIRE_GL_CONTEXT();
+  FrameSettings all = rasterAt(160, 90), three = all;
+  all.aa = three.aa = AntiAlias::Ssaa;
+  all.aaSamples = three.aaSamples = 4;
+  three.probesPerFrame = 3;
+  const Camera c = looking({3.75f, 9.0f, 16.0f});
+  gltest::SceneFrame exact = gltest::sceneFrame(*glContext_, mirrorsAmongColours(), all.width, all.height);
+  gltest::SceneFrame budgeted = gltest::sceneFrame(*glContext_, mirrorsAmongColours(), all.width, all.height);
+  FrameStats st;
+  const Image truth = gltest::drawFrame(exact, c, all);
+  const Image image = gltest::drawFrame(budgeted, c, three, &st);
+  EXPECT_EQ(st.probesDrawn, 8);
+  EXPECT_EQ(image.rgba, truth.rgba);
+}
+
+// A new shading override changes what every probe shows; under a budget they are drawn again a few a frame,
+// the others keeping what they showed (not the environment a new scene's waiting probes show), and once each
+// has had its turn the frame is the exact one.
+TEST(ProbeDetailGLTest, AfterANewShadingOverrideTheProbesKeepWhatTheyShowedUntilTheirTurn) {
+  TD_REQUIRE_GL_CONTEXT();
+  FrameSettings three = rasterAt(320, 180);
+  three.probesPerFrame = 3;
+  const Camera c = looking({3.75f, 9.0f, 16.0f});
+  gltest::SceneFrame f = gltest::sceneFrame(*glContext_, mirrorsAmongColours(), three.width, three.height);
+  for (int frame = 0; frame < 3; ++frame) gltest::drawFrame(f, c, three);
+  FrameSettings flat = three;
+  flat.shadingOverride = ShadingModel::Flat;
+  // What the budget's first frame of a new scene shows under the override: three probes, the rest environment.
+  gltest::SceneFrame fresh = gltest::sceneFrame(*glContext_, mirrorsAmongColours(), three.width, three.height);
+  const Image waiting = gltest::drawFrame(fresh, c, flat);
+  FrameStats st;
+  const Image kept = gltest::drawFrame(f, c, flat, &st);
+  EXPECT_EQ(st.probesDrawn, 3);
+  EXPECT_NE(kept.rgba, waiting.rgba) << "the other probes went to the environment";
+  FrameSettings flatAll = flat;
+  flatAll.probesPerFrame = 0;
+  gltest::SceneFrame exact = gltest::sceneFrame(*glContext_, mirrorsAmongColours(), three.width, three.height);
+  const Image truth = gltest::drawFrame(exact, c, flatAll);
+  gltest::drawFrame(f, c, flat);
+  const Image caught = gltest::drawFrame(f, c, flat, &st);
+  EXPECT_EQ(st.probesDrawn, 2);
+  EXPECT_EQ(caught.rgba, truth.rgba);
+}
+
 }  // namespace
 }  // namespace tandem

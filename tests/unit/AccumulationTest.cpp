@@ -228,23 +228,22 @@ TEST(Accumulation, SamplesOfOneFrameSeeTheSameProbes) {
   // The first frame's one sample is a plain frame: its probes catch up a few at a time, as without
   // accumulation.
   EXPECT_TRUE(a.singleSample(plan.settings));
-  EXPECT_EQ(a.samplePlan(plan, false).settings.probesPerFrame, 2);
+  EXPECT_EQ(a.samplePlan(plan).settings.probesPerFrame, 2);
   a.frameDone();
   // Later frames (and any frame of several samples) draw every sample with the probes brought up to date by
-  // the first, so no two samples of a mean show different probes...
+  // the first, so no two samples of a mean show different probes (a new scene's first sample included: with
+  // a budget it would show the environment in the probes it had not drawn yet).
   EXPECT_FALSE(a.singleSample(plan.settings));
-  EXPECT_EQ(a.samplePlan(plan, false).settings.probesPerFrame, 0);
-  // ...and when the probes are current nothing changes.
-  EXPECT_EQ(a.samplePlan(plan, true).settings.probesPerFrame, 2);
+  EXPECT_EQ(a.samplePlan(plan).settings.probesPerFrame, 0);
   Accumulation b;
   FramePlan ssaa = plan;
   ssaa.settings.aa = AntiAlias::Ssaa;
   ssaa.settings.aaSamples = 4;
   b.restart(Camera{}, ssaa.settings);
   EXPECT_FALSE(b.singleSample(ssaa.settings));
-  EXPECT_EQ(b.samplePlan(ssaa, false).settings.probesPerFrame, 0);
+  EXPECT_EQ(b.samplePlan(ssaa).settings.probesPerFrame, 0);
   // Only the probes' pace changes: the rest of the plan is the frame's.
-  FramePlan caught = b.samplePlan(ssaa, false);
+  FramePlan caught = b.samplePlan(ssaa);
   caught.settings.probesPerFrame = ssaa.settings.probesPerFrame;
   EXPECT_TRUE(caught.settings == ssaa.settings);
 }
@@ -259,13 +258,13 @@ TEST(Accumulation, TheFilterRunsOnTheFirstFrameAloneAndTheSamplesGoOnAlongItsSeq
   plan.settings.denoise = true;
   plan.denoise = true;
   a.restart(Camera{}, plan.settings, 37);
-  EXPECT_TRUE(a.samplePlan(plan, true).denoise);
+  EXPECT_TRUE(a.samplePlan(plan).denoise);
   const Camera first = a.nextSample(Camera{});
   EXPECT_EQ(first.sampleIndex, 37u);
   EXPECT_EQ(first.jitterPx, subpixelJitter(37));
   EXPECT_EQ(first, sampleCamera(Camera{}, 37));
   a.frameDone();
-  const FramePlan later = a.samplePlan(plan, true);
+  const FramePlan later = a.samplePlan(plan);
   EXPECT_FALSE(later.denoise);
   EXPECT_TRUE(later.settings == plan.settings) << "only the filter is off: the settings are the frame's";
   EXPECT_EQ(a.nextSample(Camera{}).sampleIndex, 38u);

@@ -71,10 +71,12 @@ struct FrameSettings {
   int referenceSpp = 1;           // reference mode: N×N jittered samples per pixel (converged images to
                                   // measure the other presets against, docs/bench.md)
   bool reference = false;         // primary visibility by Embree rays instead of rasterization
-  /// Raster reflections/refraction: how many reflection probes a frame re-renders when instances moved or
-  /// lights changed since they were made. 0 (the default): every probe, every such frame (exact). N > 0:
-  /// at most N, oldest first, so a moving scene's probes lag by up to ceil(probes / N) frames: a game's
-  /// trade (each probe is six views of the scene). A new scene, material or shadowing still re-renders all.
+  /// Raster reflections/refraction: how many reflection probes a frame draws. 0 (the default): every probe
+  /// that needs it, every frame (exact). N > 0: at most N, oldest first, so a moving scene's probes lag by up
+  /// to ceil(probes / N) frames: a game's trade (each probe is six views of the scene). A new scene's probes
+  /// arrive N a frame, the others showing the environment until then; after a new shading override,
+  /// shadowing or render-space anchor they keep what they showed until their turn. The samples of an
+  /// accumulation or anti-aliasing take every probe at once (Accumulation::samplePlan).
   int probesPerFrame = 0;
   /// Raster reflections/refraction: each probe's cube faces, texels a side (a power of two in [16, 512];
   /// resolved() rounds down to one). Six faces of this many pixels are drawn and shaded per probe re-rendered:

@@ -44,7 +44,8 @@ Result<void> BehindView::make(Layer& layer, const char* name, int width, int hei
   glNamedFramebufferDrawBuffer(layer.rasterFbo.id(), GL_COLOR_ATTACHMENT0);
   layer.shadeFbo = createFramebuffer(n + " shade");
   glNamedFramebufferTexture(layer.shadeFbo.id(), GL_COLOR_ATTACHMENT0, layer.colour.id(), 0);
-  return checkFramebufferComplete(layer.rasterFbo, n + " raster");
+  if (auto complete = checkFramebufferComplete(layer.rasterFbo, n + " raster"); !complete) return complete;
+  return checkFramebufferComplete(layer.shadeFbo, n + " shade");
 }
 
 Result<void> BehindView::draw(const GpuScene& gpu, const VisibilityPass& raster, ShadePass& shade,

@@ -28,8 +28,8 @@ class BehindView {
  public:
   /// Draws the view behind from `camera` (render space, the frame's, jitter included) into width × height
   /// targets, made again when the size changes. `opaque`: behindViewInstances. Both layers are shaded with
-  /// `local` (no rays, no probe reflections: one bounce); the near layer's see-through surfaces read the far
-  /// one, with `local`'s probes (`probes`, which must hold one for each of them) for what they reflect. An
+  /// `local` (no rays, no reflections: one bounce); the near layer's see-through surfaces read the far one, and
+  /// its surfaces that refract (IOR other than 1) the probes (`probes`, which hold one for each of them). An
   /// error names the target the GL refused (the view is then released and the frame reads its probes).
   Result<void> draw(const GpuScene& gpu, const VisibilityPass& raster, ShadePass& shade, const ShadeInputs& local,
                     const Texture& probes, const Camera& camera, int width, int height,

@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cassert>
-#include <chrono>
-#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <vector>

@@ -99,17 +99,17 @@ class Accumulation {
   /// drawn, and read into the sums only if the next frame goes on (firstUnread).
   bool singleSample(const FrameSettings& settings) const { return frames_ == 0 && settings.aa == AntiAlias::Off; }
   /// The plan each of this frame's samples is drawn with. Several samples in one frame must all see the same
-  /// probes: probes still catching up with a move (probesPerFrame > 0, `probesCurrent` false) are all
-  /// brought up to date by the first sample instead of a few by each. A frame of one sample catches up as a
-  /// plain frame does.
+  /// probes: the first sample draws every probe that is not current (probesPerFrame 0: a new scene's too, which
+  /// with a budget would show the environment in that sample) instead of a few by each. A frame of one sample
+  /// catches up as a plain frame does.
   /// The spatiotemporal filter runs only on a first frame shown as drawn: the samples summed after it are
   /// drawn as they are (their mean converges to the exact image; shown() hands over to it from the filtered
   /// frame).
-  FramePlan samplePlan(const FramePlan& plan, bool probesCurrent) const {
+  FramePlan samplePlan(const FramePlan& plan) const {
     if (singleSample(plan.settings)) return plan;
     FramePlan sample = plan;
     sample.withoutFilter();
-    if (!probesCurrent) sample.settings.probesPerFrame = 0;
+    sample.settings.probesPerFrame = 0;
     return sample;
   }
   /// Adds a sample's linear frame at the pixels `only` marks (nullptr: all). A frame of another size (a debug

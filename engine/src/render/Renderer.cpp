@@ -76,7 +76,7 @@ FrameStats Renderer::Impl::renderFrame(const Camera& camera, const FrameSettings
         accum.step(camera, s, {clock.lastDrawn, last.sceneChanged, caches.probesCurrent()}) == Accumulation::Step::Restart) {
       timed(stats.accumulateMs, [&] { accum.restart(camera, s, firstDenoiseSample(plan), plan.denoise); });
       const Camera sampleCamera = accum.nextSample(camera);
-      FramePlan samplePlan = accum.samplePlan(plan, caches.probesCurrent());
+      FramePlan samplePlan = accum.samplePlan(plan);
       accum.firstShown(plan.denoise);  // a filtered frame is not a sample to sum
       accum.frameDone();
       stats.accumulated = 1;
@@ -240,7 +240,7 @@ bool Renderer::Impl::drawSampled(const FramePlan& plan, const Camera& camera, Fr
   bool drawnOnce = lastDrawn;
   auto addSample = [&](const std::vector<std::uint8_t>* only, const std::vector<std::uint8_t>* rayPixels) {
     const Camera jittered = accum.nextSample(camera);
-    if (!drawSample(accum.samplePlan(plan, caches.probesCurrent()), jittered, stats, drawnOnce, rayPixels)) {
+    if (!drawSample(accum.samplePlan(plan), jittered, stats, drawnOnce, rayPixels)) {
       accum.release();  // a sample is missing: the sums no longer stand for these settings
       last.drawn = false;  // and `last` describes the sample before it, not what the buffers hold
       return false;

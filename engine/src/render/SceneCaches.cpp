@@ -63,6 +63,7 @@ void SceneCaches::syncGpu(const Scene& scene, std::optional<ShadingModel> shadin
     gpuStale_ = gpuInstancesStale_ = gpuLightsStale_ = false;
     ++gpuVersion_;
     ++gpuLayoutVersion_;
+    ++gpuUploadVersion_;
   }
   if (gpuInstancesStale_) {
     gpu_.updateInstances(scene, gpuShutter_, gpuTime_), ++gpuVersion_;
@@ -190,7 +191,22 @@ void SceneCaches::syncRasterEffects(const Scene& scene, const FramePlan& plan, c
       if (shadowed) drawShadowMaps(middleBounds, 0.5f);
     }
     const std::vector<gl::Bounds>& probeBounds = middleBounds.empty() ? instanceBounds : middleBounds;
-    if (all) {
+    // A new GL copy or probe size makes the probes anew: past the budget they show the environment until their
+    // turn. Another change of what they show (a new anchor, shading override or shadowing) keeps what they hold
+    // while the budget draws them again, oldest first, as after a move.
+    const bool fresh = probeUploadVersion_ != gpuUploadVersion_ || probes_.probeCount() == 0 ||
+                       probes_.probeCount() != static_cast<int>(gpu_.probes().probes.size()) ||
+                       probes_.faceSize() != plan.settings.probeSize;
+    if (all && !fresh && budget > 0) {
+      std::fill(probeSlotVersions_.begin(), probeSlotVersions_.end(), 0);
+      probeVersion_ = kProbesPartial;
+      probeLayoutVersion_ = gpuLayoutVersion_;
+      probesShadowed_ = shadowed;
+      stage(stats.probesMs, gl::GpuTimers::Probes, [&] {
+        stats.probesDrawn += refreshOldestProbes(budget, raster, shade, local, probeBounds, detail);
+      });
+    } else if (all) {
+      probeUploadVersion_ = gpuUploadVersion_;
       int drawn = 0;
       stage(stats.probesMs, gl::GpuTimers::Probes, [&] {
         gpu_.ensureProbeLod(scene);  // once per GL copy: the coarse meshes small objects are drawn with

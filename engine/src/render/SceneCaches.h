@@ -36,7 +36,8 @@ class SceneCaches {
   bool anchorDue(const Camera& camera) const { return tandem::anchorDue(anchor_, camera); }
   /// Moves the anchor to the camera's position when that is due; true when it moved. The syncs then re-pack
   /// the GL copy's instances and lights and re-read Embree's top level (no mesh is uploaded or rebuilt), and the
-  /// raster effects are drawn again, every probe at once (their places are render space). The caller drains a
+  /// raster effects are drawn again, the probes as FrameSettings::probesPerFrame allows (their places are render
+  /// space). The caller drains a
   /// frame in flight first: its records and rays are of the old anchor.
   bool follow(const Camera& camera);
 
@@ -107,10 +108,13 @@ class SceneCaches {
   /// What the probes show changed: the GL copy, the radiosity solution or their area-light samples (the
   /// counters only grow).
   std::uint64_t probeInputs() const { return gpuVersion_ + radiosityChanges_ + lightSampleChanges_; }
-  // What decides which probes exist and how they shade (a new GL copy, the shading override): a change
-  // re-renders every probe whatever FrameSettings::probesPerFrame says.
+  // What decides which probes exist and how they shade (a new GL copy, the shading override, the anchor): a
+  // change draws them all again, FrameSettings::probesPerFrame at a time (syncRasterEffects).
   std::uint64_t gpuLayoutVersion_ = 1, probeLayoutVersion_ = 0;
-  std::vector<std::uint64_t> probeSlotVersions_;  // gpuVersion_ each probe was last rendered at
+  // Per probe: probeInputs() when it was last drawn; 0 when it has not been drawn since its cube was made, or
+  // must be drawn again (the view needs more detail, a new anchor, shading override or shadowing).
+  std::vector<std::uint64_t> probeSlotVersions_;
+  std::uint64_t gpuUploadVersion_ = 0, probeUploadVersion_ = 0;  // GL copies made; the one the probes were made for
   std::vector<float> probeDetailDrawn_;  // the detail (gl::probeDetail) each was drawn with, 0 for none yet
   std::vector<float> normalSpread_;      // per mesh (gl::meshNormalSpread), made with the first probes
 
