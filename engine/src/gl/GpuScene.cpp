@@ -309,7 +309,6 @@ void GpuScene::uploadInstances(const Scene& scene, const std::vector<glm::uvec4>
     }
   meshRecords_ = meshes;
   lodLevels_ = 0;
-  lodTriangles_ = 0;
   vao_ = createVertexArray("visibility vao");
   glVertexArrayElementBuffer(vao_.id(), indices_.id());
   writeDrawCommands(scene, {});
@@ -380,7 +379,6 @@ void GpuScene::ensureProbeLod(const Scene& scene) {
     }
   }
   lodLevels_ = static_cast<int>(kProbeLodCells.size());
-  lodTriangles_ = appended.size() / 3;
   if (!appended.empty()) {
     const std::size_t kept = indexCount_ * sizeof(std::uint32_t), added = appended.size() * sizeof(std::uint32_t);
     Buffer grown = createBuffer("indices", kept + added, nullptr);

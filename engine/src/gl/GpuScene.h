@@ -133,8 +133,6 @@ class GpuScene {
   /// own (the shade pass reads them there). A copy that would keep more than half of a mesh's triangles is
   /// not made (that level draws the mesh), nor is one of an exact solid.
   void ensureProbeLod(const Scene& scene);
-  /// Triangles the coarse copies add (0 before ensureProbeLod).
-  std::size_t probeLodTriangles() const { return lodTriangles_; }
 
   int instanceCount() const { return instanceCount_; }
   int lightCount() const { return lightCount_; }
@@ -173,7 +171,7 @@ class GpuScene {
   std::vector<glm::uvec4> meshRecords_;  // packGeometry's: first vertex, first index, flags, triangles
   Buffer primitiveBases_;
   int lodLevels_ = 0;                    // command blocks past the first (kProbeLodCells.size() once made)
-  std::size_t indexCount_ = 0, lodTriangles_ = 0;
+  std::size_t indexCount_ = 0;
   ProbeLayout probes_;
   int probeLimit_ = FrameSettings{}.probeLimit;
   // Views of the buffers above for the shade pass (see createBufferTexture).
